@@ -1,0 +1,41 @@
+"""armkit: from a robot arm's DH table to a verified motion.
+
+>>> import armkit
+>>> robot = armkit.load("probot-anno")
+>>> robot.fk([0, 0, 0, 0, 0, 0]).shape
+(4, 4)
+"""
+
+from armkit.chain import Chain, DHRow, Joint, chain_from_dh
+from armkit.errors import (
+    ArmkitError,
+    ConvergenceError,
+    InputError,
+    JointLimitError,
+    NoClosedFormError,
+    RobotDefinitionError,
+    UnreachableError,
+)
+from armkit.robot import Robot
+from armkit.robot_file import builtin_robots, load, robot_from_dict, robot_to_toml
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "ArmkitError",
+    "Chain",
+    "ConvergenceError",
+    "DHRow",
+    "InputError",
+    "Joint",
+    "JointLimitError",
+    "NoClosedFormError",
+    "Robot",
+    "RobotDefinitionError",
+    "UnreachableError",
+    "builtin_robots",
+    "chain_from_dh",
+    "load",
+    "robot_from_dict",
+    "robot_to_toml",
+]

@@ -1,0 +1,201 @@
+"""The one internal representation of a serial arm: fixed transforms and joint motions.
+
+A chain with ``n`` joints is the product::
+
+    T_base_tool(q) = T_base · Π_i [ T_before_i · M_i(q_i) · T_after_i ] · T_tool
+
+where ``M_i`` is ``Rz(q_i)`` for a revolute joint and ``Tz(q_i)`` for a prismatic one, so
+every joint moves about or along the z axis of its *joint frame*
+``T_base · ... · T_before_i``. The frame after ``T_after_i`` is link frame ``i`` of the
+DH table. Standard and modified DH tables (and later URDF joints) are only ways to fill
+``T_before`` and ``T_after``: FK, Jacobians, IK, export and simulation read this chain and
+never ask which convention it came from.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armkit.errors import RobotDefinitionError
+from armkit.spatial.transforms import rot_x, rot_z, trans_x, trans_z
+
+__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "chain_from_dh"]
+
+JointKind = Literal["revolute", "prismatic"]
+DHConvention = Literal["standard", "modified"]
+
+
+def _frozen(T: NDArray[np.float64]) -> NDArray[np.float64]:
+    T = np.array(T, dtype=float)
+    T.setflags(write=False)
+    return T
+
+
+@dataclass(frozen=True)
+class DHRow:
+    """One row of a DH table, SI units (metres, radians).
+
+    For a joint row, the joint variable is added to ``theta`` (revolute; ``theta`` is the
+    zero offset) or to ``d`` (prismatic). A row with ``joint=None`` is fixed (base or tool).
+    """
+
+    alpha: float
+    a: float
+    d: float
+    theta: float
+    joint: JointKind | None = "revolute"
+
+    def transform(self, convention: DHConvention) -> NDArray[np.float64]:
+        """The row's transform at joint value 0, shape ``(4, 4)``."""
+        before, after = self.split(convention)
+        return before @ after
+
+    def split(self, convention: DHConvention) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """``(T_before, T_after)`` around the joint motion, for this row and convention."""
+        if convention == "modified":  # Rx(alpha) Tx(a) Rz(theta) Tz(d)
+            if self.joint == "prismatic":
+                return rot_x(self.alpha) @ trans_x(self.a) @ rot_z(self.theta), trans_z(self.d)
+            return rot_x(self.alpha) @ trans_x(self.a), rot_z(self.theta) @ trans_z(self.d)
+        if convention == "standard":  # Rz(theta) Tz(d) Tx(a) Rx(alpha)
+            if self.joint == "prismatic":
+                return rot_z(self.theta) @ trans_z(self.d), trans_x(self.a) @ rot_x(self.alpha)
+            return np.eye(4), rot_z(self.theta) @ trans_z(self.d) @ trans_x(self.a) @ rot_x(self.alpha)
+        raise RobotDefinitionError(
+            f"unknown DH convention {convention!r}; expected 'standard' or 'modified'")
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint of the chain: its motion, the fixed transforms around it and its limits.
+
+    Attributes
+    ----------
+    kind : {"revolute", "prismatic"}
+    T_before : ndarray (4, 4)
+        From the previous link frame to the joint frame (motion about/along its z).
+    T_after : ndarray (4, 4)
+        From the joint frame (after the motion) to this joint's link frame.
+    lower, upper : float
+        Position limits [rad or m].
+    max_velocity, max_acceleration : float or None
+        Optional limits [rad/s or m/s, rad/s^2 or m/s^2].
+    name : str
+    """
+
+    kind: JointKind
+    T_before: NDArray[np.float64]
+    T_after: NDArray[np.float64]
+    lower: float
+    upper: float
+    max_velocity: float | None = None
+    max_acceleration: float | None = None
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("revolute", "prismatic"):
+            raise RobotDefinitionError(
+                f"joint {self.name!r}: type {self.kind!r}; expected 'revolute' or 'prismatic'")
+        if not self.lower <= self.upper:
+            raise RobotDefinitionError(
+                f"joint {self.name!r}: limits [{self.lower}, {self.upper}] are not increasing")
+        for label, value in (("max_velocity", self.max_velocity),
+                             ("max_acceleration", self.max_acceleration)):
+            if value is not None and not (np.isfinite(value) and value > 0):
+                raise RobotDefinitionError(
+                    f"joint {self.name!r}: {label} = {value}; expected a positive number")
+        object.__setattr__(self, "T_before", _frozen(self.T_before))
+        object.__setattr__(self, "T_after", _frozen(self.T_after))
+
+
+@dataclass(frozen=True)
+class Chain:
+    """A serial chain: base transform, joints in order, tool transform."""
+
+    joints: tuple[Joint, ...]
+    T_base: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
+    T_tool: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
+
+    def __post_init__(self) -> None:
+        if len(self.joints) == 0:
+            raise RobotDefinitionError("a chain needs at least one joint, got none")
+        object.__setattr__(self, "joints", tuple(self.joints))
+        object.__setattr__(self, "T_base", _frozen(self.T_base))
+        object.__setattr__(self, "T_tool", _frozen(self.T_tool))
+        # Fixed transforms between consecutive motions, used by FK on its hot path.
+        links = [self.T_base @ self.joints[0].T_before]
+        links += [a.T_after @ b.T_before for a, b in zip(self.joints, self.joints[1:], strict=False)]
+        links.append(self.joints[-1].T_after @ self.T_tool)
+        object.__setattr__(self, "T_between", _frozen(np.stack(links)))
+
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return len(self.joints)
+
+    @property
+    def prismatic(self) -> NDArray[np.bool_]:
+        """``(n,)`` mask of prismatic joints."""
+        return np.array([j.kind == "prismatic" for j in self.joints])
+
+
+def chain_from_dh(rows: Sequence[DHRow], convention: DHConvention, *,
+                  limits: Sequence[tuple[float, float]] | None = None,
+                  max_velocity: Sequence[float | None] | None = None,
+                  max_acceleration: Sequence[float | None] | None = None,
+                  base_rows: Sequence[DHRow] = (), tool_rows: Sequence[DHRow] = (),
+                  T_base: NDArray[np.float64] | None = None,
+                  T_tool: NDArray[np.float64] | None = None,
+                  names: Sequence[str] | None = None) -> Chain:
+    """Build a :class:`Chain` from DH rows in either convention.
+
+    Parameters
+    ----------
+    rows : sequence of DHRow
+        One per joint (``joint`` not None), SI units.
+    convention : {"standard", "modified"}
+    limits : sequence of (lower, upper), optional
+        Per joint [rad or m]. Default ``[-pi, pi]`` for revolute joints and unbounded for
+        prismatic ones.
+    max_velocity, max_acceleration : sequence of float or None, optional
+    base_rows, tool_rows : sequence of DHRow
+        Fixed rows before the first and after the last joint (``joint=None``).
+    T_base, T_tool : ndarray (4, 4), optional
+        Extra fixed transforms, applied before the base rows and after the tool rows.
+    names : sequence of str, optional
+        Joint names, default ``q1 ... qn``.
+    """
+    n = len(rows)
+    if n == 0:
+        raise RobotDefinitionError("a DH table needs at least one joint row, got none")
+    names = list(names) if names is not None else [f"q{i + 1}" for i in range(n)]
+    limits = list(limits) if limits is not None else [None] * n
+    max_velocity = list(max_velocity) if max_velocity is not None else [None] * n
+    max_acceleration = list(max_acceleration) if max_acceleration is not None else [None] * n
+    for label, values in (("limits", limits), ("max_velocity", max_velocity),
+                          ("max_acceleration", max_acceleration), ("names", names)):
+        if len(values) != n:
+            raise RobotDefinitionError(f"{label} has {len(values)} entries; expected {n}, "
+                                       f"one per joint")
+    joints = []
+    for i, row in enumerate(rows):
+        if row.joint is None:
+            raise RobotDefinitionError(f"joint row {i + 1} has no joint type")
+        before, after = row.split(convention)
+        lower, upper = limits[i] if limits[i] is not None else (
+            (-np.pi, np.pi) if row.joint == "revolute" else (-np.inf, np.inf))
+        joints.append(Joint(row.joint, before, after, float(lower), float(upper),
+                            max_velocity[i], max_acceleration[i], names[i]))
+    base = np.eye(4) if T_base is None else np.asarray(T_base, dtype=float)
+    for row in base_rows:
+        base = base @ row.transform(convention)
+    tool = np.eye(4)
+    for row in tool_rows:
+        tool = tool @ row.transform(convention)
+    if T_tool is not None:
+        tool = tool @ np.asarray(T_tool, dtype=float)
+    return Chain(tuple(joints), base, tool)

@@ -1,0 +1,96 @@
+"""The Typer application shared by every command module, and its small helpers.
+
+Command modules (``robots.py``, ``kinematics.py``, ...) import :data:`app` and register
+their commands with ``@app.command()``; :mod:`armkit.cli.main` imports them all.
+Errors derived from :class:`~armkit.errors.ArmkitError` become one red line on stderr
+and exit code 1 (see :func:`armkit.cli.main.main`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import typer
+from rich.console import Console
+
+from armkit.errors import InputError
+from armkit.robot import Robot
+from armkit.robot_file import load
+
+__all__ = ["ALLOW_NEGATIVE", "app", "console", "err_console", "load_robot", "print_json",
+           "to_si", "warn"]
+
+app = typer.Typer(
+    name="armkit",
+    help="From a robot arm's DH table to a verified motion. ROBOT is a built-in name "
+         "(see 'armkit robots') or a path to a robot TOML file.",
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+    add_completion=False,
+)
+console = Console()
+err_console = Console(stderr=True)
+
+#: Command settings that let joint values such as ``-0.687`` be read as numbers.
+ALLOW_NEGATIVE = {"ignore_unknown_options": True}
+
+
+def load_robot(name_or_path: str) -> Robot:
+    """The robot named on the command line (built-in name or file path)."""
+    return load(name_or_path)
+
+
+def to_si(robot: Robot, q: Sequence[float], degrees: bool) -> np.ndarray:
+    """Joint values from the command line in SI units (``--deg`` converts revolute joints only)."""
+    q = robot.check_q(np.asarray(q, dtype=float), "joint values")
+    if degrees:
+        q = np.where(robot.chain.prismatic, q, np.radians(q))
+    return q
+
+
+def warn(message: str) -> None:
+    """A yellow warning line on stderr."""
+    err_console.print(f"[yellow]warning:[/yellow] {message}", highlight=False)
+
+
+def check_limits_or_warn(robot: Robot, q: np.ndarray, strict: bool) -> None:
+    """Warn about joint values outside their limits, or fail with ``--strict``."""
+    violations = robot.limit_violations(q)
+    if violations and strict:
+        robot.check_limits(q)
+    for message in violations:
+        warn(message)
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return _plain(value.tolist())
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_plain(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, np.generic):
+        return _plain(value.item())
+    return value
+
+
+def print_json(data: dict) -> None:
+    """Print ``data`` as JSON on stdout (arrays become lists, non-finite numbers null)."""
+    typer.echo(json.dumps(_plain(data), indent=2))
+
+
+def parse_floats(values: Sequence[str], what: str) -> list[float]:
+    """Numbers from command-line words, with an error naming the bad word."""
+    out = []
+    for word in values:
+        try:
+            out.append(float(word))
+        except ValueError as exc:
+            raise InputError(f"{what}: {word!r} is not a number") from exc
+    return out

@@ -1,0 +1,98 @@
+"""``armkit fk`` and ``armkit jacobian``."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.table import Table
+
+from armkit.cli.app import (
+    ALLOW_NEGATIVE,
+    app,
+    check_limits_or_warn,
+    console,
+    load_robot,
+    print_json,
+    to_si,
+)
+from armkit.spatial.rotations import euler_from_matrix, parse_convention
+
+RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
+JointsArg = Annotated[list[float], typer.Argument(help="Joint values q1 ... qn (rad and m).")]
+DegOpt = Annotated[bool, typer.Option("--deg", help="Revolute joint values (and printed "
+                                                    "angles) in degrees.")]
+StrictOpt = Annotated[bool, typer.Option("--strict", help="Fail on joint values outside the "
+                                                          "limits instead of warning.")]
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")]
+
+
+def _matrix_table(matrix: np.ndarray, title: str, row_names: list[str] | None = None,
+                  column_names: list[str] | None = None) -> Table:
+    table = Table(title=title, show_header=column_names is not None)
+    if row_names:
+        table.add_column("")
+    for name in column_names or [""] * matrix.shape[1]:
+        table.add_column(name, justify="right")
+    for i, row in enumerate(matrix):
+        table.add_row(*([row_names[i]] if row_names else []), *(f"{v: .6f}" for v in row))
+    return table
+
+
+@app.command("fk", context_settings=ALLOW_NEGATIVE)
+def fk_command(
+    robot: RobotArg,
+    q: JointsArg,
+    deg: DegOpt = False,
+    euler: Annotated[str, typer.Option(help="Angle convention of the printed orientation, "
+                                            "e.g. xyz-fixed (roll pitch yaw), xyz-euler, "
+                                            "zyz-euler.")] = "xyz-fixed",
+    strict: StrictOpt = False,
+    json_output: JsonOpt = False,
+) -> None:
+    """Forward kinematics: the tool pose for joint values q1 ... qn."""
+    arm = load_robot(robot)
+    q_si = to_si(arm, q, deg)
+    check_limits_or_warn(arm, q_si, strict)
+    convention = parse_convention(euler)
+    T = arm.fk(q_si)
+    angles = euler_from_matrix(T, convention, degrees=deg)
+    unit = "deg" if deg else "rad"
+    if json_output:
+        print_json({"robot": arm.name, "q": q_si, "matrix": T, "position": T[:3, 3],
+                    "angles": angles, "convention": convention.name,
+                    "convention_formula": f"R = {convention.formula()}", "angle_unit": unit})
+        return
+    console.print(_matrix_table(T, f"{arm.name}: T_base_tool (metres)"))
+    console.print(f"position [m]: {np.array2string(T[:3, 3], precision=6, suppress_small=True)}",
+                  markup=False)
+    console.print(f"{convention.name} angles [{unit}] (R = {convention.formula()}): "
+                  f"{np.array2string(angles, precision=6, suppress_small=True)}", markup=False)
+
+
+@app.command("jacobian", context_settings=ALLOW_NEGATIVE)
+def jacobian_command(
+    robot: RobotArg,
+    q: JointsArg,
+    deg: DegOpt = False,
+    frame: Annotated[str, typer.Option(help="base or tool: the frame the twist is in.")] = "base",
+    strict: StrictOpt = False,
+    json_output: JsonOpt = False,
+) -> None:
+    """Geometric Jacobian (rows vx vy vz wx wy wz), manipulability and singular values."""
+    arm = load_robot(robot)
+    q_si = to_si(arm, q, deg)
+    check_limits_or_warn(arm, q_si, strict)
+    J = arm.jacobian(q_si, frame=frame)
+    sigma = arm.singular_values(q_si)
+    if json_output:
+        print_json({"robot": arm.name, "q": q_si, "frame": frame, "jacobian": J,
+                    "rows": ["vx", "vy", "vz", "wx", "wy", "wz"],
+                    "manipulability": float(np.prod(sigma)), "singular_values": sigma})
+        return
+    console.print(_matrix_table(J, f"{arm.name}: geometric Jacobian, {frame} frame",
+                                ["vx", "vy", "vz", "wx", "wy", "wz"], arm.joint_names))
+    console.print(f"manipulability: {np.prod(sigma):.6g}   smallest singular value: "
+                  f"{sigma[-1]:.6g}   condition number: "
+                  f"{(sigma[0] / sigma[-1]) if sigma[-1] > 0 else float('inf'):.6g}")

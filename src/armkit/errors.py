@@ -1,0 +1,59 @@
+"""The package's exception classes.
+
+Every error armkit raises on bad input derives from :class:`ArmkitError`, so a caller
+can catch them all at once, and the CLI turns them into one-line messages.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "ArmkitError",
+    "ConvergenceError",
+    "InputError",
+    "JointLimitError",
+    "NoClosedFormError",
+    "RobotDefinitionError",
+    "UnreachableError",
+]
+
+
+class ArmkitError(Exception):
+    """Base class of every error armkit raises on purpose."""
+
+
+class InputError(ArmkitError, ValueError):
+    """An argument has the wrong shape, type or value (NaN, non-rigid matrix, ...)."""
+
+
+class RobotDefinitionError(ArmkitError, ValueError):
+    """A robot description (file or code) is incomplete or inconsistent."""
+
+
+class JointLimitError(ArmkitError, ValueError):
+    """A joint value lies outside the joint's limits."""
+
+
+class UnreachableError(ArmkitError):
+    """A target pose cannot be reached; ``distance`` says how far the closest pose found is.
+
+    Attributes
+    ----------
+    position_error : float
+        Distance [m] between the target and the closest tool position found.
+    orientation_error : float
+        Angle [rad] between the target and the closest tool orientation found.
+    """
+
+    def __init__(self, message: str, position_error: float = float("nan"),
+                 orientation_error: float = float("nan")) -> None:
+        super().__init__(message)
+        self.position_error = position_error
+        self.orientation_error = orientation_error
+
+
+class ConvergenceError(ArmkitError):
+    """An iterative solver did not reach its tolerance within its budget."""
+
+
+class NoClosedFormError(ArmkitError):
+    """A closed-form solution was asked of a chain whose geometry has none."""

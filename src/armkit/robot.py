@@ -1,0 +1,200 @@
+"""The :class:`Robot`: a named chain with its DH description and the user-facing methods."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armkit import kinematics
+from armkit.chain import Chain, DHConvention, DHRow, chain_from_dh
+from armkit.errors import InputError, JointLimitError
+from armkit.spatial.rotations import euler_from_matrix
+
+__all__ = ["DHDescription", "Robot"]
+
+#: Slack [rad or m] allowed beyond a joint limit before a value counts as outside it.
+LIMIT_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class DHDescription:
+    """The DH table a robot was written in, kept for display and export.
+
+    ``length_unit`` and ``angle_unit`` are the units the user wrote; ``rows`` are in SI.
+    """
+
+    convention: DHConvention
+    rows: tuple[DHRow, ...]
+    base_rows: tuple[DHRow, ...] = ()
+    tool_rows: tuple[DHRow, ...] = ()
+    length_unit: str = "m"
+    angle_unit: str = "rad"
+
+
+class Robot:
+    """A serial arm: FK, Jacobians, limits (and IK, motion, simulation in later modules).
+
+    Parameters
+    ----------
+    chain : Chain
+        The kinematic chain (see :mod:`armkit.chain`).
+    name : str
+    dh : DHDescription, optional
+        The DH table the chain was built from, if any.
+
+    Examples
+    --------
+    >>> robot = Robot.from_dh([DHRow(0, 0, 0, 0), DHRow(0, 1.0, 0, 0)], "modified", name="2R")
+    >>> robot.fk([0.0, 0.0])[:3, 3]
+    array([1., 0., 0.])
+    """
+
+    def __init__(self, chain: Chain, name: str = "robot", dh: DHDescription | None = None,
+                 source: str | None = None, description: str = "") -> None:
+        self.chain = chain
+        self.name = name
+        self.description = description
+        self.dh = dh
+        self.source = source
+
+    @classmethod
+    def from_dh(cls, rows: Sequence[DHRow], convention: DHConvention, *, name: str = "robot",
+                limits: Sequence[tuple[float, float]] | None = None,
+                max_velocity: Sequence[float | None] | None = None,
+                max_acceleration: Sequence[float | None] | None = None,
+                base_rows: Sequence[DHRow] = (), tool_rows: Sequence[DHRow] = (),
+                length_unit: str = "m", angle_unit: str = "rad",
+                names: Sequence[str] | None = None) -> Robot:
+        """Build a robot from DH rows in SI units (see :func:`armkit.chain.chain_from_dh`)."""
+        chain = chain_from_dh(rows, convention, limits=limits, max_velocity=max_velocity,
+                              max_acceleration=max_acceleration, base_rows=base_rows,
+                              tool_rows=tool_rows, names=names)
+        dh = DHDescription(convention, tuple(rows), tuple(base_rows), tuple(tool_rows),
+                           length_unit, angle_unit)
+        return cls(chain, name=name, dh=dh)
+
+    def __repr__(self) -> str:
+        kinds = "".join("P" if p else "R" for p in self.chain.prismatic)
+        return f"Robot({self.name!r}, {self.n} joints {kinds})"
+
+    # ----------------------------------------------------------------- properties
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return self.chain.n
+
+    @property
+    def joint_names(self) -> list[str]:
+        return [j.name for j in self.chain.joints]
+
+    @property
+    def joint_types(self) -> list[str]:
+        """``"revolute"`` or ``"prismatic"`` per joint."""
+        return [j.kind for j in self.chain.joints]
+
+    @property
+    def limits(self) -> NDArray[np.float64]:
+        """``(n, 2)`` lower/upper position limits [rad or m]."""
+        return np.array([[j.lower, j.upper] for j in self.chain.joints])
+
+    @property
+    def max_velocity(self) -> NDArray[np.float64]:
+        """``(n,)`` velocity limits [rad/s or m/s]; ``inf`` where none was given."""
+        return np.array([np.inf if j.max_velocity is None else j.max_velocity
+                         for j in self.chain.joints])
+
+    @property
+    def max_acceleration(self) -> NDArray[np.float64]:
+        """``(n,)`` acceleration limits [rad/s^2 or m/s^2]; ``inf`` where none was given."""
+        return np.array([np.inf if j.max_acceleration is None else j.max_acceleration
+                         for j in self.chain.joints])
+
+    # ----------------------------------------------------------------- checks
+    def check_q(self, q: ArrayLike, name: str = "q") -> NDArray[np.float64]:
+        """Return ``q`` as float64 ``(..., n)``, or raise :class:`InputError` saying why not."""
+        try:
+            q = np.asarray(q, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"{name}: expected {self.n} numbers, got {q!r}") from exc
+        if q.ndim == 0 or q.shape[-1] != self.n:
+            got = "a scalar" if q.ndim == 0 else f"shape {q.shape}"
+            raise InputError(f"{name}: {self.name} has {self.n} joints, so expected "
+                             f"{self.n} joint values (shape (..., {self.n})), got {got}")
+        if not np.all(np.isfinite(q)):
+            raise InputError(f"{name}: contains NaN or infinite values: {q.tolist()}")
+        return q
+
+    def within_limits(self, q: ArrayLike) -> NDArray[np.bool_]:
+        """Whether each configuration ``(..., n)`` lies inside all position limits, ``(...)``."""
+        q = self.check_q(q)
+        lim = self.limits
+        return np.all((q >= lim[:, 0] - LIMIT_TOLERANCE) & (q <= lim[:, 1] + LIMIT_TOLERANCE),
+                      axis=-1)
+
+    def limit_violations(self, q: ArrayLike) -> list[str]:
+        """One message per joint value of a single configuration outside its limits."""
+        q = self.check_q(q)
+        if q.ndim != 1:
+            raise InputError(f"q: expected one configuration of {self.n} values, got {q.shape}")
+        messages = []
+        for joint, value in zip(self.chain.joints, q, strict=True):
+            if not joint.lower - LIMIT_TOLERANCE <= value <= joint.upper + LIMIT_TOLERANCE:
+                messages.append(f"joint {joint.name} = {value:.6g} is outside its limits "
+                                f"[{joint.lower:.6g}, {joint.upper:.6g}]")
+        return messages
+
+    def check_limits(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Return ``q`` if every value is inside its limits, else raise :class:`JointLimitError`."""
+        violations = self.limit_violations(q)
+        if violations:
+            raise JointLimitError("; ".join(violations))
+        return self.check_q(q)
+
+    # ----------------------------------------------------------------- kinematics
+    def fk(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Tool pose ``T_base_tool`` [m], ``(4, 4)`` for ``q`` ``(n,)``, ``(N, 4, 4)`` for ``(N, n)``.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> armkit.load("probot-anno").fk([0, 0, 0, 0, 0, 0])[:3, 3].round(4)
+        array([0.2289, 0.    , 0.454 ])
+        """
+        return kinematics.fk(self.chain, self.check_q(q))
+
+    def pose(self, q: ArrayLike, convention: str = "xyz-fixed",
+             degrees: bool = False) -> NDArray[np.float64]:
+        """Tool pose as ``(..., 6)``: position [m] then three angles in ``convention``."""
+        T = self.fk(q)
+        return np.concatenate([T[..., :3, 3], euler_from_matrix(T, convention, degrees)], axis=-1)
+
+    def link_frames(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Base, every DH link frame and tool: ``(..., n + 2, 4, 4)``."""
+        return kinematics.link_frames(self.chain, self.check_q(q))
+
+    def jacobian(self, q: ArrayLike, frame: str = "base") -> NDArray[np.float64]:
+        """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``, in the ``"base"`` or ``"tool"`` frame."""
+        return kinematics.geometric_jacobian(self.chain, self.check_q(q), frame)
+
+    def analytic_jacobian(self, q: ArrayLike, convention: str = "xyz-fixed") -> NDArray[np.float64]:
+        """Analytic Jacobian ``(..., 6, n)``: position rates over angle rates in ``convention``."""
+        return kinematics.analytic_jacobian(self.chain, self.check_q(q), convention)
+
+    def manipulability(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Yoshikawa manipulability ``(...)``; zero at singularities."""
+        return kinematics.manipulability(self.chain, self.check_q(q))
+
+    def singular_values(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Jacobian singular values ``(..., min(6, n))``; the last is the singularity measure."""
+        return kinematics.singular_values(self.chain, self.check_q(q))
+
+    def random_q(self, size: int | tuple[int, ...] | None = None,
+                 rng: np.random.Generator | int | None = None) -> NDArray[np.float64]:
+        """Uniform random configurations inside the limits (unbounded joints: ±1 m)."""
+        rng = np.random.default_rng(rng)
+        lim = np.where(np.isfinite(self.limits), self.limits, [[-1.0, 1.0]])
+        shape = (() if size is None else (size,) if isinstance(size, int) else tuple(size))
+        return rng.uniform(lim[:, 0], lim[:, 1], size=(*shape, self.n))

@@ -1,0 +1,114 @@
+"""Homogeneous transforms: elementary rotations and translations, checks, inverses.
+
+All functions are batch-first: an input of shape ``(...,)`` gives ``(..., 4, 4)``.
+Lengths in metres, angles in radians.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armkit.errors import InputError
+
+__all__ = [
+    "check_transform",
+    "invert_transform",
+    "rot_x",
+    "rot_z",
+    "transform_from",
+    "trans_x",
+    "trans_z",
+]
+
+#: Tolerance on ``R^T R - I`` and ``det R - 1`` for a matrix to count as a rigid transform.
+RIGID_TOLERANCE = 1e-6
+
+
+def _identity_batch(shape: tuple[int, ...]) -> NDArray[np.float64]:
+    return np.broadcast_to(np.eye(4), (*shape, 4, 4)).copy()
+
+
+def rot_x(angle: ArrayLike) -> NDArray[np.float64]:
+    """Rotation about x by ``angle`` [rad], shape ``(..., 4, 4)``."""
+    angle = np.asarray(angle, dtype=float)
+    c, s = np.cos(angle), np.sin(angle)
+    T = _identity_batch(angle.shape)
+    T[..., 1, 1], T[..., 1, 2], T[..., 2, 1], T[..., 2, 2] = c, -s, s, c
+    return T
+
+
+def rot_z(angle: ArrayLike) -> NDArray[np.float64]:
+    """Rotation about z by ``angle`` [rad], shape ``(..., 4, 4)``."""
+    angle = np.asarray(angle, dtype=float)
+    c, s = np.cos(angle), np.sin(angle)
+    T = _identity_batch(angle.shape)
+    T[..., 0, 0], T[..., 0, 1], T[..., 1, 0], T[..., 1, 1] = c, -s, s, c
+    return T
+
+
+def trans_x(distance: ArrayLike) -> NDArray[np.float64]:
+    """Translation along x by ``distance`` [m], shape ``(..., 4, 4)``."""
+    distance = np.asarray(distance, dtype=float)
+    T = _identity_batch(distance.shape)
+    T[..., 0, 3] = distance
+    return T
+
+
+def trans_z(distance: ArrayLike) -> NDArray[np.float64]:
+    """Translation along z by ``distance`` [m], shape ``(..., 4, 4)``."""
+    distance = np.asarray(distance, dtype=float)
+    T = _identity_batch(distance.shape)
+    T[..., 2, 3] = distance
+    return T
+
+
+def transform_from(rotation: ArrayLike, position: ArrayLike) -> NDArray[np.float64]:
+    """Assemble ``(..., 4, 4)`` transforms from rotations ``(..., 3, 3)`` and positions ``(..., 3)``."""
+    rotation = np.asarray(rotation, dtype=float)
+    position = np.asarray(position, dtype=float)
+    shape = np.broadcast_shapes(rotation.shape[:-2], position.shape[:-1])
+    T = _identity_batch(shape)
+    T[..., :3, :3] = rotation
+    T[..., :3, 3] = position
+    return T
+
+
+def invert_transform(T: ArrayLike) -> NDArray[np.float64]:
+    """Inverse of rigid transforms ``(..., 4, 4)``, using ``R^T`` rather than a general inverse."""
+    T = np.asarray(T, dtype=float)
+    R_t = np.swapaxes(T[..., :3, :3], -1, -2)
+    return transform_from(R_t, -np.einsum("...ij,...j->...i", R_t, T[..., :3, 3]))
+
+
+def check_transform(T: ArrayLike, name: str = "pose") -> NDArray[np.float64]:
+    """Return ``T`` as float64 ``(..., 4, 4)`` after checking that it is a rigid transform.
+
+    Raises
+    ------
+    InputError
+        If the shape is not ``(..., 4, 4)``, a value is not finite, the last row is not
+        ``[0, 0, 0, 1]`` or the rotation part is not orthonormal with determinant +1
+        (tolerance ``RIGID_TOLERANCE``).
+    """
+    try:
+        T = np.asarray(T, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name}: expected a 4x4 numeric matrix, got {T!r}") from exc
+    if T.ndim < 2 or T.shape[-2:] != (4, 4):
+        raise InputError(f"{name}: expected shape (..., 4, 4), got {T.shape}")
+    if not np.all(np.isfinite(T)):
+        raise InputError(f"{name}: contains NaN or infinite values")
+    if not np.allclose(T[..., 3, :], [0.0, 0.0, 0.0, 1.0], atol=RIGID_TOLERANCE):
+        raise InputError(f"{name}: last row must be [0, 0, 0, 1], got {T[..., 3, :].tolist()}")
+    R = T[..., :3, :3]
+    orth = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(axis=(-1, -2))
+    det = np.linalg.det(R)
+    bad = (orth > RIGID_TOLERANCE) | (np.abs(det - 1.0) > RIGID_TOLERANCE)
+    if np.any(bad):
+        raise InputError(
+            f"{name}: rotation part is not a rotation matrix (max |R^T R - I| = "
+            f"{orth.max():.3g}, det R = {np.ravel(det)[np.argmax(np.ravel(bad))]:.6g}); "
+            f"expected an orthonormal matrix with determinant +1"
+        )
+    return T
