@@ -1,0 +1,20 @@
+"""Shared test helpers: import them as ``from conftest import assert_transform_close``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from armkit.spatial.rotations import rotation_angle_between
+
+
+def assert_transform_close(T_actual, T_expected, position_tol: float = 1e-10,
+                           angle_tol: float = 1e-10) -> None:
+    """Assert two (batches of) 4x4 transforms agree: position [m] and rotation angle [rad]."""
+    T_actual = np.asarray(T_actual, dtype=float)
+    T_expected = np.asarray(T_expected, dtype=float)
+    assert T_actual.shape == T_expected.shape, f"shapes {T_actual.shape} != {T_expected.shape}"
+    position_error = np.linalg.norm(T_actual[..., :3, 3] - T_expected[..., :3, 3], axis=-1)
+    angle_error = rotation_angle_between(T_actual, T_expected)
+    assert np.all(position_error <= position_tol), f"position error {position_error.max():.3g} m"
+    assert np.all(angle_error <= angle_tol), f"rotation error {angle_error.max():.3g} rad"
+    np.testing.assert_allclose(T_actual[..., 3, :], T_expected[..., 3, :], atol=1e-12)
