@@ -1,0 +1,49 @@
+"""Input checks shared by the trajectory modules (one place for their error messages)."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armkit.errors import InputError
+
+__all__ = ["check_durations", "check_finite", "check_waypoints"]
+
+
+def check_finite(values: ArrayLike, name: str) -> NDArray[np.float64]:
+    """``values`` as float64, or :class:`InputError` naming ``name`` if not numeric and finite."""
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name}: expected numbers, got {values!r}") from exc
+    if not np.all(np.isfinite(array)):
+        raise InputError(f"{name}: contains NaN or infinite values: {array.tolist()}")
+    return array
+
+
+def check_durations(durations: ArrayLike, count: int | None = None,
+                    name: str = "durations") -> NDArray[np.float64]:
+    """Segment durations [s] as ``(N,)``, all positive; ``count`` is the expected ``N``."""
+    durations = np.atleast_1d(check_finite(durations, name))
+    if durations.ndim != 1:
+        raise InputError(f"{name}: expected a list of segment durations, got shape {durations.shape}")
+    if count is not None and durations.size != count:
+        raise InputError(f"{name}: {count + 1} waypoints need {count} segment durations, "
+                         f"got {durations.size}")
+    bad = np.flatnonzero(durations <= 0)
+    if bad.size:
+        raise InputError(f"{name}: every segment duration must be positive [s], got "
+                         f"{durations[bad[0]]:g} for segment {bad[0] + 1}")
+    return durations
+
+
+def check_waypoints(waypoints: ArrayLike, name: str = "waypoints") -> NDArray[np.float64]:
+    """Waypoints as ``(M, n)`` with ``M >= 2`` (a 1-D input is ``M`` waypoints of one joint)."""
+    waypoints = check_finite(waypoints, name)
+    if waypoints.ndim == 1:
+        waypoints = waypoints[:, None]
+    if waypoints.ndim != 2:
+        raise InputError(f"{name}: expected shape (M, n), got {waypoints.shape}")
+    if waypoints.shape[0] < 2:
+        raise InputError(f"{name}: a trajectory needs at least two waypoints, got {waypoints.shape[0]}")
+    return waypoints
