@@ -19,6 +19,9 @@ from armkit.cli.app import (
 )
 from armkit.spatial.rotations import euler_from_matrix, parse_convention
 
+#: Smallest singular value below which ``armkit jacobian`` calls a configuration singular.
+SINGULAR_THRESHOLD = 1e-9
+
 RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
 JointsArg = Annotated[list[float], typer.Argument(help="Joint values q1 ... qn (rad and m).")]
 DegOpt = Annotated[bool, typer.Option("--deg", help="Revolute joint values (and printed "
@@ -93,6 +96,9 @@ def jacobian_command(
         return
     console.print(_matrix_table(J, f"{arm.name}: geometric Jacobian, {frame} frame",
                                 ["vx", "vy", "vz", "wx", "wy", "wz"], arm.joint_names))
-    console.print(f"manipulability: {np.prod(sigma):.6g}   smallest singular value: "
-                  f"{sigma[-1]:.6g}   condition number: "
-                  f"{(sigma[0] / sigma[-1]) if sigma[-1] > 0 else float('inf'):.6g}")
+    condition = sigma[0] / sigma[-1] if sigma[-1] > 0 else float("inf")
+    console.print(f"manipulability: {np.prod(sigma):.6g}   smallest singular value: {sigma[-1]:.6g}   "
+                  f"condition number: {condition:.6g}", soft_wrap=True)
+    if sigma[-1] < SINGULAR_THRESHOLD:
+        console.print("[yellow]singular configuration:[/yellow] the tool cannot move in every direction "
+                      "here", soft_wrap=True)

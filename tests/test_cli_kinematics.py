@@ -1,0 +1,76 @@
+import json
+
+import numpy as np
+import pytest
+
+from armkit.cli.main import main
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_fk_seed_case_prints_the_report_pose(capsys):
+    code, out, _ = run(capsys, "fk", "probot-anno", "0.927", "-0.687", "-0.396", "0", "1.083", "0.927",
+                       "--euler", "xyz-fixed")
+    assert code == 0
+    assert "0.150047 0.19994  0.200756" in out
+    assert "1.570796" in out and "Rz(a3) Ry(a2) Rx(a1)" in out
+
+
+def test_fk_json(capsys):
+    code, out, _ = run(capsys, "fk", "zju-i", *["15"] * 6, "--deg", "--euler", "xyz-euler", "--json")
+    data = json.loads(out)
+    assert code == 0
+    assert np.array(data["matrix"]).shape == (4, 4)
+    np.testing.assert_allclose(data["position"], [0.225673, 0.10719, 0.55197], atol=1e-6)
+    np.testing.assert_allclose(data["angles"], [-148.0, 36.35, -107.0], atol=5e-3)
+    assert data["convention"] == "xyz-euler" and data["angle_unit"] == "deg"
+
+
+def test_fk_deg_leaves_prismatic_joints_in_metres(capsys):
+    code, out, _ = run(capsys, "fk", "grb400-scara", "45", "45", "0.01", "0", "--deg", "--json")
+    np.testing.assert_allclose(json.loads(out)["position"], [0.1414214, 0.3414214, 0.01], atol=1e-7)
+
+
+def test_jacobian_json_and_table(capsys):
+    code, out, _ = run(capsys, "jacobian", "ur5", "0", "-1", "1", "0", "1", "0", "--json")
+    data = json.loads(out)
+    assert code == 0 and np.array(data["jacobian"]).shape == (6, 6)
+    assert data["manipulability"] > 0
+    code, out, _ = run(capsys, "jacobian", "puma560", "0", "0.5", "-0.5", "0", "0", "0", "--frame", "tool")
+    assert code == 0 and "tool frame" in out and "condition number" in out
+    assert "singular configuration" in out  # q5 = 0: wrist axes 4 and 6 align
+
+
+def test_robots_and_show(capsys):
+    code, out, _ = run(capsys, "robots")
+    assert code == 0 and "probot-anno" in out and "panda" in out
+    code, out, _ = run(capsys, "show", "probot-anno")
+    assert code == 0 and "modified DH" in out and "228.9" in out
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["fk", "ur5", "1", "2"], "UR5 has 6 joints, so expected 6 joint values"),
+    (["fk", "nosuchbot", "1"], "unknown robot 'nosuchbot'"),
+    (["fk", "probot-anno", "0", "0", "0", "0", "0", "5", "--strict"], "joint q6 = 5 is outside its limits"),
+    (["fk", "ur5", "0", "0", "0", "0", "0", "0", "--euler", "abc"], "unknown angle convention 'abc'"),
+    (["jacobian", "ur5", "0", "0", "0", "0", "0", "0", "--frame", "world"], "frame 'world'"),
+])
+def test_errors_are_one_line_and_exit_1(capsys, argv, message):
+    code, out, err = run(capsys, *argv)
+    assert code == 1
+    assert message in err and "Traceback" not in err
+    assert err.strip().startswith("error:") and out == ""
+
+
+def test_out_of_limits_warns_without_strict(capsys):
+    code, out, err = run(capsys, "fk", "probot-anno", "0", "0", "0", "0", "0", "5")
+    assert code == 0 and "warning: joint q6 = 5 is outside its limits" in err
+
+
+def test_usage_error_exit_code(capsys):
+    code, _, err = run(capsys, "fk")
+    assert code == 2 and "Missing argument" in err

@@ -1,0 +1,152 @@
+"""FK, Jacobians and manipulability, cross-checked against roboticstoolbox-python."""
+
+import numpy as np
+import pytest
+from conftest import assert_transform_close
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit import DHRow, Robot
+from armkit.errors import InputError
+
+rtb = pytest.importorskip("roboticstoolbox")
+from spatialmath import SE3  # noqa: E402
+
+RTB_MODELS = {"puma560": "Puma560", "stanford": "Stanford", "ur5": "UR5", "panda": "Panda"}
+
+
+@pytest.mark.parametrize("name", sorted(RTB_MODELS))
+def test_builtins_match_roboticstoolbox(name):
+    ours = armkit.load(name)
+    theirs = getattr(rtb.models.DH, RTB_MODELS[name])()
+    q = ours.random_q(25, rng=0)
+    T = ours.fk(q)
+    J = ours.jacobian(q)
+    for k in range(len(q)):
+        assert_transform_close(T[k], theirs.fkine(q[k]).A)
+        np.testing.assert_allclose(J[k], theirs.jacob0(q[k]), atol=1e-10)
+        np.testing.assert_allclose(ours.jacobian(q[k], frame="tool"), theirs.jacobe(q[k]), atol=1e-10)
+
+
+def random_dh_pair(rng, convention):
+    """A random DH arm (revolute and prismatic joints, offsets, base and tool) in armkit and rtb."""
+    n = int(rng.integers(2, 8))
+    rows, links = [], []
+    for _ in range(n):
+        alpha, a, d, theta = rng.choice([0, np.pi / 2, -np.pi / 2, rng.uniform(-3, 3)]), *rng.uniform(
+            -0.5, 0.5, 2), rng.uniform(-np.pi, np.pi)
+        prismatic = rng.random() < 0.3
+        rows.append(DHRow(alpha, a, d, theta, "prismatic" if prismatic else "revolute"))
+        if convention == "standard":
+            link = (rtb.PrismaticDH(theta=theta, a=a, alpha=alpha, offset=d) if prismatic
+                    else rtb.RevoluteDH(d=d, a=a, alpha=alpha, offset=theta))
+        else:
+            link = (rtb.PrismaticMDH(theta=theta, a=a, alpha=alpha, offset=d) if prismatic
+                    else rtb.RevoluteMDH(d=d, a=a, alpha=alpha, offset=theta))
+        links.append(link)
+    base_row = DHRow(*rng.uniform(-1, 1, 4), joint=None)
+    tool_row = DHRow(*rng.uniform(-1, 1, 4), joint=None)
+    ours = Robot.from_dh(rows, convention, base_rows=[base_row], tool_rows=[tool_row])
+    base = SE3(base_row.transform(convention), check=False)
+    tool = SE3(tool_row.transform(convention), check=False)
+    return ours, rtb.DHRobot(links, base=base, tool=tool)
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+@pytest.mark.parametrize("seed", range(10))
+def test_random_dh_robots_match_roboticstoolbox(convention, seed):
+    rng = np.random.default_rng(seed)
+    ours, theirs = random_dh_pair(rng, convention)
+    for q in ours.random_q(5, rng=rng):
+        assert_transform_close(ours.fk(q), theirs.fkine(q).A)
+        np.testing.assert_allclose(ours.jacobian(q), theirs.jacob0(q), atol=1e-10)
+
+
+def finite_difference_jacobian(robot, q, h=1e-6):
+    """Central differences of FK: linear rows from positions, angular rows from dR R^T."""
+    J = np.zeros((6, robot.n))
+    T0 = robot.fk(q)
+    for i in range(robot.n):
+        dq = np.zeros(robot.n)
+        dq[i] = h
+        Tp, Tm = robot.fk(q + dq), robot.fk(q - dq)
+        J[:3, i] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
+        W = (Tp[:3, :3] - Tm[:3, :3]) / (2 * h) @ T0[:3, :3].T
+        J[3:, i] = [W[2, 1], W[0, 2], W[1, 0]]
+    return J
+
+
+@pytest.mark.parametrize("name", ["probot-anno", "zju-i", "grb400-scara", "stanford", "panda"])
+@given(seed=st.integers(0, 2**31))
+@settings(max_examples=10, deadline=None)
+def test_jacobian_matches_finite_differences(name, seed):
+    robot = armkit.load(name)
+    q = robot.random_q(rng=seed)
+    np.testing.assert_allclose(robot.jacobian(q), finite_difference_jacobian(robot, q), atol=1e-7)
+
+
+@pytest.mark.parametrize("convention", ["xyz-fixed", "zyz-euler", "xyz-euler"])
+def test_analytic_jacobian_matches_finite_differences_of_angles(convention):
+    robot = armkit.load("probot-anno")
+    q = np.array([0.3, -0.4, 0.5, 0.2, 0.9, -0.3])
+    h = 1e-6
+    numeric = np.zeros((6, robot.n))
+    for i in range(robot.n):
+        dq = np.zeros(robot.n)
+        dq[i] = h
+        plus, minus = robot.pose(q + dq, convention), robot.pose(q - dq, convention)
+        numeric[:, i] = (plus - minus) / (2 * h)
+    np.testing.assert_allclose(robot.analytic_jacobian(q, convention), numeric, atol=1e-7)
+
+
+def test_analytic_jacobian_refuses_gimbal_lock():
+    scara = armkit.load("grb400-scara")  # tool rotation is always Rz(t1 + t2 + t4): Z-Y-Z is locked
+    with pytest.raises(InputError, match="gimbal lock"):
+        scara.analytic_jacobian([0.3, 0.5, 0.01, 0.2], "zyz-euler")
+
+
+@pytest.mark.parametrize("name", ["probot-anno", "stanford", "panda", "grb400-scara"])
+def test_batches_equal_one_at_a_time(name):
+    robot = armkit.load(name)
+    q = robot.random_q((3, 4), rng=1)
+    T, J, F = robot.fk(q), robot.jacobian(q), robot.link_frames(q)
+    assert T.shape == (3, 4, 4, 4) and J.shape == (3, 4, 6, robot.n) and F.shape == (3, 4, robot.n + 2, 4, 4)
+    for idx in np.ndindex(3, 4):
+        np.testing.assert_allclose(T[idx], robot.fk(q[idx]), atol=1e-15)
+        np.testing.assert_allclose(J[idx], robot.jacobian(q[idx]), atol=1e-15)
+        np.testing.assert_allclose(F[idx], robot.link_frames(q[idx]), atol=1e-15)
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+def test_link_frames_are_products_of_dh_rows(convention):
+    rng = np.random.default_rng(7)
+    ours, _ = random_dh_pair(rng, convention)
+    q = ours.random_q(rng=rng)
+    frames = ours.link_frames(q)
+    T = ours.dh.base_rows[0].transform(convention)
+    assert_transform_close(frames[0], T)
+    for i, row in enumerate(ours.dh.rows):
+        moved = DHRow(row.alpha, row.a, row.d + (q[i] if row.joint == "prismatic" else 0),
+                      row.theta + (q[i] if row.joint == "revolute" else 0), None)
+        T = T @ moved.transform(convention)
+        assert_transform_close(frames[i + 1], T)
+    assert_transform_close(frames[-1], ours.fk(q))
+
+
+def test_manipulability_and_singular_values():
+    robot = armkit.load("puma560")
+    q = robot.random_q(rng=3)
+    J = robot.jacobian(q)
+    assert robot.manipulability(q) == pytest.approx(np.sqrt(np.linalg.det(J @ J.T)), rel=1e-9)
+    np.testing.assert_allclose(robot.singular_values(q), np.linalg.svd(J, compute_uv=False))
+    wrist_singular = np.array([0.1, 0.5, -0.7, 0.3, 0.0, 0.2])  # q5 = 0: axes 4 and 6 align
+    assert robot.singular_values(wrist_singular)[-1] < 1e-12
+    scara = armkit.load("grb400-scara")
+    Js = scara.jacobian([0.3, 0.5, 0.01, 0.2])
+    assert scara.manipulability([0.3, 0.5, 0.01, 0.2]) == pytest.approx(np.sqrt(np.linalg.det(Js.T @ Js)))
+
+
+def test_bad_frame_is_named():
+    with pytest.raises(InputError, match="frame 'world': expected 'base' or 'tool'"):
+        armkit.load("ur5").jacobian(np.zeros(6), frame="world")

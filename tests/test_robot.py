@@ -1,0 +1,73 @@
+import numpy as np
+import pytest
+
+import armkit
+from armkit import DHRow, Robot
+from armkit.errors import InputError, JointLimitError, RobotDefinitionError
+
+
+def test_fk_shapes_and_types():
+    robot = armkit.load("probot-anno")
+    assert robot.fk(np.zeros(6)).shape == (4, 4)
+    assert robot.fk(np.zeros((7, 6))).shape == (7, 4, 4)
+    assert robot.fk([0, 0, 0, 0, 0, 0]).dtype == np.float64
+    assert repr(robot) == "Robot('PROBOT Anno', 6 joints RRRRRR)"
+
+
+@pytest.mark.parametrize(("q", "message"), [
+    ([0, 0, 0], r"PROBOT Anno has 6 joints, so expected 6 joint values .*got shape \(3,\)"),
+    (1.0, "got a scalar"),
+    ([0, 0, 0, 0, 0, np.nan], "NaN or infinite"),
+    (["a", 0, 0, 0, 0, 0], "expected 6 numbers"),
+])
+def test_bad_joint_values(q, message):
+    with pytest.raises(InputError, match=message):
+        armkit.load("probot-anno").fk(q)
+
+
+def test_limits_checks_name_joint_value_and_range():
+    robot = armkit.load("probot-anno")
+    q = np.array([0, 0, 0, 0, 4.0, 0])
+    assert not robot.within_limits(q)
+    assert robot.within_limits(np.zeros((3, 6))).tolist() == [True] * 3
+    with pytest.raises(JointLimitError, match=r"joint q5 = 4 is outside its limits \[-0.785398, 3.92699\]"):
+        robot.check_limits(q)
+    np.testing.assert_array_equal(robot.check_limits(np.zeros(6)), np.zeros(6))
+
+
+def test_random_q_is_inside_limits_and_reproducible():
+    robot = armkit.load("stanford")
+    q = robot.random_q(100, rng=4)
+    assert q.shape == (100, 6) and robot.within_limits(q).all()
+    np.testing.assert_array_equal(q, robot.random_q(100, rng=4))
+
+
+def test_from_dh_in_code_both_conventions_agree():
+    # A planar 2R arm written in both conventions is the same arm.
+    standard = Robot.from_dh([DHRow(0, 0.4, 0, 0), DHRow(0, 0.3, 0, 0)], "standard")
+    modified = Robot.from_dh([DHRow(0, 0, 0, 0), DHRow(0, 0.4, 0, 0)], "modified",
+                             tool_rows=[DHRow(0, 0.3, 0, 0, joint=None)])
+    q = standard.random_q(10, rng=0)
+    np.testing.assert_allclose(standard.fk(q), modified.fk(q), atol=1e-15)
+    np.testing.assert_allclose(standard.jacobian(q), modified.jacobian(q), atol=1e-15)
+
+
+def test_definition_errors():
+    with pytest.raises(RobotDefinitionError, match="at least one joint"):
+        Robot.from_dh([], "standard")
+    with pytest.raises(RobotDefinitionError, match="unknown DH convention 'craig'"):
+        Robot.from_dh([DHRow(0, 1, 0, 0)], "craig")
+    with pytest.raises(RobotDefinitionError, match="limits has 1 entries; expected 2"):
+        Robot.from_dh([DHRow(0, 1, 0, 0)] * 2, "standard", limits=[(-1, 1)])
+    with pytest.raises(RobotDefinitionError, match="max_velocity = -1.0; expected a positive number"):
+        Robot.from_dh([DHRow(0, 1, 0, 0)], "standard", max_velocity=[-1.0])
+    with pytest.raises(RobotDefinitionError, match="type 'ball'"):
+        Robot.from_dh([DHRow(0, 1, 0, 0, joint="ball")], "standard")
+
+
+def test_chain_arrays_are_read_only():
+    robot = armkit.load("ur5")
+    with pytest.raises(ValueError, match="read-only"):
+        robot.chain.T_tool[0, 0] = 2.0
+    with pytest.raises(ValueError, match="read-only"):
+        robot.chain.joints[0].T_after[0, 3] = 1.0
