@@ -1,0 +1,121 @@
+"""Numeric IK: the solver's single-configuration kernel, the pose error, the LM solver."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import assert_transform_close
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit import kinematics
+from armkit.chain import DHRow
+from armkit.errors import InputError
+from armkit.ik.numeric import _Kernel, numeric_ik, pose_error
+from armkit.spatial import matrix_from_axis_angle, rotation_angle_between, transform_from
+
+
+@pytest.mark.parametrize("name", armkit.builtin_robots())
+def test_kernel_matches_batched_kinematics(name):
+    robot = armkit.load(name)
+    kernel = _Kernel(robot.chain)
+    for q in robot.random_q(5, rng=1):
+        axes, origins, T = kernel.frames(q)
+        np.testing.assert_allclose(T, kinematics.fk(robot.chain, q), atol=1e-14)
+        np.testing.assert_allclose(kernel.jacobian(axes, origins, T),
+                                   kinematics.geometric_jacobian(robot.chain, q), atol=1e-14)
+
+
+@given(st.lists(st.floats(-1, 1), min_size=3, max_size=3), st.floats(0.0, np.pi - 1e-6))
+def test_pose_error_is_the_rotation_vector_in_the_base_frame(direction, angle):
+    axis = np.asarray(direction)
+    if np.linalg.norm(axis) < 1e-3:
+        axis = np.array([0.0, 0.0, 1.0])
+    w = axis / np.linalg.norm(axis) * angle
+    T = transform_from(matrix_from_axis_angle([0.3, -0.2, 0.5]), [0.1, 0.2, 0.3])
+    T_target = transform_from(matrix_from_axis_angle(w) @ T[:3, :3], [0.4, 0.2, 0.0])
+    e = pose_error(T_target, T)
+    np.testing.assert_allclose(e[:3], [0.3, 0.0, -0.3], atol=1e-15)
+    np.testing.assert_allclose(e[3:], w, atol=1e-9)
+    assert np.isclose(np.linalg.norm(e[3:]), rotation_angle_between(T_target, T), atol=1e-9)
+
+
+def test_pose_error_at_a_half_turn():
+    T = np.eye(4)
+    for axis in np.eye(3):
+        e = pose_error(transform_from(matrix_from_axis_angle(np.pi * axis), [0, 0, 0]), T)
+        np.testing.assert_allclose(np.abs(e[3:]), np.pi * axis, atol=1e-12)
+
+
+def _check_solution(robot, T_target, result, tol=1e-9):
+    assert result.success
+    assert robot.within_limits(result.q)
+    assert_transform_close(robot.fk(result.q), T_target, tol, tol)
+    assert result.position_error <= tol and result.orientation_error <= tol
+
+
+def test_panda_random_reachable_poses_within_limits():
+    panda = armkit.load("panda")
+    targets = panda.fk(panda.random_q(40, rng=7))
+    for i, T in enumerate(targets):
+        _check_solution(panda, T, numeric_ik(panda.chain, T, rng=i))
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_round_trip_on_a_pieper_arm_from_any_seed(seed):
+    robot = armkit.load("puma560")
+    rng = np.random.default_rng(seed)
+    T = robot.fk(robot.random_q(rng=rng))
+    _check_solution(robot, T, numeric_ik(robot.chain, T, q0=robot.random_q(rng=rng), rng=seed))
+
+
+def test_prismatic_joint():
+    robot = armkit.load("stanford")
+    T = robot.fk(robot.random_q(rng=3))
+    _check_solution(robot, T, numeric_ik(robot.chain, T, rng=3))
+
+
+def test_position_only_target_for_a_five_joint_arm():
+    rows = [DHRow(0, 0, 0.3, 0), DHRow(np.pi / 2, 0, 0, 0), DHRow(0, 0.3, 0, 0),
+            DHRow(0, 0.25, 0, 0), DHRow(-np.pi / 2, 0, 0.1, 0)]
+    robot = armkit.Robot.from_dh(rows, "modified", name="5R")
+    target = robot.fk(robot.random_q(rng=4))
+    target[:3, :3] = matrix_from_axis_angle([1.0, 2.0, 0.5])  # unreachable orientation
+    result = numeric_ik(robot.chain, target, mask=[1, 1, 1, 0, 0, 0], rng=0)
+    assert result.success and result.orientation_error == 0.0
+    np.testing.assert_allclose(robot.fk(result.q)[:3, 3], target[:3, 3], atol=1e-9)
+    full = numeric_ik(robot.chain, target, max_restarts=3, rng=0)
+    assert not full.success and full.orientation_error > 1e-3
+
+
+def test_unreachable_target_reports_the_closest_pose():
+    panda = armkit.load("panda")
+    target = transform_from(np.eye(3), [2.0, 0.0, 0.5])
+    result = numeric_ik(panda.chain, target, max_restarts=5, rng=0)
+    assert not result.success
+    assert result.restarts == 5
+    assert 0.9 < result.position_error < 1.3
+    assert panda.within_limits(result.q)
+    found = panda.fk(result.q)
+    assert np.isclose(np.linalg.norm(found[:3, 3] - target[:3, 3]), result.position_error)
+
+
+def test_seeded_runs_are_reproducible():
+    panda = armkit.load("panda")
+    T = panda.fk(panda.random_q(rng=11))
+    a = numeric_ik(panda.chain, T, q0=np.zeros(7), rng=5)
+    b = numeric_ik(panda.chain, T, q0=np.zeros(7), rng=5)
+    np.testing.assert_array_equal(a.q, b.q)
+    assert (a.iterations, a.restarts) == (b.iterations, b.restarts)
+
+
+def test_bad_mask_and_seed():
+    panda = armkit.load("panda")
+    with pytest.raises(InputError, match="mask: expected 6 values of 0 or 1"):
+        numeric_ik(panda.chain, np.eye(4), mask=[1, 1, 1])
+    with pytest.raises(InputError, match="mask: expected 6 values"):
+        numeric_ik(panda.chain, np.eye(4), mask=[0.5, 1, 1, 1, 1, 1])
+    with pytest.raises(InputError, match="q0: expected 7 finite joint values"):
+        numeric_ik(panda.chain, np.eye(4), q0=[0.0, np.nan, 0, 0, 0, 0, 0])
