@@ -1,0 +1,170 @@
+"""The trajectory result: piecewise polynomials in joint space that know their timing.
+
+>>> from armkit.trajectory import min_jerk
+>>> traj = min_jerk([[0.0, 0.0], [1.0, -1.0]], [2.0])
+>>> traj.duration, traj.waypoint_times
+(2.0, array([0., 2.]))
+>>> samples = traj.sample(10.0)          # 10 Hz: t, q, qd, qdd, qddd
+>>> samples.q.shape
+(21, 2)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.interpolate import PPoly
+
+from armkit.errors import InputError
+from armkit.trajectory import export
+from armkit.trajectory._checks import check_finite
+from armkit.trajectory.peaks import segment_peaks
+from armkit.trajectory.polynomial import TIME_TOLERANCE
+
+__all__ = ["JointTrajectory", "TrajectorySamples"]
+
+
+class TrajectorySamples(NamedTuple):
+    """Samples of a trajectory: ``t`` ``(K,)`` [s] and ``q``, ``qd``, ``qdd``, ``qddd`` ``(K, n)`` (SI)."""
+
+    t: NDArray[np.float64]
+    q: NDArray[np.float64]
+    qd: NDArray[np.float64]
+    qdd: NDArray[np.float64]
+    qddd: NDArray[np.float64]
+
+
+class JointTrajectory:
+    """A piecewise-polynomial joint trajectory starting at ``t = 0``.
+
+    Parameters
+    ----------
+    durations : (N,) array
+        Segment durations [s].
+    coefficients : (k + 1, N, n) array
+        Per segment and joint, ascending powers of the local time ``t - t_i`` [s].
+    waypoints : (N + 1, n) array
+        Positions at the segment boundaries [rad or m].
+    requested_durations : (N,) array, optional
+        The durations asked for before fitting to limits; defaults to ``durations``.
+
+    Attributes
+    ----------
+    durations, requested_durations, waypoints, coefficients : read-only arrays
+    """
+
+    def __init__(self, durations: ArrayLike, coefficients: ArrayLike, waypoints: ArrayLike,
+                 requested_durations: ArrayLike | None = None) -> None:
+        self.durations = np.array(durations, dtype=float)
+        self.coefficients = np.array(coefficients, dtype=float)
+        self.waypoints = np.array(waypoints, dtype=float)
+        self.requested_durations = np.array(self.durations if requested_durations is None
+                                            else requested_durations, dtype=float)
+        for array in (self.durations, self.coefficients, self.waypoints, self.requested_durations):
+            array.setflags(write=False)
+        self._breaks = np.concatenate([[0.0], np.cumsum(self.durations)])
+        self._ppoly = PPoly(self.coefficients[::-1], self._breaks, extrapolate=False)
+
+    def __repr__(self) -> str:
+        return (f"JointTrajectory({self.dof} joints, {self.durations.size} segments, "
+                f"duration {self.duration:.6g} s)")
+
+    # ----------------------------------------------------------------- timing
+    @property
+    def dof(self) -> int:
+        """Number of joints."""
+        return self.coefficients.shape[2]
+
+    @property
+    def duration(self) -> float:
+        """Total duration [s]."""
+        return float(self._breaks[-1])
+
+    @property
+    def waypoint_times(self) -> NDArray[np.float64]:
+        """Times [s] at which the trajectory passes the waypoints, ``(N + 1,)``."""
+        return self._breaks.copy()
+
+    @property
+    def stretch(self) -> NDArray[np.float64]:
+        """Per segment, final over requested duration (1 where nothing was stretched), ``(N,)``."""
+        return self.durations / self.requested_durations
+
+    # ----------------------------------------------------------------- evaluation
+    def _evaluate(self, t: ArrayLike, orders: int) -> tuple[NDArray[np.float64], ...]:
+        t = check_finite(t, "t")
+        slack = TIME_TOLERANCE * max(1.0, self.duration)
+        if np.any(t < -slack) or np.any(t > self.duration + slack):
+            raise InputError(f"t: expected times in [0, {self.duration:g}] s, got "
+                             f"{np.min(t):g} .. {np.max(t):g}")
+        t = np.clip(t, 0.0, self.duration)
+        return tuple(self._ppoly(t, nu) for nu in range(orders))
+
+    def at_time(self, t: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+        """Position, velocity and acceleration at ``t`` [s].
+
+        Returns ``q, qd, qdd``, each ``(n,)`` for a scalar ``t`` and ``(K, n)`` for ``(K,)`` times.
+        """
+        return self._evaluate(t, 3)
+
+    def sample(self, rate_hz: float) -> TrajectorySamples:
+        """Samples every ``1 / rate_hz`` seconds from 0, plus the end time if the grid misses it.
+
+        Parameters
+        ----------
+        rate_hz : float
+            Sampling rate [Hz], positive.
+        """
+        rate = float(check_finite(rate_hz, "rate_hz"))
+        if rate <= 0:
+            raise InputError(f"rate_hz: expected a positive sampling rate [Hz], got {rate:g}")
+        count = int(np.floor(self.duration * rate + 1e-9))
+        t = np.arange(count + 1) / rate
+        if self.duration - t[-1] > TIME_TOLERANCE * max(1.0, self.duration):
+            t = np.append(t, self.duration)
+        return TrajectorySamples(t, *self._evaluate(t, 4))
+
+    # ----------------------------------------------------------------- peaks
+    def segment_peaks(self, order: int) -> NDArray[np.float64]:
+        """Exact largest ``|d^order q / dt^order|`` per segment and joint, ``(N, n)`` (order 1, 2 or 3)."""
+        return segment_peaks(self.coefficients, self.durations, order)
+
+    @property
+    def peak_velocity(self) -> NDArray[np.float64]:
+        """Largest ``|qd|`` per joint over the whole trajectory [rad/s or m/s], ``(n,)``."""
+        return self.segment_peaks(1).max(axis=0)
+
+    @property
+    def peak_acceleration(self) -> NDArray[np.float64]:
+        """Largest ``|qdd|`` per joint [rad/s^2 or m/s^2], ``(n,)``."""
+        return self.segment_peaks(2).max(axis=0)
+
+    @property
+    def peak_jerk(self) -> NDArray[np.float64]:
+        """Largest ``|qddd|`` per joint [rad/s^3 or m/s^3], ``(n,)``."""
+        return self.segment_peaks(3).max(axis=0)
+
+    def jerk_cost(self) -> NDArray[np.float64]:
+        """Integral of the squared jerk per joint [rad^2/s^5 or m^2/s^5], ``(n,)``, exact."""
+        k1 = self.coefficients.shape[0]
+        if k1 < 4:
+            return np.zeros(self.dof)
+        powers = np.arange(3, k1)
+        factor = (powers * (powers - 1) * (powers - 2)).astype(float)
+        jerk = self.coefficients[3:] * factor[:, None, None]          # powers t^0 .. t^(k-3)
+        exponents = np.arange(k1 - 3)
+        e = exponents[:, None] + exponents[None, :] + 1
+        integral = self.durations[None, None, :] ** e[..., None] / e[..., None]   # (m, m, N)
+        return np.einsum("iNn,jNn,ijN->n", jerk, jerk, integral)
+
+    # ----------------------------------------------------------------- export
+    def to_csv(self, path: str | Path, rate_hz: float = 100.0, overwrite: bool = False) -> Path:
+        """Write samples at ``rate_hz`` to CSV, header ``t,q1..qn,qd1..qdn,qdd1..qddn`` (SI units)."""
+        return export.write_csv(self.sample(rate_hz), path, overwrite)
+
+    def to_npz(self, path: str | Path, rate_hz: float = 100.0, overwrite: bool = False) -> Path:
+        """Write samples at ``rate_hz`` to NPZ, one array per CSV column name (``t``, ``q1``, ...)."""
+        return export.write_npz(self.sample(rate_hz), path, overwrite)

@@ -1,0 +1,172 @@
+"""Fitting segment durations to velocity and acceleration limits.
+
+Time scaling
+------------
+Running a trajectory ``k`` times slower, ``q_k(t) = q(t / k)``, divides velocities by
+``k`` and accelerations by ``k^2``. The minimum-jerk spline of rest-to-rest waypoints
+with all durations multiplied by ``k`` is exactly that slowed trajectory, so the smallest
+*uniform* factor meeting the limits is exact:
+
+    k = max( max_j peak|qd_j| / vmax_j , sqrt( max_j peak|qdd_j| / amax_j ) )
+
+(peaks computed exactly from the polynomials, see :mod:`armkit.trajectory.peaks`).
+
+Per segment
+-----------
+A uniform stretch slows every segment for the sake of the worst one. The minimum-jerk
+solve couples the segments (changing one duration changes its neighbours' velocities),
+so per-segment durations are found iteratively, by coordinate descent: starting from
+the uniformly scaled (feasible) durations, each segment in turn is shortened to the
+shortest duration that keeps the whole trajectory within the limits (bisection, to a
+relative tolerance ``tol``), and rounds repeat until no segment shortens by more than
+``tol``. Every iterate is feasible, so the result never exceeds a limit, and no single
+segment can be shortened (by more than ``tol``) without violating one. The result is
+such a coordinate-wise minimum, not a certified global minimum of the total duration.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armkit.errors import ConvergenceError, InputError
+from armkit.trajectory._checks import check_durations, check_finite, check_waypoints
+from armkit.trajectory.joint_trajectory import JointTrajectory
+from armkit.trajectory.min_jerk import min_jerk
+
+__all__ = ["auto_time", "limit_ratio", "limit_ratios", "stretch_to_limits"]
+
+
+def _as_float(value: ArrayLike, name: str) -> NDArray[np.float64]:
+    """``value`` as float64 (``inf`` allowed, meaning no limit), or :class:`InputError`."""
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name}: expected numbers, got {value!r}") from exc
+
+
+def _limits(value: ArrayLike, n: int, name: str) -> NDArray[np.float64]:
+    limits = np.asarray(_as_float(value, name), dtype=float)
+    if limits.ndim > 1 or limits.size not in (1, n):
+        raise InputError(f"{name}: expected one limit or {n} limits (one per joint), got {limits.tolist()}")
+    limits = np.broadcast_to(limits, (n,))
+    if np.any(np.isnan(limits)) or np.any(limits <= 0):
+        raise InputError(f"{name}: expected positive limits (inf for none), got {limits.tolist()}")
+    return limits
+
+
+def limit_ratios(trajectory: JointTrajectory, max_velocity: ArrayLike,
+                 max_acceleration: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Peak ``|qd| / vmax`` and ``|qdd| / amax`` per segment and joint, two ``(N, n)`` arrays.
+
+    A ratio above 1 is a violated limit; joints with an infinite limit give 0.
+    """
+    n = trajectory.dof
+    vmax = _limits(max_velocity, n, "max_velocity")
+    amax = _limits(max_acceleration, n, "max_acceleration")
+    return trajectory.segment_peaks(1) / vmax, trajectory.segment_peaks(2) / amax
+
+
+def limit_ratio(trajectory: JointTrajectory, max_velocity: ArrayLike, max_acceleration: ArrayLike) -> float:
+    """The uniform slow-down factor ``k`` that meets the limits exactly (below 1: room to spare)."""
+    velocity, acceleration = limit_ratios(trajectory, max_velocity, max_acceleration)
+    return float(max(velocity.max(), np.sqrt(acceleration.max())))
+
+
+def _shorten(waypoints, durations, lower, vmax, amax, tol, max_rounds):
+    """Coordinate descent: shorten each segment in turn to its feasible minimum (all feasible)."""
+    def feasible(candidate):
+        return limit_ratio(min_jerk(waypoints, candidate), vmax, amax) <= 1.0
+
+    durations = durations.copy()
+    for _ in range(max_rounds):
+        before = durations.copy()
+        for i in range(durations.size):
+            trial = durations.copy()
+            trial[i] = lower[i]
+            if feasible(trial):
+                durations[i] = lower[i]
+                continue
+            lo, hi = lower[i], durations[i]       # lo infeasible, hi feasible
+            while hi - lo > tol * hi:
+                trial[i] = 0.5 * (lo + hi)
+                lo, hi = (lo, trial[i]) if feasible(trial) else (trial[i], hi)
+            durations[i] = hi
+        if np.all(before - durations <= tol * before):
+            return durations
+    raise ConvergenceError(f"segment durations still shortening after {max_rounds} rounds "
+                           f"(last change {np.max((before - durations) / before):.2g} relative)")
+
+
+def _fit(waypoints, start, lower, requested, max_velocity, max_acceleration, tol, max_rounds):
+    n = waypoints.shape[1]
+    vmax = _limits(max_velocity, n, "max_velocity")
+    amax = _limits(max_acceleration, n, "max_acceleration")
+    if np.all(np.isinf(vmax)) and np.all(np.isinf(amax)):
+        raise InputError("max_velocity, max_acceleration: no finite limit to fit the durations to")
+    k = limit_ratio(min_jerk(waypoints, start), vmax, amax)
+    scaled = start * k
+    if np.all(scaled <= lower):
+        durations = lower
+    else:
+        durations = _shorten(waypoints, np.maximum(scaled, lower), lower, vmax, amax, tol, max_rounds)
+    final = min_jerk(waypoints, durations)
+    return JointTrajectory(final.durations, final.coefficients, final.waypoints, requested)
+
+
+def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: ArrayLike,
+                      max_acceleration: ArrayLike, *, tol: float = 1e-4,
+                      max_rounds: int = 200) -> JointTrajectory:
+    """The rest-to-rest minimum-jerk trajectory, segments lengthened only as far as the limits need.
+
+    Each final duration is at least the requested one; a trajectory already within the
+    limits is returned unchanged. ``result.stretch`` says by how much each segment grew.
+
+    Parameters
+    ----------
+    waypoints : (M, n) array
+        Joint positions [rad or m].
+    durations : (M - 1,) array
+        Requested segment durations [s].
+    max_velocity, max_acceleration : float or (n,) array
+        Limits [rad/s, rad/s^2 or m/s, m/s^2]; ``inf`` for none.
+    tol : float
+        Relative accuracy of each duration.
+
+    Examples
+    --------
+    >>> traj = stretch_to_limits([[0.0], [1.0]], [1.0], 1.0, 1.0)
+    >>> float(traj.durations[0].round(3)), float(traj.peak_acceleration[0].round(3))
+    (2.403, 1.0)
+    """
+    waypoints = check_waypoints(waypoints)
+    requested = check_durations(durations, waypoints.shape[0] - 1)
+    return _fit(waypoints, requested, requested, requested, max_velocity, max_acceleration, tol, max_rounds)
+
+
+def auto_time(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: ArrayLike, *,
+              tol: float = 1e-4, max_rounds: int = 200) -> JointTrajectory:
+    """The rest-to-rest minimum-jerk trajectory with the shortest durations meeting the limits.
+
+    Starts from durations proportional to each segment's largest ``|dq| / vmax +
+    sqrt(|dq| / amax)``, scales them uniformly onto the limits, then shortens segment by
+    segment (see the module notes). A segment cannot be shorter than
+    ``max_j |dq_j| / vmax_j`` (nor than ``1e-6`` of the total, for repeated waypoints).
+
+    Examples
+    --------
+    >>> traj = auto_time([[0.0], [1.0]], 1.0, 1.0)
+    >>> round(traj.duration, 3)                 # rest to rest, 1 rad at 1 rad/s^2 (sqrt(10 / sqrt(3)))
+    2.403
+    """
+    waypoints = check_waypoints(waypoints)
+    n = waypoints.shape[1]
+    vmax = _limits(max_velocity, n, "max_velocity")
+    amax = _limits(max_acceleration, n, "max_acceleration")
+    step = np.abs(np.diff(waypoints, axis=0))
+    guess = (step / vmax + np.sqrt(step / amax)).max(axis=1)
+    if not np.all(np.isfinite(guess)) or guess.max() == 0:
+        raise InputError("auto_time: needs finite limits and waypoints that move")
+    guess = np.maximum(guess, 1e-6 * guess.sum())
+    lower = np.maximum((step / vmax).max(axis=1), 1e-6 * guess.sum())
+    return _fit(waypoints, guess, lower, guess, vmax, amax, float(check_finite(tol, "tol")), max_rounds)
