@@ -1,0 +1,130 @@
+"""MJCF (MuJoCo XML) export of an armkit robot.
+
+The model is written from the one internal chain (see :mod:`armkit.export.physical`):
+nested bodies at the joint frames, hinge or slide joints along each body's z axis, the
+robot's base frame at the world origin and a site named ``tool`` at the tool frame.
+Angles are in radians (``<compiler angle="radian"/>``), numbers are written with full
+precision so MuJoCo's forward kinematics match armkit's to rounding error.
+
+Every joint ``qN`` has two actuators: ``qN_position`` (position servo, ``ctrl`` = target
+position) and ``qN_velocity`` (velocity servo, ``ctrl`` = target velocity); together
+``kp (q* - q) + kv (qd* - qd)``. Geoms do not collide (the model checks kinematics and
+servo tracking, not contacts).
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armkit.export.physical import TIMESTEP, BodyShape, PhysicalModel, physical_model
+from armkit.export.writing import write_text
+from armkit.robot import Robot
+from armkit.spatial.rotations import quaternion_wxyz_from_matrix
+
+__all__ = ["mjcf_from_robot", "write_mjcf"]
+
+_COLORS = ("0.85 0.45 0.12 1", "0.20 0.40 0.75 1")  # alternate link colours
+_HOUSING_COLOR = "0.25 0.25 0.28 1"
+
+
+def _numbers(values: NDArray[np.float64]) -> str:
+    return " ".join(repr(float(v)) for v in np.ravel(values))
+
+
+def _pose(T: NDArray[np.float64]) -> dict[str, str]:
+    return {"pos": _numbers(T[:3, 3]), "quat": _numbers(quaternion_wxyz_from_matrix(T[:3, :3]))}
+
+
+def _add_inertial(body: ET.Element, shape: BodyShape) -> None:
+    eigenvalues, axes = np.linalg.eigh(shape.inertia)
+    if np.linalg.det(axes) < 0:
+        axes[:, 0] = -axes[:, 0]
+    ET.SubElement(body, "inertial", pos=_numbers(shape.com),
+                  quat=_numbers(quaternion_wxyz_from_matrix(axes)), mass=repr(shape.mass),
+                  diaginertia=_numbers(np.maximum(eigenvalues, 1e-12)))
+
+
+def _add_geoms(body: ET.Element, shape: BodyShape, radius: float, color: str,
+               housing: bool) -> None:
+    if housing:
+        ET.SubElement(body, "geom", type="sphere", size=repr(1.5 * radius), rgba=_HOUSING_COLOR)
+    for start, end in shape.segments:
+        ET.SubElement(body, "geom", type="capsule", size=repr(radius),
+                      fromto=_numbers(np.concatenate([start, end])), rgba=color)
+
+
+def mjcf_from_robot(robot: Robot, *, gravity: bool = True,
+                    model: PhysicalModel | None = None) -> str:
+    """MJCF text for ``robot``: bodies, joints, limits, servos and a ``tool`` site.
+
+    Parameters
+    ----------
+    robot : Robot
+    gravity : bool
+        Whether the world has gravity (``-9.81 m/s^2`` along base z) or none.
+    model : PhysicalModel, optional
+        Precomputed :func:`~armkit.export.physical.physical_model` of ``robot``.
+
+    Returns
+    -------
+    str
+        The XML document.
+
+    Raises
+    ------
+    RobotDefinitionError
+        If the arm cannot be simulated (every link length zero).
+
+    Examples
+    --------
+    >>> import armkit, mujoco
+    >>> xml = mjcf_from_robot(armkit.load("probot-anno"))
+    >>> mujoco.MjModel.from_xml_string(xml).nu  # a position and a velocity servo per joint
+    12
+    """
+    model = physical_model(robot) if model is None else model
+    root = ET.Element("mujoco", model=robot.name)
+    ET.SubElement(root, "compiler", angle="radian", autolimits="true")
+    ET.SubElement(root, "option", timestep=repr(TIMESTEP), integrator="implicitfast",
+                  gravity="0 0 -9.81" if gravity else "0 0 0")
+    default = ET.SubElement(root, "default")
+    ET.SubElement(default, "geom", contype="0", conaffinity="0", group="1")
+    world = ET.SubElement(root, "worldbody")
+    ET.SubElement(world, "light", pos="0 0 3", dir="0 0 -1", directional="true")
+    _add_geoms(world, model.base, model.radius, _HOUSING_COLOR, housing=False)
+    parent = world
+    actuators = ET.Element("actuator")
+    for i, joint in enumerate(robot.chain.joints):
+        body = ET.SubElement(parent, "body", name=f"link{i + 1}", **_pose(model.T_parent_body[i]))
+        attributes = {"name": joint.name, "type": "slide" if joint.kind == "prismatic" else "hinge",
+                      "axis": "0 0 1", "armature": repr(float(model.armature[i]))}
+        if np.isfinite(joint.lower) and np.isfinite(joint.upper):
+            attributes["range"] = _numbers(np.array([joint.lower, joint.upper]))
+        ET.SubElement(body, "joint", **attributes)
+        _add_inertial(body, model.bodies[i])
+        _add_geoms(body, model.bodies[i], model.radius, _COLORS[i % 2], housing=True)
+        ET.SubElement(actuators, "position", name=f"{joint.name}_position", joint=joint.name,
+                      kp=repr(float(model.kp[i])))
+        ET.SubElement(actuators, "velocity", name=f"{joint.name}_velocity", joint=joint.name,
+                      kv=repr(float(model.kv[i])))
+        parent = body
+    ET.SubElement(parent, "site", name="tool", size=repr(model.radius), rgba="0.1 0.7 0.2 1",
+                  **_pose(model.T_last_tool))
+    root.append(actuators)
+    ET.indent(root)
+    return ET.tostring(root, encoding="unicode") + "\n"
+
+
+def write_mjcf(robot: Robot, path: str | Path, *, force: bool = False, gravity: bool = True) -> Path:
+    """Write :func:`mjcf_from_robot` to ``path``; refuses to overwrite unless ``force``.
+
+    Raises
+    ------
+    InputError
+        If ``path`` exists and ``force`` is false, or its folder does not exist.
+    """
+    return write_text(path, mjcf_from_robot(robot, gravity=gravity), force=force)
