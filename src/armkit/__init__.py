@@ -7,6 +7,7 @@
 """
 
 from armkit.chain import Chain, DHRow, Joint, chain_from_dh
+from armkit.control import MotionResult, ResolvedRate, move_linear, rotate_about_tool_point
 from armkit.errors import (
     ArmkitError,
     ConvergenceError,
@@ -29,13 +30,17 @@ __all__ = [
     "InputError",
     "Joint",
     "JointLimitError",
+    "MotionResult",
     "NoClosedFormError",
+    "ResolvedRate",
     "Robot",
     "RobotDefinitionError",
     "UnreachableError",
     "builtin_robots",
     "chain_from_dh",
     "load",
+    "move_linear",
     "robot_from_dict",
     "robot_to_toml",
+    "rotate_about_tool_point",
 ]

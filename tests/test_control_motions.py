@@ -1,0 +1,127 @@
+"""Closed-loop motions: the seed's straight move and fixed-point rotation, limits, drift."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armkit
+from armkit.control import ResolvedRate, move_linear, rotate_about_tool_point, track_poses
+from armkit.errors import InputError, JointLimitError
+from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
+
+PROBOT = armkit.load("probot-anno")
+Q0 = np.zeros(6)
+
+
+def test_seed_straight_move():
+    result = move_linear(PROBOT, Q0, [0.15, 0.0, -0.15], duration=3.0)
+    assert result.completed, result.message
+    start = PROBOT.fk(Q0)
+    end = result.pose_final
+    assert np.linalg.norm(end[:3, 3] - [0.3789, 0.0, 0.304]) < 1e-5
+    assert rotation_angle_between(end, start) < 1e-8  # orientation unchanged
+    # The whole path stays on the straight line and keeps the orientation.
+    p = result.poses[:, :3, 3] - start[:3, 3]
+    direction = np.array([1.0, 0.0, -1.0]) / np.sqrt(2)
+    off_line = np.linalg.norm(p - np.outer(p @ direction, direction), axis=-1)
+    assert off_line.max() < 1e-5
+    assert rotation_angle_between(result.poses, start).max() < 1e-5
+    assert np.all(np.abs(result.qd) <= PROBOT.max_velocity)
+    assert PROBOT.within_limits(result.q).all()
+
+
+def test_straight_move_in_the_tool_frame():
+    start = PROBOT.fk(Q0)
+    d_tool = np.array([0.02, -0.03, 0.01])
+    in_tool = move_linear(PROBOT, Q0, d_tool, 1.0, frame="tool")
+    in_base = move_linear(PROBOT, Q0, start[:3, :3] @ d_tool, 1.0)
+    np.testing.assert_allclose(in_tool.q, in_base.q, atol=1e-12)
+    np.testing.assert_allclose(in_tool.pose_final[:3, 3], start[:3, 3] + start[:3, :3] @ d_tool, atol=1e-8)
+
+
+def test_seed_fixed_point_rotation_turns_180_degrees():
+    # Base x axis at -0.2 rad/s, i.e. the twist [0, 0, 0, -0.2, 0, 0], for 180 degrees.
+    result = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], rate=-0.2, angle=-np.pi)
+    assert result.completed, result.message
+    assert result.t[-1] == pytest.approx(np.pi / 0.2)
+    drift = np.linalg.norm(result.poses[:, :3, 3] - PROBOT.fk(Q0)[:3, 3], axis=-1)
+    assert drift.max() < 1e-4
+    expected = matrix_from_axis_angle([-np.pi, 0, 0]) @ PROBOT.fk(Q0)[:3, :3]
+    assert rotation_angle_between(result.pose_final[:3, :3], expected) < 1e-6
+    assert result.q_final[3] == pytest.approx(-np.pi, abs=1e-6)  # joint 4 reaches -pi ...
+    assert PROBOT.within_limits(result.q).all()  # ... and never passes it
+    assert np.all(np.abs(result.qd) <= PROBOT.max_velocity)
+
+
+def test_rotation_asked_for_more_stops_at_the_joint_limit():
+    result = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], rate=-0.2, angle=-np.radians(200))
+    assert not result.completed
+    assert "joint q4 reached its lower limit" in result.message
+    assert result.q[:, 3].min() >= -np.pi - 1e-12
+    assert PROBOT.within_limits(result.q).all()
+    turned = rotation_angle_between(result.pose_final, PROBOT.fk(Q0))
+    assert np.degrees(turned) == pytest.approx(180.0, abs=0.01)
+    assert result.orientation_error == pytest.approx(np.radians(20), abs=1e-3)  # short of the target
+    with pytest.raises(JointLimitError, match="joint q4 reached its lower limit"):
+        rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], rate=-0.2, angle=-np.radians(200),
+                                stop_at_limits=False)
+
+
+def test_rotation_through_a_wrist_singularity_keeps_velocities_smooth_and_limited():
+    q0 = np.array([0.0, 0.3, 0.5, 0.2, np.pi / 2 - 0.15, 0.1])
+    damped = rotate_about_tool_point(PROBOT, q0, [0, 0, 1], angle=0.4, duration=4.0, frame="tool")
+    undamped = rotate_about_tool_point(PROBOT, q0, [0, 0, 1], angle=0.4, duration=4.0, frame="tool",
+                                       control=ResolvedRate(PROBOT, threshold=0.0, limit_velocity=False))
+    assert damped.sigma_min.min() < 1e-3  # the motion really passes the singularity
+    assert np.max(np.abs(undamped.qd) / PROBOT.max_velocity) > 5  # where the plain inverse explodes
+    assert np.all(np.abs(damped.qd) <= PROBOT.max_velocity * (1 + 1e-12))
+    jumps = np.abs(np.diff(damped.qd[:-1], axis=0)) / PROBOT.max_velocity
+    assert jumps.max() < 0.01  # per 2 ms step: no jumps
+    assert damped.completed and damped.position_error < 1e-6  # it catches up afterwards
+
+
+def test_closed_loop_does_not_drift_like_open_loop():
+    result = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], rate=-0.2, angle=-np.pi / 2)
+    control, q = ResolvedRate(PROBOT), Q0.copy()
+    twist = np.array([0.0, 0.0, 0.0, -0.2, 0.0, 0.0])
+    for dt in np.diff(result.t):
+        q = q + control.step(q, twist).qd * dt
+    open_drift = np.linalg.norm(PROBOT.fk(q)[:3, 3] - PROBOT.fk(Q0)[:3, 3])
+    assert open_drift > 5e-6
+    assert result.max_position_error < open_drift / 50
+
+
+def test_track_poses_follows_a_given_reference():
+    t = np.linspace(0.0, 1.0, 501)
+    start = PROBOT.fk(Q0)
+    reference = np.broadcast_to(start, (t.size, 4, 4)).copy()
+    reference[:, 1, 3] += 0.02 * np.sin(np.pi * t)
+    result = track_poses(PROBOT, Q0, t, reference)
+    assert result.max_position_error < 1e-4 and result.position_error < 1e-6
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: move_linear(PROBOT, Q0, [0.1, 0, np.nan], 1.0), "NaN"),
+    (lambda: move_linear(PROBOT, Q0, [0.1, 0], 1.0), "expected 3 numbers"),
+    (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], -1.0), "duration = -1.0: expected a positive"),
+    (lambda: move_linear(PROBOT, [0] * 5, [0.1, 0, 0], 1.0), "6 joints"),
+    (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], 1.0, frame="world"), "expected 'base' or 'tool'"),
+    (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], 1.0, dt=0.1, gain=20), "gain \\* dt <= 1"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [0, 0, 0], angle=1.0, rate=0.1), "non-zero direction"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0), "give two of"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, rate=0.1, duration=2.0),
+     "give two of"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, rate=-0.1), "opposite signs"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=0.0, duration=1.0), "non-zero"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], rate=0.1, duration=-2.0), "positive"),
+    (lambda: track_poses(PROBOT, Q0, [0.0, 0.0], np.stack([np.eye(4)] * 2)), "increasing"),
+])
+def test_bad_input(call, match):
+    with pytest.raises(InputError, match=match):
+        call()
+
+
+def test_start_outside_the_limits():
+    with pytest.raises(JointLimitError, match="joint q5 = -2 is outside its limits"):
+        move_linear(PROBOT, [0, 0, 0, 0, -2.0, 0], [0.1, 0, 0], 1.0)

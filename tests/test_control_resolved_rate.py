@@ -1,0 +1,140 @@
+"""Resolved-rate control: lean kinematics, damped least squares, velocity scaling, frames."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armkit
+from armkit.control import ResolvedRate, damping, joint_velocity, scale_to_limits
+from armkit.control.resolved_rate import DEFAULT_MAX_DAMPING, DEFAULT_THRESHOLD
+from armkit.errors import InputError
+
+PROBOT = armkit.load("probot-anno")
+#: PROBOT Anno's wrist is singular at q5 = pi/2 (axes 4 and 6 aligned).
+WRIST_SINGULAR = np.array([0.0, 0.3, 0.5, 0.2, np.pi / 2, 0.1])
+
+
+@pytest.mark.parametrize("name", armkit.builtin_robots())
+def test_lean_kinematics_match_robot(name):
+    robot = armkit.load(name)
+    control = ResolvedRate(robot)
+    for q in robot.random_q(20, rng=3):
+        T, J = control._kinematics(q)
+        np.testing.assert_allclose(T, robot.fk(q), atol=1e-14)
+        np.testing.assert_allclose(J, robot.jacobian(q), atol=1e-14)
+
+
+@pytest.mark.parametrize("name", armkit.builtin_robots())
+def test_away_from_singularities_the_step_is_the_least_squares_solution(name):
+    robot = armkit.load(name)
+    control = ResolvedRate(robot, limit_velocity=False)
+    rng = np.random.default_rng(7)
+    checked = 0
+    for q in robot.random_q(80, rng=rng):
+        J = robot.jacobian(q)
+        if np.linalg.svd(J, compute_uv=False)[-1] < 2 * DEFAULT_THRESHOLD:
+            continue
+        twist = rng.normal(size=6)
+        step = control.step(q, twist)
+        assert step.damping == 0.0 and step.scale == 1.0
+        np.testing.assert_allclose(step.qd, np.linalg.lstsq(J, twist, rcond=None)[0], atol=1e-10)
+        checked += 1
+    assert checked >= 5
+
+
+def test_damping_law():
+    sigma = np.linspace(0.0, 0.1, 101)
+    lam2 = damping(sigma, threshold=0.05, max_damping=0.08)
+    assert lam2[0] == pytest.approx(0.08**2)
+    assert np.all(lam2[sigma >= 0.05] == 0.0)
+    below = sigma < 0.05
+    assert np.all(np.diff(lam2[below]) < 0), "damping must grow as sigma_min falls"
+    assert damping(0.05 - 1e-9, 0.05, 0.08) == pytest.approx(0.0, abs=1e-9)  # continuous at eps
+
+
+def test_dls_matches_the_svd_formula_near_a_singularity():
+    control = ResolvedRate(PROBOT, limit_velocity=False)
+    twist = np.array([0.01, -0.02, 0.015, 0.1, -0.2, 0.3])
+    for offset in (0.1, 1e-2, 1e-3, 1e-5, 0.0):
+        q = WRIST_SINGULAR + [0, 0, 0, 0, offset, 0]
+        U, s, Vt = np.linalg.svd(PROBOT.jacobian(q))
+        step = control.step(q, twist)
+        assert step.sigma_min == pytest.approx(s[-1], abs=1e-7)
+        lam2 = damping(s[-1])
+        expected = Vt.T @ ((s / (s**2 + lam2)) * (U.T @ twist))
+        np.testing.assert_allclose(step.qd, expected, atol=1e-7 * np.abs(expected).max())
+
+
+def test_joint_velocities_stay_bounded_as_the_singularity_nears():
+    damped = ResolvedRate(PROBOT, limit_velocity=False)
+    undamped = ResolvedRate(PROBOT, threshold=0.0, limit_velocity=False)
+    twist = np.array([0.0, 0.0, 0.0, 0.3, 0.2, 0.0])
+    gains, lam2 = [], []
+    for offset in (0.3, 0.1, 3e-2, 1e-2, 1e-3, 1e-4):
+        q = WRIST_SINGULAR + [0, 0, 0, 0, offset, 0]
+        step = damped.step(q, twist)
+        gains.append(np.linalg.norm(undamped.step(q, twist).qd) / np.linalg.norm(twist))
+        lam2.append(step.damping)
+        # With lambda_max = eps every direction's gain s / (s^2 + lambda^2) is <= 1 / eps.
+        assert np.linalg.norm(step.qd) <= np.linalg.norm(twist) / DEFAULT_THRESHOLD * (1 + 1e-9)
+    assert gains[-1] > 100 / DEFAULT_THRESHOLD  # the undamped solution blows up ...
+    assert np.all(np.diff(lam2) >= 0) and lam2[-1] > 0.9 * DEFAULT_MAX_DAMPING**2  # ... damping grows
+
+
+def test_velocity_scaling_keeps_the_direction():
+    free = ResolvedRate(PROBOT, limit_velocity=False)
+    limited = ResolvedRate(PROBOT)
+    q = np.array([0.2, -0.4, 0.3, 0.5, 1.0, -0.2])
+    twist = np.array([0.5, -0.3, 0.2, 1.0, 0.5, -2.0])
+    raw, scaled = free.step(q, twist).qd, limited.step(q, twist)
+    assert 0 < scaled.scale < 1
+    np.testing.assert_allclose(scaled.qd, scaled.scale * raw, rtol=1e-12)
+    assert np.max(np.abs(scaled.qd) / PROBOT.max_velocity) == pytest.approx(1.0)
+
+
+def test_scale_to_limits():
+    qd, scale = scale_to_limits([2.0, -0.5, 0.1], [1.0, 1.0, np.inf])
+    np.testing.assert_allclose(qd, [1.0, -0.25, 0.05])
+    assert scale == 0.5
+    batch, scales = scale_to_limits([[0.5, 0.5], [4.0, 1.0]], [1.0, 1.0])
+    np.testing.assert_allclose(batch, [[0.5, 0.5], [1.0, 0.25]])
+    np.testing.assert_allclose(scales, [1.0, 0.25])
+
+
+def test_tool_frame_twist_is_the_base_twist_rotated():
+    rng = np.random.default_rng(11)
+    for q in PROBOT.random_q(10, rng=rng):
+        twist_tool = rng.normal(size=6) * 0.01
+        R = PROBOT.fk(q)[:3, :3]
+        qd_tool = joint_velocity(PROBOT, q, twist_tool, "tool", limit_velocity=False)
+        qd_base = joint_velocity(PROBOT, q, np.concatenate([R @ twist_tool[:3], R @ twist_tool[3:]]),
+                                 "base", limit_velocity=False)
+        np.testing.assert_allclose(qd_tool, qd_base, atol=1e-12)
+        if PROBOT.singular_values(q)[-1] > DEFAULT_THRESHOLD:
+            np.testing.assert_allclose(PROBOT.jacobian(q, "tool") @ qd_tool, twist_tool, atol=1e-12)
+
+
+def test_exactly_singular_without_damping_falls_back_to_least_squares():
+    control = ResolvedRate(PROBOT, threshold=0.0, limit_velocity=False)
+    qd = control.step(WRIST_SINGULAR, np.array([0, 0, 0, 0.1, 0, 0])).qd
+    assert np.all(np.isfinite(qd))
+
+
+@pytest.mark.parametrize(("q", "twist", "frame", "match"), [
+    ([0] * 6, [0, 0, np.nan, 0, 0, 0], "base", "NaN"),
+    ([0] * 6, [0, 0, 0], "base", "expected 6 numbers"),
+    ([0] * 5, [0] * 6, "base", "6 joints"),
+    ([0] * 6, [0] * 6, "world", "expected 'base' or 'tool'"),
+    ([[0] * 6] * 2, [0] * 6, "base", "one configuration"),
+])
+def test_bad_input(q, twist, frame, match):
+    with pytest.raises(InputError, match=match):
+        joint_velocity(PROBOT, q, twist, frame)
+
+
+def test_bad_settings():
+    with pytest.raises(InputError, match="threshold"):
+        ResolvedRate(PROBOT, threshold=-1.0)
+    with pytest.raises(InputError, match="max_damping"):
+        ResolvedRate(PROBOT, max_damping=np.nan)
