@@ -18,7 +18,7 @@ def test_zju_report_row_in_xyz_euler_degrees():
     table = compare_poses(robot.fk(q), Simulation(robot).tool_pose(q), convention="xyz-euler", degrees=True)
     # report 003, computed: [0.226, 0.107, 0.552, -148.00, 36.35, -107.00]
     np.testing.assert_allclose(table.computed[0], [0.226, 0.107, 0.552, -148.00, 36.35, -107.00], atol=6e-3)
-    assert table.columns == ["x [m]", "y [m]", "z [m]", "x [deg]", "y [deg]", "z [deg]"]
+    assert table.columns == ["x [m]", "y [m]", "z [m]", "a1 (x) [deg]", "a2 (y) [deg]", "a3 (z) [deg]"]
     assert table.max_errors()[0] < 1e-12 and table.max_errors()[1] < 1e-7
 
 

@@ -30,6 +30,7 @@ from armkit.errors import InputError
 from armkit.export.mjcf import mjcf_from_robot
 from armkit.export.physical import physical_model
 from armkit.robot import Robot
+from armkit.trajectory.polynomial import quintic
 
 __all__ = ["SimResult", "Simulation"]
 
@@ -206,6 +207,30 @@ class Simulation:
             mujoco.mj_step2(m, d)
         return SimResult(t=grid, q=q_sim, qd=qd_sim, q_command=q_cmd, qd_command=qd_cmd, T_tool=poses,
                          gravity=self.gravity, gravity_compensation=self.gravity_compensation, mode=mode)
+
+    def move(self, q_start: ArrayLike, q_goal: ArrayLike, duration: float = 1.0,
+             settle: float = 0.5) -> SimResult:
+        """Rest-to-rest quintic (minimum jerk) from ``q_start`` to ``q_goal`` in ``duration`` [s],
+        then hold ``q_goal`` for ``settle`` [s]: the servo check of a configuration.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> robot = armkit.load("grb400-scara")
+        >>> result = Simulation(robot).move([0, 0, 0, 0], [1.0, 0.5, 0.02, 0.3])
+        >>> bool(np.abs(result.q[-1] - [1.0, 0.5, 0.02, 0.3]).max() < 1e-6)
+        True
+        """
+        q_start, q_goal = self.robot.check_q(q_start, "q_start"), self.robot.check_q(q_goal, "q_goal")
+        if not (duration > 0 and settle >= 0):
+            raise InputError(f"duration {duration}, settle {settle}: expected a positive move time "
+                             f"and a non-negative settling time [s]")
+        samples = max(2, int(round(duration / self.timestep)) + 1)
+        t = np.linspace(0.0, duration, samples)
+        q, qd = quintic(q_start, q_goal, duration).sample(t)[:2]
+        if settle > 0:
+            t, q, qd = np.append(t, duration + settle), np.vstack([q, q_goal]), np.vstack([qd, 0 * q_goal])
+        return self.run(t, q, qd)
 
     def hold(self, q: ArrayLike, duration: float = 1.0) -> SimResult:
         """Start at ``q`` at rest and command it for ``duration`` seconds (settling check)."""

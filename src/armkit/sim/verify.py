@@ -56,10 +56,11 @@ class PoseComparison:
 
     @property
     def columns(self) -> list[str]:
-        """Column names with units, e.g. ``["x [m]", ..., "a1 [rad]", ...]``."""
+        """Column names with units, e.g. ``["x [m]", ..., "a1 (x) [rad]", ...]``."""
         angle = "deg" if self.degrees else "rad"
         axes = parse_convention(self.convention).axes
-        return [f"{c} [{self.length_unit}]" for c in "xyz"] + [f"{a} [{angle}]" for a in axes]
+        positions = [f"{c} [{self.length_unit}]" for c in "xyz"]
+        return positions + [f"a{i + 1} ({a}) [{angle}]" for i, a in enumerate(axes)]
 
     def max_errors(self) -> tuple[float, float]:
         """Largest position error [m] and rotation error [rad] over all rows."""

@@ -1,0 +1,227 @@
+"""Pictures of an arm: a still PNG of a configuration with its link frames, and GIF animations.
+
+Drawn with matplotlib's 3-D axes (no GPU, no ffmpeg; GIFs through Pillow). The links
+are the same cylinders the simulation model uses (:mod:`armkit.export.physical`): from
+each joint along its axis, then to the next joint. Frames are drawn as red/green/blue
+x/y/z arrows: the base, every DH link frame and the tool. A light grey shadow on the
+floor helps the eye place the arm in depth.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+from numpy.typing import ArrayLike, NDArray  # noqa: E402
+
+from armkit import kinematics  # noqa: E402
+from armkit.errors import InputError  # noqa: E402
+from armkit.export.physical import PhysicalModel, physical_model  # noqa: E402
+from armkit.robot import Robot  # noqa: E402
+
+__all__ = ["animate_trajectory", "plot_configuration"]
+
+_LINK_COLORS = ("#d9731f", "#3366bf")
+_JOINT_COLOR = "#404047"
+_AXIS_COLORS = ("#d62728", "#2ca02c", "#1f77b4")
+_PATH_COLOR = "#8e44ad"
+
+
+def _polylines(robot: Robot, model: PhysicalModel, q: NDArray[np.float64]) -> list[NDArray[np.float64]]:
+    """World coordinates of every link cylinder: base first, one ``(k, 2, 3)`` array per body."""
+    frames, _ = kinematics.joint_frames(robot.chain, q)
+    lines = [model.base.segments]
+    for T, body, q_i, prismatic in zip(frames, model.bodies, q, robot.chain.prismatic, strict=True):
+        segments = body.segments @ T[:3, :3].T + T[:3, 3]
+        if prismatic:  # the sliding rod: from the joint frame before the motion to after it
+            rod = np.array([[T[:3, 3] - q_i * T[:3, 2], T[:3, 3]]])
+            segments = np.concatenate([rod, segments])
+        lines.append(segments)
+    return lines
+
+
+def _bounds(robot: Robot, model: PhysicalModel, q: NDArray[np.float64]) -> tuple[NDArray, float]:
+    """Centre and half-width of a cube holding the arm at every configuration ``(m, n)``."""
+    points = [np.zeros((1, 3))]
+    for q_k in q:
+        points += [seg.reshape(-1, 3) for seg in _polylines(robot, model, q_k)]
+        points.append(robot.link_frames(q_k)[:, :3, 3])
+    points = np.vstack(points)
+    low, high = points.min(axis=0), points.max(axis=0)
+    return (low + high) / 2, max(float((high - low).max()) / 2 * 1.1, 4 * model.radius)
+
+
+def _setup_axes(ax, centre: NDArray, half: float, title: str) -> float:
+    floor = centre[2] - half
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_zlim(floor, centre[2] + half)
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_xlabel("x [m]", labelpad=-6, fontsize=8)
+    ax.set_ylabel("y [m]", labelpad=-6, fontsize=8)
+    ax.set_zlabel("z [m]", labelpad=-6, fontsize=8)
+    ax.tick_params(labelsize=6, pad=-2)
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_pane_color((0.96, 0.96, 0.97, 1.0))
+        axis._axinfo["grid"]["color"] = (0.85, 0.85, 0.88, 1.0)
+    if title:
+        ax.set_title(title, fontsize=10)
+    return floor
+
+
+def _draw_frame(ax, T: NDArray[np.float64], length: float, width: float) -> None:
+    for k in range(3):
+        end = T[:3, 3] + length * T[:3, k]
+        ax.plot(*np.transpose([T[:3, 3], end]), color=_AXIS_COLORS[k], linewidth=width,
+                solid_capstyle="round")
+
+
+def _draw_arm(ax, robot: Robot, model: PhysicalModel, q: NDArray[np.float64], floor: float,
+              half: float, frames: bool) -> None:
+    lines = _polylines(robot, model, q)
+    width = 7.0
+    for k, segments in enumerate(lines):
+        for start, end in segments:
+            xs, ys, zs = np.transpose([start, end])
+            ax.plot(xs, ys, np.full(2, floor), color="#c8c8cc", linewidth=width * 0.8,
+                    solid_capstyle="round", alpha=0.6)
+            color = _JOINT_COLOR if k == 0 else _LINK_COLORS[(k - 1) % 2]
+            ax.plot(xs, ys, zs, color=color, linewidth=width, solid_capstyle="round")
+    joints, T_tool = kinematics.joint_frames(robot.chain, q)
+    ax.scatter(*joints[:, :3, 3].T, s=70, color=_JOINT_COLOR, depthshade=False, zorder=5)
+    if frames:
+        for T in robot.link_frames(q)[:-1]:
+            _draw_frame(ax, T, 0.14 * half, 1.3)
+    _draw_frame(ax, T_tool, 0.25 * half, 2.6)
+    ax.text(*(T_tool[:3, 3] + 0.06 * half), "tool", fontsize=8, color=_JOINT_COLOR)
+
+
+def _axis_legend(ax) -> None:
+    for k, (name, color) in enumerate(zip("xyz", _AXIS_COLORS, strict=True)):
+        ax.text2D(0.86 + 0.04 * k, 0.95, name, transform=ax.transAxes, color=color, fontsize=9,
+                  fontweight="bold")
+
+
+def _trajectory(robot: Robot, q: ArrayLike) -> NDArray[np.float64]:
+    q = robot.check_q(q, "trajectory q")
+    if q.ndim != 2 or len(q) < 1:
+        raise InputError(f"trajectory q: expected shape (samples, {robot.n}), got {q.shape}")
+    return q
+
+
+def plot_configuration(robot: Robot, q: ArrayLike, path: str | Path | None = None, *,
+                       title: str | None = None, frames: bool = True, dpi: int = 110,
+                       size: float = 4.8) -> Figure:
+    """A 3-D picture of ``robot`` at ``q`` with its base, DH link and tool frames.
+
+    Parameters
+    ----------
+    robot : Robot
+    q : array_like (n,)
+        Joint values [rad or m].
+    path : str or Path, optional
+        Save a PNG there (the figure is returned either way).
+    title : str, optional
+        Default: the robot's name and ``q``.
+    frames : bool
+        Draw the DH link frames (the tool frame is always drawn).
+    dpi, size : int, float
+        Resolution and figure size [inch].
+
+    Examples
+    --------
+    >>> import armkit
+    >>> figure = plot_configuration(armkit.load("probot-anno"), [0, -0.5, 0.5, 0, 1, 0])
+    >>> len(figure.axes)
+    1
+    """
+    q = robot.check_q(q)
+    model = physical_model(robot)
+    centre, half = _bounds(robot, model, q[None])
+    figure = plt.figure(figsize=(size, size), dpi=dpi)
+    ax = figure.add_subplot(projection="3d")
+    ax.view_init(elev=22, azim=-58)
+    label = title if title is not None else (
+        f"{robot.name}   q = [{', '.join(f'{v:.3g}' for v in q)}]")
+    floor = _setup_axes(ax, centre, half, label)
+    _draw_arm(ax, robot, model, q, floor, half, frames)
+    _axis_legend(ax)
+    figure.subplots_adjust(left=0.02, right=0.95, bottom=0.03, top=0.93)
+    if path is not None:
+        figure.savefig(path, dpi=dpi)
+        plt.close(figure)
+    return figure
+
+
+def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: ArrayLike | None = None,
+                       trace_tool: bool = True, frames: int = 40, fps: int = 12, dpi: int = 64,
+                       size: float = 4.0, title: str = "", link_frames: bool = False) -> Path:
+    """Write a GIF of ``robot`` moving through the configurations ``q``.
+
+    Parameters
+    ----------
+    robot : Robot
+    q : array_like (N, n)
+        Configurations along the motion [rad or m]; ``frames`` of them are drawn, evenly
+        spaced in index.
+    path : str or Path
+        The GIF to write (Pillow writer; no ffmpeg needed).
+    t : array_like (N,), optional
+        Times [s] shown in the corner.
+    trace_tool : bool
+        Draw the tool path travelled so far.
+    frames, fps, dpi, size : int, int, int, float
+        GIF length, speed, resolution and size [inch]; keep them small for small files.
+    title : str
+    link_frames : bool
+        Draw every DH link frame (the tool frame is always drawn).
+
+    Returns
+    -------
+    Path
+
+    Examples
+    --------
+    >>> import armkit, tempfile, pathlib
+    >>> robot = armkit.load("grb400-scara")
+    >>> q = np.linspace([0, 0, 0, 0], [1.5, 1.2, 0.03, 1.0], 20)
+    >>> out = animate_trajectory(robot, q, pathlib.Path(tempfile.mkdtemp()) / "scara.gif", frames=5)
+    >>> out.stat().st_size > 0
+    True
+    """
+    q = _trajectory(robot, q)
+    times = None if t is None else np.asarray(t, dtype=float)
+    if times is not None and times.shape != (len(q),):
+        raise InputError(f"t: expected {len(q)} times, got shape {times.shape}")
+    model = physical_model(robot)
+    picks = np.unique(np.linspace(0, len(q) - 1, max(2, frames)).round().astype(int))
+    centre, half = _bounds(robot, model, q[picks])
+    tool_path = robot.fk(q)[:, :3, 3]
+    figure = plt.figure(figsize=(size, size), dpi=dpi)
+    ax = figure.add_subplot(projection="3d")
+    figure.subplots_adjust(left=0.0, right=0.97, bottom=0.02, top=0.93)
+
+    def draw(k: int) -> None:
+        ax.clear()
+        ax.view_init(elev=22, azim=-58)
+        floor = _setup_axes(ax, centre, half, title)
+        if trace_tool:
+            done = tool_path[: picks[k] + 1]
+            ax.plot(*tool_path.T, color=_PATH_COLOR, linewidth=0.8, alpha=0.25)
+            ax.plot(*done.T, color=_PATH_COLOR, linewidth=2.0)
+        _draw_arm(ax, robot, model, q[picks[k]], floor, half, link_frames)
+        if times is not None:
+            ax.text2D(0.02, 0.02, f"t = {times[picks[k]]:.1f} s", transform=ax.transAxes, fontsize=8)
+
+    animation = FuncAnimation(figure, draw, frames=len(picks))
+    path = Path(path)
+    animation.save(path, writer=PillowWriter(fps=fps), dpi=dpi)
+    plt.close(figure)
+    return path

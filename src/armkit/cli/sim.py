@@ -1,0 +1,167 @@
+"""``armkit export`` (URDF, MJCF) and ``armkit sim`` (check and drive a robot in MuJoCo)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, print_json, to_si
+from armkit.errors import InputError
+from armkit.robot import Robot
+from armkit.sim.runner import SimResult, Simulation
+from armkit.sim.verify import PoseComparison, compare_poses
+from armkit.spatial.rotations import rotation_angle_between
+
+RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
+ForceOpt = Annotated[bool, typer.Option("--force", help="Overwrite existing output files.")]
+
+
+@app.command("export")
+def export_command(
+    robot: RobotArg,
+    urdf: Annotated[Path | None, typer.Option(help="Write a URDF file here.", show_default=False)] = None,
+    mjcf: Annotated[Path | None, typer.Option(help="Write an MJCF (MuJoCo XML) file here.",
+                                              show_default=False)] = None,
+    no_gravity: Annotated[bool, typer.Option("--no-gravity", help="MJCF without gravity.")] = False,
+    force: ForceOpt = False,
+) -> None:
+    """Export a robot as URDF and/or MJCF (capsule links, masses, limits, servos, a 'tool' frame)."""
+    from armkit.export import write_mjcf, write_urdf
+
+    if urdf is None and mjcf is None:
+        raise InputError("nothing to write: give --urdf FILE and/or --mjcf FILE")
+    arm = load_robot(robot)
+    for path in (urdf, mjcf):
+        if path is not None and path.exists() and not force:
+            raise InputError(f"output file {str(path)!r} already exists; pass --force to overwrite it")
+    if urdf is not None:
+        console.print(f"wrote {write_urdf(arm, urdf, force=force)}", highlight=False)
+    if mjcf is not None:
+        console.print(f"wrote {write_mjcf(arm, mjcf, force=force, gravity=not no_gravity)}",
+                      highlight=False)
+
+
+def read_trajectory_csv(path: Path, robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """``(t, q, qd)`` from a CSV with a header ``t,q1..qn[,qd1..qdn,...]`` (as ``armkit traj`` writes).
+
+    Without a header the columns are ``t, q1 .. qn``.
+    """
+    if not path.is_file():
+        raise InputError(f"trajectory file {str(path)!r} does not exist")
+    first = path.read_text(encoding="utf-8").splitlines()[:1]
+    header = [c.strip() for c in first[0].split(",")] if first and not _is_numeric(first[0]) else None
+    try:
+        table = np.loadtxt(path, delimiter=",", skiprows=1 if header else 0, ndmin=2)
+    except ValueError as exc:
+        raise InputError(f"trajectory file {str(path)!r}: not a numeric CSV table: {exc}") from exc
+    if header is None:
+        header = ["t"] + [f"q{j}" for j in range(1, table.shape[1])]
+    q_columns = [c for c in header if c.startswith("q") and c[1:].isdigit()]
+    if len(q_columns) != robot.n:
+        raise InputError(f"trajectory file {str(path)!r} has {len(q_columns)} joint columns "
+                         f"({', '.join(q_columns)}); {robot.name} has {robot.n} joints")
+    if "t" not in header:
+        raise InputError(f"trajectory file {str(path)!r}: no column 't' (time [s]) in the header")
+    qd_columns = [f"qd{j}" for j in range(1, robot.n + 1)]
+    qd = table[:, [header.index(c) for c in qd_columns]] if set(qd_columns) <= set(header) else None
+    return table[:, header.index("t")], table[:, [header.index(c) for c in q_columns]], qd
+
+
+def _is_numeric(line: str) -> bool:
+    try:
+        [float(word) for word in line.split(",")]
+    except ValueError:
+        return False
+    return True
+
+
+def _comparison_table(table: PoseComparison, title: str) -> Table:
+    out = Table(title=title)
+    for name in ["#", "", *table.columns, "|dp| [m]", "rot [rad]"]:
+        out.add_column(escape(name), justify="right")
+    for k, label in enumerate(table.labels):
+        out.add_row(label, "computed", *(f"{v:.6f}" for v in table.computed[k]), "", "")
+        out.add_row("", "simulated", *(f"{v:.6f}" for v in table.simulated[k]), "", "")
+        out.add_row("", "error", *(f"{v:.1e}" for v in table.error[k]), f"{table.position_error[k]:.1e}",
+                    f"{table.rotation_error[k]:.1e}", end_section=True)
+    return out
+
+
+def _tracking_summary(robot: Robot, result: SimResult) -> dict:
+    T_command = robot.fk(result.q_command)
+    return {"duration_s": float(result.t[-1] - result.t[0]), "steps": len(result.t),
+            "gravity": result.gravity, "gravity_compensation": result.gravity_compensation,
+            "max_joint_error": np.abs(result.joint_error).max(axis=0),
+            "max_tool_position_error_m": float(np.linalg.norm(
+                result.T_tool[:, :3, 3] - T_command[:, :3, 3], axis=-1).max()),
+            "max_tool_rotation_error_rad": float(rotation_angle_between(result.T_tool, T_command).max())}
+
+
+@app.command("sim", context_settings=ALLOW_NEGATIVE)
+def sim_command(
+    robot: RobotArg,
+    q: Annotated[list[float] | None, typer.Argument(help="Joint values q1 ... qn to check.",
+                                                    show_default=False)] = None,
+    random: Annotated[int, typer.Option(help="Check this many random configurations (no Q).")] = 5,
+    seed: Annotated[int, typer.Option(help="Seed of the random configurations.")] = 0,
+    trajectory: Annotated[Path | None, typer.Option(
+        help="Drive this trajectory CSV (t, q1..qn[, qd1..qdn]) instead.", show_default=False)] = None,
+    gravity: Annotated[bool, typer.Option(help="Gravity on or off in the simulation.")] = True,
+    compensation: Annotated[bool, typer.Option(help="Gravity compensation (qfrc_bias) in the "
+                                                    "servos.")] = True,
+    euler: Annotated[str, typer.Option(help="Angle convention of the table.")] = "xyz-fixed",
+    deg: Annotated[bool, typer.Option("--deg", help="Joint values and angles in degrees.")] = False,
+    gif: Annotated[Path | None, typer.Option(help="With --trajectory: write an animation GIF.",
+                                             show_default=False)] = None,
+    png: Annotated[Path | None, typer.Option(help="Write a picture of the (first) configuration.",
+                                             show_default=False)] = None,
+    force: ForceOpt = False,
+    json_output: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+) -> None:
+    """Check a robot in MuJoCo: tool pose computed vs simulated, or a trajectory tracked by servos."""
+    from armkit.animation import animate_trajectory, plot_configuration
+
+    arm = load_robot(robot)
+    for path in (gif, png):
+        if path is not None and path.exists() and not force:
+            raise InputError(f"output file {str(path)!r} already exists; pass --force to overwrite it")
+    sim = Simulation(arm, gravity=gravity, gravity_compensation=compensation)
+    if trajectory is not None:
+        t, q_traj, qd = read_trajectory_csv(trajectory, arm)
+        result = sim.run(t, q_traj, qd)
+        summary = _tracking_summary(arm, result)
+        if json_output:
+            print_json({"robot": arm.name, **summary})
+        else:
+            for key, value in summary.items():
+                console.print(f"{key}: {np.array2string(np.asarray(value), precision=3)}", markup=False)
+        if gif is not None:
+            stride = max(1, len(result.t) // 200)
+            animate_trajectory(arm, result.q[::stride], gif, t=result.t[::stride], title=arm.name)
+        if png is not None:
+            plot_configuration(arm, result.q[0], png)
+        return
+    configurations = (to_si(arm, q, deg)[None] if q else arm.random_q(random, rng=seed))
+    home = np.clip(np.zeros(arm.n), arm.limits[:, 0], arm.limits[:, 1])
+    settled = np.array([sim.move(home, q_k, 1.0, 0.5).T_tool[-1] for q_k in configurations])
+    computed = arm.fk(configurations)
+    rows = {"mj_kinematics (qpos set)": compare_poses(computed, sim.tool_pose(configurations),
+                                                      convention=euler, degrees=deg),
+            "servos from home in 1 s, then 0.5 s hold": compare_poses(computed, settled, convention=euler,
+                                                                      degrees=deg)}
+    if json_output:
+        print_json({"robot": arm.name, "q": configurations, "convention": euler, **{
+            name: {"computed": c.computed, "simulated": c.simulated, "error": c.error,
+                   "position_error_m": c.position_error, "rotation_error_rad": c.rotation_error}
+            for name, c in rows.items()}})
+    else:
+        for name, table in rows.items():
+            console.print(_comparison_table(table, f"{arm.name}: armkit FK vs MuJoCo, {name} "
+                                                   f"(gravity {'on' if gravity else 'off'})"))
+    if png is not None:
+        plot_configuration(arm, configurations[0], png)

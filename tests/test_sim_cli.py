@@ -1,0 +1,85 @@
+"""``armkit export`` and ``armkit sim`` on the command line."""
+
+from __future__ import annotations
+
+import json
+
+import mujoco
+import numpy as np
+from PIL import Image
+
+from armkit.cli.main import main
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_export_writes_both_and_refuses_to_overwrite(capsys, tmp_path):
+    urdf, mjcf = tmp_path / "anno.urdf", tmp_path / "anno.xml"
+    code, out, _ = run(capsys, "export", "probot-anno", "--urdf", urdf, "--mjcf", mjcf)
+    assert code == 0 and "wrote" in out
+    assert mujoco.MjModel.from_xml_path(str(mjcf)).njnt == 6
+    assert mujoco.MjModel.from_xml_path(str(urdf)).njnt == 6
+    mjcf.write_text("mine")
+    code, _, err = run(capsys, "export", "probot-anno", "--urdf", urdf, "--mjcf", mjcf)
+    assert code == 1 and "already exists; pass --force" in err
+    assert mjcf.read_text() == "mine"
+    code, _, _ = run(capsys, "export", "probot-anno", "--mjcf", mjcf, "--force", "--no-gravity")
+    assert code == 0 and mujoco.MjModel.from_xml_path(str(mjcf)).opt.gravity[2] == 0
+
+
+def test_export_needs_an_output(capsys):
+    code, _, err = run(capsys, "export", "ur5")
+    assert code == 1 and "--urdf FILE and/or --mjcf FILE" in err
+
+
+def test_export_of_a_zero_length_arm_is_a_clear_error(capsys, tmp_path):
+    robot = tmp_path / "point.toml"
+    robot.write_text('convention = "standard"\n[[joints]]\nalpha = 0\na = 0\nd = 0\ntheta = 0\n')
+    code, _, err = run(capsys, "export", robot, "--mjcf", tmp_path / "point.xml")
+    assert code == 1 and "cannot be simulated" in err and "Traceback" not in err
+    assert not (tmp_path / "point.xml").exists()
+
+
+def test_sim_checks_the_report_configuration(capsys, tmp_path):
+    png = tmp_path / "anno.png"
+    code, out, _ = run(capsys, "sim", "probot-anno", "0.927", "-0.687", "-0.396", "0", "1.083", "0.927",
+                       "--json", "--png", png)
+    data = json.loads(out)
+    assert code == 0
+    np.testing.assert_allclose(data["mj_kinematics (qpos set)"]["computed"][0][:3],
+                               [0.150047, 0.199940, 0.200756], atol=1e-6)
+    assert max(data["mj_kinematics (qpos set)"]["position_error_m"]) < 1e-12
+    assert max(data["servos from home in 1 s, then 0.5 s hold"]["position_error_m"]) < 1e-6
+    assert Image.open(png).size[0] > 100
+
+
+def test_sim_drives_a_trajectory_csv(capsys, tmp_path):
+    csv = tmp_path / "traj.csv"
+    t = np.linspace(0, 1, 11)
+    q = np.outer(t, [0.5, 0.4, 0.01, 0.2])
+    np.savetxt(csv, np.column_stack([t, q]), delimiter=",", header="t,q1,q2,q3,q4", comments="")
+    gif = tmp_path / "scara.gif"
+    code, out, _ = run(capsys, "sim", "grb400-scara", "--trajectory", csv, "--json", "--gif", gif)
+    data = json.loads(out)
+    assert code == 0 and data["steps"] == 1001 and data["gravity"] is True
+    assert data["max_tool_position_error_m"] < 1e-3
+    assert Image.open(gif).n_frames > 5
+
+
+def test_sim_trajectory_with_too_many_columns(capsys, tmp_path):
+    csv = tmp_path / "traj.csv"
+    np.savetxt(csv, np.zeros((3, 7)), delimiter=",", header="t,q1,q2,q3,q4,q5,q6", comments="")
+    code, _, err = run(capsys, "sim", "grb400-scara", "--trajectory", csv)
+    assert code == 1 and "has 6 joint columns" in err and "4 joints" in err
+
+
+def test_sim_random_table(capsys):
+    code, out, _ = run(capsys, "sim", "zju-i", "--random", "2", "--euler", "xyz-euler", "--deg",
+                       "--no-gravity", "--json")
+    data = json.loads(out)
+    assert code == 0 and np.shape(data["q"]) == (2, 6) and data["convention"] == "xyz-euler"
+    assert max(data["servos from home in 1 s, then 0.5 s hold"]["rotation_error_rad"]) < 1e-6
