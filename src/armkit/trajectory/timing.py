@@ -36,6 +36,9 @@ from armkit.trajectory.min_jerk import min_jerk
 
 __all__ = ["auto_time", "limit_ratio", "limit_ratios", "stretch_to_limits"]
 
+#: Relative margin added to the exact uniform factor against rounding.
+_MARGIN = 1e-12
+
 
 def _as_float(value: ArrayLike, name: str) -> NDArray[np.float64]:
     """``value`` as float64 (``inf`` allowed, meaning no limit), or :class:`InputError`."""
@@ -98,20 +101,36 @@ def _shorten(waypoints, durations, lower, vmax, amax, tol, max_rounds):
                            f"(last change {np.max((before - durations) / before):.2g} relative)")
 
 
-def _fit(waypoints, start, lower, requested, max_velocity, max_acceleration, tol, max_rounds):
+def _feasible_start(waypoints, start, lower, vmax, amax):
+    """``start`` scaled uniformly onto the limits, then raised to ``lower`` (re-scaled if that broke them).
+
+    The factor carries ``1 + _MARGIN`` so that rounding never leaves a ratio a hair above 1.
+    """
+    k = limit_ratio(min_jerk(waypoints, start), vmax, amax) * (1 + _MARGIN)
+    durations = np.maximum(start * k, lower)
+    k = limit_ratio(min_jerk(waypoints, durations), vmax, amax) * (1 + _MARGIN)
+    return durations * max(1.0, k)
+
+
+def _fit(waypoints, starts, lower, requested, vmax, amax, tol, max_rounds):
+    """The shortest coordinate-wise minimum found by descending from each of ``starts``."""
+    best = None
+    for start in starts:
+        durations = _shorten(waypoints, _feasible_start(waypoints, start, lower, vmax, amax), lower,
+                             vmax, amax, tol, max_rounds)
+        if best is None or durations.sum() < best.sum():
+            best = durations
+    final = min_jerk(waypoints, best)
+    return JointTrajectory(final.durations, final.coefficients, final.waypoints, requested)
+
+
+def _checked_limits(waypoints, max_velocity, max_acceleration):
     n = waypoints.shape[1]
     vmax = _limits(max_velocity, n, "max_velocity")
     amax = _limits(max_acceleration, n, "max_acceleration")
     if np.all(np.isinf(vmax)) and np.all(np.isinf(amax)):
         raise InputError("max_velocity, max_acceleration: no finite limit to fit the durations to")
-    k = limit_ratio(min_jerk(waypoints, start), vmax, amax)
-    scaled = start * k
-    if np.all(scaled <= lower):
-        durations = lower
-    else:
-        durations = _shorten(waypoints, np.maximum(scaled, lower), lower, vmax, amax, tol, max_rounds)
-    final = min_jerk(waypoints, durations)
-    return JointTrajectory(final.durations, final.coefficients, final.waypoints, requested)
+    return vmax, amax
 
 
 def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: ArrayLike,
@@ -121,6 +140,9 @@ def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: 
 
     Each final duration is at least the requested one; a trajectory already within the
     limits is returned unchanged. ``result.stretch`` says by how much each segment grew.
+    The descent (module notes) runs from two starts, the requested durations scaled
+    uniformly and the elementwise larger of the requested and the :func:`auto_time`
+    durations, and keeps the shorter result.
 
     Parameters
     ----------
@@ -141,7 +163,12 @@ def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: 
     """
     waypoints = check_waypoints(waypoints)
     requested = check_durations(durations, waypoints.shape[0] - 1)
-    return _fit(waypoints, requested, requested, requested, max_velocity, max_acceleration, tol, max_rounds)
+    vmax, amax = _checked_limits(waypoints, max_velocity, max_acceleration)
+    if limit_ratio(min_jerk(waypoints, requested), vmax, amax) <= 1.0:
+        return min_jerk(waypoints, requested)
+    fastest = auto_time(waypoints, vmax, amax, tol=tol, max_rounds=max_rounds).durations
+    return _fit(waypoints, [requested, np.maximum(requested, fastest)], requested, requested, vmax, amax,
+                tol, max_rounds)
 
 
 def auto_time(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: ArrayLike, *,
@@ -160,13 +187,11 @@ def auto_time(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: A
     2.403
     """
     waypoints = check_waypoints(waypoints)
-    n = waypoints.shape[1]
-    vmax = _limits(max_velocity, n, "max_velocity")
-    amax = _limits(max_acceleration, n, "max_acceleration")
+    vmax, amax = _checked_limits(waypoints, max_velocity, max_acceleration)
     step = np.abs(np.diff(waypoints, axis=0))
     guess = (step / vmax + np.sqrt(step / amax)).max(axis=1)
     if not np.all(np.isfinite(guess)) or guess.max() == 0:
         raise InputError("auto_time: needs finite limits and waypoints that move")
     guess = np.maximum(guess, 1e-6 * guess.sum())
     lower = np.maximum((step / vmax).max(axis=1), 1e-6 * guess.sum())
-    return _fit(waypoints, guess, lower, guess, vmax, amax, float(check_finite(tol, "tol")), max_rounds)
+    return _fit(waypoints, [guess], lower, guess, vmax, amax, float(check_finite(tol, "tol")), max_rounds)

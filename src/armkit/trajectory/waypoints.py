@@ -1,0 +1,129 @@
+"""Waypoints for a robot: read from CSV, given as joint values or as tool poses (through IK).
+
+A waypoint file is CSV, one waypoint per line, an optional header line, ``#`` comments:
+joint values in SI units, or with poses ``x y z a b c`` (metres, radians, the angles in a
+named convention such as ``xyz-fixed``, i.e. roll pitch yaw).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armkit.errors import InputError, JointLimitError, UnreachableError
+from armkit.robot import Robot
+from armkit.spatial.rotations import matrix_from_euler
+from armkit.spatial.transforms import transform_from
+from armkit.trajectory._checks import check_waypoints
+
+__all__ = ["joint_waypoints", "joint_waypoints_from_poses", "read_waypoints"]
+
+
+def _numbers(words: list[str]) -> list[float] | None:
+    try:
+        return [float(word) for word in words]
+    except ValueError:
+        return None
+
+
+def _show(values: NDArray[np.float64]) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in values) + "]"
+
+
+def read_waypoints(path: str | Path, columns: int) -> NDArray[np.float64]:
+    """The ``(M, columns)`` waypoints of a CSV file, with errors naming the file and line.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV file; the first non-comment line may be a header (it is skipped if not numeric).
+    columns : int
+        Values expected per line (the joint count, or 6 for poses).
+    """
+    path = Path(path)
+    try:
+        lines = path.read_text().splitlines()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the waypoint file ({exc.strerror})") from exc
+    rows, first = [], True
+    for number, line in enumerate(lines, start=1):
+        text = line.split("#", 1)[0].strip()
+        if not text:
+            continue
+        words = [word.strip() for word in text.replace(",", " ").split()]
+        values = _numbers(words)
+        if values is None:
+            if first:
+                first = False
+                continue
+            raise InputError(f"{path}, line {number}: expected {columns} numbers, got {text!r}")
+        first = False
+        if len(values) != columns:
+            raise InputError(f"{path}, line {number}: expected {columns} values per waypoint, "
+                             f"got {len(values)}")
+        if not np.all(np.isfinite(values)):
+            raise InputError(f"{path}, line {number}: NaN or infinite value in {text!r}")
+        rows.append(values)
+    if len(rows) < 2:
+        raise InputError(f"{path}: a trajectory needs at least two waypoints, found {len(rows)}")
+    return np.array(rows)
+
+
+def joint_waypoints(robot: Robot, waypoints: ArrayLike) -> NDArray[np.float64]:
+    """Joint waypoints ``(M, n)`` checked against the robot: joint count and position limits."""
+    waypoints = check_waypoints(waypoints)
+    if waypoints.shape[1] != robot.n:
+        raise InputError(f"waypoints: {robot.name} has {robot.n} joints, so each waypoint needs "
+                         f"{robot.n} values, got {waypoints.shape[1]}")
+    for k, q in enumerate(waypoints, start=1):
+        violations = robot.limit_violations(q)
+        if violations:
+            raise JointLimitError(f"waypoint {k}: {'; '.join(violations)}")
+    return waypoints
+
+
+def joint_waypoints_from_poses(robot: Robot, poses: ArrayLike, convention: str = "xyz-fixed",
+                               q_start: ArrayLike | None = None) -> NDArray[np.float64]:
+    """Joint waypoints ``(M, n)`` for tool poses, each the IK solution nearest the previous one.
+
+    Parameters
+    ----------
+    poses : (M, 6) array
+        ``x y z`` [m] and three angles [rad] in ``convention`` per waypoint.
+    convention : str
+        Angle convention, e.g. ``"xyz-fixed"`` (roll pitch yaw, ``R = Rz(c) Ry(b) Rx(a)``).
+    q_start : (n,) array, optional
+        The first waypoint's solution is the one nearest this [rad or m]; default zeros.
+
+    Raises
+    ------
+    UnreachableError
+        A pose has no solution (inside the joint limits); the message names the waypoint.
+
+    Examples
+    --------
+    >>> import armkit, numpy as np
+    >>> robot = armkit.load("probot-anno")
+    >>> q = joint_waypoints_from_poses(robot, [[0.2289, 0, 0.454, np.pi / 2, 0, 0],
+    ...                                        [0.3, 0.0, 0.3, np.pi / 2, 0, 0]])
+    >>> q.shape, bool(np.allclose(q[0], 0.0, atol=1e-9))
+    ((2, 6), True)
+    """
+    poses = check_waypoints(poses, "poses")
+    if poses.shape[1] != 6:
+        raise InputError(f"poses: expected 6 values per pose (x y z a b c), got {poses.shape[1]}")
+    transforms = transform_from(matrix_from_euler(poses[:, 3:], convention), poses[:, :3])
+    q_previous = np.zeros(robot.n) if q_start is None else robot.check_q(q_start, "q_start")
+    solutions = []
+    for k, T in enumerate(transforms, start=1):
+        try:
+            q_previous = robot.ik(T, near=q_previous)
+        except UnreachableError as exc:
+            raise UnreachableError(f"waypoint {k} (pose {_show(poses[k - 1])}): {exc}",
+                                   exc.position_error, exc.orientation_error) from exc
+        except JointLimitError as exc:
+            raise JointLimitError(f"waypoint {k} (pose {_show(poses[k - 1])}): {exc}") from exc
+        solutions.append(q_previous)
+    return np.array(solutions)
