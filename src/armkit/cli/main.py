@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from armkit.cli import kinematics, robots, trajectory  # noqa: F401  (modules register their commands)
+from armkit.cli import kinematics, motion, robots, trajectory  # noqa: F401  (modules register their commands)
 from armkit.cli import sim  # noqa: F401
 from armkit.cli.app import app, err_console
 from armkit.errors import ArmkitError

@@ -61,9 +61,10 @@ class MotionResult:
         Tool poses ``T_base_tool`` from forward kinematics of ``q``.
     reference : (N, 4, 4) array
         The poses asked for at the same times.
+    target : (4, 4) array
+        The last pose asked for (at the planned end, even if the motion stopped early).
     position_error, orientation_error : float
-        Final distance [m] and angle [rad] between the tool and the last reference pose
-        (the target, even if the motion stopped early).
+        Final distance [m] and angle [rad] between the tool and ``target``.
     max_position_error, max_orientation_error : float
         Largest distance [m] and angle [rad] to the reference over the motion.
     sigma_min : (N,) array
@@ -79,6 +80,7 @@ class MotionResult:
     qd: NDArray[np.float64]
     poses: NDArray[np.float64]
     reference: NDArray[np.float64]
+    target: NDArray[np.float64]
     position_error: float
     orientation_error: float
     max_position_error: float
@@ -221,6 +223,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     angle_errors = rotation_angle_between(poses[sl], reference[sl])
     return MotionResult(
         t=t[sl].copy(), q=qs[sl], qd=qds[sl], poses=poses[sl], reference=reference[sl].copy(),
+        target=reference[-1].copy(),
         position_error=float(np.linalg.norm(T[:3, 3] - reference[-1, :3, 3])),
         orientation_error=float(rotation_angle_between(T, reference[-1])),
         max_position_error=float(position_errors.max()),

@@ -1,0 +1,151 @@
+"""``armkit move`` and ``armkit rotate``: the two velocity-control experiments from the CLI."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from armkit.cli.app import (
+    ALLOW_NEGATIVE,
+    app,
+    console,
+    err_console,
+    load_robot,
+    parse_floats,
+    print_json,
+    to_si,
+)
+from armkit.control.motions import DEFAULT_DT, MotionResult, move_linear, rotate_about_tool_point
+from armkit.errors import InputError
+from armkit.robot import Robot
+from armkit.spatial.rotations import euler_from_matrix
+
+RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
+StartValues = Annotated[list[str] | None, typer.Argument(
+    metavar="[Q...]", help="Start joint values after --from.", show_default=False)]
+FromOpt = Annotated[bool, typer.Option("--from", help="The start joint values Q... that follow "
+                                                      "(rad and m; default all zeros).")]
+FrameOpt = Annotated[str, typer.Option(help="base or tool: the frame the vector is written in "
+                                            "(tool = the start tool frame).")]
+DtOpt = Annotated[float, typer.Option("--dt", help="Control period [s].")]
+DegOpt = Annotated[bool, typer.Option("--deg", help="Revolute joint values and angles (also the "
+                                                    "printed ones) in degrees.")]
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of tables.")]
+
+
+def _start(robot: Robot, values: list[str] | None, given: bool, degrees: bool) -> np.ndarray:
+    if values and not given:
+        raise InputError(f"unexpected values {' '.join(values)}: start joint values are given "
+                         f"after --from")
+    if not given:
+        return np.zeros(robot.n)
+    return to_si(robot, parse_floats(values or [], "--from"), degrees)
+
+
+def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_output: bool) -> None:
+    """Print the final joints, final and target poses and the errors; exit 1 if it stopped early."""
+    angle_scale = 180 / np.pi if degrees else 1.0
+    unit = "deg" if degrees else "rad"
+    q_shown = np.where(robot.chain.prismatic, result.q_final, result.q_final * angle_scale)
+    final, target = result.pose_final, result.target
+    if json_output:
+        print_json({"robot": robot.name, "completed": result.completed, "message": result.message,
+                    "duration": result.t[-1], "q_start": result.q[0], "q_final": result.q_final,
+                    "position_final": final[:3, 3], "rpy_final": euler_from_matrix(final),
+                    "position_target": target[:3, 3], "rpy_target": euler_from_matrix(target),
+                    "position_error": result.position_error,
+                    "orientation_error": result.orientation_error,
+                    "max_position_error": result.max_position_error,
+                    "max_orientation_error": result.max_orientation_error,
+                    "max_joint_speed_ratio": np.max(np.abs(result.qd) / robot.max_velocity),
+                    "min_singular_value": result.sigma_min.min()})
+    else:
+        joints = Table(title=escape(f"{robot.name}: {title}"))
+        for column in ("joint", f"start [{unit}]", f"final [{unit}]", "peak |qd| / limit"):
+            joints.add_column(escape(column), justify="right")
+        start = np.where(robot.chain.prismatic, result.q[0], result.q[0] * angle_scale)
+        peaks = np.max(np.abs(result.qd), axis=0) / robot.max_velocity
+        for name, a, b, peak in zip(robot.joint_names, start, q_shown, peaks, strict=True):
+            joints.add_row(name, f"{a:.6f}", f"{b:.6f}", f"{peak:.3f}")
+        console.print(joints)
+        poses = Table(title=escape(f"tool pose after {result.t[-1]:.4g} s (x y z [m], roll pitch "
+                                   f"yaw = xyz-fixed [{unit}])"))
+        for column in ("", "x", "y", "z", "roll", "pitch", "yaw"):
+            poses.add_column(column, justify="right")
+        for label, T in (("final", final), ("target", target)):
+            rpy = euler_from_matrix(T, "xyz-fixed", degrees=degrees)
+            poses.add_row(label, *(f"{v:.6g}" for v in (*T[:3, 3], *rpy)))
+        console.print(poses)
+        console.print(f"pose error: position {result.position_error:.3g} m, orientation "
+                      f"{result.orientation_error * angle_scale:.3g} {unit}; largest along the way: "
+                      f"{result.max_position_error:.3g} m, "
+                      f"{result.max_orientation_error * angle_scale:.3g} {unit}", markup=False)
+    if not result.completed:
+        err_console.print(f"[red]stopped:[/red] {result.message}", highlight=False, soft_wrap=True)
+        raise typer.Exit(1)
+
+
+@app.command("move", context_settings=ALLOW_NEGATIVE)
+def move_command(
+    robot: RobotArg,
+    start_values: StartValues = None,
+    start: FromOpt = False,
+    by: Annotated[tuple[float, float, float], typer.Option(
+        "--by", help="Tool displacement DX DY DZ [m].", show_default=False)] = ...,
+    duration: Annotated[float, typer.Option(help="Duration [s] (quintic time law).")] = 5.0,
+    frame: FrameOpt = "base",
+    dt: DtOpt = DEFAULT_DT,
+    deg: DegOpt = False,
+    json_output: JsonOpt = False,
+) -> None:
+    """Move the tool along a straight line (closed-loop resolved-rate control).
+
+    Exits with code 1 if a joint limit stopped the motion.
+
+    Example: armkit move probot-anno --from 0 0 0 0 0 0 --by 0.15 0 -0.15 --duration 3
+    """
+    arm = load_robot(robot)
+    q0 = _start(arm, start_values, start, deg)
+    result = move_linear(arm, q0, np.array(by), duration, frame=frame, dt=dt)
+    _report(arm, result, f"straight move by {list(by)} m ({frame} frame)", deg, json_output)
+
+
+@app.command("rotate", context_settings=ALLOW_NEGATIVE)
+def rotate_command(
+    robot: RobotArg,
+    start_values: StartValues = None,
+    start: FromOpt = False,
+    axis: Annotated[tuple[float, float, float], typer.Option(
+        "--axis", help="Rotation axis X Y Z through the tool origin.", show_default=False)] = ...,
+    angle: Annotated[float, typer.Option(help="Signed angle [rad, deg with --deg] about the axis.",
+                                         show_default=False)] = ...,
+    rate: Annotated[float | None, typer.Option(
+        help="Constant angular speed [rad/s, deg/s with --deg]; default 0.2 rad/s unless "
+             "--duration is given.", show_default=False)] = None,
+    duration: Annotated[float | None, typer.Option(
+        help="Duration [s] of a smooth (quintic) turn, instead of --rate.", show_default=False)] = None,
+    frame: FrameOpt = "base",
+    dt: DtOpt = DEFAULT_DT,
+    deg: DegOpt = False,
+    json_output: JsonOpt = False,
+) -> None:
+    """Turn the tool about an axis through its own origin, keeping its position.
+
+    Stops at a joint limit (exit code 1, naming the joint) rather than passing it.
+
+    Example: armkit rotate probot-anno --from 0 0 0 0 0 0 --axis 1 0 0 --angle -180 --rate 11.46 --deg
+    """
+    arm = load_robot(robot)
+    q0 = _start(arm, start_values, start, deg)
+    scale = np.pi / 180 if deg else 1.0
+    if rate is None and duration is None:
+        rate = 0.2 / scale
+    result = rotate_about_tool_point(arm, q0, np.array(axis), angle * scale,
+                                     rate=None if rate is None else rate * scale,
+                                     duration=duration, frame=frame, dt=dt)
+    _report(arm, result, f"turn about {list(axis)} ({frame} frame) through the tool point", deg,
+            json_output)
