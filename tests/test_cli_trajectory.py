@@ -1,0 +1,116 @@
+"""``armkit traj``: the done-when command, outputs, auto-time and every bad-input error."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+from test_trajectory_min_jerk import SEED_AMAX, SEED_VMAX, SEED_WAYPOINTS
+
+from armkit.cli.main import main
+from armkit.trajectory import min_jerk
+
+DATA = Path(__file__).parent.parent / "examples" / "data"
+POSES = str(DATA / "probot_seed_poses.csv")
+JOINTS = str(DATA / "probot_seed_joints.csv")
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_done_when_seed_poses_to_pva_figure(capsys, tmp_path):
+    png = tmp_path / "pva.png"
+    code, out, err = run(capsys, "traj", "probot-anno", "--waypoints", POSES, "--poses",
+                         "--durations", "10", "10", "10", "--plot", png)
+    assert code == 0, err
+    assert "3 segments, 30 s" in out and "q5" in out and "0.9599" in out
+    with Image.open(png) as image:
+        assert image.width > 1500 and image.height > 700
+
+
+def test_csv_output_is_the_min_jerk_trajectory(capsys, tmp_path):
+    csv = tmp_path / "traj.csv"
+    code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--durations", "10", "10", "10",
+                       "--rate", "20", "--out", csv)
+    assert code == 0, err
+    lines = csv.read_text().splitlines()
+    assert lines[0] == "t," + ",".join(f"{p}{j}" for p in ("q", "qd", "qdd") for j in range(1, 7))
+    table = np.loadtxt(csv, delimiter=",", skiprows=1)
+    assert table.shape == (601, 19)
+    samples = min_jerk(SEED_WAYPOINTS, [10, 10, 10]).sample(20.0)
+    np.testing.assert_allclose(table[:, 1:7], samples.q, atol=1e-15)
+    np.testing.assert_allclose(table[:, 7:13], samples.qd, atol=1e-15)
+
+
+def test_auto_time_meets_the_limits_and_is_tight(capsys, tmp_path):
+    npz = tmp_path / "traj.npz"
+    code, out, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--auto-time",
+                         "--rate", "1000", "--out", npz)
+    assert code == 0, err
+    with np.load(npz) as data:
+        qd = np.column_stack([data[f"qd{j}"] for j in range(1, 7)])
+        qdd = np.column_stack([data[f"qdd{j}"] for j in range(1, 7)])
+        duration = data["t"][-1]
+    assert np.all(np.abs(qd).max(axis=0) <= SEED_VMAX + 5e-5)    # robot file limits: whole degrees
+    assert np.all(np.abs(qdd).max(axis=0) <= SEED_AMAX + 5e-5)
+    assert (np.abs(qdd).max(axis=0) / SEED_AMAX).max() > 0.99                  # some joint at its limit
+    assert duration < 10.0 and "1.000" in out
+
+
+def test_too_short_durations_are_stretched_and_reported(capsys):
+    code, out, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--durations", "2", "2", "2")
+    assert code == 0
+    assert "stretched to meet the limits" in err
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--durations", "10", "10"], "4 waypoints need 3 segment durations, got 2"),
+    (["--durations", "10", "0", "10"], "must be positive .* got 0 for segment 2"),
+    (["--durations", "10", "-1", "10"], "must be positive"),
+    (["--durations", "10", "x", "10"], "--durations: 'x' is not a number"),
+    (["--durations", "10", "nan", "10"], "durations: contains NaN"),
+    ([], "give either --durations D1 D2 ... .* or --auto-time"),
+    (["--auto-time", "--durations", "1", "1", "1"], "give either"),
+    (["--auto-time", "5"], "unexpected values 5"),
+])
+def test_bad_durations(capsys, args, message):
+    code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, *args)
+    assert code == 1
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert re.search(message, err.replace("\n", " ")), err
+
+
+@pytest.mark.parametrize(("text", "poses", "message"), [
+    ("0,0,0,0,0,0\n", False, "at least two waypoints, found 1"),
+    ("0,0,0,0,0,0\n1,1,1,1,1\n", False, "line 2: expected 6 values per waypoint, got 5"),
+    ("0,0,0,0,0,0\n0,nan,0,0,0,0\n", False, "line 2: NaN"),
+    ("0,0,0,0,0,0\n0,2.5,0,0,0,0\n", False, "waypoint 2: joint q2 = 2.5 is outside its limits"),
+    ("0.2289,0,0.454,1.5707963,0,0\n2,0,0.3,0,0,0\n", True, "waypoint 2 .*"),
+])
+def test_bad_waypoint_files(capsys, tmp_path, text, poses, message):
+    path = tmp_path / "w.csv"
+    path.write_text(text)
+    args = ["--poses"] if poses else []
+    code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", path, *args, "--durations", "5")
+    assert code == 1 and "Traceback" not in err
+    assert re.search(message, err.replace("\n", " ")), err
+
+
+def test_never_overwrites_without_force(capsys, tmp_path):
+    out = tmp_path / "traj.csv"
+    out.write_text("keep me")
+    args = ["traj", "probot-anno", "--waypoints", JOINTS, "--durations", "10", "10", "10", "--out", out]
+    code, _, err = run(capsys, *args)
+    assert code == 1 and "already exists; add --force" in err
+    assert out.read_text() == "keep me"
+    code, _, err = run(capsys, *args, "--force")
+    assert code == 0 and out.read_text().startswith("t,q1")
+    code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--auto-time", "--plot",
+                       tmp_path / "pva.jpg")
+    assert code == 1 and "expected a file name ending in .png, .svg, .pdf" in err

@@ -1,0 +1,78 @@
+"""Trajectory figures: the P-V-A grid (limits, waypoints) and the 3-D tool path, saved headless."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+from test_trajectory_min_jerk import SEED_WAYPOINTS
+
+import armkit
+from armkit.errors import InputError
+from armkit.plots import plot_pva, plot_tool_path, save_figure
+from armkit.trajectory import min_jerk
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return armkit.load("probot-anno")
+
+
+@pytest.fixture(scope="module")
+def traj():
+    return min_jerk(SEED_WAYPOINTS, [10, 10, 10])
+
+
+def test_pva_grid_draws_curves_limits_and_waypoints(robot, traj):
+    figure = plot_pva(traj, robot)
+    axes = np.array(figure.axes).reshape(3, 6)
+    velocity_axis = axes[1, 4]
+    levels = {round(line.get_ydata()[0], 6) for line in velocity_axis.get_lines()
+              if line.get_linestyle() == "--"}
+    assert levels == {round(robot.max_velocity[4], 6), round(-robot.max_velocity[4], 6)}
+    acceleration_levels = {round(line.get_ydata()[0], 6) for line in axes[2, 1].get_lines()
+                           if line.get_linestyle() == "--"}
+    assert acceleration_levels == {round(robot.max_acceleration[1], 6), round(-robot.max_acceleration[1], 6)}
+    markers = [line for line in axes[0, 1].get_lines() if line.get_marker() == "o"]
+    np.testing.assert_allclose(markers[0].get_ydata(), SEED_WAYPOINTS[:, 1])
+    curve = axes[0, 1].get_lines()[0]
+    np.testing.assert_allclose(curve.get_xdata()[[0, -1]], [0, 30])
+
+
+def test_pva_without_robot_has_no_limits(traj):
+    figure = plot_pva(traj)
+    assert all(line.get_linestyle() != "--" for ax in figure.axes for line in ax.get_lines())
+
+
+def test_saved_png_and_svg(robot, traj, tmp_path):
+    png = save_figure(plot_pva(traj, robot), tmp_path / "pva.png")
+    with Image.open(png) as image:
+        assert image.size[0] > 1000
+        pixels = np.asarray(image.convert("RGB"))
+    assert (np.abs(pixels.astype(int) - [214, 39, 40]).sum(axis=-1) < 60).any()   # red limit lines
+    svg = save_figure(plot_tool_path(robot, traj), tmp_path / "path.svg")
+    assert svg.read_text().lstrip().startswith("<?xml")
+    with pytest.raises(InputError, match="already exists"):
+        save_figure(plot_pva(traj, robot), png)
+    with pytest.raises(InputError, match="ending in .png, .svg, .pdf"):
+        save_figure(plot_pva(traj, robot), tmp_path / "pva.bmp")
+
+
+def test_tool_path_is_the_fk_of_the_samples(robot, traj):
+    figure = plot_tool_path(robot, traj, rate_hz=10.0)
+    ax = figure.axes[0]
+    path_line = ax.get_lines()[0]
+    x, y, z = path_line.get_data_3d()
+    expected = robot.fk(traj.sample(10.0).q)[:, :3, 3]
+    np.testing.assert_allclose(np.column_stack([x, y, z]), expected, atol=1e-12)
+
+
+def test_plots_never_import_pyplot():
+    code = ("import sys, armkit, armkit.plots as p, armkit.trajectory as t; r = armkit.load('probot-anno'); "
+            "tr = t.min_jerk([[0.0] * 6, [0.1] * 6], [1.0]); p.plot_pva(tr, r); p.plot_tool_path(r, tr); "
+            "print('matplotlib.pyplot' in sys.modules)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.stdout.strip() == "False", result.stderr
