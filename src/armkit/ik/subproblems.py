@@ -107,6 +107,12 @@ def sp1(p: Array, q: Array, k: Array) -> tuple[Array, NDArray[np.bool_]]:
     return theta, free
 
 
+def _on_axis(p: Array, k: Array) -> NDArray[np.bool_]:
+    """``p`` lies on the axis ``k`` (relative to ``|p|``), shape ``(...)``."""
+    p_perp = p - dot(k, p)[..., None] * k
+    return dot(p_perp, p_perp) <= (FREE_TOLERANCE ** 2) * dot(p, p)
+
+
 def solve_trig_linear(a: Array, b: Array, c: Array, scale: Array
                       ) -> tuple[Array, NDArray[np.bool_], NDArray[np.bool_]]:
     """All ``t`` with ``a cos t + b sin t = c``; ``scale`` is the size of the terms.
@@ -185,9 +191,14 @@ def sp2(p1: Array, p2: Array, k1: Array, k2: Array
     exists = (gamma2 >= -OUT_TOLERANCE * norm2) & (np.abs(n1 - n2) <= OUT_TOLERANCE * norm2)
     gamma = np.sqrt(np.maximum(gamma2, 0.0))[..., None] * np.array([1.0, -1.0])
     x = base[..., None, :] + gamma[..., None] * n[..., None, :]
-    theta1, free1 = sp1(p1[..., None, :], x, k1[..., None, :])
-    theta2, free2 = sp1(p2[..., None, :], x, k2[..., None, :])
-    free1, free2 = free1[..., 0], free2[..., 0]
+    free1, free2 = _on_axis(p1, k1), _on_axis(p2, k2)
+    # a point on its axis stays put: the common point is that point itself, exactly
+    x = np.where(free1[..., None, None], p1[..., None, :],
+                 np.where(free2[..., None, None], p2[..., None, :], x))
+    theta1, _ = sp1(p1[..., None, :], x, k1[..., None, :])
+    theta2, _ = sp1(p2[..., None, :], x, k2[..., None, :])
+    theta1 = np.where(free1[..., None], 0.0, theta1)
+    theta2 = np.where(free2[..., None], 0.0, theta2)
     single = (gamma2 <= 0.0) | free1 | free2
     valid = np.stack([exists, exists & ~single], axis=-1)
     return theta1, theta2, valid, free1, free2

@@ -1,0 +1,476 @@
+"""Every closed-form IK solution of a Pieper arm, a SCARA or a planar arm, vectorised.
+
+The chain is taken as screw axes at ``q = 0`` (see :mod:`armkit.ik.structure`):
+``T(q) = exp(xi_1 q_1) ... exp(xi_n q_n) M``, so the target gives ``G = T M^-1``, the
+motion of the joints alone. One solver per geometric case splits ``G`` into
+Paden-Kahan subproblems (:mod:`armkit.ik.subproblems`):
+
+* spherical wrist (axes 4-6 meet at ``c``): joints 1-3 place ``c`` at ``G c`` (SP3 / SP4
+  / SP2 / planar 2R, by which pair of axes 1-3 meets or is parallel; a prismatic third
+  joint gives a quadratic), then the wrist turns ``h6`` (SP2) and ``h5`` (SP1) into place.
+  A spherical base is the same on the reversed chain (the chain of ``T^-1``).
+* three parallel axes 2-4 with direction ``h``: rotations about them keep ``h``-components,
+  which leaves two equations in ``q1, q5`` alone. If axes 5 and 6 meet, a combination of
+  them holds ``q1`` only (SP4), else they give a quartic (roots of a companion matrix,
+  polished by Newton steps). Then ``q6`` (SP1), ``q2 + q3 + q4`` (SP1), and a planar 2R.
+* SCARA and planar 2R/3R: the orientation gives the sum of the angles, a prismatic joint
+  along the axes the height, and a planar 2R the rest.
+
+Candidates are computed for all poses at once in fixed-size arrays with masks; each one
+is then checked by forward kinematics (a branch that does not reproduce the pose to
+``VERIFY_TOLERANCE`` is marked invalid: an unreachable pose gives no valid candidate) and
+duplicates are merged.
+
+Example
+-------
+>>> import numpy as np, armkit
+>>> chain = armkit.load("probot-anno").chain
+>>> from armkit.kinematics import fk
+>>> sol = closed_form_ik(chain, fk(chain, np.array([0.3, -0.5, 0.4, 0.2, 0.6, -0.1])))
+>>> int(sol.valid.sum())
+8
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armkit.chain import Chain
+from armkit.errors import NoClosedFormError
+from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
+from armkit.ik.subproblems import (
+    cross,
+    dot,
+    rotate,
+    rotation_matrix,
+    solve_trig_linear,
+    sp1,
+    sp2,
+    sp3,
+    sp4,
+)
+from armkit.kinematics import fk
+from armkit.spatial.transforms import check_transform
+
+__all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
+           "VERIFY_TOLERANCE", "DUPLICATE_TOLERANCE"]
+
+#: A candidate counts only if its FK matches the target to this, times ``1 + arm size``
+#: (entries of the 4x4 matrix, metres / dimensionless). It only rejects non-solutions:
+#: the solutions themselves reproduce reachable poses to about 1e-13.
+VERIFY_TOLERANCE = 1e-8
+#: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution.
+DUPLICATE_TOLERANCE = 1e-9
+
+Array = NDArray[np.float64]
+Mask = NDArray[np.bool_]
+
+
+@dataclass(frozen=True)
+class ClosedFormSolutions:
+    """Candidate solutions of closed-form IK for a batch of poses.
+
+    Attributes
+    ----------
+    q : ndarray (..., k_max, n)
+        Candidate joint values [rad or m]; revolute ones in ``[-pi, pi)``, not fitted to
+        the joint limits and not filtered by them.
+    valid : ndarray of bool (..., k_max)
+        The candidate is a solution (reproduces the pose; duplicates are invalid).
+    family : ndarray of bool (..., k_max)
+        The candidate is a representative of a one-parameter family of solutions (wrist
+        singularity: only ``q4 + q6`` defined; shoulder singularity: ``q1`` free, ...).
+    """
+
+    q: Array
+    valid: Mask
+    family: Mask
+
+
+def _planar_2r(h: Array, a: Array, b: Array, v: Array) -> tuple[Array, Array, Mask, Mask]:
+    """All ``(ta, tb)`` with ``R(h, ta) (a + R(h, tb) b) = v`` in the plane normal to ``h``.
+
+    Components along ``h`` are ignored (the caller makes them consistent). Shapes
+    broadcast; results ``(..., 2)``; ``free``: the middle point lies on the first axis.
+    """
+    a = a - dot(a, h)[..., None] * h
+    b = b - dot(b, h)[..., None] * h
+    v = v - dot(v, h)[..., None] * h
+    tb, valid, free_b = sp3(b, -a, h, np.sqrt(dot(v, v)))
+    u = a[..., None, :] + rotate(h, tb, b[..., None, :])
+    ta, free_a = sp1(u, v[..., None, :], h)
+    return ta, tb, valid, free_a | free_b[..., None]
+
+
+def _transform_point(R: Array, t: Array, p: Array) -> Array:
+    """``R p + t`` for rotations ``(..., 3, 3)``, translations ``(..., 3)``, a point ``(3,)``."""
+    return R @ p + t
+
+
+def _unit_normal(h: Array) -> Array:
+    """A unit vector perpendicular to ``h``."""
+    e = np.eye(3)[np.argmin(np.abs(h))]
+    u = np.cross(h, e)
+    return u / np.linalg.norm(u)
+
+
+class ClosedFormSolver:
+    """Closed-form IK of one chain, with everything that depends only on the chain cached.
+
+    Build it with :func:`closed_form_solver` (memoised per chain).
+    """
+
+    def __init__(self, chain: Chain, plan: SolverPlan) -> None:
+        self.chain = chain
+        self.structure: ArmStructure = plan.structure
+        self._plan = plan
+        poe = plan.poe
+        self._poe = poe
+        size = 1.0 + max(np.abs(poe.points).max(), np.abs(poe.M[:3, 3]).max())
+        self._verify_tol = VERIFY_TOLERANCE * size
+        M_inv = np.eye(4)
+        M_inv[:3, :3] = poe.M[:3, :3].T
+        M_inv[:3, 3] = -poe.M[:3, :3].T @ poe.M[:3, 3]
+        self._M_inv = M_inv
+        self._revolute_user = ~chain.prismatic
+        kind = plan.structure.kind
+        if kind in ("spherical-wrist", "spherical-base"):
+            self._k = 8
+            self._solve = self._spherical
+        elif kind == "three-parallel":
+            self._k = 8
+            self._setup_three_parallel()
+            self._solve = self._three_parallel
+        else:
+            self._k = 2
+            self._setup_planar()
+            self._solve = self._planar
+
+    # ------------------------------------------------------------------ public
+    def solve(self, T_base_tool: ArrayLike) -> ClosedFormSolutions:
+        """All candidates for poses ``(4, 4)`` or ``(..., 4, 4)``; see :func:`closed_form_ik`."""
+        T = check_transform(T_base_tool, "T_base_tool")
+        batch = T.shape[:-2]
+        T = T.reshape(-1, 4, 4)
+        T_int = T
+        if self._poe.inverted:
+            R_t = np.swapaxes(T[:, :3, :3], -1, -2)
+            T_int = np.zeros_like(T)
+            T_int[:, :3, :3] = R_t
+            T_int[:, :3, 3] = -(R_t @ T[:, :3, 3, None])[..., 0]
+            T_int[:, 3, 3] = 1.0
+        G = T_int @ self._M_inv
+        q_int, valid, family = self._solve(G[:, :3, :3], G[:, :3, 3])
+        n = self._poe.n
+        q = np.empty_like(q_int)
+        q[..., self._poe.index] = q_int * self._poe.sign
+        rev = self._revolute_user
+        q[..., rev] = (q[..., rev] + np.pi) % (2 * np.pi) - np.pi
+        valid = valid & self._reproduces(q, T)
+        valid = valid & ~self._duplicates(q, valid)
+        k = q.shape[1]
+        return ClosedFormSolutions(q.reshape(*batch, k, n), valid.reshape(*batch, k),
+                                   (family & valid).reshape(*batch, k))
+
+    # ----------------------------------------------------------- verification
+    def _reproduces(self, q: Array, T: Array) -> Mask:
+        error = np.abs(fk(self.chain, q) - T[:, None]).max(axis=(-1, -2))
+        return error <= self._verify_tol
+
+    def _duplicates(self, q: Array, valid: Mask) -> Mask:
+        diff = q[:, :, None, :] - q[:, None, :, :]
+        rev = self._revolute_user
+        diff[..., rev] = (diff[..., rev] + np.pi) % (2 * np.pi) - np.pi
+        same = np.abs(diff).max(axis=-1) <= DUPLICATE_TOLERANCE
+        earlier = np.tri(q.shape[1], k=-1, dtype=bool)  # [j, i]: i < j
+        return np.any(same & earlier & valid[:, None, :], axis=-1)
+
+    # -------------------------------------------------------- spherical wrist
+    def _wrist_centre_joints(self, w: Array) -> tuple[Array, Mask, Mask]:
+        """Joints 1-3 that put the wrist centre ``c`` at ``w`` (N, 3): ``(N, 4, 3)``."""
+        poe, case, c, o = self._poe, self._plan.case, self._plan.point, self._plan.point2
+        h, p = poe.axes, poe.points
+        N = len(w)
+        if case == "parallel-23":
+            q1, v1, f1 = sp4(h[1], w - p[0], -h[0], np.full(N, h[1] @ (c - p[0])))
+            y = p[0] + rotate(-h[0], q1, (w - p[0])[:, None, :])
+            q2, q3, v23, f23 = _planar_2r(h[1], p[2] - p[1], c - p[2], y - p[1])
+            q1 = np.broadcast_to(q1[:, :, None], q2.shape)
+            valid, free = v1[:, :, None] & v23, f1[:, None, None] | f23
+        elif case == "parallel-12":
+            q3, v3, f3 = sp4(h[0], c - p[2], h[2], (w - p[2]) @ h[0])
+            x = p[2] + rotate(h[2], q3, c - p[2])
+            q1, q2, v12, f12 = _planar_2r(h[0], p[1] - p[0], x - p[1], (w - p[0])[:, None, :])
+            q3 = np.broadcast_to(q3[:, :, None], q1.shape)
+            valid, free = v3[:, :, None] & v12, f3[:, None, None] | f12
+        elif case == "intersect-23":
+            q1, v1, f1 = sp3(w - p[0], o - p[0], -h[0], np.full(N, np.linalg.norm(c - o)))
+            y = p[0] + rotate(-h[0], q1, (w - p[0])[:, None, :])
+            q2, q3, v23, f2, f3 = sp2(y - o, c - o, -h[1], h[2])
+            q1 = np.broadcast_to(q1[:, :, None], q2.shape)
+            valid = v1[:, :, None] & v23
+            free = (f1[:, None] | f2 | f3)[:, :, None] & np.ones(2, dtype=bool)
+        else:  # intersect-12-revolute / intersect-12-prismatic
+            d = np.linalg.norm(w - o, axis=-1)
+            if case.endswith("prismatic"):
+                q3, v3 = self._slide_to_sphere(c - o, h[2], d)
+                x = c + q3[..., None] * h[2]
+                f3 = np.zeros(N, dtype=bool)
+            else:
+                q3, v3, f3 = sp3(c - p[2], o - p[2], h[2], d)
+                x = p[2] + rotate(h[2], q3, c - p[2])
+            q1, q2, v12, f1, f2 = sp2((w - o)[:, None, :], x - o, -h[0], h[1])
+            q3 = np.broadcast_to(q3[:, :, None], q1.shape)
+            valid = v3[:, :, None] & v12
+            free = f3[:, None, None] | (f1 | f2)[:, :, None]
+        q = np.stack([q1, q2, q3], axis=-1).reshape(N, 4, 3)
+        return q, valid.reshape(N, 4), np.broadcast_to(free, valid.shape).reshape(N, 4)
+
+    @staticmethod
+    def _slide_to_sphere(v: Array, h: Array, d: Array) -> tuple[Array, Mask]:
+        """Both ``s`` with ``|v + s h| = d``: ``(N, 2)`` and the mask of real roots."""
+        b = v @ h
+        disc = b * b - (v @ v) + d * d
+        exists = disc >= -1e-9 * (v @ v + d * d)
+        root = np.sqrt(np.maximum(disc, 0.0))
+        s = np.stack([-b + root, -b - root], axis=-1)
+        return s, np.stack([exists, exists & (disc > 0)], axis=-1)
+
+    def _spherical(self, R_G: Array, t_G: Array) -> tuple[Array, Mask, Mask]:
+        poe = self._poe
+        h = poe.axes
+        N = len(t_G)
+        w = _transform_point(R_G, t_G, self._plan.point)
+        q123, valid, free = self._wrist_centre_joints(w)
+        R123 = np.broadcast_to(np.eye(3), (N, 4, 3, 3))
+        for j in range(3):
+            if not poe.prismatic[j]:
+                R123 = R123 @ rotation_matrix(h[j], q123[..., j])
+        R_w = np.swapaxes(R123, -1, -2) @ R_G[:, None]
+        q4, q5, v45, f4, f5 = sp2(R_w @ h[5], h[5], -h[3], h[4])
+        R45 = rotation_matrix(h[3], q4) @ rotation_matrix(h[4], q5)
+        u = _unit_normal(h[5])
+        target = np.swapaxes(R45, -1, -2) @ (R_w @ u)[:, :, None, :, None]
+        q6, f6 = sp1(u, target[..., 0], h[5])
+        q = np.concatenate([np.broadcast_to(q123[:, :, None, :], (N, 4, 2, 3)),
+                            np.stack([q4, q5, q6], axis=-1)], axis=-1)
+        valid = valid[:, :, None] & v45
+        family = free[:, :, None] | (f4 | f5)[:, :, None] | f6
+        return q.reshape(N, 8, 6), valid.reshape(N, 8), family.reshape(N, 8)
+
+    # ---------------------------------------------------- three parallel axes
+    def _setup_three_parallel(self) -> None:
+        poe = self._poe
+        h, p = poe.axes, poe.points
+        self._h = h[1]
+        # closest points of axes 5 and 6 (joint indices 4 and 5)
+        A = np.stack([h[4], -h[5]], axis=1)
+        s, t = np.linalg.lstsq(A, p[5] - p[4], rcond=None)[0]
+        self._p5, self._p6 = p[4] + s * h[4], p[5] + t * h[5]
+        # right-hand sides h . R(h5, q5) v = const + c cos q5 + d sin q5, for v = h6, p6 - p5
+        rows = [self._trig_coeffs(self._h, h[4], v) for v in (h[5], self._p6 - self._p5)]
+        self._Q = np.array([[r[1], r[2]] for r in rows])
+        self._f = np.array([r[0] for r in rows]) + np.array([0.0, self._h @ (self._p5 - p[0])])
+        U, S, _ = np.linalg.svd(self._Q)
+        self._q_rank1 = S[1] <= 1e-9 * S[0]
+        self._lam, self._mu = U[:, 1], U[:, 0]
+        self._u_h = _unit_normal(self._h)
+
+    @staticmethod
+    def _trig_coeffs(h: Array, k: Array, v: Array) -> tuple[Array, Array, Array]:
+        """``h . R(k, t) v = const + cos_coeff cos t + sin_coeff sin t`` (broadcasting)."""
+        hk = h @ k if np.ndim(h) == 1 else dot(h, k)
+        kv = dot(k, v)
+        return hk * kv, dot(h, v) - hk * kv, dot(h, cross(k, v))
+
+    def _q1_q5(self, R_G: Array, t_G: Array) -> tuple[Array, Array, Mask, Mask]:
+        """The (q1, q5) pairs: ``(N, 4)`` each, validity, shoulder family."""
+        poe = self._poe
+        h1, p1 = poe.axes[0], poe.points[0]
+        u1 = R_G @ poe.axes[5]
+        u2 = _transform_point(R_G, t_G, self._p6) - p1
+        e1, a1, b1 = self._trig_coeffs(self._h, -h1, u1)
+        e2, a2, b2 = self._trig_coeffs(self._h, -h1, u2)
+        P = np.stack([np.stack([a1, b1], -1), np.stack([a2, b2], -1)], -2)  # (N, 2, 2)
+        r = self._f - np.stack([e1, e2], axis=-1)  # P x1 - Q x5 = r
+        scale = 1.0 + np.abs(P).max(axis=(-1, -2)) + np.abs(r).max(axis=-1)
+        if self._q_rank1:
+            lam, mu = self._lam, self._mu
+            lP, lr = lam @ P, r @ lam
+            q1, v1, f1 = solve_trig_linear(lP[:, 0], lP[:, 1], lr, scale)
+            mP = (mu @ P)[:, None, :]
+            rhs = mP[..., 0] * np.cos(q1) + mP[..., 1] * np.sin(q1) - (r @ mu)[:, None]
+            mQ = mu @ self._Q
+            q5, v5, f5 = solve_trig_linear(mQ[0], mQ[1], rhs, scale[:, None])
+            q1 = np.broadcast_to(q1[:, :, None], q5.shape)
+            valid = v1[:, :, None] & v5
+            free = f1[:, None, None] | f5[..., None]
+            free = np.broadcast_to(free, valid.shape)
+            N = len(r)
+            return q1.reshape(N, 4), q5.reshape(N, 4), valid.reshape(N, 4), free.reshape(N, 4)
+        return self._q1_q5_quartic(P, r)
+
+    def _q1_q5_quartic(self, P: Array, r: Array) -> tuple[Array, Array, Mask, Mask]:
+        """Axes 5 and 6 skew: ``x5 = Q^-1 (P x1 - r)`` on the unit circle is a quartic in q1."""
+        Q_inv = np.linalg.inv(self._Q)
+        W = Q_inv @ P
+        w0 = r @ Q_inv.T
+        S = np.swapaxes(W, -1, -2) @ W
+        m = (np.swapaxes(W, -1, -2) @ w0[..., None])[..., 0]
+        z0 = dot2(w0, w0) - 1.0
+        # F(t) = A0 + A1 cos t + B1 sin t + A2 cos 2t + B2 sin 2t
+        A0 = 0.5 * (S[:, 0, 0] + S[:, 1, 1]) + z0
+        A1, B1 = -2.0 * m[:, 0], -2.0 * m[:, 1]
+        A2, B2 = 0.5 * (S[:, 0, 0] - S[:, 1, 1]), S[:, 0, 1]
+        # z^2 F in z = exp(i t): coefficients of z^4 ... z^0
+        coeffs = np.stack([(A2 - 1j * B2) / 2, (A1 - 1j * B1) / 2, A0 + 0j,
+                           (A1 + 1j * B1) / 2, (A2 + 1j * B2) / 2], axis=-1)
+        scale = np.abs(coeffs).max(axis=-1)
+        lead = coeffs[:, 0]
+        quartic = np.abs(lead) > 1e-12 * scale
+        companion = np.zeros((len(r), 4, 4), dtype=complex)
+        companion[:, 1:, :3] = np.eye(3)
+        companion[:, 0, :] = -coeffs[:, 1:] / np.where(quartic, lead, 1.0)[:, None]
+        roots = np.linalg.eigvals(companion)
+        t = np.angle(roots)
+        on_circle = np.abs(np.abs(roots) - 1.0) <= 1e-6
+        for _ in range(3):  # Newton on F(t), the real equation
+            c, s, c2, s2 = np.cos(t), np.sin(t), np.cos(2 * t), np.sin(2 * t)
+            F = A0[:, None] + A1[:, None] * c + B1[:, None] * s + A2[:, None] * c2 + B2[:, None] * s2
+            dF = -A1[:, None] * s + B1[:, None] * c - 2 * A2[:, None] * s2 + 2 * B2[:, None] * c2
+            step = np.where(np.abs(dF) > 1e-300, F / np.where(dF == 0, 1.0, dF), 0.0)
+            t = t - np.clip(step, -0.1, 0.1)
+        # degenerate (|lead| ~ 0): F is of degree 1, a cos t + b sin t = -A0
+        t_lin, v_lin, _ = solve_trig_linear(A1, B1, -A0, scale)
+        t = np.where(quartic[:, None], t, np.concatenate([t_lin, t_lin], axis=-1))
+        valid = np.where(quartic[:, None], on_circle,
+                         np.concatenate([v_lin, np.zeros_like(v_lin)], axis=-1))
+        x1 = np.stack([np.cos(t), np.sin(t)], axis=-1)
+        x5 = (W[:, None] @ x1[..., None])[..., 0] - w0[:, None, :]
+        q5 = np.arctan2(x5[..., 1], x5[..., 0])
+        return t, q5, valid, np.zeros_like(valid)
+
+    def _three_parallel(self, R_G: Array, t_G: Array) -> tuple[Array, Mask, Mask]:
+        poe = self._poe
+        h_all, p = poe.axes, poe.points
+        h, N = self._h, len(t_G)
+        q1, q5, valid, free = self._q1_q5(R_G, t_G)
+        R1 = rotation_matrix(h_all[0], q1)  # (N, 4, 3, 3)
+        R5 = rotation_matrix(h_all[4], q5)
+        # q6: R6^T (R5^T h) = R_G^T R1 h
+        v = np.swapaxes(R5, -1, -2) @ h
+        w = np.swapaxes(R_G, -1, -2)[:, None] @ (R1 @ h)[..., None]
+        q6, f6 = sp1(v, w[..., 0], -h_all[5])
+        R6 = rotation_matrix(h_all[5], q6)
+        # q2 + q3 + q4: R234 = R1^T R_G R6^T R5^T
+        R234 = np.swapaxes(R1, -1, -2) @ R_G[:, None] @ np.swapaxes(R5 @ R6, -1, -2)
+        theta, _ = sp1(self._u_h, R234 @ self._u_h, h)
+        # planar part: e2 e3 e4 y = z with y = e5 p6, z = e1^-1 G p6
+        y = self._p5 + rotate(h_all[4], q5, self._p6 - self._p5)
+        z = p[0] + (np.swapaxes(R1, -1, -2) @ (_transform_point(R_G, t_G, self._p6) - p[0])[:, None, :,
+                                                                                            None])[..., 0]
+        target = z - p[1] - (R234 @ (y - p[3])[..., None])[..., 0]
+        q2, q3, v23, f23 = _planar_2r(h, p[2] - p[1], p[3] - p[2], target)
+        q4 = theta[..., None] - q2 - q3
+
+        def spread(a: Array) -> Array:
+            return np.broadcast_to(a[..., None], q2.shape)
+
+        q = np.stack([spread(q1), q2, q3, q4, spread(q5), spread(q6)], axis=-1)
+        valid = valid[..., None] & v23
+        family = spread(free | f6) | f23
+        return q.reshape(N, 8, 6), valid.reshape(N, 8), family.reshape(N, 8)
+
+    # ----------------------------------------------------- SCARA and planar
+    def _setup_planar(self) -> None:
+        poe = self._poe
+        self._rev = [j for j in range(poe.n) if not poe.prismatic[j]]
+        self._pri = [j for j in range(poe.n) if poe.prismatic[j]]
+        self._h = poe.axes[self._rev[0]]
+        self._u_h = _unit_normal(self._h)
+        r = self._rev
+        # a point moved by the first two revolute joints only (on the third axis if any)
+        self._y = poe.points[r[2]] if len(r) == 3 else poe.points[r[1]] + self._u_h
+
+    def _planar(self, R_G: Array, t_G: Array) -> tuple[Array, Mask, Mask]:
+        poe, h, r = self._poe, self._h, self._rev
+        N = len(t_G)
+        theta, _ = sp1(self._u_h, R_G @ self._u_h, h)
+        Gy = _transform_point(R_G, t_G, self._y)
+        slide = (Gy - self._y) @ h if self._pri else np.zeros(N)
+        p_a, p_b = poe.points[r[0]], poe.points[r[1]]
+        qa, qb, valid, free = _planar_2r(h, p_b - p_a, self._y - p_b, Gy - slide[:, None] * h - p_a)
+        q = np.zeros((N, 2, poe.n))
+        q[..., r[0]], q[..., r[1]] = qa, qb
+        if len(r) == 3:
+            q[..., r[2]] = theta[:, None] - qa - qb
+        if self._pri:
+            q[..., self._pri[0]] = slide[:, None]
+        return q, valid, free
+
+
+def dot2(a: Array, b: Array) -> Array:
+    """Row-wise dot product of ``(..., 2)`` vectors."""
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
+
+
+_solvers: dict[int, tuple[weakref.ref, ClosedFormSolver]] = {}
+
+
+def closed_form_solver(chain: Chain) -> ClosedFormSolver:
+    """The (memoised) closed-form solver of ``chain``.
+
+    Raises
+    ------
+    NoClosedFormError
+        If the chain's geometry has no closed form here (the message says why).
+    """
+    entry = _solvers.get(id(chain))
+    if entry is not None and entry[0]() is chain:
+        return entry[1]
+    plan = plan_closed_form(chain)
+    if not plan.structure.closed_form:
+        raise NoClosedFormError(f"no closed-form IK for this chain: {plan.structure.description}")
+    solver = ClosedFormSolver(chain, plan)
+    key = id(chain)
+    _solvers[key] = (weakref.ref(chain, lambda _ref, key=key: _solvers.pop(key, None)), solver)
+    return solver
+
+
+def closed_form_ik(chain: Chain, T_base_tool: ArrayLike) -> ClosedFormSolutions:
+    """Every closed-form IK solution of ``chain`` for one pose or a batch of poses.
+
+    Parameters
+    ----------
+    chain : Chain
+        A chain with a closed form (see :func:`armkit.ik.analyze_structure`).
+    T_base_tool : array_like (4, 4) or (N, 4, 4)
+        Target tool pose(s) in the base frame [m].
+
+    Returns
+    -------
+    ClosedFormSolutions
+        ``q`` of shape ``(k_max, n)`` (or ``(N, k_max, n)``), ``valid`` and ``family``
+        masks ``(k_max,)`` (or ``(N, k_max)``). ``k_max`` is 8 for 6-joint arms and 2
+        for SCARA and planar arms. An unreachable pose has no valid candidate.
+
+    Raises
+    ------
+    NoClosedFormError
+        For chains without closed form (e.g. the 7-joint Panda).
+    InputError
+        If a pose is not a rigid transform.
+
+    Examples
+    --------
+    >>> import numpy as np, armkit
+    >>> robot = armkit.load("ur5")
+    >>> sol = closed_form_ik(robot.chain, robot.fk(np.full(6, 0.3)))
+    >>> sol.q.shape, int(sol.valid.sum())
+    ((8, 6), 8)
+    """
+    return closed_form_solver(chain).solve(T_base_tool)

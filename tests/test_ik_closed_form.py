@@ -1,0 +1,220 @@
+"""Closed-form IK: round trips on built-ins and random Pieper arms, singular poses, EAIK."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit.chain import DHRow, chain_from_dh
+from armkit.errors import InputError, NoClosedFormError
+from armkit.ik.closed_form import closed_form_ik, closed_form_solver
+from armkit.ik.structure import analyze_structure, poe_from_chain
+from armkit.ik.subproblems import rotation_matrix, sp1
+from armkit.kinematics import fk
+from armkit.spatial.rotations import matrix_from_euler
+
+CLOSED_FORM_ROBOTS = ["probot-anno", "puma560", "stanford", "ur5", "zju-i", "grb400-scara"]
+seeds = st.integers(0, 2**32 - 1)
+
+
+# ----------------------------------------------------------------- random arms
+def _random_transform(rng):
+    T = np.eye(4)
+    T[:3, :3] = rotation_matrix(_unit(rng), rng.uniform(-np.pi, np.pi))
+    T[:3, 3] = rng.uniform(-0.3, 0.3, 3)
+    return T
+
+
+def _unit(rng):
+    v = rng.normal(size=3)
+    return v / np.linalg.norm(v)
+
+
+def random_arm(rng, kind, convention, prismatic3=False):
+    """A random 6-joint DH arm of a Pieper kind, with random offsets, base and tool.
+
+    Link ``i`` (between axes ``i`` and ``i + 1``) has length ``a[i]`` and twist ``alpha[i]``:
+    ``a = 0`` makes the axes meet, ``alpha = 0`` parallel, in either convention.
+    """
+    a = rng.uniform(-0.4, 0.4, 7)
+    alpha = rng.choice([-1, 1], 7) * rng.uniform(0.3, np.pi - 0.3, 7)
+    d = rng.uniform(-0.4, 0.4, 7)
+    theta = rng.uniform(-np.pi, np.pi, 7)
+    if kind in ("spherical-wrist", "spherical-base"):
+        first, last = (4, 5) if kind == "spherical-wrist" else (1, 2)
+        a[first] = a[last] = 0.0  # axes first..last+1 meet ...
+        d[last] = 0.0  # ... at one point
+        side = [1, 2] if kind == "spherical-wrist" else [4, 5]
+        case = rng.integers(4) if not prismatic3 else 0
+        if case == 0:
+            a[side[0]] = 0.0  # axes 1, 2 (or 5, 6) meet
+        elif case == 1:
+            alpha[side[1]] = 0.0  # axes 2, 3 (or 4, 5) parallel
+        elif case == 2:
+            a[side[1]] = 0.0  # axes 2, 3 (or 4, 5) meet
+        else:
+            alpha[side[0]] = 0.0  # axes 1, 2 (or 5, 6) parallel
+    elif kind == "three-parallel":
+        block = rng.choice([2, 3])  # axes 2-4 or 3-5
+        alpha[block] = alpha[block + 1] = 0.0
+        if rng.random() < 0.5:
+            a[5] = 0.0  # axes 5, 6 meet (UR-like) ...
+    kinds = ["revolute"] * 6
+    if prismatic3:
+        kinds[2] = "prismatic"
+    if convention == "standard":  # row i: theta_i, d_i, a_i, alpha_i
+        rows = [DHRow(alpha[i], a[i], d[i], theta[i], kinds[i - 1]) for i in range(1, 7)]
+    else:  # row i: alpha_{i-1}, a_{i-1}, theta_i, d_i
+        rows = [DHRow(alpha[i - 1], a[i - 1], d[i], theta[i], kinds[i - 1]) for i in range(1, 7)]
+    limits = [(-np.pi, np.pi) if k == "revolute" else (0.1, 0.6) for k in kinds]
+    return chain_from_dh(rows, convention, limits=limits, T_base=_random_transform(rng),
+                         T_tool=_random_transform(rng))
+
+
+# ------------------------------------------------------------------- helpers
+def _limits(chain):
+    return np.array([[j.lower, j.upper] for j in chain.joints])
+
+
+def _random_q(rng, chain, n):
+    lim = _limits(chain)
+    return rng.uniform(lim[:, 0], lim[:, 1], (n, chain.n))
+
+
+def _joint_distance(chain, q_a, q_b, joints=slice(None)):
+    """Largest joint difference (revolute ones modulo 2 pi) over ``joints``."""
+    d = (q_a - q_b)[..., joints]
+    rev = ~chain.prismatic[joints]
+    d[..., rev] = (d[..., rev] + np.pi) % (2 * np.pi) - np.pi
+    return np.abs(d).max(axis=-1)
+
+
+def _assert_round_trip(chain, q, tol=1e-9):
+    """Candidates of ``fk(q)`` contain ``q`` and every valid one reproduces the pose."""
+    T = fk(chain, q)
+    sol = closed_form_ik(chain, T)
+    residual = np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))
+    assert residual[sol.valid].max() < tol
+    found = (_joint_distance(chain, sol.q, q[:, None, :]) < tol) & sol.valid
+    assert found.any(axis=-1).all(), f"missed q = {q[~found.any(axis=-1)][0].tolist()}"
+    return sol
+
+
+# -------------------------------------------------------------------- tests
+@pytest.mark.parametrize("name", CLOSED_FORM_ROBOTS)
+def test_round_trip_builtins(name):
+    chain = armkit.load(name).chain
+    rng = np.random.default_rng(abs(hash(name)) % 2**32)
+    sol = _assert_round_trip(chain, _random_q(rng, chain, 300))
+    assert sol.valid.sum(axis=-1).max() <= analyze_structure(chain).max_solutions
+
+
+@pytest.mark.parametrize("kind", ["spherical-wrist", "spherical-base", "three-parallel"])
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+@settings(max_examples=15, deadline=None)
+@given(seed=seeds)
+def test_round_trip_random_pieper_arms(kind, convention, seed):
+    rng = np.random.default_rng(seed)
+    chain = random_arm(rng, kind, convention)
+    assert analyze_structure(chain).kind == kind
+    _assert_round_trip(chain, _random_q(rng, chain, 40))
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+@settings(max_examples=10, deadline=None)
+@given(seed=seeds)
+def test_round_trip_random_stanford_like_arms(convention, seed):
+    rng = np.random.default_rng(seed)
+    chain = random_arm(rng, "spherical-wrist", convention, prismatic3=True)
+    _assert_round_trip(chain, _random_q(rng, chain, 40))
+
+
+def test_round_trip_random_scara_and_planar():
+    rng = np.random.default_rng(7)
+    for kinds in (["revolute", "revolute", "prismatic", "revolute"], ["revolute"] * 3,
+                  ["revolute", "prismatic", "revolute"], ["revolute"] * 2):
+        for convention in ("standard", "modified"):
+            rows = [DHRow(0.0, rng.uniform(0.1, 0.4), rng.uniform(-0.2, 0.2),
+                          rng.uniform(-np.pi, np.pi), k) for k in kinds]
+            limits = [(-np.pi, np.pi) if k == "revolute" else (-0.2, 0.2) for k in kinds]
+            chain = chain_from_dh(rows, convention, limits=limits, T_base=_random_transform(rng),
+                                  T_tool=_random_transform(rng))
+            assert analyze_structure(chain).closed_form
+            _assert_round_trip(chain, _random_q(rng, chain, 50))
+
+
+def test_seed_probot_ik_case():
+    """Report 000: target [0.2, 0.2, 0.2007] with xyz-fixed [pi/2, -pi/2, 0]."""
+    chain = armkit.load("probot-anno").chain
+    T = np.eye(4)
+    T[:3, :3] = matrix_from_euler([np.pi / 2, -np.pi / 2, 0], "xyz-fixed")
+    T[:3, 3] = [0.2, 0.2, 0.2007]
+    sol = closed_form_ik(chain, T)
+    assert sol.q.shape == (8, 6) and sol.valid.all() and not sol.family.any()
+    assert np.abs(fk(chain, sol.q) - T).max() < 1e-12
+    listed = np.array([[0.943488, -0.924743, -0.347274, -2.17673, 0.173647, 2.89722],
+                       [0.943488, -0.924743, -0.347274, 0.964865, 2.96795, -0.244375],
+                       [-2.1981, 0.924743, 3.48887, 0.964865, 0.173647, 2.89722],
+                       [-2.1981, 0.924743, 3.48887, -2.17673, 2.96795, -0.244375]])
+    distance = _joint_distance(chain, sol.q[None], listed[:, None])
+    assert (distance.min(axis=1) < 1e-4).all()
+
+
+def test_batch_shapes_and_single_pose():
+    chain = armkit.load("ur5").chain
+    q = _random_q(np.random.default_rng(3), chain, 6)
+    T = fk(chain, q)
+    batch = closed_form_ik(chain, T.reshape(2, 3, 4, 4))
+    assert batch.q.shape == (2, 3, 8, 6) and batch.valid.shape == (2, 3, 8)
+    single = closed_form_ik(chain, T[4])
+    assert single.q.shape == (8, 6)
+    np.testing.assert_array_equal(single.valid, batch.valid[1, 1])
+    np.testing.assert_allclose(single.q[single.valid], batch.q[1, 1][single.valid], atol=1e-12)
+
+
+def test_unreachable_pose_has_no_valid_candidate():
+    for name in CLOSED_FORM_ROBOTS:
+        if name == "stanford":  # candidates ignore limits: its prismatic joint reaches anything
+            continue
+        chain = armkit.load(name).chain
+        T = fk(chain, np.zeros(chain.n))
+        T[:3, 3] += [5.0, 5.0, 5.0]
+        assert not closed_form_ik(chain, T).valid.any(), name
+    scara = armkit.load("grb400-scara").chain
+    T = fk(scara, np.array([0.5, 0.5, 0.01, 0.2]))
+    T[:3, :3] = T[:3, :3] @ rotation_matrix(np.array([1.0, 0, 0]), 0.1)  # tilt: not a SCARA pose
+    assert not closed_form_ik(scara, T).valid.any()
+
+
+def test_no_closed_form_and_bad_input():
+    with pytest.raises(NoClosedFormError, match="7 joints"):
+        closed_form_ik(armkit.load("panda").chain, np.eye(4))
+    chain = armkit.load("probot-anno").chain
+    with pytest.raises(InputError, match="NaN"):
+        closed_form_ik(chain, np.full((4, 4), np.nan))
+    with pytest.raises(InputError, match="rotation"):
+        closed_form_ik(chain, np.diag([2.0, 1.0, 1.0, 1.0]))
+    assert closed_form_solver(chain) is closed_form_solver(chain)
+
+
+# ------------------------------------------------------------ singular poses
+def _wrist_singular_q5(chain):
+    """The value of joint 5 that turns axis 6 onto axis 4 (SP1 on the axes at q = 0)."""
+    poe = poe_from_chain(chain)
+    return sp1(poe.axes[5], poe.axes[3], poe.axes[4])[0]
+
+
+@pytest.mark.parametrize("name", ["probot-anno", "puma560", "stanford"])
+def test_wrist_singularity_returns_family(name):
+    chain = armkit.load(name).chain
+    q = _random_q(np.random.default_rng(11), chain, 20)
+    q[:, 4] = _wrist_singular_q5(chain)
+    T = fk(chain, q)
+    sol = closed_form_ik(chain, T)
+    assert np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))[sol.valid].max() < 1e-12
+    # q lies in a family whose representative has the same q1, q2, q3, q5 and q4 = 0
+    kept = [0, 1, 2, 4]
+    same = _joint_distance(chain, sol.q, q[:, None], kept) < 1e-9
+    assert (same & sol.family & sol.valid).any(axis=-1).all()
+    assert np.all(sol.q[sol.family][:, 3] == 0.0)

@@ -1,0 +1,78 @@
+"""Which closed-form case applies, decided from the axes of built-in and random arms."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from test_ik_closed_form import random_arm
+
+import armkit
+from armkit.chain import DHRow, chain_from_dh
+from armkit.ik.structure import analyze_structure
+
+EXPECTED = {
+    "probot-anno": ("spherical-wrist", "axes 4, 5, 6 meet at one point and axes 2, 3 are parallel"),
+    "puma560": ("spherical-wrist", "axes 4, 5, 6 meet at one point"),
+    "stanford": ("spherical-wrist", "axes 4, 5, 6 meet at one point and axes 1, 2 meet"),
+    "ur5": ("three-parallel", "axes 2, 3, 4 are parallel"),
+    "zju-i": ("three-parallel", "axes 2, 3, 4 are parallel"),
+    "grb400-scara": ("scara", "revolute axes 1, 2, 4 are parallel and prismatic joint 3"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_builtins_with_closed_form(name):
+    structure = analyze_structure(armkit.load(name).chain)
+    kind, clause = EXPECTED[name]
+    assert structure.kind == kind and structure.closed_form
+    assert clause in structure.description
+    assert structure.max_solutions == (2 if kind == "scara" else 8)
+
+
+def test_panda_has_no_closed_form_and_says_why():
+    structure = analyze_structure(armkit.load("panda").chain)
+    assert structure.kind == "none" and not structure.closed_form
+    assert structure.max_solutions == 0
+    assert "7 joints" in structure.description and "redundant" in structure.description
+
+
+@pytest.mark.parametrize("kind", ["spherical-wrist", "spherical-base", "three-parallel"])
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_random_pieper_arms_are_recognised(kind, convention, seed):
+    structure = analyze_structure(random_arm(np.random.default_rng(seed), kind, convention))
+    assert structure.kind == kind and structure.closed_form and structure.max_solutions == 8
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_general_6r_has_no_closed_form(seed):
+    rng = np.random.default_rng(seed)
+    rows = [DHRow(rng.uniform(0.3, 2.8), rng.uniform(0.1, 0.4), rng.uniform(0.1, 0.4),
+                  rng.uniform(-3, 3)) for _ in range(6)]
+    structure = analyze_structure(chain_from_dh(rows, "standard"))
+    assert structure.kind == "none" and not structure.closed_form
+    assert "no three consecutive axes meet" in structure.description
+
+
+def test_same_arm_in_both_conventions_and_with_base_and_tool():
+    """The classification does not depend on the DH convention or fixed transforms."""
+    robot = armkit.load("puma560")
+    base = np.eye(4)
+    base[:3, 3] = [0.1, -0.2, 0.3]
+    base[:3, :3] = [[0, -1, 0], [1, 0, 0], [0, 0, 1]]
+    rows = list(robot.dh.rows)
+    for T_base in (None, base):
+        chain = chain_from_dh(rows, "standard", T_base=T_base, T_tool=base)
+        assert analyze_structure(chain).kind == "spherical-wrist"
+
+
+def test_planar_and_not_planar_small_arms():
+    planar = [DHRow(0.0, 0.3, 0.0, 0.0), DHRow(0.0, 0.2, 0.0, 0.0)]
+    assert analyze_structure(chain_from_dh(planar, "standard")).kind == "planar-2r"
+    three = planar + [DHRow(0.0, 0.1, 0.0, 0.0)]
+    assert analyze_structure(chain_from_dh(three, "modified")).kind == "planar-3r"
+    tilted = [DHRow(0.5, 0.3, 0.0, 0.0), DHRow(0.0, 0.2, 0.0, 0.0), DHRow(0.0, 0.1, 0.0, 0.0)]
+    structure = analyze_structure(chain_from_dh(tilted, "standard"))
+    assert structure.kind == "none" and "not a planar" in structure.description
