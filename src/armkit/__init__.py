@@ -19,6 +19,7 @@ from armkit.errors import (
 )
 from armkit.robot import Robot
 from armkit.robot_file import builtin_robots, load, robot_from_dict, robot_to_toml
+from armkit.trajectory import JointTrajectory, auto_time, min_jerk, plan_trajectory, quintic
 
 __version__ = "0.1.0"
 
@@ -30,16 +31,21 @@ __all__ = [
     "InputError",
     "Joint",
     "JointLimitError",
+    "JointTrajectory",
     "MotionResult",
     "NoClosedFormError",
     "ResolvedRate",
     "Robot",
     "RobotDefinitionError",
     "UnreachableError",
+    "auto_time",
     "builtin_robots",
     "chain_from_dh",
     "load",
+    "min_jerk",
     "move_linear",
+    "plan_trajectory",
+    "quintic",
     "robot_from_dict",
     "robot_to_toml",
     "rotate_about_tool_point",
