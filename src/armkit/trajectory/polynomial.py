@@ -14,7 +14,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.polynomial import polynomial as P
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError
@@ -68,25 +67,31 @@ class PolynomialSegment:
         if t.ndim != 1 or np.any(t < -slack) or np.any(t > self.duration + slack):
             raise InputError(f"t: expected times in [0, {self.duration:g}] s, got "
                              f"{t.min():g} .. {t.max():g}")
+        powers = t[:, None] ** np.arange(self.degree + 1)                  # (N, degree + 1)
         out = []
-        coefficients = self.coefficients
-        for _ in range(4):
-            out.append(P.polyval(t, coefficients).T)
-            coefficients = P.polyder(coefficients, axis=0)
+        for order in range(4):
+            scaled = self.coefficients[order:] * _falling_factorial(self.degree, order)[:, None]
+            out.append(powers[:, :scaled.shape[0]] @ scaled if scaled.size else np.zeros((t.size, self.dof)))
         return tuple(out)
+
+
+def _falling_factorial(degree: int, order: int) -> NDArray[np.float64]:
+    """``k! / (k - order)!`` for ``k = order .. degree``: the factors of the ``order``-th derivative."""
+    k = np.arange(order, degree + 1)
+    return np.prod(k[:, None] - np.arange(order), axis=1).astype(float)
 
 
 def _boundary(q0: ArrayLike, q1: ArrayLike, duration: float, **derivatives: ArrayLike):
     arrays = [check_finite(q0, "q0"), check_finite(q1, "q1")]
     arrays += [check_finite(value, name) for name, value in derivatives.items()]
     try:
-        arrays = np.broadcast_arrays(*[np.atleast_1d(a) for a in arrays])
+        shape = np.broadcast_shapes((1,), *(a.shape for a in arrays))
     except ValueError as exc:
         shapes = ", ".join(str(np.shape(a)) for a in arrays)
         raise InputError(f"boundary values have incompatible shapes: {shapes}") from exc
-    if arrays[0].ndim != 1:
-        raise InputError(f"q0, q1: expected scalars or (dof,) arrays, got shape {arrays[0].shape}")
-    return float(check_durations(duration, name="duration")[0]), arrays
+    if len(shape) != 1:
+        raise InputError(f"q0, q1: expected scalars or (dof,) arrays, got shape {shape}")
+    return float(check_durations(duration, name="duration")[0]), shape, [np.atleast_1d(a) for a in arrays]
 
 
 def quintic_coefficients(q0: ArrayLike, q1: ArrayLike, T: ArrayLike, v0: ArrayLike = 0.0,
@@ -96,13 +101,11 @@ def quintic_coefficients(q0: ArrayLike, q1: ArrayLike, T: ArrayLike, v0: ArrayLi
 
     Every argument broadcasts; ``T`` [s] is the duration. No checks (see :func:`quintic`).
     """
-    q0, q1, T, v0, v1, a0, a1 = np.broadcast_arrays(*(np.asarray(x, dtype=float)
-                                                       for x in (q0, q1, T, v0, v1, a0, a1)))
-    h = q1 - q0
+    h = np.subtract(q1, q0)
     c3 = (20 * h - (8 * v1 + 12 * v0) * T - (3 * a0 - a1) * T**2) / (2 * T**3)
     c4 = (-30 * h + (14 * v1 + 16 * v0) * T + (3 * a0 - 2 * a1) * T**2) / (2 * T**4)
     c5 = (12 * h - 6 * (v1 + v0) * T + (a1 - a0) * T**2) / (2 * T**5)
-    return np.stack([q0, v0, a0 / 2, c3, c4, c5])
+    return np.stack(np.broadcast_arrays(q0, v0, np.multiply(a0, 0.5), c3, c4, c5)).astype(float)
 
 
 def quintic(q0: ArrayLike, q1: ArrayLike, duration: float, v0: ArrayLike = 0.0, v1: ArrayLike = 0.0,
@@ -126,8 +129,9 @@ def quintic(q0: ArrayLike, q1: ArrayLike, duration: float, v0: ArrayLike = 0.0, 
     >>> seg.sample(0.5)[0]
     array([[0.5, 1. ]])
     """
-    duration, (q0, q1, v0, v1, a0, a1) = _boundary(q0, q1, duration, v0=v0, v1=v1, a0=a0, a1=a1)
-    return PolynomialSegment(quintic_coefficients(q0, q1, duration, v0, v1, a0, a1), duration)
+    duration, shape, (q0, q1, v0, v1, a0, a1) = _boundary(q0, q1, duration, v0=v0, v1=v1, a0=a0, a1=a1)
+    coefficients = quintic_coefficients(q0, q1, duration, v0, v1, a0, a1)
+    return PolynomialSegment(np.broadcast_to(coefficients, (6, *shape)).copy(), duration)
 
 
 def cubic(q0: ArrayLike, q1: ArrayLike, duration: float, v0: ArrayLike = 0.0,
@@ -142,9 +146,9 @@ def cubic(q0: ArrayLike, q1: ArrayLike, duration: float, v0: ArrayLike = 0.0,
     >>> cubic(0.0, 1.0, 1.0).sample(0.5)[1]
     array([[1.5]])
     """
-    duration, (q0, q1, v0, v1) = _boundary(q0, q1, duration, v0=v0, v1=v1)
+    duration, shape, (q0, q1, v0, v1) = _boundary(q0, q1, duration, v0=v0, v1=v1)
     T = duration
     h = q1 - q0
     c2 = (3 * h - (2 * v0 + v1) * T) / T**2
     c3 = (-2 * h + (v0 + v1) * T) / T**3
-    return PolynomialSegment(np.stack([q0, v0, c2, c3]), duration)
+    return PolynomialSegment(np.stack([np.broadcast_to(c, shape) for c in (q0, v0, c2, c3)]), duration)
