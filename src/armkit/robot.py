@@ -191,6 +191,45 @@ class Robot:
         """Jacobian singular values ``(..., min(6, n))``; the last is the singularity measure."""
         return kinematics.singular_values(self.chain, self.check_q(q))
 
+    def ik(self, T_base_tool: ArrayLike, all: bool = False, near: ArrayLike | None = None,
+           within_limits: bool = True, **options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
+        """Inverse kinematics: every closed-form solution, or the one closest to ``near``.
+
+        Closed form where the chain's geometry has one, numeric (seeded from ``near``)
+        otherwise; every answer reproduces the target to 1e-9 m and 1e-9 rad. See
+        :func:`armkit.ik.solve.ik` for the options, and :func:`armkit.ik.ik_solutions`
+        for every solution with per-solution flags (limits, singular family, residual).
+
+        Parameters
+        ----------
+        T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
+            Target tool pose(s) [m].
+        all : bool
+            ``(k, n)``: every solution, nearest to ``near`` first (closed form only).
+        near : array_like, shape (n,) or (N, n), optional
+            Reference configuration [rad or m]; default zeros.
+        within_limits : bool
+            Only solutions inside the joint limits (default).
+
+        Returns
+        -------
+        ndarray
+            ``(n,)`` or ``(N, n)``; with ``all=True`` ``(k, n)`` (a list for ``N`` poses).
+
+        Examples
+        --------
+        >>> import armkit
+        >>> robot = armkit.load("probot-anno")
+        >>> T = robot.fk([0.927, -0.687, -0.396, 0, 1.083, 0.927])
+        >>> robot.ik(T, all=True).shape
+        (4, 6)
+        >>> robot.ik(T, near=[1, -1, 0, 0, 1, 1]).round(3)
+        array([ 0.927, -0.687, -0.396,  0.   ,  1.083,  0.927])
+        """
+        from armkit.ik.solve import ik  # here, not at the top: armkit.ik imports this module
+
+        return ik(self.chain, T_base_tool, all=all, near=near, within_limits=within_limits, **options)
+
     def random_q(self, size: int | tuple[int, ...] | None = None,
                  rng: np.random.Generator | int | None = None) -> NDArray[np.float64]:
         """Uniform random configurations inside the limits (unbounded joints: ±1 m)."""

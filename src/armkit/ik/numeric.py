@@ -10,10 +10,12 @@ kinematics by the Levenberg-Marquardt method", IEEE T-RO 27(5), 2011)::
 
 whose damping grows with the error far from the target and nearly vanishes near it, so
 the last steps converge quadratically (Sugihara uses ``g = 1``; ``g = 0.1`` and
-``damping = 1e-6`` needed the fewest iterations on random Panda poses here). Joint
-values are projected onto the limits after each step. An attempt that has not converged
-after ``max_iterations`` is restarted from a uniform random configuration inside the
-limits until the restart or time budget runs out.
+``damping = 1e-6`` needed the fewest iterations on random Panda poses here). The steps
+ignore the joint limits; a solution outside them is wrapped into them by whole turns
+and, if still outside, moved along its self-motion into them by null-space steps (for a
+redundant arm or a masked task). An attempt that fails within ``max_iterations`` is
+restarted from a uniform random configuration inside the limits until the restart or
+time budget runs out.
 """
 
 from __future__ import annotations
@@ -26,11 +28,15 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit.chain import Chain
 from armkit.errors import InputError
+from armkit.robot import LIMIT_TOLERANCE
 
-__all__ = ["IKResult", "numeric_ik", "pose_error"]
+__all__ = ["IKResult", "numeric_ik", "pose_error", "wrap_into_limits"]
 
 #: Range [m] used for random seeds of prismatic joints without limits.
 _UNBOUNDED_SEED_RANGE = 1.0
+#: A move into the limits that shrinks the violation by less than 10 % in this many
+#: steps is given up.
+_STALL_STEPS = 3
 
 
 @dataclass(frozen=True)
@@ -40,7 +46,8 @@ class IKResult:
     Attributes
     ----------
     q : ndarray, shape (n,)
-        The best configuration found [rad or m], inside the joint limits.
+        The best configuration found [rad or m]; inside the joint limits unless the solver
+        was called with ``respect_limits=False``.
     success : bool
         Whether the masked position and orientation errors are within the tolerances.
     iterations : int
@@ -144,27 +151,128 @@ def pose_error(T_target: NDArray[np.float64], T: NDArray[np.float64]) -> NDArray
     return e
 
 
-def _check_mask(mask: ArrayLike | None) -> NDArray[np.float64]:
+def _check_mask(mask: ArrayLike | None) -> NDArray[np.bool_]:
     if mask is None:
-        return np.ones(6)
+        return np.ones(6, dtype=bool)
     m = np.asarray(mask, dtype=float)
     if m.shape != (6,) or not np.all((m == 0) | (m == 1)) or not m.any():
         raise InputError(f"mask: expected 6 values of 0 or 1 (x y z rx ry rz, at least one 1), "
                          f"got {np.asarray(mask).tolist()}")
-    return m
+    return m == 1
 
 
-def _errors(e: NDArray[np.float64], mask: NDArray[np.float64]) -> tuple[float, float]:
-    ep, eo = e[:3] * mask[:3], e[3:] * mask[3:]
-    return float(np.sqrt(ep @ ep)), float(np.sqrt(eo @ eo))
+def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArray[np.float64]:
+    """Shift revolute angles ``(..., n)`` by multiples of ``2 pi`` into the joint limits.
+
+    Among several shifts that fit (limits wider than ``2 pi``) the one closest to
+    ``reference`` ``(..., n)`` is taken; an angle that fits no shift is moved as close to
+    ``reference`` as whole turns allow. Prismatic values are left alone.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> panda = armkit.load("panda")   # joint 6 in [-0.0175, 3.7525]
+    >>> float(wrap_into_limits(panda.chain, [0, 0, 0, -1, 0, -3.0, 0], 0.0)[5].round(4))
+    3.2832
+    """
+    q = np.asarray(q, dtype=float)
+    lower, upper = _limits(chain)
+    turns_low = np.ceil((lower - LIMIT_TOLERANCE - q) / (2 * np.pi))
+    turns_high = np.floor((upper + LIMIT_TOLERANCE - q) / (2 * np.pi))
+    turns = np.round((np.asarray(reference, dtype=float) - q) / (2 * np.pi))
+    turns = np.where(turns_low <= turns_high, np.clip(turns, turns_low, turns_high), turns)
+    return np.where(chain.prismatic, q, q + 2 * np.pi * turns)
+
+
+def _limits(chain: Chain) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    return (np.array([j.lower for j in chain.joints]), np.array([j.upper for j in chain.joints]))
+
+
+class _Problem:
+    """One target: masked pose error and Jacobian rows, tolerances, limits, best pose seen."""
+
+    def __init__(self, chain: Chain, T_target: NDArray[np.float64], rows: NDArray[np.bool_],
+                 tolerances: tuple[float, float], respect_limits: bool) -> None:
+        self.kernel, self.T_target, self.rows, self.tolerances = _Kernel(chain), T_target, rows, tolerances
+        self.lower, self.upper = _limits(chain)
+        self.respect_limits = respect_limits
+        self.best: tuple[float, NDArray[np.float64], float, float] | None = None
+        self.last: tuple[NDArray[np.float64], float, float] | None = None
+
+    def inside(self, q: NDArray[np.float64]) -> bool:
+        return not self.respect_limits or bool(np.all((q >= self.lower) & (q <= self.upper)))
+
+    def evaluate(self, q: NDArray[np.float64]) -> tuple[NDArray, tuple, bool]:
+        """Masked error ``(m,)``, the frames for the Jacobian, and whether ``q`` is a solution.
+
+        Remembers ``q`` as :attr:`last`, and as :attr:`best` if it is admissible (inside the
+        limits when they are respected) with the smallest error so far.
+        """
+        axes, origins, T = self.kernel.frames(q)
+        e = pose_error(self.T_target, T)
+        e[~self.rows] = 0.0
+        position_error, orientation_error = float(np.sqrt(e[:3] @ e[:3])), float(np.sqrt(e[3:] @ e[3:]))
+        cost = 0.5 * float(e @ e)
+        self.last = (q, position_error, orientation_error)
+        if (self.best is None or cost < self.best[0]) and self.inside(q):
+            self.best = (cost, q, position_error, orientation_error)
+        solved = position_error <= self.tolerances[0] and orientation_error <= self.tolerances[1]
+        return e[self.rows], (axes, origins, T), solved
+
+    def jacobian(self, frames: tuple) -> NDArray[np.float64]:
+        return self.kernel.jacobian(*frames)[self.rows]
+
+
+def _levenberg_marquardt(problem: _Problem, q: NDArray[np.float64], iterations: int,
+                         damping_gain: float, damping: float) -> tuple[NDArray[np.float64], bool, int]:
+    """Unconstrained LM steps from ``q``: ``(q, solved, iterations used)``."""
+    eye = np.eye(len(q))
+    for i in range(iterations):
+        e, frames, solved = problem.evaluate(q)
+        if solved:
+            return q, True, i
+        J = problem.jacobian(frames)
+        q = q + np.linalg.solve(J.T @ J + (damping_gain * 0.5 * (e @ e) + damping) * eye, J.T @ e)
+    return q, problem.evaluate(q)[2], iterations
+
+
+def _repair_limits(problem: _Problem, q: NDArray[np.float64],
+                   iterations: int) -> tuple[NDArray[np.float64], bool, int]:
+    """Move a solution outside the limits along its self-motion into them (redundant arms).
+
+    Each step keeps the task error going to zero (``J^+ e``) and, in the null space of the
+    task Jacobian, pushes every joint beyond a limit to a small margin inside it.
+    """
+    lower, upper = problem.lower, problem.upper
+    margin = np.minimum(0.05, 0.25 * (upper - lower))
+    eye = np.eye(len(q))
+    violations = []
+    for i in range(iterations):
+        e, frames, solved = problem.evaluate(q)
+        if solved and problem.inside(q):
+            return q, True, i
+        violations.append(np.sum(np.maximum(lower - q, 0.0) + np.maximum(q - upper, 0.0)))
+        if i >= _STALL_STEPS and violations[-1] > 0.9 * violations[-1 - _STALL_STEPS]:
+            return q, False, i
+        J = problem.jacobian(frames)
+        J_pinv = J.T @ np.linalg.inv(J @ J.T + 1e-12 * np.eye(len(e)))
+        push = np.where(q < lower, lower + margin - q, np.where(q > upper, upper - margin - q, 0.0))
+        q = q + J_pinv @ e + (eye - J_pinv @ J) @ push
+    return q, problem.evaluate(q)[2] and problem.inside(q), iterations
 
 
 def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike | None = None,
                position_tolerance: float = 1e-9, orientation_tolerance: float = 1e-9,
                mask: ArrayLike | None = None, damping_gain: float = 0.1, damping: float = 1e-6,
-               max_iterations: int = 30, max_restarts: int = 100, time_budget: float = 0.5,
+               max_iterations: int = 20, max_restarts: int = 100, time_budget: float = 0.5,
+               respect_limits: bool = True,
                rng: np.random.Generator | int | None = None) -> IKResult:
     """Solve ``fk(q) = T_base_tool`` numerically inside the joint limits.
+
+    Each attempt runs Levenberg-Marquardt steps without limits; a solution outside the
+    limits is wrapped into them by whole turns and, if still outside, moved along its
+    self-motion into them (null-space steps, for redundant arms and masked tasks). An
+    attempt that fails is restarted from a uniform random configuration inside the limits.
 
     Parameters
     ----------
@@ -172,7 +280,7 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
     T_base_tool : ndarray, shape (4, 4)
         Target tool pose [m], assumed rigid (see :func:`armkit.spatial.check_transform`).
     q0 : array_like, shape (n,), optional
-        First seed [rad or m], projected onto the limits; default the middle of the limits.
+        First seed [rad or m]; default the middle of the limits.
     position_tolerance, orientation_tolerance : float
         Success when the masked position error [m] and orientation error [rad] are below.
     mask : array_like, shape (6,), optional
@@ -181,18 +289,22 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
     damping_gain, damping : float
         The Levenberg-Marquardt damping is ``damping_gain * E + damping``.
     max_iterations : int
-        Iterations per attempt.
+        Iterations per attempt (and again for moving a solution into the limits).
     max_restarts : int
         Attempts from random seeds after the first one.
     time_budget : float
         Wall-clock budget [s] over all attempts.
+    respect_limits : bool
+        Return only configurations inside the joint limits (default). ``False`` accepts
+        any solution, e.g. to refine a known one.
     rng : numpy Generator or int, optional
         Source of the random seeds (reproducible when given).
 
     Returns
     -------
     IKResult
-        The best configuration found; check ``success``.
+        The solution, or (``success=False``) the configuration with the smallest error
+        seen (inside the limits when ``respect_limits``).
 
     Examples
     --------
@@ -203,47 +315,40 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
     >>> result.success, bool(result.position_error < 1e-9)
     (True, True)
     """
-    kernel = _Kernel(chain)
-    mask = _check_mask(mask)
-    lower = np.array([j.lower for j in chain.joints])
-    upper = np.array([j.upper for j in chain.joints])
+    rows = _check_mask(mask)
+    lower, upper = _limits(chain)
     seed_low = np.where(np.isfinite(lower), lower, -_UNBOUNDED_SEED_RANGE)
     seed_high = np.where(np.isfinite(upper), upper, _UNBOUNDED_SEED_RANGE)
+    middle = (seed_low + seed_high) / 2.0
     if q0 is None:
-        q = (seed_low + seed_high) / 2.0
+        q = middle
     else:
         q = np.asarray(q0, dtype=float)
         if q.shape != (chain.n,) or not np.all(np.isfinite(q)):
             raise InputError(f"q0: expected {chain.n} finite joint values, got {q.tolist()}")
-    q = np.clip(q, lower, upper)
+    problem = _Problem(chain, np.asarray(T_base_tool, dtype=float), rows,
+                       (position_tolerance, orientation_tolerance), respect_limits)
     rng = np.random.default_rng(rng)
     deadline = time.perf_counter() + time_budget
-    eye = np.eye(chain.n)
-    best = (np.inf, q, np.inf, np.inf)
     iterations = 0
-    restarts = 0
-    while True:
-        axes, origins, T = kernel.frames(q)
-        e = pose_error(T_base_tool, T)
-        for _ in range(max_iterations):
-            pos_err, ori_err = _errors(e, mask)
-            cost = 0.5 * float(e @ (mask * e))
-            if cost < best[0]:
-                best = (cost, q, pos_err, ori_err)
-            if pos_err <= position_tolerance and ori_err <= orientation_tolerance:
-                return IKResult(q, True, iterations, restarts, pos_err, ori_err)
-            J = kernel.jacobian(axes, origins, T) * mask[:, None]
-            g = J.T @ e
-            H = J.T @ J + (damping_gain * cost + damping) * eye
-            q = np.clip(q + np.linalg.solve(H, g), lower, upper)
-            iterations += 1
-            axes, origins, T = kernel.frames(q)
-            e = pose_error(T_base_tool, T)
-        pos_err, ori_err = _errors(e, mask)
-        if pos_err <= position_tolerance and ori_err <= orientation_tolerance:
-            return IKResult(q, True, iterations, restarts, pos_err, ori_err)
-        if restarts >= max_restarts or time.perf_counter() > deadline:
-            _, q, pos_err, ori_err = best
-            return IKResult(q, False, iterations, restarts, pos_err, ori_err)
-        restarts += 1
-        q = rng.uniform(seed_low, seed_high)
+    for restarts in range(max_restarts + 1):
+        if restarts:
+            q = rng.uniform(seed_low, seed_high)
+        q, solved, used = _levenberg_marquardt(problem, q, max_iterations, damping_gain, damping)
+        iterations += used
+        if solved and not problem.inside(q):
+            q = wrap_into_limits(chain, q, middle)
+            solved = problem.evaluate(q)[2]
+            if solved and not problem.inside(q):
+                q, solved, used = _repair_limits(problem, q, max_iterations)
+                iterations += used
+        if solved and problem.inside(q):
+            q, position_error, orientation_error = problem.last
+            return IKResult(q, True, iterations, restarts, position_error, orientation_error)
+        if time.perf_counter() > deadline:
+            break
+    if problem.best is None:  # no iterate was inside the limits: report the first seed
+        problem.respect_limits = False
+        problem.evaluate(np.clip(q0 if q0 is not None else middle, lower, upper))
+    _, q, position_error, orientation_error = problem.best
+    return IKResult(q, False, iterations, restarts, position_error, orientation_error)

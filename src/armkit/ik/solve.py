@@ -1,0 +1,356 @@
+"""The IK dispatcher behind :meth:`armkit.Robot.ik`: closed form where the geometry has one.
+
+For a chain with a closed-form solution (see :mod:`armkit.ik.structure`) every candidate
+of :func:`armkit.ik.closed_form.closed_form_ik` is
+
+1. wrapped into the joint limits: a revolute angle is shifted by a multiple of ``2 pi``
+   when that makes it fit (among several fitting shifts, the one closest to ``near``);
+2. verified by forward kinematics: it must reproduce the target within
+   :data:`VERIFY_TOLERANCE` (candidates above ``1e-10`` are first refined by a few
+   Newton steps of the numeric solver, without leaving the solution's branch);
+3. merged with duplicates (equal joint values, revolute angles modulo ``2 pi``),
+   keeping the one-parameter-family flag of either;
+4. flagged inside or outside the limits and sorted by distance to ``near``.
+
+Chains without a closed form, and targets with a task ``mask``, go to the numeric
+solver (:func:`armkit.ik.numeric.numeric_ik`) seeded from ``near``.
+
+Distance used for ``near``: the weighted Euclidean norm ``|w * (q - near)|`` of the joint
+differences in radians and metres (weights ``w`` default 1), after the ``2 pi`` wrap.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armkit import kinematics
+from armkit.chain import Chain
+from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
+from armkit.ik.closed_form import ClosedFormSolver, closed_form_solver
+from armkit.ik.numeric import numeric_ik, wrap_into_limits
+from armkit.robot import LIMIT_TOLERANCE
+from armkit.spatial.rotations import rotation_angle_between
+from armkit.spatial.transforms import check_transform
+
+__all__ = ["DUPLICATE_TOLERANCE", "VERIFY_TOLERANCE", "IKSolutions", "ik", "ik_solutions"]
+
+#: Position [m] and angle [rad] within which every returned solution reproduces the target.
+VERIFY_TOLERANCE = 1e-9
+#: Candidates whose joint values differ by less than this [rad or m] are one solution.
+DUPLICATE_TOLERANCE = 1e-6
+#: Candidates with a larger FK residual [m or rad] are refined by Newton steps.
+_REFINE_ABOVE = 1e-10
+#: Budget of the search for the closest pose when a target is out of reach.
+_CLOSEST_POSE_RESTARTS = 20
+
+
+_solvers: dict[int, tuple[weakref.ref, ClosedFormSolver | NoClosedFormError]] = {}
+
+
+def _solver(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
+    """The chain's closed-form solver, or the error saying why it has none (memoised)."""
+    entry = _solvers.get(id(chain))
+    if entry is not None and entry[0]() is chain:
+        return entry[1]
+    try:
+        solver = closed_form_solver(chain)
+    except NoClosedFormError as exc:
+        solver = exc
+    key = id(chain)
+    _solvers[key] = (weakref.ref(chain, lambda _ref, key=key: _solvers.pop(key, None)), solver)
+    return solver
+
+
+@dataclass(frozen=True)
+class IKSolutions:
+    """Every closed-form solution of one target pose, with a flag per solution.
+
+    Attributes
+    ----------
+    q : ndarray, shape (k, n)
+        Solutions [rad or m], wrapped into the limits where a ``2 pi`` shift makes them fit,
+        sorted by distance to ``near``.
+    within_limits : ndarray, shape (k,), bool
+        Whether each solution lies inside every joint limit.
+    family : ndarray, shape (k,), bool
+        Whether the solution is a representative of a one-parameter family (a wrist,
+        shoulder or elbow singularity, where only a sum of joint angles is defined).
+    position_error : ndarray, shape (k,)
+        FK residual [m] of each solution: distance from the target position.
+    orientation_error : ndarray, shape (k,)
+        FK residual [rad] of each solution: angle from the target orientation.
+    """
+
+    q: NDArray[np.float64]
+    within_limits: NDArray[np.bool_]
+    family: NDArray[np.bool_]
+    position_error: NDArray[np.float64]
+    orientation_error: NDArray[np.float64]
+
+
+def _limits(chain: Chain) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    return (np.array([j.lower for j in chain.joints]), np.array([j.upper for j in chain.joints]))
+
+
+def _inside(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.bool_]:
+    lower, upper = _limits(chain)
+    return np.all((q >= lower - LIMIT_TOLERANCE) & (q <= upper + LIMIT_TOLERANCE), axis=-1)
+
+
+def _residuals(chain: Chain, q: NDArray[np.float64],
+               T_target: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    T = kinematics.fk(chain, q)
+    return (np.linalg.norm(T[..., :3, 3] - T_target[..., :3, 3], axis=-1),
+            rotation_angle_between(T, T_target))
+
+
+def _joint_distance(chain: Chain, a: NDArray[np.float64], b: NDArray[np.float64],
+                    weights: NDArray[np.float64], modulo: bool) -> NDArray[np.float64]:
+    diff = a - b
+    if modulo:
+        diff = np.where(chain.prismatic, diff, (diff + np.pi) % (2 * np.pi) - np.pi)
+    return np.linalg.norm(weights * diff, axis=-1)
+
+
+def _refine(chain: Chain, q: NDArray[np.float64], T_target: NDArray[np.float64],
+            position_error: NDArray[np.float64], orientation_error: NDArray[np.float64],
+            candidates: NDArray[np.bool_]) -> None:
+    """Newton-refine (in place) the candidates whose residual is above ``_REFINE_ABOVE``."""
+    rough = candidates & ((position_error > _REFINE_ABOVE) | (orientation_error > _REFINE_ABOVE))
+    for index in zip(*np.nonzero(rough), strict=True):
+        result = numeric_ik(chain, T_target[index], q0=q[index], max_iterations=8, max_restarts=0,
+                            position_tolerance=1e-13, orientation_tolerance=1e-13,
+                            respect_limits=False)
+        moved = np.abs(result.q - q[index]).max()
+        better = (result.position_error + result.orientation_error
+                  < position_error[index] + orientation_error[index])
+        if better and moved < DUPLICATE_TOLERANCE:
+            q[index] = result.q
+            position_error[index] = result.position_error
+            orientation_error[index] = result.orientation_error
+
+
+def _candidates(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64],
+                weights: NDArray[np.float64]) -> dict[str, NDArray]:
+    """All verified, distinct closed-form solutions of the targets ``T`` ``(N, 4, 4)``.
+
+    Returns arrays over ``(N, k)`` candidates: ``q`` ``(N, k, n)``, ``keep`` (verified
+    and not a duplicate), ``inside``, ``family``, residuals and ``distance`` to ``near``.
+    """
+    chain = solver.chain
+    raw = solver.solve(T)
+    q = wrap_into_limits(chain, raw.q, near[:, None, :])
+    valid = np.asarray(raw.valid, dtype=bool) & np.all(np.isfinite(q), axis=-1)
+    q = np.where(valid[..., None], q, 0.0)
+    T_target = np.broadcast_to(T[:, None], (*q.shape[:-1], 4, 4))
+    position_error, orientation_error = _residuals(chain, q, T_target)
+    _refine(chain, q, T_target, position_error, orientation_error, valid)
+    verified = (valid & (position_error <= VERIFY_TOLERANCE)
+                & (orientation_error <= VERIFY_TOLERANCE))
+    same = _joint_distance(chain, q[:, :, None, :], q[:, None, :, :], 1.0, modulo=True)
+    same = (same < DUPLICATE_TOLERANCE) & verified[:, :, None] & verified[:, None, :]
+    duplicate = np.tril(same, k=-1).any(axis=-1)
+    family = np.asarray(raw.family, dtype=bool)
+    family = (same & family[:, None, :]).any(axis=-1) | family
+    return {"q": q, "keep": verified & ~duplicate, "inside": _inside(chain, q), "family": family,
+            "position_error": position_error, "orientation_error": orientation_error,
+            "distance": _joint_distance(chain, q, near[:, None, :], weights, modulo=False)}
+
+
+def _sorted(selected: NDArray[np.bool_], distance: NDArray[np.float64]) -> NDArray[np.intp]:
+    """Indices of the selected candidates, nearest first."""
+    index = np.flatnonzero(selected)
+    return index[np.argsort(distance[index], kind="stable")]
+
+
+def _angle_text(angle: float) -> str:
+    return f"{angle:.3g} rad ({np.degrees(angle):.3g} deg)"
+
+
+def _unreachable(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
+                 label: str) -> UnreachableError:
+    closest = numeric_ik(chain, T, q0=seed, respect_limits=False,
+                         max_restarts=_CLOSEST_POSE_RESTARTS, rng=0)
+    return UnreachableError(
+        f"{label}the target pose is out of reach: the closest pose found is "
+        f"{closest.position_error:.3g} m and {_angle_text(closest.orientation_error)} away",
+        closest.position_error, closest.orientation_error)
+
+
+def _outside_limits(chain: Chain, q: NDArray[np.float64], label: str) -> JointLimitError:
+    lower, upper = _limits(chain)
+    bad = [f"{j.name} = {v:.4g} not in [{lo:.4g}, {hi:.4g}]"
+           for j, v, lo, hi in zip(chain.joints, q, lower, upper, strict=True)
+           if not lo - LIMIT_TOLERANCE <= v <= hi + LIMIT_TOLERANCE]
+    return JointLimitError(
+        f"{label}the target pose is reachable, but only outside the joint limits (e.g. "
+        f"{', '.join(bad)}); pass within_limits=False to get such solutions")
+
+
+def _check_inputs(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
+                  weights: ArrayLike | None) -> tuple[NDArray, NDArray, NDArray, tuple[int, ...]]:
+    T = check_transform(T_base_tool, "target pose")
+    batch = T.shape[:-2]
+    T = T.reshape(-1, 4, 4)
+    if near is None:
+        near = np.zeros(chain.n)
+    near = np.asarray(near, dtype=float)
+    if near.ndim == 0 or near.shape[-1] != chain.n or not np.all(np.isfinite(near)):
+        raise InputError(f"near: expected {chain.n} finite joint values (shape (..., {chain.n})), "
+                         f"got {near.tolist()}")
+    try:
+        near = np.broadcast_to(near, (*batch, chain.n)).reshape(-1, chain.n)
+    except ValueError as exc:
+        raise InputError(f"near: shape {near.shape} does not match {len(T)} target poses") from exc
+    weights = np.ones(chain.n) if weights is None else np.asarray(weights, dtype=float)
+    if weights.shape != (chain.n,) or not np.all(np.isfinite(weights) & (weights > 0)):
+        raise InputError(f"weights: expected {chain.n} positive numbers, got {weights.tolist()}")
+    return T, near, weights, batch
+
+
+def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
+                 weights: ArrayLike | None = None) -> IKSolutions | list[IKSolutions]:
+    """Every closed-form solution of a target pose, inside the limits or not, with flags.
+
+    Parameters
+    ----------
+    chain : Chain
+    T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
+        Target tool pose(s) [m].
+    near : array_like, shape (n,) or (N, n), optional
+        Reference configuration [rad or m] for the ``2 pi`` wrap and the sort order;
+        default zeros.
+    weights : array_like, shape (n,), optional
+        Per-joint weights of the distance to ``near``; default ones.
+
+    Returns
+    -------
+    IKSolutions, or a list of them for a batch of poses
+        Empty (``k = 0``) when the pose is out of reach.
+
+    Raises
+    ------
+    InputError
+        If a target is not a rigid transform or contains NaN.
+    NoClosedFormError
+        If the chain has no closed-form solution.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> from armkit.ik import ik_solutions
+    >>> robot = armkit.load("probot-anno")
+    >>> found = ik_solutions(robot.chain, robot.fk([0.927, -0.687, -0.396, 0, 1.083, 0.927]))
+    >>> len(found.q), int(found.within_limits.sum()), bool(found.position_error.max() < 1e-12)
+    (8, 4, True)
+    """
+    T, near, weights, batch = _check_inputs(chain, T_base_tool, near, weights)
+    solver = _solver(chain)
+    if isinstance(solver, NoClosedFormError):
+        raise solver
+    c = _candidates(solver, T, near, weights)
+    out = []
+    for i in range(len(T)):
+        keep = _sorted(c["keep"][i], c["distance"][i])
+        out.append(IKSolutions(c["q"][i, keep], c["inside"][i, keep], c["family"][i, keep],
+                               c["position_error"][i, keep], c["orientation_error"][i, keep]))
+    return out if batch else out[0]
+
+
+def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
+                 within_limits: bool, label: str, options: dict) -> NDArray[np.float64]:
+    result = numeric_ik(chain, T, q0=seed, respect_limits=within_limits, **options)
+    if result.success:
+        return wrap_into_limits(chain, result.q, seed)
+    if within_limits:
+        outside = numeric_ik(chain, T, q0=seed, respect_limits=False, **options)
+        if outside.success:
+            raise _outside_limits(chain, wrap_into_limits(chain, outside.q, seed), label)
+    raise UnreachableError(
+        f"{label}no solution found by numeric IK within its budget ({result.restarts + 1} "
+        f"attempts): the closest pose found is {result.position_error:.3g} m and "
+        f"{_angle_text(result.orientation_error)} away; the target is probably out of reach",
+        result.position_error, result.orientation_error)
+
+
+def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
+       near: ArrayLike | None = None, within_limits: bool = True,
+       weights: ArrayLike | None = None,
+       **numeric_options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
+    """Inverse kinematics: every solution, or the one closest to ``near``.
+
+    Parameters
+    ----------
+    chain : Chain
+    T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
+        Target tool pose(s) [m].
+    all : bool
+        Return every closed-form solution (sorted by distance to ``near``) instead of one.
+    near : array_like, shape (n,) or (N, n), optional
+        Reference configuration [rad or m], default zeros: the solution closest to it is
+        returned (closed form), or the numeric solver starts from it.
+    within_limits : bool
+        Only solutions inside the joint limits (default). ``False``: any solution.
+    weights : array_like, shape (n,), optional
+        Per-joint weights of the distance to ``near`` (default ones).
+    **numeric_options
+        Passed to :func:`armkit.ik.numeric.numeric_ik` (``position_tolerance``, ``mask``,
+        ``max_restarts``, ``time_budget``, ``rng``, ...). A ``mask`` selects the numeric
+        solver even for chains with a closed form.
+
+    Returns
+    -------
+    ndarray
+        ``all=False``: shape ``(n,)`` for one pose, ``(N, n)`` for ``N`` poses.
+        ``all=True``: shape ``(k, n)`` for one pose; a list of them for ``N`` poses.
+
+    Raises
+    ------
+    InputError
+        If a target is not a rigid transform, contains NaN, or ``near`` has a wrong shape.
+    UnreachableError
+        If a target is out of reach; the message says how far the closest pose found is.
+    JointLimitError
+        If a target is reachable only outside the joint limits (and ``within_limits``).
+    NoClosedFormError
+        If ``all=True`` is asked of a chain without a closed-form solution.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("puma560")
+    >>> q = [0.1, -0.4, 0.3, 0.2, 0.5, -0.1]
+    >>> bool(np.allclose(ik(robot.chain, robot.fk(q), near=q), q))
+    True
+    """
+    T, near, weights, batch = _check_inputs(chain, T_base_tool, near, weights)
+    solver = _solver(chain)
+    closed = "mask" not in numeric_options and not isinstance(solver, NoClosedFormError)
+    if all and not closed:
+        reason = ("a task mask needs the numeric solver" if "mask" in numeric_options
+                  else str(solver))
+        raise NoClosedFormError(
+            f"all=True asks for every solution, but {reason}; numeric IK returns one "
+            f"solution per seed: call ik(T, near=q_seed) once per seed configuration")
+    labels = [f"pose {i} of {len(T)}: " if batch else "" for i in range(len(T))]
+    if not closed:
+        q = np.stack([_numeric_one(chain, T[i], near[i], within_limits, labels[i], numeric_options)
+                      for i in range(len(T))])
+        return q.reshape(*batch, chain.n)
+    c = _candidates(solver, T, near, weights)
+    usable = c["keep"] & (c["inside"] if within_limits else True)
+    for i in np.flatnonzero(~usable.any(axis=-1)):
+        if c["keep"][i].any():
+            first = np.flatnonzero(c["keep"][i])[0]
+            raise _outside_limits(chain, c["q"][i, first], labels[i])
+        raise _unreachable(chain, T[i], near[i], labels[i])
+    if all:
+        found = [c["q"][i, _sorted(usable[i], c["distance"][i])] for i in range(len(T))]
+        return found if batch else found[0]
+    best = np.argmin(np.where(usable, c["distance"], np.inf), axis=-1)
+    q = np.take_along_axis(c["q"], best[:, None, None], axis=1)[:, 0]
+    return q.reshape(*batch, chain.n)

@@ -1,0 +1,229 @@
+"""Robot.ik and the IK dispatcher: seed cases, round trips on every built-in, batches, errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import assert_transform_close
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit.chain import DHRow
+from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
+from armkit.ik import ik_solutions
+from armkit.spatial import matrix_from_euler, transform_from
+
+CLOSED_FORM = ["probot-anno", "zju-i", "puma560", "ur5", "stanford", "grb400-scara"]
+HALF_PI = np.pi / 2
+#: The report prints its solutions with six significant digits.
+REPORT_DIGITS = 5e-6
+
+
+def pose(position, angles):
+    return transform_from(matrix_from_euler(angles, "xyz-fixed"), position)
+
+
+def joint_difference(robot, a, b):
+    """``a - b`` with revolute differences taken modulo 2 pi, ``(..., n)``."""
+    d = np.asarray(a) - np.asarray(b)
+    return np.where(robot.chain.prismatic, d, (d + np.pi) % (2 * np.pi) - np.pi)
+
+
+def contains(robot, solutions, q, atol=1e-7):
+    return bool(np.any(np.abs(joint_difference(robot, solutions, q)).max(axis=-1) < atol))
+
+
+# ------------------------------------------------------------------ report 000
+REPORT_CASES = [
+    (pose([0.2, 0.2, 0.2007], [HALF_PI, -HALF_PI, 0]),
+     [[0.943488, -0.924743, -0.347274, -2.17673, 0.173647, 2.89722],
+      [0.943488, -0.924743, -0.347274, 0.964865, 2.96795, -0.244375],
+      [-2.1981, 0.924743, 3.48887, 0.964865, 0.173647, 2.89722],
+      [-2.1981, 0.924743, 3.48887, -2.17673, 2.96795, -0.244375]], 4),
+    (pose([0.15, 0.2, 0.2007], [0, 0, 0]),
+     [[1.03907, -1.00894, -0.0831629, -0.585271, -0.408274, 1.31351],
+      [-2.10252, 1.00894, 3.22476, 2.55632, -0.408274, 1.31351]], 4),
+    (pose([0.3, 0, 0.122], [HALF_PI, 0, 0]), [[0, -1.11165, -0.0152543, 0, 1.1269, 0]], None),
+]
+
+
+@pytest.mark.parametrize(("T", "listed", "count"), REPORT_CASES)
+def test_report_000_ik_cases(T, listed, count):
+    robot = armkit.load("probot-anno")
+    found = robot.ik(T, all=True)
+    for q in listed:
+        assert contains(robot, found, q, atol=REPORT_DIGITS), q
+    if count is not None:
+        assert found.shape == (count, 6)
+    assert robot.within_limits(found).all()
+    assert_transform_close(robot.fk(found), np.broadcast_to(T, (len(found), 4, 4)), 1e-9, 1e-9)
+
+
+def test_report_000_first_case_has_eight_solutions_in_all():
+    robot = armkit.load("probot-anno")
+    every = ik_solutions(robot.chain, REPORT_CASES[0][0])
+    assert len(every.q) == 8 and every.within_limits.sum() == 4
+    assert np.all(every.position_error < 1e-12) and np.all(every.orientation_error < 1e-12)
+    np.testing.assert_array_equal(robot.ik(REPORT_CASES[0][0], all=True, within_limits=False),
+                                  every.q)
+
+
+# ------------------------------------------------------------------ round trips
+@pytest.mark.parametrize("name", CLOSED_FORM)
+def test_round_trip_all_solutions(name):
+    robot = armkit.load(name)
+    for q in robot.random_q(15, rng=42):
+        T = robot.fk(q)
+        found = robot.ik(T, all=True)
+        assert contains(robot, found, q), (q, found)
+        assert robot.within_limits(found).all()
+        assert_transform_close(robot.fk(found), np.broadcast_to(T, (len(found), 4, 4)), 1e-9, 1e-9)
+        nearest = robot.ik(T, near=q)
+        assert np.abs(joint_difference(robot, nearest, q)).max() < 1e-7
+
+
+def test_round_trip_panda_numeric_near_a_seed():
+    panda = armkit.load("panda")
+    rng = np.random.default_rng(3)
+    for q in panda.random_q(10, rng=rng):
+        T = panda.fk(q)
+        found = panda.ik(T, near=q + rng.normal(0, 0.3, 7), rng=0)
+        assert found.shape == (7,) and panda.within_limits(found)
+        assert_transform_close(panda.fk(found), T, 1e-9, 1e-9)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.sampled_from(CLOSED_FORM), st.integers(0, 2**32 - 1))
+def test_hypothesis_round_trip_returns_the_configuration_itself(name, seed):
+    robot = armkit.load(name)
+    q = robot.random_q(rng=seed)
+    T = robot.fk(q)
+    nearest = robot.ik(T, near=q)
+    assert_transform_close(robot.fk(nearest), T, 1e-9, 1e-9)
+    if not ik_solutions(robot.chain, T, near=q).family.any():
+        assert np.abs(joint_difference(robot, nearest, q)).max() < 1e-7
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.floats(-0.7, 0.7), st.floats(-1.0, 1.0), st.floats(-0.5, 0.5), st.floats(-2.0, 2.0),
+       st.floats(-2.0, 2.0))
+def test_hypothesis_wrist_singularity_is_answered_with_a_family(q1, q2, q3, q4, q6):
+    robot = armkit.load("puma560")
+    q = np.array([q1, q2, q3, q4, 0.0, q6])
+    T = robot.fk(q)
+    found = ik_solutions(robot.chain, T, near=q)
+    assert found.family.any()
+    assert_transform_close(robot.fk(found.q), np.broadcast_to(T, (len(found.q), 4, 4)), 1e-9, 1e-9)
+    # the family member with q5 = 0 has the same q4 + q6
+    singular = found.family & (np.abs(found.q[:, 4]) < 1e-7)
+    assert np.any(np.abs(joint_difference(robot, found.q[singular, 3] + found.q[singular, 5],
+                                          q4 + q6)) < 1e-7)
+
+
+# ------------------------------------------------------------------ batches
+@pytest.mark.parametrize("name", ["probot-anno", "ur5", "stanford"])
+def test_batch_equals_one_at_a_time(name):
+    robot = armkit.load(name)
+    q = robot.random_q(12, rng=5)
+    T = robot.fk(q)
+    near = robot.random_q(12, rng=6)
+    batch = robot.ik(T, near=near)
+    assert batch.shape == (12, robot.n)
+    one_at_a_time = [robot.ik(t, near=s) for t, s in zip(T, near, strict=True)]
+    np.testing.assert_array_equal(batch, np.stack(one_at_a_time))
+    every = robot.ik(T, all=True)
+    assert isinstance(every, list) and len(every) == 12
+    for found, t in zip(every, T, strict=True):
+        np.testing.assert_array_equal(found, robot.ik(t, all=True))
+
+
+def test_near_picks_the_closest_solution_by_weighted_distance():
+    robot = armkit.load("probot-anno")
+    T = REPORT_CASES[0][0]
+    every = robot.ik(T, all=True)
+    for target in every:
+        np.testing.assert_allclose(robot.ik(T, near=target + 0.01), target, atol=1e-12)
+    distance = np.linalg.norm(every - every[2], axis=-1)
+    np.testing.assert_allclose(robot.ik(T, all=True, near=every[2]), every[np.argsort(distance)])
+
+
+def test_revolute_angles_are_wrapped_into_the_limits():
+    robot = armkit.load("panda")  # the Panda's joint 6 limits are [-0.0175, 3.7525]
+    q = np.array([0.2, 0.3, -0.1, -1.5, 0.4, 3.5, 0.1])
+    found = robot.ik(robot.fk(q), near=q - [0, 0, 0, 0, 0, 2 * np.pi, 0], rng=1)
+    assert robot.within_limits(found)
+
+
+def test_position_only_target_via_mask():
+    rows = [DHRow(0, 0, 0.3, 0), DHRow(np.pi / 2, 0, 0, 0), DHRow(0, 0.3, 0, 0),
+            DHRow(0, 0.25, 0, 0), DHRow(-np.pi / 2, 0, 0.1, 0)]
+    robot = armkit.Robot.from_dh(rows, "modified", name="5R")
+    T = robot.fk([0.3, 0.2, -0.4, 0.5, 0.1])
+    T[:3, :3] = np.eye(3)
+    q = robot.ik(T, mask=[1, 1, 1, 0, 0, 0], rng=0)
+    np.testing.assert_allclose(robot.fk(q)[:3, 3], T[:3, 3], atol=1e-9)
+
+
+# ------------------------------------------------------------------ bad input
+def test_non_rigid_matrix_and_nan():
+    robot = armkit.load("probot-anno")
+    T = robot.fk(np.zeros(6))
+    with pytest.raises(InputError, match="rotation part is not a rotation matrix"):
+        robot.ik(T * [[1.1], [1], [1], [1]])
+    T[0, 3] = np.nan
+    with pytest.raises(InputError, match="NaN"):
+        robot.ik(T)
+    with pytest.raises(InputError, match=r"expected shape \(\.\.\., 4, 4\)"):
+        robot.ik(np.eye(3))
+
+
+def test_pose_out_of_reach_says_how_far_the_closest_pose_is():
+    robot = armkit.load("probot-anno")
+    T = pose([2.0, 0.0, 0.3], [HALF_PI, 0, 0])
+    message = r"out of reach: the closest pose found is [\d.]+ m and"
+    with pytest.raises(UnreachableError, match=message) as info:
+        robot.ik(T)
+    reach = 0.225 + 0.2289 + 0.055
+    assert 2.0 - reach - 0.2 < info.value.position_error < 2.0 - reach + 0.2
+    with pytest.raises(UnreachableError, match="pose 1 of 2: the target pose is out of reach"):
+        robot.ik(np.stack([robot.fk(np.zeros(6)), T]))
+
+
+def test_numeric_pose_out_of_reach():
+    panda = armkit.load("panda")
+    with pytest.raises(UnreachableError, match="no solution found by numeric IK .* the closest "
+                                               "pose found is [\\d.]+ m and"):
+        panda.ik(pose([1.5, 0, 0.3], [0, 0, 0]), max_restarts=2)
+
+
+def test_reachable_only_outside_the_limits():
+    source = armkit.load("probot-anno")
+    narrow = armkit.Robot.from_dh(source.dh.rows, "modified", tool_rows=source.dh.tool_rows,
+                                  limits=[(-0.1, 0.1)] * 6)
+    T = narrow.fk(np.full(6, 0.5))
+    with pytest.raises(JointLimitError, match="reachable, but only outside the joint limits"):
+        narrow.ik(T)
+    with pytest.raises(JointLimitError, match="within_limits=False"):
+        narrow.ik(T, all=True)
+    assert contains(narrow, narrow.ik(T, all=True, within_limits=False), np.full(6, 0.5))
+
+
+def test_all_solutions_of_a_chain_without_closed_form():
+    panda = armkit.load("panda")
+    with pytest.raises(NoClosedFormError, match="numeric IK returns one solution per seed: "
+                                                r"call ik\(T, near=q_seed\)"):
+        panda.ik(panda.fk(np.zeros(7)), all=True)
+    with pytest.raises(NoClosedFormError, match="a task mask needs the numeric solver"):
+        armkit.load("ur5").ik(np.eye(4), all=True, mask=[1, 1, 1, 0, 0, 0])
+
+
+def test_bad_near_and_weights():
+    robot = armkit.load("ur5")
+    T = robot.fk(np.zeros(6))
+    with pytest.raises(InputError, match=r"near: expected 6 finite joint values"):
+        robot.ik(T, near=[0, 0, 0])
+    with pytest.raises(InputError, match=r"near: shape \(3, 6\) does not match 2 target poses"):
+        robot.ik(np.stack([T, T]), near=np.zeros((3, 6)))
+    with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
+        robot.ik(T, weights=[1, 1, 1, 1, 1, -1])
