@@ -7,7 +7,13 @@
 """
 
 from armkit.chain import Chain, DHRow, Joint, chain_from_dh
-from armkit.control import MotionResult, ResolvedRate, move_linear, rotate_about_tool_point
+from armkit.control import (
+    MotionResult,
+    ResolvedRate,
+    cartesian_line,
+    move_linear,
+    rotate_about_tool_point,
+)
 from armkit.errors import (
     ArmkitError,
     ConvergenceError,
@@ -40,6 +46,7 @@ __all__ = [
     "UnreachableError",
     "auto_time",
     "builtin_robots",
+    "cartesian_line",
     "chain_from_dh",
     "load",
     "min_jerk",
