@@ -352,7 +352,26 @@ class ClosedFormSolver:
         x1 = np.stack([np.cos(t), np.sin(t)], axis=-1)
         x5 = (W[:, None] @ x1[..., None])[..., 0] - w0[:, None, :]
         q5 = np.arctan2(x5[..., 1], x5[..., 0])
+        t, q5 = self._polish(P, r, t, q5)
         return t, q5, valid, np.zeros_like(valid)
+
+    def _polish(self, P: Array, r: Array, q1: Array, q5: Array) -> tuple[Array, Array]:
+        """Newton steps on ``P x1(q1) - Q x5(q5) = r`` itself (Q^-1 may be ill-conditioned)."""
+        Q = self._Q
+        for _ in range(6):  # quadratic convergence; linear near a double root
+            c1, s1, c5, s5 = np.cos(q1), np.sin(q1), np.cos(q5), np.sin(q5)
+            x1 = np.stack([c1, s1], axis=-1)
+            x5 = np.stack([c5, s5], axis=-1)
+            F = (P[:, None] @ x1[..., None])[..., 0] - x5 @ Q.T - r[:, None, :]
+            d1 = (P[:, None] @ np.stack([-s1, c1], axis=-1)[..., None])[..., 0]
+            d5 = -np.stack([-s5, c5], axis=-1) @ Q.T
+            det = d1[..., 0] * d5[..., 1] - d1[..., 1] * d5[..., 0]
+            ok = np.abs(det) > 1e-12 * (1.0 + np.abs(d1).max(-1) * np.abs(d5).max(-1))
+            det = np.where(ok, det, 1.0)
+            step1 = np.where(ok, (d5[..., 1] * F[..., 0] - d5[..., 0] * F[..., 1]) / det, 0.0)
+            step5 = np.where(ok, (d1[..., 0] * F[..., 1] - d1[..., 1] * F[..., 0]) / det, 0.0)
+            q1, q5 = q1 - np.clip(step1, -0.1, 0.1), q5 - np.clip(step5, -0.1, 0.1)
+        return q1, q5
 
     def _three_parallel(self, R_G: Array, t_G: Array) -> tuple[Array, Mask, Mask]:
         poe = self._poe
@@ -373,7 +392,9 @@ class ClosedFormSolver:
         y = self._p5 + rotate(h_all[4], q5, self._p6 - self._p5)
         z = p[0] + (np.swapaxes(R1, -1, -2) @ (_transform_point(R_G, t_G, self._p6) - p[0])[:, None, :,
                                                                                             None])[..., 0]
-        target = z - p[1] - (R234 @ (y - p[3])[..., None])[..., 0]
+        if f6.any():
+            q6, theta = self._wrist_family_representative(f6, q6, theta, z - p[1], y - p[3])
+        target = z - p[1] - rotate(h, theta, y - p[3])
         q2, q3, v23, f23 = _planar_2r(h, p[2] - p[1], p[3] - p[2], target)
         q4 = theta[..., None] - q2 - q3
 
@@ -384,6 +405,28 @@ class ClosedFormSolver:
         valid = valid[..., None] & v23
         family = spread(free | f6) | f23
         return q.reshape(N, 8, 6), valid.reshape(N, 8), family.reshape(N, 8)
+
+    def _wrist_family_representative(self, free: Mask, q6: Array, theta: Array, A: Array,
+                                     B: Array) -> tuple[Array, Array]:
+        """Axis 6 parallel to axes 2-4: pick the ``q6`` of the family that is best reachable.
+
+        Along the family ``q2 + q3 + q4 = theta - s q6`` (``s = +-1``: axis 6 along or against
+        ``h``) the planar target ``A - R(h, theta) B`` turns on a circle; choose the angle
+        that puts its length where the planar 2R reaches best (``|v|^2 = |a|^2 + |b|^2``).
+        """
+        h, p = self._h, self._poe.points
+        s6 = np.sign(self._poe.axes[5] @ h)
+        A = A - dot(A, h)[..., None] * h
+        B = B - dot(B, h)[..., None] * h
+        a, b = p[2] - p[1], p[3] - p[2]
+        a, b = a - (a @ h) * h, b - (b @ h) * h
+        wanted = 0.5 * (dot(A, A) + dot(B, B) - (a @ a) - (b @ b))  # A . R(h, phi) B
+        cos_part, sin_part = dot(A, B), dot(A, cross(h, B))
+        r = np.hypot(cos_part, sin_part)
+        phi = np.arctan2(sin_part, cos_part) + np.arccos(np.clip(wanted / np.where(r > 0, r, 1.0),
+                                                                 -1.0, 1.0))
+        phi = np.where(r > 0, phi, theta)
+        return np.where(free, q6 + s6 * (theta - phi), q6), np.where(free, phi, theta)
 
     # ----------------------------------------------------- SCARA and planar
     def _setup_planar(self) -> None:
