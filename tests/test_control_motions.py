@@ -29,6 +29,9 @@ def test_seed_straight_move():
     assert rotation_angle_between(result.poses, start).max() < 1e-5
     assert np.all(np.abs(result.qd) <= PROBOT.max_velocity)
     assert PROBOT.within_limits(result.q).all()
+    # The final joints are the IK solution of the target pose (closed-form IK, written apart).
+    target = result.target
+    np.testing.assert_allclose(result.q_final, PROBOT.ik(target, near=result.q_final), atol=1e-7)
 
 
 def test_straight_move_in_the_tool_frame():

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import armkit
 from armkit.control import ResolvedRate, damping, joint_velocity, scale_to_limits
@@ -138,3 +140,40 @@ def test_bad_settings():
         ResolvedRate(PROBOT, threshold=-1.0)
     with pytest.raises(InputError, match="max_damping"):
         ResolvedRate(PROBOT, max_damping=np.nan)
+
+
+finite = st.floats(-1.0, 1.0, allow_nan=False)
+
+
+@settings(max_examples=60, deadline=None)
+@given(fractions=st.lists(st.floats(0.0, 1.0), min_size=6, max_size=6),
+       twist=st.lists(finite, min_size=6, max_size=6))
+def test_property_inverse_away_from_singularities_and_limits_always(fractions, twist):
+    lower, upper = PROBOT.limits.T
+    q = lower + np.array(fractions) * (upper - lower)
+    twist = np.array(twist)
+    step = ResolvedRate(PROBOT).step(q, twist)
+    free = ResolvedRate(PROBOT, limit_velocity=False).step(q, twist)
+    assert np.all(np.abs(step.qd) <= PROBOT.max_velocity * (1 + 1e-12))
+    np.testing.assert_allclose(step.qd, step.scale * free.qd, atol=1e-14)
+    if free.sigma_min > DEFAULT_THRESHOLD:  # round trip: the twist the joints produce is the one asked
+        np.testing.assert_allclose(PROBOT.jacobian(q) @ free.qd, twist, atol=1e-10)
+
+
+def test_step_matches_a_jacobian_from_roboticstoolbox():
+    rtb = pytest.importorskip("roboticstoolbox")
+    from spatialmath import SE3
+
+    d = np.pi / 180
+    links = [rtb.RevoluteMDH(alpha=0, a=0, d=0.284), rtb.RevoluteMDH(alpha=90 * d, offset=90 * d),
+             rtb.RevoluteMDH(a=0.225), rtb.RevoluteMDH(alpha=90 * d, d=0.2289),
+             rtb.RevoluteMDH(alpha=-90 * d, offset=-90 * d), rtb.RevoluteMDH(alpha=90 * d)]
+    theirs = rtb.DHRobot(links, tool=SE3.Tz(0.055) * SE3.Rx(-90 * d))
+    control = ResolvedRate(PROBOT, limit_velocity=False)
+    rng = np.random.default_rng(5)
+    for q in PROBOT.random_q(10, rng=rng):
+        twist = rng.normal(size=6)
+        J = theirs.jacob0(q)
+        U, s, Vt = np.linalg.svd(J)
+        expected = Vt.T @ ((s / (s**2 + damping(s[-1]))) * (U.T @ twist))
+        np.testing.assert_allclose(control.step(q, twist).qd, expected, atol=1e-9 * np.abs(expected).max())
