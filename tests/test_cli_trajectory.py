@@ -83,7 +83,7 @@ def test_bad_durations(capsys, args, message):
     code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, *args)
     assert code == 1
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
-    assert re.search(message, err.replace("\n", " ")), err
+    assert re.search(message, " ".join(err.split())), err
 
 
 @pytest.mark.parametrize(("text", "poses", "message"), [
@@ -99,7 +99,7 @@ def test_bad_waypoint_files(capsys, tmp_path, text, poses, message):
     args = ["--poses"] if poses else []
     code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", path, *args, "--durations", "5")
     assert code == 1 and "Traceback" not in err
-    assert re.search(message, err.replace("\n", " ")), err
+    assert re.search(message, " ".join(err.split())), err
 
 
 def test_never_overwrites_without_force(capsys, tmp_path):
@@ -114,3 +114,12 @@ def test_never_overwrites_without_force(capsys, tmp_path):
     code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--auto-time", "--plot",
                        tmp_path / "pva.jpg")
     assert code == 1 and "expected a file name ending in .png, .svg, .pdf" in err
+
+
+def test_overshoot_past_a_position_limit_is_reported(capsys, tmp_path):
+    path = tmp_path / "w.csv"
+    path.write_text("0,0,0,0,0,0\n0,1.0,0,0,0,0\n0,2.0,0,0,0,0\n0,1.0,0,0,0,0\n")   # q2 limit 2.0071
+    code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", path, "--durations", "10", "10", "10")
+    assert code == 0
+    assert re.search(r"joint q2 leaves its limits \[-2.007, 2.007\] between waypoints \(range 0 .. 2.10",
+                     " ".join(err.split())), err

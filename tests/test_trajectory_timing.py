@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from test_trajectory_min_jerk import SEED_AMAX, SEED_VMAX, SEED_WAYPOINTS
 
 from armkit.errors import InputError
@@ -81,3 +83,14 @@ def test_single_segment_auto_time_matches_the_closed_form():
 def test_bad_limits_are_clear_errors(call, message):
     with pytest.raises(InputError, match=message):
         call()
+
+
+@settings(max_examples=4, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_stretch_on_random_waypoints_is_feasible_and_tight(seed):
+    rng = np.random.default_rng(seed)
+    waypoints = rng.uniform(-1.5, 1.5, (4, 6))
+    requested = rng.uniform(0.5, 3.0, 3)
+    traj = stretch_to_limits(waypoints, requested, SEED_VMAX, SEED_AMAX)
+    assert within(traj) and np.all(traj.durations >= requested)
+    assert_each_segment_tight(traj, requested)
