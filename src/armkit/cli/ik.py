@@ -1,0 +1,118 @@
+"""``armkit ik``: every inverse-kinematics solution of a pose, or the one nearest a seed."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich import box
+from rich.console import Console
+from rich.measure import Measurement
+from rich.table import Table
+
+from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, parse_floats, print_json, to_si
+from armkit.errors import InputError
+from armkit.ik.solve import ik_solutions
+from armkit.ik.structure import analyze_structure
+from armkit.robot import Robot
+from armkit.spatial.rotations import matrix_from_euler, parse_convention, rotation_angle_between
+from armkit.spatial.transforms import check_transform, transform_from
+
+#: ``--matrix`` takes the 16 entries of a 4x4 transform.
+Matrix16 = tuple[(float,) * 16]
+
+
+def _target(pose: tuple[float, ...] | None, matrix: tuple[float, ...] | None, convention: str,
+            degrees: bool) -> np.ndarray:
+    if (pose is None) == (matrix is None):
+        raise InputError("give the target either as --pose X Y Z A B C or as --matrix with "
+                         "16 numbers (row by row), not both and not neither")
+    if matrix is not None:
+        return check_transform(np.reshape(matrix, (4, 4)), "--matrix")
+    R = matrix_from_euler(pose[3:], convention, degrees=degrees)
+    return transform_from(R, pose[:3])
+
+
+def _family_flags(robot: Robot, T: np.ndarray, q: np.ndarray, closed_form: bool) -> np.ndarray:
+    """Which of the rows of ``q`` stand for a one-parameter family of solutions."""
+    if not closed_form:
+        return np.zeros(len(q), dtype=bool)
+    found = ik_solutions(robot.chain, T, near=q[0])
+    match = np.abs(q[:, None, :] - found.q[None, :, :]).max(axis=-1) < 1e-9
+    return (match & found.family[None, :]).any(axis=-1)
+
+
+@app.command("ik", context_settings=ALLOW_NEGATIVE)
+def ik_command(
+    robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
+    near_values: Annotated[list[str] | None, typer.Argument(
+        metavar="[Q...]", help="Joint values after --near.", show_default=False)] = None,
+    pose: Annotated[tuple[float, float, float, float, float, float] | None, typer.Option(
+        help="Target: position X Y Z [m] and three angles A B C in the --euler convention.",
+        show_default=False)] = None,
+    matrix: Annotated[Matrix16 | None, typer.Option(
+        help="Target as 16 numbers, the 4x4 matrix row by row [m].", show_default=False)] = None,
+    euler: Annotated[str, typer.Option(help="Convention of the pose angles, e.g. xyz-fixed "
+                                            "(roll pitch yaw), xyz-euler, zyz-euler.")] = "xyz-fixed",
+    deg: Annotated[bool, typer.Option("--deg", help="Angles (pose, --near, printed joints) "
+                                                    "in degrees.")] = False,
+    all_solutions: Annotated[bool, typer.Option("--all", help="List every solution inside the "
+                                                              "limits (closed form).")] = False,
+    outside: Annotated[bool, typer.Option("--outside", help="Also list solutions outside the "
+                                                            "joint limits.")] = False,
+    near: Annotated[bool, typer.Option("--near", help="The joint values Q... that follow: "
+                                                      "return the solution closest to them "
+                                                      "(default zeros).")] = False,
+    json_output: Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of "
+                                                             "a table.")] = False,
+) -> None:
+    """Inverse kinematics: the solutions of a tool pose, with limits flag and FK residual.
+
+    Example: armkit ik probot-anno --pose 0.2 0.2 0.2007 1.5707963 -1.5707963 0 --all
+    """
+    arm = load_robot(robot)
+    if near_values and not near:
+        raise InputError(f"unexpected values {' '.join(near_values)}: joint values are given "
+                         f"after --near")
+    q_near = (to_si(arm, parse_floats(near_values, "--near"), deg) if near
+              else np.zeros(arm.n))
+    convention = parse_convention(euler)
+    T = _target(pose, matrix, convention, deg)
+    structure = analyze_structure(arm.chain)
+    q = np.atleast_2d(arm.ik(T, all=all_solutions, near=q_near, within_limits=not outside))
+    inside = arm.within_limits(q)
+    T_found = arm.fk(q)
+    position_error = np.linalg.norm(T_found[:, :3, 3] - T[:3, 3], axis=-1)
+    orientation_error = rotation_angle_between(T_found, T)
+    family = _family_flags(arm, T, q, structure.closed_form)
+    method = "closed form" if structure.closed_form else "numeric (Levenberg-Marquardt)"
+    if json_output:
+        print_json({"robot": arm.name, "target": T, "method": method,
+                    "structure": structure.description, "solutions": q,
+                    "within_limits": inside, "family": family,
+                    "position_error": position_error, "orientation_error": orientation_error,
+                    "joint_names": arm.joint_names, "units": "rad and m"})
+        return
+    unit = "deg" if deg else "rad"
+    shown = np.where(arm.chain.prismatic, q, np.degrees(q) if deg else q)
+    digits = np.where(arm.chain.prismatic, 4, 2 if deg else 4)
+    table = Table(title=f"{arm.name}: {len(q)} IK solution{'s' * (len(q) != 1)}, {method}",
+                  caption=f"revolute joints in {unit}, prismatic in m; FK residual: position "
+                          f"error in m, angle error in rad", box=box.SIMPLE_HEAD)
+    table.add_column("#", justify="right")
+    for name in arm.joint_names:
+        table.add_column(name, justify="right")
+    extra = ["limits", *(["family"] if family.any() else []), "pos.err", "ang.err"]
+    for column in extra:
+        table.add_column(column, justify="right")
+    for k in range(len(q)):
+        flags = ["in" if inside[k] else "OUT", *(["yes" if family[k] else ""] if family.any() else [])]
+        table.add_row(str(k + 1), *(f"{v:.{d}f}" for v, d in zip(shown[k], digits, strict=True)),
+                      *flags, f"{position_error[k]:.0e}", f"{orientation_error[k]:.0e}")
+    natural = Measurement.get(console, console.options.update_width(1000), table).maximum
+    # wider than the terminal rather than truncate a joint value
+    Console(width=max(console.width, natural)).print(table)
+    if family.any():
+        console.print("family = yes: a singular pose; the row represents a one-parameter family "
+                      "of solutions (e.g. only q4 + q6 is defined at a wrist singularity).")
