@@ -23,6 +23,7 @@ from armkit.errors import (
     RobotDefinitionError,
     UnreachableError,
 )
+from armkit.ik import IKResult, IKSolutions, ik_solutions, numeric_ik
 from armkit.robot import Robot
 from armkit.robot_file import builtin_robots, load, robot_from_dict, robot_to_toml
 from armkit.trajectory import JointTrajectory, auto_time, min_jerk, plan_trajectory, quintic
@@ -34,6 +35,8 @@ __all__ = [
     "Chain",
     "ConvergenceError",
     "DHRow",
+    "IKResult",
+    "IKSolutions",
     "InputError",
     "Joint",
     "JointLimitError",
@@ -48,9 +51,11 @@ __all__ = [
     "builtin_robots",
     "cartesian_line",
     "chain_from_dh",
+    "ik_solutions",
     "load",
     "min_jerk",
     "move_linear",
+    "numeric_ik",
     "plan_trajectory",
     "quintic",
     "robot_from_dict",
