@@ -93,17 +93,18 @@ def _joint_distance(chain, q_a, q_b, joints=slice(None)):
 def _assert_round_trip(chain, q, tol=1e-9):
     """Candidates of ``fk(q)`` contain ``q`` and every valid one reproduces the pose to ``tol``.
 
-    A pose known to rounding (1e-16) fixes the joints only to about ``1e-16 / sigma_min``
-    of the Jacobian at ``q``: near a singular configuration (sigma_min = 1e-8 happens in
-    random samples) ``q`` and the solution found both reproduce the pose to 1e-15 and
-    differ by more than 1e-9. The joint tolerance is ``1e-15 / sigma_min`` within
+    A solution reproducing the pose to ``r`` fixes the joints only to about
+    ``r / sigma_min`` of the Jacobian at ``q``: near a singular configuration (sigma_min =
+    1e-8 happens in random samples) ``q`` and the solution found both reproduce the pose to
+    1e-14 and differ by more than 1e-9. The joint tolerance is ``10 r / sigma_min`` within
     ``[1e-9, 1e-6]`` (at a double root the difference is sqrt(eps) ~ 1.5e-8).
     """
     T = fk(chain, q)
     sol = closed_form_ik(chain, T)
     residual = np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))
     assert residual[sol.valid].max() < tol
-    q_tol = np.clip(1e-15 / singular_values(chain, q)[:, -1], 1e-9, 1e-6)
+    r = np.where(sol.valid, residual, 0.0).max(axis=-1) + 1e-16
+    q_tol = np.clip(10 * r / singular_values(chain, q)[:, -1], 1e-9, 1e-6)
     found = (_joint_distance(chain, sol.q, q[:, None, :]) < q_tol[:, None]) & sol.valid
     assert found.any(axis=-1).all(), f"missed q = {q[~found.any(axis=-1)][0].tolist()}"
     return sol

@@ -1,5 +1,7 @@
 """Which closed-form case applies, decided from the axes of built-in and random arms."""
 
+import json
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -76,3 +78,16 @@ def test_planar_and_not_planar_small_arms():
     tilted = [DHRow(0.5, 0.3, 0.0, 0.0), DHRow(0.0, 0.2, 0.0, 0.0), DHRow(0.0, 0.1, 0.0, 0.0)]
     structure = analyze_structure(chain_from_dh(tilted, "standard"))
     assert structure.kind == "none" and "not a planar" in structure.description
+
+
+def test_show_prints_the_structure(capsys):
+    from armkit.cli.main import main
+
+    assert main(["show", "probot-anno"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "kind: spherical wrist: axes 4, 5, 6 meet at one point" in out
+    assert "up to 8 solutions" in out
+    assert main(["show", "panda", "--json"]) == 0
+    structure = json.loads(capsys.readouterr().out)["structure"]
+    assert structure["kind"] == "none" and not structure["closed_form"]
+    assert "redundant" in structure["description"]

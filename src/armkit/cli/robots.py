@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Annotated
 
@@ -10,6 +11,7 @@ import typer
 from rich.table import Table
 
 from armkit.cli.app import app, console, load_robot, print_json
+from armkit.ik.structure import analyze_structure
 from armkit.robot import Robot
 from armkit.robot_file import builtin_robots, load
 
@@ -72,12 +74,15 @@ def show_command(
 ) -> None:
     """Print a robot's DH table, limits and the kind of arm it is."""
     arm = load_robot(robot)
+    structure = analyze_structure(arm.chain)
     if json_output:
         print_json({"name": arm.name, "n": arm.n, "joint_types": arm.joint_types,
                     "convention": arm.dh.convention if arm.dh else None,
                     "limits": arm.limits, "max_velocity": arm.max_velocity,
-                    "max_acceleration": arm.max_acceleration})
+                    "max_acceleration": arm.max_acceleration,
+                    "structure": dataclasses.asdict(structure)})
         return
     console.print(dh_table(arm))
     home = arm.fk(np.zeros(arm.n))
     console.print(f"tool at q = 0: position {np.round(home[:3, 3], 6).tolist()} m")
+    console.print(f"kind: {structure.description}")
