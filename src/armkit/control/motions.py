@@ -136,9 +136,9 @@ def _time_grid(duration: float, dt: float) -> NDArray[np.float64]:
     return np.linspace(0.0, duration, steps + 1)
 
 
-def _limit_stop(robot: Robot, q: NDArray[np.float64], step: NDArray[np.float64]) -> tuple[float, int]:
+def _limit_stop(lower: NDArray[np.float64], upper: NDArray[np.float64], q: NDArray[np.float64],
+                step: NDArray[np.float64]) -> tuple[float, int]:
     """Fraction of ``step`` that keeps ``q`` inside the limits, and the joint that bounds it (-1: none)."""
-    lower, upper = robot.limits[:, 0], robot.limits[:, 1]
     q_next = q + step
     outside = (q_next < lower - LIMIT_TOLERANCE) | (q_next > upper + LIMIT_TOLERANCE)
     if not outside.any():
@@ -191,6 +191,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     qs, qds = np.zeros((N, n)), np.zeros((N, n))
     poses, sigma = np.zeros((N, 4, 4)), np.zeros(N)
     qs[0] = q
+    lower, upper = robot.limits.T
     completed, message, last = True, "completed", N - 1
     for k in range(N - 1):
         T, J = control._kinematics(q)
@@ -199,10 +200,10 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
         feedforward = pose_error(reference[k + 1], reference[k]) / dt
         rate = control._solve(J, feedforward + gain * pose_error(reference[k], T))
         sigma[k] = rate.sigma_min
-        fraction, joint = _limit_stop(robot, q, rate.qd * dt)
+        fraction, joint = _limit_stop(lower, upper, q, rate.qd * dt)
         if joint >= 0:
             name, side = robot.joint_names[joint], "lower" if rate.qd[joint] < 0 else "upper"
-            limit = robot.limits[joint, 0 if side == "lower" else 1]
+            limit = lower[joint] if side == "lower" else upper[joint]
             text = (f"joint {name} reached its {side} limit {limit:.6g} at t = "
                     f"{t[k] + fraction * dt:.4g} s of {t[-1]:.4g} s; the motion stopped there")
             if not stop_at_limits:

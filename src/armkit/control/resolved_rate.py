@@ -25,7 +25,7 @@ so one step of a 6-joint arm takes about 20 microseconds (``benchmarks/bench_con
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -119,8 +119,7 @@ def scale_to_limits(qd: ArrayLike, max_velocity: ArrayLike) -> tuple[NDArray[np.
     return scaled, (float(scale) if np.ndim(scale) == 0 else scale)
 
 
-@dataclass(frozen=True)
-class RateStep:
+class RateStep(NamedTuple):
     """One resolved-rate step.
 
     Attributes
@@ -237,7 +236,7 @@ class ResolvedRate:
         qd = J.T @ x if wide else x
         scale = 1.0
         if self.limit_velocity:
-            ratio = float(np.max(np.abs(qd) * self._inverse_max_velocity))
+            ratio = float((np.abs(qd) * self._inverse_max_velocity).max())
             if ratio > 1.0:
                 scale = 1.0 / ratio
                 qd = qd * scale
