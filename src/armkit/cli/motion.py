@@ -31,7 +31,7 @@ FromOpt = Annotated[bool, typer.Option("--from", help="The start joint values Q.
                                                       "(rad and m; default all zeros).")]
 FrameOpt = Annotated[str, typer.Option(help="base or tool: the frame the vector is written in "
                                             "(tool = the start tool frame).")]
-DtOpt = Annotated[float, typer.Option("--dt", help="Control period [s].")]
+DtOpt = Annotated[float, typer.Option("--dt", help="Control period in seconds.")]
 DegOpt = Annotated[bool, typer.Option("--deg", help="Revolute joint values and angles (also the "
                                                     "printed ones) in degrees.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of tables.")]
@@ -95,8 +95,8 @@ def move_command(
     start_values: StartValues = None,
     start: FromOpt = False,
     by: Annotated[tuple[float, float, float], typer.Option(
-        "--by", help="Tool displacement DX DY DZ [m].", show_default=False)] = ...,
-    duration: Annotated[float, typer.Option(help="Duration [s] (quintic time law).")] = 5.0,
+        "--by", help="Tool displacement DX DY DZ, in metres.", show_default=False)] = ...,
+    duration: Annotated[float, typer.Option(help="Duration in seconds (quintic time law).")] = 5.0,
     frame: FrameOpt = "base",
     dt: DtOpt = DEFAULT_DT,
     deg: DegOpt = False,
@@ -121,13 +121,14 @@ def rotate_command(
     start: FromOpt = False,
     axis: Annotated[tuple[float, float, float], typer.Option(
         "--axis", help="Rotation axis X Y Z through the tool origin.", show_default=False)] = ...,
-    angle: Annotated[float, typer.Option(help="Signed angle [rad, deg with --deg] about the axis.",
+    angle: Annotated[float, typer.Option(help="Signed angle about the axis (rad; deg with --deg).",
                                          show_default=False)] = ...,
     rate: Annotated[float | None, typer.Option(
-        help="Constant angular speed [rad/s, deg/s with --deg]; default 0.2 rad/s unless "
-             "--duration is given.", show_default=False)] = None,
+        help="Constant angular speed (rad/s; deg/s with --deg); default 0.2 rad/s "
+             "unless --duration is given.", show_default=False)] = None,
     duration: Annotated[float | None, typer.Option(
-        help="Duration [s] of a smooth (quintic) turn, instead of --rate.", show_default=False)] = None,
+        help="Duration in seconds of a smooth (quintic) turn, instead of --rate.",
+        show_default=False)] = None,
     frame: FrameOpt = "base",
     dt: DtOpt = DEFAULT_DT,
     deg: DegOpt = False,
