@@ -53,6 +53,11 @@ def test_rotate_past_the_limit_stops_and_names_the_joint(capsys):
     assert "-180.000000" in out  # q4 stopped on its limit, printed in degrees
 
 
+def test_move_held_back_by_velocity_limits_exits_1(capsys):
+    code, _, err = run(capsys, "move", "probot-anno", "--by", "0.15", "0", "-0.15", "--duration", "0.5")
+    assert code == 1 and "velocity limits held it back" in err
+
+
 def test_rotate_smooth_turn_with_duration(capsys):
     code, out, _ = run(capsys, "rotate", "probot-anno", "--axis", "0", "0", "1", "--angle", "-0.3",
                        "--duration", "2", "--frame", "tool", "--json")

@@ -34,6 +34,14 @@ def test_seed_straight_move():
     np.testing.assert_allclose(result.q_final, PROBOT.ik(target, near=result.q_final), atol=1e-7)
 
 
+def test_too_fast_a_move_is_held_back_by_the_velocity_limits_and_says_so():
+    result = move_linear(PROBOT, Q0, [0.15, 0.0, -0.15], duration=0.5)
+    assert not result.completed
+    assert "the joint velocity limits held it back" in result.message
+    assert result.position_error > 0.1 and result.scale.min() < 0.1
+    assert np.all(np.abs(result.qd) <= PROBOT.max_velocity * (1 + 1e-12))
+
+
 def test_straight_move_in_the_tool_frame():
     start = PROBOT.fk(Q0)
     d_tool = np.array([0.02, -0.03, 0.01])

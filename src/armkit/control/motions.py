@@ -18,7 +18,9 @@ back it brakes harder (the joint velocities change more per step).
 Joint limits: a step that would carry a joint past a position limit is shortened so the
 joint stops exactly on the limit, and the motion ends there with ``completed = False``
 and a message naming the joint (``stop_at_limits=False`` raises
-:class:`~armkit.errors.JointLimitError` instead).
+:class:`~armkit.errors.JointLimitError` instead). A motion that runs to its end but
+finishes farther from the target than the tolerances (for example because the velocity
+limits held the tool back) also has ``completed = False`` and a message saying why.
 """
 
 from __future__ import annotations
@@ -42,6 +44,10 @@ __all__ = ["DEFAULT_DT", "MotionResult", "move_linear", "rotate_about_tool_point
 DEFAULT_DT = 0.002
 #: Default feedback gain [1/s] on the pose error (time constant 1 / gain).
 DEFAULT_GAIN = 20.0
+#: Default final position error [m] within which a motion counts as completed.
+POSITION_TOLERANCE = 1e-5
+#: Default final orientation error [rad] within which a motion counts as completed.
+ORIENTATION_TOLERANCE = 1e-5
 
 
 @dataclass(frozen=True)
@@ -69,10 +75,14 @@ class MotionResult:
         Largest distance [m] and angle [rad] to the reference over the motion.
     sigma_min : (N,) array
         Smallest Jacobian singular value at each sample (how close to a singularity).
+    scale : (N,) array
+        Factor in ``(0, 1]`` the joint velocities were scaled by to respect their limits.
     completed : bool
-        False if the motion stopped early at a joint limit.
+        True if the motion ran to its end and finished within the tolerances
+        (``POSITION_TOLERANCE``, ``ORIENTATION_TOLERANCE``) of the target.
     message : str
-        What happened, e.g. which joint stopped the motion, at what time and value.
+        ``"completed"``, or why not: which joint limit stopped the motion (joint, value,
+        time), or how far from the target it ended and what held it back.
     """
 
     t: NDArray[np.float64]
@@ -86,6 +96,7 @@ class MotionResult:
     max_position_error: float
     max_orientation_error: float
     sigma_min: NDArray[np.float64]
+    scale: NDArray[np.float64]
     completed: bool
     message: str
 
@@ -150,9 +161,24 @@ def _limit_stop(lower: NDArray[np.float64], upper: NDArray[np.float64], q: NDArr
     return float(np.clip(fraction[joint], 0.0, 1.0)), joint
 
 
+def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
+               sigma: NDArray[np.float64], control: ResolvedRate) -> str:
+    """Why a motion that ran to its end did not reach its target."""
+    position, angle = result_errors
+    text = f"the tool ended {position:.3g} m and {angle:.3g} rad from the target"
+    if scale.min() < 1.0:
+        return (f"{text}: the joint velocity limits held it back (velocities scaled down to "
+                f"{scale.min():.0%} at the worst step); allow a longer duration")
+    if sigma.min() < control.threshold:
+        return (f"{text}: near a singularity (smallest singular value {sigma.min():.3g}) the "
+                f"damping held it back")
+    return f"{text}: the closed loop did not settle (raise the gain or shorten dt)"
+
+
 def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike, *,
                 control: ResolvedRate | None = None, gain: float = DEFAULT_GAIN,
-                stop_at_limits: bool = True) -> MotionResult:
+                stop_at_limits: bool = True, position_tolerance: float = POSITION_TOLERANCE,
+                orientation_tolerance: float = ORIENTATION_TOLERANCE) -> MotionResult:
     """Follow sampled tool poses in closed loop from ``q0`` (see the module docstring).
 
     Parameters
@@ -170,6 +196,8 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
         Feedback gain [1/s] on the pose error; ``gain * dt <= 1``.
     stop_at_limits : bool
         At a joint limit, stop and report (True) or raise :class:`JointLimitError` (False).
+    position_tolerance, orientation_tolerance : float
+        Final errors [m, rad] within which the motion counts as completed.
 
     Returns
     -------
@@ -189,47 +217,45 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     control = ResolvedRate(robot) if control is None else control
     N, n = t.size, robot.n
     qs, qds = np.zeros((N, n)), np.zeros((N, n))
-    poses, sigma = np.zeros((N, 4, 4)), np.zeros(N)
+    poses, sigma, scale = np.zeros((N, 4, 4)), np.zeros(N), np.ones(N)
     qs[0] = q
     lower, upper = robot.limits.T
-    completed, message, last = True, "completed", N - 1
+    message, last = "", N - 1
     for k in range(N - 1):
         T, J = control._kinematics(q)
         poses[k] = T
         dt = t[k + 1] - t[k]
         feedforward = pose_error(reference[k + 1], reference[k]) / dt
         rate = control._solve(J, feedforward + gain * pose_error(reference[k], T))
-        sigma[k] = rate.sigma_min
+        sigma[k], scale[k] = rate.sigma_min, rate.scale
         fraction, joint = _limit_stop(lower, upper, q, rate.qd * dt)
+        qds[k] = rate.qd * fraction
+        q = q + qds[k] * dt
         if joint >= 0:
-            name, side = robot.joint_names[joint], "lower" if rate.qd[joint] < 0 else "upper"
-            limit = lower[joint] if side == "lower" else upper[joint]
-            text = (f"joint {name} reached its {side} limit {limit:.6g} at t = "
-                    f"{t[k] + fraction * dt:.4g} s of {t[-1]:.4g} s; the motion stopped there")
+            side = "lower" if rate.qd[joint] < 0 else "upper"
+            q[joint] = lower[joint] if side == "lower" else upper[joint]
+            message = (f"joint {robot.joint_names[joint]} reached its {side} limit {q[joint]:.6g} at "
+                       f"t = {t[k] + fraction * dt:.4g} s of {t[-1]:.4g} s; the motion stopped there")
             if not stop_at_limits:
-                raise JointLimitError(text)
-            q = q + fraction * rate.qd * dt
-            q[joint] = limit
-            qds[k] = rate.qd * fraction
-            completed, message, last = False, text, k + 1
-            qs[k + 1] = q
+                raise JointLimitError(message)
+            last = k + 1
+        qs[k + 1] = q
+        if message:
             break
-        q = q + rate.qd * dt
-        qs[k + 1], qds[k] = q, rate.qd
     T, J = control._kinematics(q)
     poses[last] = T
     sigma[last] = control._solve(J, np.zeros(6)).sigma_min
     sl = slice(0, last + 1)
-    position_errors = np.linalg.norm(poses[sl, :3, 3] - reference[sl, :3, 3], axis=-1)
-    angle_errors = rotation_angle_between(poses[sl], reference[sl])
+    errors = (float(np.linalg.norm(T[:3, 3] - reference[-1, :3, 3])),
+              float(rotation_angle_between(T, reference[-1])))
+    if not message and (errors[0] > position_tolerance or errors[1] > orientation_tolerance):
+        message = _shortfall(errors, scale[sl], sigma[sl], control)
     return MotionResult(
         t=t[sl].copy(), q=qs[sl], qd=qds[sl], poses=poses[sl], reference=reference[sl].copy(),
-        target=reference[-1].copy(),
-        position_error=float(np.linalg.norm(T[:3, 3] - reference[-1, :3, 3])),
-        orientation_error=float(rotation_angle_between(T, reference[-1])),
-        max_position_error=float(position_errors.max()),
-        max_orientation_error=float(angle_errors.max()),
-        sigma_min=sigma[sl], completed=completed, message=message)
+        target=reference[-1].copy(), position_error=errors[0], orientation_error=errors[1],
+        max_position_error=float(np.linalg.norm(poses[sl, :3, 3] - reference[sl, :3, 3], axis=-1).max()),
+        max_orientation_error=float(rotation_angle_between(poses[sl], reference[sl]).max()),
+        sigma_min=sigma[sl], scale=scale[sl], completed=not message, message=message or "completed")
 
 
 def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: float, *,
