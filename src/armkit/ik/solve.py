@@ -8,9 +8,8 @@ of :func:`armkit.ik.closed_form.closed_form_ik` is
 2. verified by forward kinematics: it must reproduce the target within
    :data:`VERIFY_TOLERANCE` (candidates above ``1e-10`` are first refined by a few
    Newton steps of the numeric solver, without leaving the solution's branch);
-3. merged with duplicates (equal joint values, revolute angles modulo ``2 pi``),
-   keeping the one-parameter-family flag of either;
-4. flagged inside or outside the limits and sorted by distance to ``near``.
+3. flagged inside or outside the limits and sorted by distance to ``near``
+   (``closed_form_ik`` has already merged duplicates, modulo ``2 pi``).
 
 Chains without a closed form, and targets with a task ``mask``, go to the numeric
 solver (:func:`armkit.ik.numeric.numeric_ik`) seeded from ``near``.
@@ -36,14 +35,14 @@ from armkit.robot import LIMIT_TOLERANCE
 from armkit.spatial.rotations import rotation_angle_between
 from armkit.spatial.transforms import check_transform
 
-__all__ = ["DUPLICATE_TOLERANCE", "VERIFY_TOLERANCE", "IKSolutions", "ik", "ik_solutions"]
+__all__ = ["VERIFY_TOLERANCE", "IKSolutions", "ik", "ik_solutions"]
 
 #: Position [m] and angle [rad] within which every returned solution reproduces the target.
 VERIFY_TOLERANCE = 1e-9
-#: Candidates whose joint values differ by less than this [rad or m] are one solution.
-DUPLICATE_TOLERANCE = 1e-6
 #: Candidates with a larger FK residual [m or rad] are refined by Newton steps.
 _REFINE_ABOVE = 1e-10
+#: A refinement may move a candidate by at most this [rad or m] (it must stay on its branch).
+_REFINE_MAX_MOVE = 1e-6
 #: Budget of the search for the closest pose when a target is out of reach.
 _CLOSEST_POSE_RESTARTS = 20
 
@@ -108,14 +107,6 @@ def _residuals(chain: Chain, q: NDArray[np.float64],
             rotation_angle_between(T, T_target))
 
 
-def _joint_distance(chain: Chain, a: NDArray[np.float64], b: NDArray[np.float64],
-                    weights: NDArray[np.float64], modulo: bool) -> NDArray[np.float64]:
-    diff = a - b
-    if modulo:
-        diff = np.where(chain.prismatic, diff, (diff + np.pi) % (2 * np.pi) - np.pi)
-    return np.linalg.norm(weights * diff, axis=-1)
-
-
 def _refine(chain: Chain, q: NDArray[np.float64], T_target: NDArray[np.float64],
             position_error: NDArray[np.float64], orientation_error: NDArray[np.float64],
             candidates: NDArray[np.bool_]) -> None:
@@ -128,7 +119,7 @@ def _refine(chain: Chain, q: NDArray[np.float64], T_target: NDArray[np.float64],
         moved = np.abs(result.q - q[index]).max()
         better = (result.position_error + result.orientation_error
                   < position_error[index] + orientation_error[index])
-        if better and moved < DUPLICATE_TOLERANCE:
+        if better and moved < _REFINE_MAX_MOVE:
             q[index] = result.q
             position_error[index] = result.position_error
             orientation_error[index] = result.orientation_error
@@ -136,10 +127,11 @@ def _refine(chain: Chain, q: NDArray[np.float64], T_target: NDArray[np.float64],
 
 def _candidates(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64],
                 weights: NDArray[np.float64]) -> dict[str, NDArray]:
-    """All verified, distinct closed-form solutions of the targets ``T`` ``(N, 4, 4)``.
+    """The verified closed-form solutions of the targets ``T`` ``(N, 4, 4)``, nearest first.
 
-    Returns arrays over ``(N, k)`` candidates: ``q`` ``(N, k, n)``, ``keep`` (verified
-    and not a duplicate), ``inside``, ``family``, residuals and ``distance`` to ``near``.
+    Returns arrays over ``(N, k)`` candidates, sorted per pose so that the verified ones
+    (``keep``) come first, nearest to ``near`` first: ``q`` ``(N, k, n)``, ``keep``,
+    ``inside``, ``family``, ``position_error``, ``orientation_error``.
     """
     chain = solver.chain
     raw = solver.solve(T)
@@ -149,22 +141,13 @@ def _candidates(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[
     T_target = np.broadcast_to(T[:, None], (*q.shape[:-1], 4, 4))
     position_error, orientation_error = _residuals(chain, q, T_target)
     _refine(chain, q, T_target, position_error, orientation_error, valid)
-    verified = (valid & (position_error <= VERIFY_TOLERANCE)
-                & (orientation_error <= VERIFY_TOLERANCE))
-    same = _joint_distance(chain, q[:, :, None, :], q[:, None, :, :], 1.0, modulo=True)
-    same = (same < DUPLICATE_TOLERANCE) & verified[:, :, None] & verified[:, None, :]
-    duplicate = np.tril(same, k=-1).any(axis=-1)
-    family = np.asarray(raw.family, dtype=bool)
-    family = (same & family[:, None, :]).any(axis=-1) | family
-    return {"q": q, "keep": verified & ~duplicate, "inside": _inside(chain, q), "family": family,
-            "position_error": position_error, "orientation_error": orientation_error,
-            "distance": _joint_distance(chain, q, near[:, None, :], weights, modulo=False)}
-
-
-def _sorted(selected: NDArray[np.bool_], distance: NDArray[np.float64]) -> NDArray[np.intp]:
-    """Indices of the selected candidates, nearest first."""
-    index = np.flatnonzero(selected)
-    return index[np.argsort(distance[index], kind="stable")]
+    keep = valid & (position_error <= VERIFY_TOLERANCE) & (orientation_error <= VERIFY_TOLERANCE)
+    distance = np.linalg.norm(weights * (q - near[:, None, :]), axis=-1)
+    order = np.argsort(np.where(keep, distance, np.inf), axis=1, kind="stable")
+    out = {"q": q, "keep": keep, "inside": _inside(chain, q), "family": raw.family & keep,
+           "position_error": position_error, "orientation_error": orientation_error}
+    return {key: np.take_along_axis(value, order[:, :, None] if value.ndim == 3 else order, axis=1)
+            for key, value in out.items()}
 
 
 def _angle_text(angle: float) -> str:
@@ -253,11 +236,9 @@ def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None
     if isinstance(solver, NoClosedFormError):
         raise solver
     c = _candidates(solver, T, near, weights)
-    out = []
-    for i in range(len(T)):
-        keep = _sorted(c["keep"][i], c["distance"][i])
-        out.append(IKSolutions(c["q"][i, keep], c["inside"][i, keep], c["family"][i, keep],
-                               c["position_error"][i, keep], c["orientation_error"][i, keep]))
+    fields = [c[key] for key in ("q", "inside", "family", "position_error", "orientation_error")]
+    out = [IKSolutions(*(field[i, :count] for field in fields))
+           for i, count in enumerate(c["keep"].sum(axis=1))]
     return out if batch else out[0]
 
 
@@ -349,8 +330,8 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
             raise _outside_limits(chain, c["q"][i, first], labels[i])
         raise _unreachable(chain, T[i], near[i], labels[i])
     if all:
-        found = [c["q"][i, _sorted(usable[i], c["distance"][i])] for i in range(len(T))]
+        found = [c["q"][i, usable[i]] for i in range(len(T))]
         return found if batch else found[0]
-    best = np.argmin(np.where(usable, c["distance"], np.inf), axis=-1)
-    q = np.take_along_axis(c["q"], best[:, None, None], axis=1)[:, 0]
+    first = np.argmax(usable, axis=-1)  # candidates are sorted nearest first
+    q = np.take_along_axis(c["q"], first[:, None, None], axis=1)[:, 0]
     return q.reshape(*batch, chain.n)
