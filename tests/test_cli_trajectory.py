@@ -63,6 +63,13 @@ def test_auto_time_meets_the_limits_and_is_tight(capsys, tmp_path):
     assert duration < 10.0 and "1.000" in out
 
 
+def test_times_are_the_same_as_durations(capsys):
+    base = ["traj", "probot-anno", "--waypoints", JOINTS]
+    code, by_times, _ = run(capsys, *base, "--times", "0", "10", "20", "30")
+    code_d, by_durations, _ = run(capsys, *base, "--durations", "10", "10", "10")
+    assert code == code_d == 0 and by_times == by_durations
+
+
 def test_too_short_durations_are_stretched_and_reported(capsys):
     code, out, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--durations", "2", "2", "2")
     assert code == 0
@@ -75,8 +82,11 @@ def test_too_short_durations_are_stretched_and_reported(capsys):
     (["--durations", "10", "-1", "10"], "must be positive"),
     (["--durations", "10", "x", "10"], "--durations: 'x' is not a number"),
     (["--durations", "10", "nan", "10"], "durations: contains NaN"),
-    ([], "give either --durations D1 D2 ... .* or --auto-time"),
-    (["--auto-time", "--durations", "1", "1", "1"], "give either"),
+    ([], r"give one of --durations D1 D2 ... .* --times T1 T2 ... .* or --auto-time"),
+    (["--auto-time", "--durations", "1", "1", "1"], "give one of"),
+    (["--times", "0", "10", "5", "30"], "times: must increase, but waypoint 3 is at 5 s after waypoint 2"),
+    (["--times", "0", "10", "20"], "--times: 4 waypoints need 4 waypoint times, got 3"),
+    (["--durations"], r"--durations: expected numbers \(seconds\) after it, got none"),
     (["--auto-time", "5"], "unexpected values 5"),
 ])
 def test_bad_durations(capsys, args, message):

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 import armkit
 from armkit.errors import InputError
-from armkit.trajectory import JointTrajectory, min_jerk, quintic
+from armkit.trajectory import JointTrajectory, durations_from_times, min_jerk, quintic
 from armkit.trajectory.polynomial import quintic_coefficients
 
 # Report 000: IK solutions of the four Cartesian waypoints (SEED_ROBOTS.md, section 1).
@@ -172,3 +172,11 @@ def test_long_trajectory_solves_in_one_banded_system():
 def test_bad_input_is_a_clear_error(waypoints, durations, message):
     with pytest.raises(InputError, match=message):
         min_jerk(waypoints, durations)
+
+
+def test_durations_from_increasing_times():
+    np.testing.assert_array_equal(durations_from_times([1.0, 2.5, 4.0]), [1.5, 1.5])
+    with pytest.raises(InputError, match="increase, but waypoint 3 is at 2.5 s after waypoint 2 at 2.5 s"):
+        durations_from_times([0.0, 2.5, 2.5])
+    with pytest.raises(InputError, match="at least two"):
+        durations_from_times([0.0])

@@ -13,7 +13,7 @@ from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, parse_float
 from armkit.errors import InputError
 from armkit.plots import plot_pva, plot_tool_path, save_figure
 from armkit.robot import Robot
-from armkit.trajectory import JointTrajectory, plan_trajectory, read_waypoints
+from armkit.trajectory import JointTrajectory, durations_from_times, plan_trajectory, read_waypoints
 from armkit.trajectory.export import write_csv, write_npz
 
 
@@ -26,17 +26,20 @@ def _check_output(path: Path | None, suffixes: tuple[str, ...], force: bool, wha
         raise InputError(f"{path} already exists; add --force to replace it")
 
 
-def _durations(values: list[str] | None, given: bool, auto: bool) -> np.ndarray | None:
-    if values and not given:
+def _durations(values: list[str] | None, durations: bool, times: bool, auto: bool) -> np.ndarray | None:
+    if values and not (durations or times):
         raise InputError(f"unexpected values {' '.join(values)}: segment durations are given "
-                         f"after --durations")
-    if given == auto:
-        raise InputError("give either --durations D1 D2 ... (one per segment, seconds) or --auto-time")
+                         f"after --durations (or waypoint times after --times)")
+    if durations + times + auto != 1:
+        raise InputError("give one of --durations D1 D2 ... (one per segment, seconds), "
+                         "--times T1 T2 ... (one per waypoint, seconds) or --auto-time")
     if auto:
         return None
+    option = "--durations" if durations else "--times"
     if not values:
-        raise InputError("--durations: expected one duration per segment [s], got none")
-    return np.array(parse_floats(values, "--durations"))
+        raise InputError(f"{option}: expected numbers (seconds) after it, got none")
+    numbers = np.array(parse_floats(values, option))
+    return numbers if durations else durations_from_times(numbers)
 
 
 def _summary(robot: Robot, traj: JointTrajectory) -> Table:
@@ -67,20 +70,23 @@ def _warn_position_limits(robot: Robot, q: np.ndarray) -> None:
 def traj_command(
     robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
     duration_values: Annotated[list[str] | None, typer.Argument(
-        metavar="[D...]", help="Segment durations [s] after --durations.", show_default=False)] = None,
+        metavar="[D... | T...]", help="Segment durations (s) after --durations, or waypoint times (s) "
+                                      "after --times.", show_default=False)] = None,
     waypoints: Annotated[Path, typer.Option(
-        help="CSV file, one waypoint per line (header allowed): joint values [rad, m], or with "
-             "--poses x y z a b c [m, rad].", show_default=False)] = ...,
+        help="CSV file, one waypoint per line (header allowed): joint values (rad, m), or with "
+             "--poses x y z a b c (m, rad).", show_default=False)] = ...,
     poses: Annotated[bool, typer.Option("--poses", help="Waypoints are tool poses, solved by IK "
                                                         "(each nearest the previous).")] = False,
     euler: Annotated[str, typer.Option(help="Angle convention of the poses, e.g. xyz-fixed (roll "
                                             "pitch yaw), zyz-euler.")] = "xyz-fixed",
     durations: Annotated[bool, typer.Option("--durations", help="The segment durations D... that "
-                                                                "follow [s], one per segment; "
+                                                                "follow (s), one per segment; "
                                                                 "stretched if a limit needs it.")] = False,
+    times: Annotated[bool, typer.Option("--times", help="The waypoint times T... that follow (s), "
+                                                        "one per waypoint, increasing.")] = False,
     auto_time: Annotated[bool, typer.Option("--auto-time", help="The shortest durations within the "
                                                                 "velocity and acceleration limits.")] = False,
-    rate: Annotated[float, typer.Option(help="Sampling rate of --out [Hz].")] = 100.0,
+    rate: Annotated[float, typer.Option(help="Sampling rate of --out (Hz).")] = 100.0,
     out: Annotated[Path | None, typer.Option(help="Write samples t,q1..,qd1..,qdd1.. to this .csv "
                                                   "or .npz file (SI units).", show_default=False)] = None,
     plot: Annotated[Path | None, typer.Option(help="Save the position/velocity/acceleration figure "
@@ -94,17 +100,18 @@ def traj_command(
     Example: armkit traj probot-anno --waypoints examples/data/probot_seed_poses.csv --poses
     --durations 10 10 10 --plot pva.png
     """
-    segment_durations = _durations(duration_values, durations, auto_time)
+    segment_durations = _durations(duration_values, durations, times, auto_time)
     _check_output(out, (".csv", ".npz"), force, "--out")
     for path, what in ((plot, "--plot"), (plot_path, "--plot-path")):
         _check_output(path, (".png", ".svg", ".pdf"), force, what)
     if not rate > 0:
-        raise InputError(f"--rate: expected a positive sampling rate [Hz], got {rate:g}")
+        raise InputError(f"--rate: expected a positive sampling rate (Hz), got {rate:g}")
     arm = load_robot(robot)
     rows = read_waypoints(waypoints, 6 if poses else arm.n)
     if segment_durations is not None and segment_durations.size != len(rows) - 1:
-        raise InputError(f"--durations: {len(rows)} waypoints need {len(rows) - 1} segment durations, "
-                         f"got {segment_durations.size}")
+        wanted = (f"{len(rows) - 1} segment durations" if durations else f"{len(rows)} waypoint times")
+        raise InputError(f"{'--durations' if durations else '--times'}: {len(rows)} waypoints need "
+                         f"{wanted}, got {len(duration_values)}")
     traj = plan_trajectory(arm, rows, segment_durations, poses=poses, convention=euler)
     samples = traj.sample(rate)
     _warn_position_limits(arm, traj.sample(max(rate, 2000.0 / traj.duration)).q)

@@ -9,6 +9,7 @@ object), :mod:`~armkit.trajectory.timing` (fitting durations to limits),
 (a robot's trajectory within its limits).
 """
 
+from armkit.trajectory._checks import durations_from_times
 from armkit.trajectory.joint_trajectory import JointTrajectory, TrajectorySamples
 from armkit.trajectory.min_jerk import min_jerk
 from armkit.trajectory.plan import plan_trajectory
@@ -24,6 +25,7 @@ __all__ = [
     "TrapezoidSegment",
     "auto_time",
     "cubic",
+    "durations_from_times",
     "joint_waypoints",
     "joint_waypoints_from_poses",
     "limit_ratio",

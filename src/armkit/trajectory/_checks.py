@@ -7,7 +7,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError
 
-__all__ = ["check_durations", "check_finite", "check_waypoints"]
+__all__ = ["check_durations", "check_finite", "check_waypoints", "durations_from_times"]
 
 
 def check_finite(values: ArrayLike, name: str) -> NDArray[np.float64]:
@@ -32,7 +32,7 @@ def check_durations(durations: ArrayLike, count: int | None = None,
                          f"got {durations.size}")
     bad = np.flatnonzero(durations <= 0)
     if bad.size:
-        raise InputError(f"{name}: every segment duration must be positive [s], got "
+        raise InputError(f"{name}: every segment duration must be positive (seconds), got "
                          f"{durations[bad[0]]:g} for segment {bad[0] + 1}")
     return durations
 
@@ -47,3 +47,20 @@ def check_waypoints(waypoints: ArrayLike, name: str = "waypoints") -> NDArray[np
     if waypoints.shape[0] < 2:
         raise InputError(f"{name}: a trajectory needs at least two waypoints, got {waypoints.shape[0]}")
     return waypoints
+
+
+def durations_from_times(times: ArrayLike) -> NDArray[np.float64]:
+    """Segment durations ``(M - 1,)`` [s] from strictly increasing waypoint times ``(M,)`` [s].
+
+    >>> durations_from_times([0.0, 10.0, 20.0, 30.0])
+    array([10., 10., 10.])
+    """
+    times = np.atleast_1d(check_finite(times, "times"))
+    if times.ndim != 1 or times.size < 2:
+        raise InputError(f"times: expected one time per waypoint (at least two), got {times.tolist()}")
+    bad = np.flatnonzero(np.diff(times) <= 0)
+    if bad.size:
+        k = int(bad[0])
+        raise InputError(f"times: must increase, but waypoint {k + 2} is at {times[k + 1]:g} s after "
+                         f"waypoint {k + 1} at {times[k]:g} s")
+    return np.diff(times)

@@ -120,7 +120,7 @@ class JointTrajectory:
         """
         rate = float(check_finite(rate_hz, "rate_hz"))
         if rate <= 0:
-            raise InputError(f"rate_hz: expected a positive sampling rate [Hz], got {rate:g}")
+            raise InputError(f"rate_hz: expected a positive sampling rate (Hz), got {rate:g}")
         count = int(np.floor(self.duration * rate + 1e-9))
         t = np.arange(count + 1) / rate
         if self.duration - t[-1] > TIME_TOLERANCE * max(1.0, self.duration):
