@@ -30,6 +30,7 @@ def test_done_when_seed_poses_to_pva_figure(capsys, tmp_path):
                          "--durations", "10", "10", "10", "--plot", png)
     assert code == 0, err
     assert "3 segments, 30 s" in out and "q5" in out and "0.9599" in out
+    assert "0.7955" in out and "2.9451" in out                 # IK waypoints, report p2 and p4
     with Image.open(png) as image:
         assert image.width > 1500 and image.height > 700
 

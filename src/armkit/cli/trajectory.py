@@ -58,6 +58,17 @@ def _summary(robot: Robot, traj: JointTrajectory) -> Table:
     return table
 
 
+def _waypoint_table(robot: Robot, traj: JointTrajectory) -> Table:
+    table = Table(title="Waypoints: IK solutions, each nearest the previous (rad, m)")
+    table.add_column("#", justify="right")
+    table.add_column("t (s)", justify="right")
+    for name in robot.joint_names:
+        table.add_column(name, justify="right")
+    for k, (t, q) in enumerate(zip(traj.waypoint_times, traj.waypoints, strict=True), start=1):
+        table.add_row(str(k), f"{t:.4g}", *(f"{v:.4f}" for v in np.round(q, 4) + 0.0))
+    return table
+
+
 def _warn_position_limits(robot: Robot, q: np.ndarray) -> None:
     low, high = robot.limits.T
     for j, name in enumerate(robot.joint_names):
@@ -115,6 +126,8 @@ def traj_command(
     traj = plan_trajectory(arm, rows, segment_durations, poses=poses, convention=euler)
     samples = traj.sample(rate)
     _warn_position_limits(arm, traj.sample(max(rate, 2000.0 / traj.duration)).q)
+    if poses:
+        console.print(_waypoint_table(arm, traj))
     console.print(_summary(arm, traj))
     final = ", ".join(f"{d:.4g}" for d in traj.durations)
     console.print(f"segment durations [s]: {final}", markup=False)
