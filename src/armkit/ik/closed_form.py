@@ -46,7 +46,6 @@ from armkit.ik.subproblems import (
     cross,
     dot,
     rotate,
-    rotation_matrix,
     solve_trig_linear,
     sp1,
     sp2,
@@ -77,7 +76,7 @@ class ClosedFormSolutions:
     Attributes
     ----------
     q : ndarray (..., k_max, n)
-        Candidate joint values [rad or m]; revolute ones in ``[-pi, pi)``, not fitted to
+        Candidate joint values [rad or m]; revolute ones in ``[-pi, pi]``, not fitted to
         the joint limits and not filtered by them.
     valid : ndarray of bool (..., k_max)
         The candidate is a solution (reproduces the pose; duplicates are invalid).
@@ -104,6 +103,16 @@ def _planar_2r(h: Array, a: Array, b: Array, v: Array) -> tuple[Array, Array, Ma
     u = a[..., None, :] + rotate(h, tb, b[..., None, :])
     ta, free_a = sp1(u, v[..., None, :], h)
     return ta, tb, valid, free_a | free_b[..., None]
+
+
+def _matvec(R: Array, v: Array) -> Array:
+    """``R v`` for broadcasting stacks of ``(..., 3, 3)`` matrices and ``(..., 3)`` vectors."""
+    return np.sum(R * v[..., None, :], axis=-1)
+
+
+def _matvec_transposed(R: Array, v: Array) -> Array:
+    """``R^T v`` for broadcasting stacks of matrices ``(..., 3, 3)`` and vectors ``(..., 3)``."""
+    return np.sum(R * v[..., :, None], axis=-2)
 
 
 def _transform_point(R: Array, t: Array, p: Array) -> Array:
@@ -138,8 +147,12 @@ class ClosedFormSolver:
         self._M_inv = M_inv
         self._revolute_user = ~chain.prismatic
         kind = plan.structure.kind
+        # Over-determined chains (fewer than 6 joints) must be checked by FK; for 6 joints
+        # every subproblem checks its own existence, so the masks are exact.
+        self._verify = chain.n < 6
         if kind in ("spherical-wrist", "spherical-base"):
             self._k = 8
+            self._u6 = _unit_normal(poe.axes[5])
             self._solve = self._spherical
         elif kind == "three-parallel":
             self._k = 8
@@ -149,6 +162,8 @@ class ClosedFormSolver:
             self._k = 2
             self._setup_planar()
             self._solve = self._planar
+        self._pairs = np.triu_indices(self._k, 1)  # candidate pairs (earlier, later)
+        self._identity_map = bool(np.all(poe.index == np.arange(poe.n)) and np.all(poe.sign == 1))
 
     # ------------------------------------------------------------------ public
     def solve(self, T_base_tool: ArrayLike) -> ClosedFormSolutions:
@@ -166,11 +181,15 @@ class ClosedFormSolver:
         G = T_int @ self._M_inv
         q_int, valid, family = self._solve(G[:, :3, :3], G[:, :3, 3])
         n = self._poe.n
-        q = np.empty_like(q_int)
-        q[..., self._poe.index] = q_int * self._poe.sign
-        rev = self._revolute_user
-        q[..., rev] = (q[..., rev] + np.pi) % (2 * np.pi) - np.pi
-        valid = valid & self._reproduces(q, T)
+        if self._identity_map:
+            q = np.array(q_int, dtype=float)
+        else:
+            q = np.empty_like(q_int)
+            q[..., self._poe.index] = q_int * self._poe.sign
+        turns = np.round(q * (0.5 / np.pi)) * (2 * np.pi)
+        q -= turns if self._revolute_user.all() else turns * self._revolute_user
+        if self._verify:
+            valid = valid & self._reproduces(q, T)
         valid = valid & ~self._duplicates(q, valid)
         k = q.shape[1]
         return ClosedFormSolutions(q.reshape(*batch, k, n), valid.reshape(*batch, k),
@@ -182,12 +201,24 @@ class ClosedFormSolver:
         return error <= self._verify_tol
 
     def _duplicates(self, q: Array, valid: Mask) -> Mask:
-        diff = q[:, :, None, :] - q[:, None, :, :]
-        rev = self._revolute_user
-        diff[..., rev] = (diff[..., rev] + np.pi) % (2 * np.pi) - np.pi
-        same = np.abs(diff).max(axis=-1) <= DUPLICATE_TOLERANCE
-        earlier = np.tri(q.shape[1], k=-1, dtype=bool)  # [j, i]: i < j
-        return np.any(same & earlier & valid[:, None, :], axis=-1)
+        """Candidates equal (modulo 2 pi) to an earlier valid one, ``(N, k)``.
+
+        Equal candidates have sums of joint values equal modulo 2 pi: that cheap test
+        picks the few pairs that are then compared joint by joint.
+        """
+        first, second = self._pairs
+        total = q.sum(axis=-1)
+        d = total[:, first] - total[:, second]
+        d -= np.round(d * (0.5 / np.pi)) * (2 * np.pi)
+        rows, pairs = np.nonzero((np.abs(d) <= q.shape[-1] * DUPLICATE_TOLERANCE) & valid[:, first])
+        duplicate = np.zeros(valid.shape, dtype=bool)
+        if rows.size:
+            diff = np.abs(q[rows, first[pairs]] - q[rows, second[pairs]])
+            rev = self._revolute_user
+            diff[:, rev] = np.minimum(diff[:, rev], 2 * np.pi - diff[:, rev])
+            same = np.all(diff <= DUPLICATE_TOLERANCE, axis=-1)
+            duplicate[rows[same], second[pairs[same]]] = True
+        return duplicate
 
     # -------------------------------------------------------- spherical wrist
     def _wrist_centre_joints(self, w: Array) -> tuple[Array, Mask, Mask]:
@@ -246,16 +277,16 @@ class ClosedFormSolver:
         N = len(t_G)
         w = _transform_point(R_G, t_G, self._plan.point)
         q123, valid, free = self._wrist_centre_joints(w)
-        R123 = np.broadcast_to(np.eye(3), (N, 4, 3, 3))
+        # the wrist's rotation R_w = R123^T R_G, applied to h6 and a normal u of it
+        u = self._u6
+        vectors = np.stack([R_G @ h[5], R_G @ u], axis=1)[:, None]  # (N, 1, 2, 3)
         for j in range(3):
             if not poe.prismatic[j]:
-                R123 = R123 @ rotation_matrix(h[j], q123[..., j])
-        R_w = np.swapaxes(R123, -1, -2) @ R_G[:, None]
-        q4, q5, v45, f4, f5 = sp2(R_w @ h[5], h[5], -h[3], h[4])
-        R45 = rotation_matrix(h[3], q4) @ rotation_matrix(h[4], q5)
-        u = _unit_normal(h[5])
-        target = np.swapaxes(R45, -1, -2) @ (R_w @ u)[:, :, None, :, None]
-        q6, f6 = sp1(u, target[..., 0], h[5])
+                vectors = rotate(-h[j], q123[:, :, None, j], vectors)
+        q4, q5, v45, f4, f5 = sp2(vectors[:, :, 0], h[5], -h[3], h[4])
+        # R6 u = R5^T R4^T R_w u
+        target = rotate(-h[4], q5, rotate(-h[3], q4, vectors[:, :, None, 1]))
+        q6, f6 = sp1(u, target, h[5])
         q = np.concatenate([np.broadcast_to(q123[:, :, None, :], (N, 4, 2, 3)),
                             np.stack([q4, q5, q6], axis=-1)], axis=-1)
         valid = valid[:, :, None] & v45
@@ -352,11 +383,16 @@ class ClosedFormSolver:
         x1 = np.stack([np.cos(t), np.sin(t)], axis=-1)
         x5 = (W[:, None] @ x1[..., None])[..., 0] - w0[:, None, :]
         q5 = np.arctan2(x5[..., 1], x5[..., 0])
-        t, q5 = self._polish(P, r, t, q5)
+        t, q5, residual = self._polish(P, r, t, q5)
+        size = 1.0 + np.abs(P).max(axis=(-1, -2)) + np.abs(r).max(axis=-1)
+        valid = valid & (residual <= 1e-10 * size[:, None])
         return t, q5, valid, np.zeros_like(valid)
 
-    def _polish(self, P: Array, r: Array, q1: Array, q5: Array) -> tuple[Array, Array]:
-        """Newton steps on ``P x1(q1) - Q x5(q5) = r`` itself (Q^-1 may be ill-conditioned)."""
+    def _polish(self, P: Array, r: Array, q1: Array, q5: Array) -> tuple[Array, Array, Array]:
+        """Newton steps on ``P x1(q1) - Q x5(q5) = r`` itself (Q^-1 may be ill-conditioned).
+
+        Returns the polished angles and the remaining residual ``max |P x1 - Q x5 - r|``.
+        """
         Q = self._Q
         for _ in range(6):  # quadratic convergence; linear near a double root
             c1, s1, c5, s5 = np.cos(q1), np.sin(q1), np.cos(q5), np.sin(q5)
@@ -371,27 +407,28 @@ class ClosedFormSolver:
             step1 = np.where(ok, (d5[..., 1] * F[..., 0] - d5[..., 0] * F[..., 1]) / det, 0.0)
             step5 = np.where(ok, (d1[..., 0] * F[..., 1] - d1[..., 1] * F[..., 0]) / det, 0.0)
             q1, q5 = q1 - np.clip(step1, -0.1, 0.1), q5 - np.clip(step5, -0.1, 0.1)
-        return q1, q5
+        x1 = np.stack([np.cos(q1), np.sin(q1)], axis=-1)
+        x5 = np.stack([np.cos(q5), np.sin(q5)], axis=-1)
+        F = (P[:, None] @ x1[..., None])[..., 0] - x5 @ Q.T - r[:, None, :]
+        return q1, q5, np.abs(F).max(axis=-1)
 
     def _three_parallel(self, R_G: Array, t_G: Array) -> tuple[Array, Mask, Mask]:
         poe = self._poe
         h_all, p = poe.axes, poe.points
         h, N = self._h, len(t_G)
         q1, q5, valid, free = self._q1_q5(R_G, t_G)
-        R1 = rotation_matrix(h_all[0], q1)  # (N, 4, 3, 3)
-        R5 = rotation_matrix(h_all[4], q5)
+        R_G4 = R_G[:, None]
         # q6: R6^T (R5^T h) = R_G^T R1 h
-        v = np.swapaxes(R5, -1, -2) @ h
-        w = np.swapaxes(R_G, -1, -2)[:, None] @ (R1 @ h)[..., None]
-        q6, f6 = sp1(v, w[..., 0], -h_all[5])
-        R6 = rotation_matrix(h_all[5], q6)
-        # q2 + q3 + q4: R234 = R1^T R_G R6^T R5^T
-        R234 = np.swapaxes(R1, -1, -2) @ R_G[:, None] @ np.swapaxes(R5 @ R6, -1, -2)
-        theta, _ = sp1(self._u_h, R234 @ self._u_h, h)
+        v = rotate(-h_all[4], q5, h)
+        w = _matvec_transposed(R_G4, rotate(h_all[0], q1, h))
+        q6, f6 = sp1(v, w, -h_all[5])
+        # q2 + q3 + q4: R234 = R1^T R_G R6^T R5^T, applied to a normal of h
+        turned = rotate(-h_all[5], q6, rotate(-h_all[4], q5, self._u_h))
+        turned = rotate(-h_all[0], q1, _matvec(R_G4, turned))
+        theta, _ = sp1(self._u_h, turned, h)
         # planar part: e2 e3 e4 y = z with y = e5 p6, z = e1^-1 G p6
         y = self._p5 + rotate(h_all[4], q5, self._p6 - self._p5)
-        z = p[0] + (np.swapaxes(R1, -1, -2) @ (_transform_point(R_G, t_G, self._p6) - p[0])[:, None, :,
-                                                                                            None])[..., 0]
+        z = p[0] + rotate(-h_all[0], q1, (_transform_point(R_G, t_G, self._p6) - p[0])[:, None, :])
         if f6.any():
             q6, theta = self._wrist_family_representative(f6, q6, theta, z - p[1], y - p[3])
         target = z - p[1] - rotate(h, theta, y - p[3])
