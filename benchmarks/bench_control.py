@@ -21,6 +21,7 @@ import time
 
 import numpy as np
 import roboticstoolbox as rtb
+from scipy.linalg import lapack
 from spatialmath import SE3
 
 import armkit
@@ -101,6 +102,13 @@ def main() -> None:
         ("closed-loop step (+ pose error)", armkit_closed_loop,
          [("rtb ETS eval + p_servo + jacob0 + DLS", rtb_closed_loop)]),
     ]
+    J = ours.jacobian(q)
+    gram = J @ J.T
+    assert np.isclose(np.sqrt(lapack.dsyev(gram, compute_v=0)[0][0]), np.linalg.svd(J, compute_uv=False)[-1])
+    print("ingredient: smallest singular value of the 6x6 Jacobian [us]: "
+          f"np.linalg.svd {median_us(lambda: np.linalg.svd(J, compute_uv=False), repeat, number):.2f}, "
+          f"J J^T + LAPACK dsyev (armkit) "
+          f"{median_us(lambda: lapack.dsyev(J @ J.T, compute_v=0), repeat, number):.2f}")
     print(f"PROBOT Anno (6R), one configuration; median of {repeat} x {number} calls")
     print(f"{'case':34} {'armkit [us]':>11}  {'peer':38} {'peer [us]':>9} {'peer/armkit':>11}")
     for label, mine, peers in cases:
