@@ -78,3 +78,13 @@ def test_bad_input(kwargs, match):
     args = {"q0": Q0, "T_goal": T_GOAL, "duration": 1.0} | kwargs
     with pytest.raises(InputError, match=match):
         cartesian_line(PROBOT, **args)
+
+
+def test_a_line_through_the_wrist_singularity_fails_clearly():
+    # q4 and q6 change sign across q5 = pi/2: the IK path has to jump (branch change) there.
+    q0 = np.array([0.0, 0.3, 0.5, 0.2, np.pi / 2 - 0.15, 0.1])
+    T_goal = PROBOT.fk([0.0, 0.3, 0.5, -0.2, np.pi / 2 + 0.15, -0.1])
+    with pytest.raises(UnreachableError, match=r"t = 1 s, .* joint q\d jumps by [0-9.]+ between samples"):
+        cartesian_line(PROBOT, q0, T_goal, 2.0, rate=50)
+    with pytest.raises(UnreachableError, match="not reached by the closed loop .* near a singularity"):
+        cartesian_line(PROBOT, q0, T_goal, 2.0, rate=50, method="closed-loop")

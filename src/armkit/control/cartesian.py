@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from armkit.control.motions import DEFAULT_DT, _check_positive, _check_start, track_poses
+from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.robot import Robot
 from armkit.spatial.rotations import axis_angle_from_matrix
@@ -130,7 +131,7 @@ def _point(poses: NDArray[np.float64], t: NDArray[np.float64], k: int) -> str:
 
 
 def _by_ik(robot: Robot, q0: NDArray[np.float64], poses: NDArray[np.float64],
-           t: NDArray[np.float64]) -> NDArray[np.float64]:
+           t: NDArray[np.float64], max_joint_step: float) -> NDArray[np.float64]:
     q = np.empty((t.size, robot.n))
     q[0] = q0
     for k in range(1, t.size):
@@ -143,13 +144,12 @@ def _by_ik(robot: Robot, q0: NDArray[np.float64], poses: NDArray[np.float64],
             raise JointLimitError(f"Cartesian line: {_point(poses, t, k)} needs joints outside "
                                   f"their limits: {exc}") from exc
         jump = np.abs(q[k] - q[k - 1])
-        if jump.max() > MAX_SAMPLE_STEP:
+        if jump.max() > max_joint_step:
             j = int(np.argmax(jump))
             raise UnreachableError(
                 f"Cartesian line: at {_point(poses, t, k)} joint {robot.joint_names[j]} jumps by "
                 f"{jump[j]:.3g} between samples (an IK branch change at a singularity or limit); "
-                f"the line cannot be followed continuously here (try a higher rate or "
-                f"method='closed-loop')")
+                f"the line cannot be followed continuously here")
     return q
 
 
@@ -158,19 +158,27 @@ def _by_closed_loop(robot: Robot, q0: NDArray[np.float64], poses: NDArray[np.flo
     per_sample = max(1, int(np.ceil((t[1] - t[0]) / dt - 1e-9)))
     t_fine = np.linspace(0.0, duration, (t.size - 1) * per_sample + 1)
     fine, _, _ = line_poses(poses[0], poses[-1], t_fine, duration)
-    result = track_poses(robot, q0, t_fine, fine, stop_at_limits=False)
+    control = ResolvedRate(robot)
+    result = track_poses(robot, q0, t_fine, fine, control=control, stop_at_limits=False)
     errors = np.linalg.norm(result.poses[:, :3, 3] - fine[:, :3, 3], axis=-1)
     if errors.max() > REACH_TOLERANCE:
         k = int(np.argmax(errors > REACH_TOLERANCE))
+        if result.scale[:k + 1].min() < 1.0:
+            reason = "the joint velocity limits hold it back: allow a longer duration"
+        elif result.sigma_min[:k + 1].min() < control.threshold:
+            reason = (f"near a singularity (smallest singular value "
+                      f"{result.sigma_min[:k + 1].min():.3g}) or out of reach")
+        else:
+            reason = "out of reach"
         raise UnreachableError(
             f"Cartesian line: {_point(fine, t_fine, k)} is not reached by the closed loop "
-            f"(tool {errors[k]:.3g} m away; out of reach, or joint velocity limits too low "
-            f"for the duration)", float(errors.max()))
+            f"(tool {errors[k]:.3g} m away): {reason}", float(errors.max()))
     return result.q[::per_sample]
 
 
 def cartesian_line(robot: Robot, q0: ArrayLike, T_goal: ArrayLike, duration: float, *,
-                   rate: float = 100.0, method: str = "ik", dt: float = DEFAULT_DT) -> CartesianTrajectory:
+                   rate: float = 100.0, method: str = "ik", dt: float = DEFAULT_DT,
+                   max_joint_step: float = MAX_SAMPLE_STEP) -> CartesianTrajectory:
     """A straight tool line from ``robot.fk(q0)`` to ``T_goal``, sampled in joint space.
 
     Parameters
@@ -188,10 +196,15 @@ def cartesian_line(robot: Robot, q0: ArrayLike, T_goal: ArrayLike, duration: flo
         How the poses become joint values (see the module docstring).
     dt : float
         Control period [s] of the closed loop.
+    max_joint_step : float
+        Largest change of a joint [rad or m] between two IK samples; more counts as a jump
+        of the joint path (an IK branch change) and raises :class:`UnreachableError`.
 
     Returns
     -------
     CartesianTrajectory
+        The joint velocities are whatever the line needs: near a singularity they grow
+        without bound, so compare them with ``robot.max_velocity``.
 
     Raises
     ------
@@ -217,7 +230,7 @@ def cartesian_line(robot: Robot, q0: ArrayLike, T_goal: ArrayLike, duration: flo
     t = np.linspace(0.0, duration, max(1, int(np.ceil(duration * rate - 1e-9))) + 1)
     poses, twists, twist_rates = line_poses(robot.fk(q0), T_goal, t, duration)
     if method == "ik":
-        q = _by_ik(robot, q0, poses, t)
+        q = _by_ik(robot, q0, poses, t, _check_positive(max_joint_step, "max_joint_step", "rad or m"))
     elif method == "closed-loop":
         q = _by_closed_loop(robot, q0, poses, t, duration, _check_positive(dt, "dt", "s"))
     else:
