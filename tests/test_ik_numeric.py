@@ -20,11 +20,11 @@ from armkit.spatial import matrix_from_axis_angle, rotation_angle_between, trans
 def test_kernel_matches_batched_kinematics(name):
     robot = armkit.load(name)
     kernel = _Kernel(robot.chain)
-    for q in robot.random_q(5, rng=1):
-        axes, origins, T = kernel.frames(q)
-        np.testing.assert_allclose(T, kinematics.fk(robot.chain, q), atol=1e-14)
-        np.testing.assert_allclose(kernel.jacobian(axes, origins, T),
-                                   kinematics.geometric_jacobian(robot.chain, q), atol=1e-14)
+    q = robot.random_q(5, rng=1)
+    axes, origins, T = kernel.frames(q)
+    np.testing.assert_allclose(T, kinematics.fk(robot.chain, q), atol=1e-14)
+    np.testing.assert_allclose(kernel.jacobian(axes, origins, T),
+                               kinematics.geometric_jacobian(robot.chain, q), atol=1e-14)
 
 
 @given(st.lists(st.floats(-1, 1), min_size=3, max_size=3), st.floats(0.0, np.pi - 1e-6))
@@ -87,7 +87,7 @@ def test_position_only_target_for_a_five_joint_arm():
     assert result.success and result.orientation_error == 0.0
     np.testing.assert_allclose(robot.fk(result.q)[:3, 3], target[:3, 3], atol=1e-9)
     full = numeric_ik(robot.chain, target, max_restarts=3, rng=0)
-    assert not full.success and full.orientation_error > 1e-3
+    assert not full.success and full.position_error + full.orientation_error > 1e-3
 
 
 def test_unreachable_target_reports_the_closest_pose():

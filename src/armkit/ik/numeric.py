@@ -69,11 +69,12 @@ class IKResult:
 
 
 class _Kernel:
-    """Single-configuration FK, pose error and Jacobian of a chain, for the solver's hot loop.
+    """FK and Jacobian of a chain for a few configurations ``(B, n)`` at once: the solver's hot loop.
 
-    ``kinematics.fk`` and ``kinematics.geometric_jacobian`` serve batches; for one
-    configuration their per-call overhead dominates, so the solver builds every joint's
-    motion-times-next-link transform in one vectorised step and multiplies them in order.
+    ``kinematics.fk`` and ``kinematics.geometric_jacobian`` loop over joints with several
+    array operations each; for a handful of configurations that overhead dominates, so
+    the kernel builds every joint's motion-times-next-link transform in one product and
+    multiplies them in order.
     """
 
     def __init__(self, chain: Chain) -> None:
@@ -95,59 +96,66 @@ class _Kernel:
             else:
                 basis[i, 0], basis[i, 1], basis[i, 2] = B - C @ B, C @ B, S @ B
         self.basis = basis.reshape(self.n, 4, 16)
-        self.coefficients = np.zeros((self.n, 1, 4))
-        self.coefficients[:, 0, 0] = 1.0
 
-    def frames(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Joint axes and origins ``(n, 3)`` each, in the base frame, and the tool pose."""
-        k = self.coefficients
-        k[:, 0, 1] = np.cos(q)
-        k[:, 0, 2] = np.sin(q)
-        k[:, 0, 3] = q
-        A = (k @ self.basis).reshape(self.n, 4, 4)
-        P = np.empty((self.n + 1, 4, 4))
+    def frames(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+        """Joint axes and origins ``(B, n, 3)`` in the base frame and tool poses ``(B, 4, 4)``."""
+        batch = len(q)
+        k = np.empty((batch, self.n, 1, 4))
+        k[..., 0, 0] = 1.0
+        k[..., 0, 1] = np.cos(q)
+        k[..., 0, 2] = np.sin(q)
+        k[..., 0, 3] = q
+        A = (k @ self.basis).reshape(batch, self.n, 4, 4)
+        P = np.empty((self.n + 1, batch, 4, 4))
         P[0] = self.first
         for i in range(self.n):
-            np.matmul(P[i], A[i], out=P[i + 1])
-        return P[:-1, :3, 2], P[:-1, :3, 3], P[-1]
+            np.matmul(P[i], A[:, i], out=P[i + 1])
+        axes_origins = P[:-1, :, :3, 2:].transpose(1, 0, 3, 2)  # (B, n, 2, 3)
+        return axes_origins[:, :, 0], axes_origins[:, :, 1], P[-1]
 
     def jacobian(self, axes: NDArray[np.float64], origins: NDArray[np.float64],
                  T: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Geometric Jacobian ``(6, n)``, rows ``[v; w]``, from :meth:`frames`."""
-        r = T[:3, 3] - origins
-        J = np.empty((6, self.n))
-        J[0] = axes[:, 1] * r[:, 2] - axes[:, 2] * r[:, 1]
-        J[1] = axes[:, 2] * r[:, 0] - axes[:, 0] * r[:, 2]
-        J[2] = axes[:, 0] * r[:, 1] - axes[:, 1] * r[:, 0]
-        J[3:] = axes.T
+        """Geometric Jacobians ``(B, 6, n)``, rows ``[v; w]``, from :meth:`frames`."""
+        r = T[:, None, :3, 3] - origins
+        J = np.empty((len(T), 6, self.n))
+        J[:, 0] = axes[..., 1] * r[..., 2] - axes[..., 2] * r[..., 1]
+        J[:, 1] = axes[..., 2] * r[..., 0] - axes[..., 0] * r[..., 2]
+        J[:, 2] = axes[..., 0] * r[..., 1] - axes[..., 1] * r[..., 0]
+        J[:, 3:] = axes.transpose(0, 2, 1)
         if self.any_prismatic:
-            J[:3, self.prismatic] = axes[self.prismatic].T
-            J[3:, self.prismatic] = 0.0
+            J[:, :3, self.prismatic] = axes[:, self.prismatic].transpose(0, 2, 1)
+            J[:, 3:, self.prismatic] = 0.0
         return J
 
 
-def pose_error(T_target: NDArray[np.float64], T: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Pose error ``(6,)``: ``p_target - p`` [m] and the rotation vector of ``R_target R^T`` [rad].
+def pose_error(T_target: ArrayLike, T: ArrayLike) -> NDArray[np.float64]:
+    """Pose errors ``(..., 6)``: ``p_target - p`` [m] and the rotation vector of ``R_target R^T`` [rad].
 
     Both parts are in the base frame; the rotation vector's norm is the angle between
-    the two orientations, exact up to ``pi``.
+    the two orientations, exact up to ``pi``. Inputs ``(..., 4, 4)`` broadcast.
     """
-    e = np.empty(6)
-    e[:3] = T_target[:3, 3] - T[:3, 3]
-    R = T_target[:3, :3] @ T[:3, :3].T
-    v = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
-    norm = np.sqrt(v @ v)
-    trace = R[0, 0] + R[1, 1] + R[2, 2]
-    if norm > 1e-7 or trace > 0.0:
-        angle = np.arctan2(norm, trace - 1.0)
-        # angle / (2 sin angle) -> 1/2 for small angles; norm = 2 sin(angle).
-        e[3:] = v * (angle / norm if norm > 1e-300 else 0.5)
-    else:  # angle near pi: axis from the diagonal, sign from the off-diagonal terms
-        axis = np.sqrt(np.clip((np.diag(R) + 1.0) / 2.0, 0.0, None))
-        k = int(np.argmax(axis))
-        sign = np.sign(R[k] + R[:, k])
-        sign[k] = 1.0
-        e[3:] = np.pi * axis * np.where(sign == 0, 1.0, sign)
+    T_target, T = np.asarray(T_target, dtype=float), np.asarray(T, dtype=float)
+    R = T_target[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2)
+    flat = R.reshape(*R.shape[:-2], 9)
+    e = np.empty((*R.shape[:-2], 6))
+    e[..., :3] = T_target[..., :3, 3] - T[..., :3, 3]
+    v = flat[..., [7, 2, 3]] - flat[..., [5, 6, 1]]  # 2 sin(angle) * axis
+    norm = np.sqrt(np.einsum("...i,...i->...", v, v))
+    trace = flat[..., 0] + flat[..., 4] + flat[..., 8]
+    angle = np.arctan2(norm, trace - 1.0)
+    # angle / (2 sin angle) -> 1/2 for small angles
+    scale = np.divide(angle, norm, out=np.full_like(angle, 0.5), where=norm > 1e-300)
+    e[..., 3:] = v * scale[..., None]
+    half_turn = (norm <= 1e-7) & (trace <= 0.0)
+    if np.any(half_turn):  # angle near pi: axis from the diagonal, signs from off-diagonals
+        Rh = R[half_turn]
+        axis = np.sqrt(np.clip((np.diagonal(Rh, axis1=-2, axis2=-1) + 1.0) / 2.0, 0.0, None))
+        k = np.argmax(axis, axis=-1)
+        rows = np.take_along_axis(Rh, k[:, None, None], axis=-2)[:, 0]
+        columns = np.take_along_axis(Rh, k[:, None, None], axis=-1)[..., 0]
+        sign = np.where(rows + columns < 0, -1.0, 1.0)
+        np.put_along_axis(sign, k[:, None], 1.0, axis=-1)
+        e[half_turn, 3:] = np.pi * axis * sign
     return e
 
 
@@ -189,90 +197,107 @@ def _limits(chain: Chain) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
 
 
 class _Problem:
-    """One target: masked pose error and Jacobian rows, tolerances, limits, best pose seen."""
+    """One target: masked pose errors and Jacobian rows, tolerances, limits, best pose seen."""
 
     def __init__(self, chain: Chain, T_target: NDArray[np.float64], rows: NDArray[np.bool_],
                  tolerances: tuple[float, float], respect_limits: bool) -> None:
         self.kernel, self.T_target, self.rows, self.tolerances = _Kernel(chain), T_target, rows, tolerances
         self.lower, self.upper = _limits(chain)
         self.respect_limits = respect_limits
+        self.all_rows = bool(rows.all())
+        self.squared_tolerances = np.square(tolerances)
         self.best: tuple[float, NDArray[np.float64], float, float] | None = None
-        self.last: tuple[NDArray[np.float64], float, float] | None = None
 
-    def inside(self, q: NDArray[np.float64]) -> bool:
-        return not self.respect_limits or bool(np.all((q >= self.lower) & (q <= self.upper)))
+    def inside(self, q: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Whether configurations ``(..., n)`` are admissible (inside the limits if respected)."""
+        if not self.respect_limits:
+            return np.ones(q.shape[:-1], dtype=bool)
+        return np.all((q >= self.lower) & (q <= self.upper), axis=-1)
 
-    def evaluate(self, q: NDArray[np.float64]) -> tuple[NDArray, tuple, bool]:
-        """Masked error ``(m,)``, the frames for the Jacobian, and whether ``q`` is a solution.
+    def evaluate(self, q: NDArray[np.float64]) -> tuple[NDArray, tuple, NDArray, NDArray]:
+        """For configurations ``(B, n)``: masked errors ``(B, m)``, frames, solved ``(B,)``,
+        and ``(B, 2)`` position [m] and orientation [rad] errors.
 
-        Remembers ``q`` as :attr:`last`, and as :attr:`best` if it is admissible (inside the
-        limits when they are respected) with the smallest error so far.
+        Remembers the admissible configuration with the smallest error as :attr:`best`.
         """
-        axes, origins, T = self.kernel.frames(q)
-        e = pose_error(self.T_target, T)
-        e[~self.rows] = 0.0
-        position_error, orientation_error = float(np.sqrt(e[:3] @ e[:3])), float(np.sqrt(e[3:] @ e[3:]))
-        cost = 0.5 * float(e @ e)
-        self.last = (q, position_error, orientation_error)
-        if (self.best is None or cost < self.best[0]) and self.inside(q):
-            self.best = (cost, q, position_error, orientation_error)
-        solved = position_error <= self.tolerances[0] and orientation_error <= self.tolerances[1]
-        return e[self.rows], (axes, origins, T), solved
+        frames = self.kernel.frames(q)
+        e = pose_error(self.T_target, frames[2])
+        if not self.all_rows:
+            e[:, ~self.rows] = 0.0
+        squared = np.einsum("bij,bij->bi", e.reshape(-1, 2, 3), e.reshape(-1, 2, 3))  # (B, 2)
+        solved = np.all(squared <= self.squared_tolerances, axis=-1)
+        cost = 0.5 * squared.sum(axis=-1)
+        i = int(np.argmin(np.where(self.inside(q), cost, np.inf)))
+        if cost[i] < (np.inf if self.best is None else self.best[0]) and self.inside(q[i]):
+            self.best = (float(cost[i]), q[i].copy(), *np.sqrt(squared[i]).tolist())
+        return (e if self.all_rows else e[:, self.rows]), frames, solved, np.sqrt(squared)
 
     def jacobian(self, frames: tuple) -> NDArray[np.float64]:
-        return self.kernel.jacobian(*frames)[self.rows]
+        J = self.kernel.jacobian(*frames)
+        return J if self.all_rows else J[:, self.rows]
 
 
-def _levenberg_marquardt(problem: _Problem, q: NDArray[np.float64], iterations: int,
-                         damping_gain: float, damping: float) -> tuple[NDArray[np.float64], bool, int]:
-    """Unconstrained LM steps from ``q``: ``(q, solved, iterations used)``."""
-    eye = np.eye(len(q))
-    for i in range(iterations):
-        e, frames, solved = problem.evaluate(q)
-        if solved:
-            return q, True, i
-        J = problem.jacobian(frames)
-        q = q + np.linalg.solve(J.T @ J + (damping_gain * 0.5 * (e @ e) + damping) * eye, J.T @ e)
-    return q, problem.evaluate(q)[2], iterations
+def _step(problem: _Problem, e: NDArray[np.float64], frames: tuple, damping_gain: float,
+          damping: float) -> NDArray[np.float64]:
+    """Levenberg-Marquardt steps ``(B, n)`` for errors ``(B, m)``."""
+    J = problem.jacobian(frames)
+    Jt = J.transpose(0, 2, 1)
+    lam = damping_gain * 0.5 * np.sum(e * e, axis=-1) + damping
+    H = Jt @ J + lam[:, None, None] * np.eye(J.shape[-1])
+    return np.linalg.solve(H, (Jt @ e[..., None]))[..., 0]
 
 
 def _repair_limits(problem: _Problem, q: NDArray[np.float64],
                    iterations: int) -> tuple[NDArray[np.float64], bool, int]:
-    """Move a solution outside the limits along its self-motion into them (redundant arms).
+    """Move a solution ``(n,)`` outside the limits along its self-motion into them.
 
     Each step keeps the task error going to zero (``J^+ e``) and, in the null space of the
-    task Jacobian, pushes every joint beyond a limit to a small margin inside it.
+    task Jacobian, pushes every joint beyond a limit to a small margin inside it (this
+    needs a redundant arm or a masked task). Gives up when the violation stops shrinking.
     """
     lower, upper = problem.lower, problem.upper
     margin = np.minimum(0.05, 0.25 * (upper - lower))
     eye = np.eye(len(q))
     violations = []
     for i in range(iterations):
-        e, frames, solved = problem.evaluate(q)
-        if solved and problem.inside(q):
+        e, frames, solved, _ = problem.evaluate(q[None])
+        if solved[0] and problem.inside(q):
             return q, True, i
         violations.append(np.sum(np.maximum(lower - q, 0.0) + np.maximum(q - upper, 0.0)))
         if i >= _STALL_STEPS and violations[-1] > 0.9 * violations[-1 - _STALL_STEPS]:
             return q, False, i
-        J = problem.jacobian(frames)
-        J_pinv = J.T @ np.linalg.inv(J @ J.T + 1e-12 * np.eye(len(e)))
+        J = problem.jacobian(frames)[0]
+        J_pinv = J.T @ np.linalg.inv(J @ J.T + 1e-12 * np.eye(len(J)))
         push = np.where(q < lower, lower + margin - q, np.where(q > upper, upper - margin - q, 0.0))
-        q = q + J_pinv @ e + (eye - J_pinv @ J) @ push
-    return q, problem.evaluate(q)[2] and problem.inside(q), iterations
+        q = q + J_pinv @ e[0] + (eye - J_pinv @ J) @ push
+    return q, bool(problem.evaluate(q[None])[2][0] and problem.inside(q)), iterations
+
+
+def _admit(problem: _Problem, chain: Chain, q: NDArray[np.float64], middle: NDArray[np.float64],
+           iterations: int) -> tuple[NDArray[np.float64] | None, int]:
+    """A solution moved into the limits (whole turns, then self-motion), or None."""
+    if problem.inside(q):
+        return q, 0
+    q = wrap_into_limits(chain, q, middle)
+    if problem.inside(q) and problem.evaluate(q[None])[2][0]:
+        return q, 0
+    q, ok, used = _repair_limits(problem, q, iterations)
+    return (q if ok else None), used
 
 
 def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike | None = None,
                position_tolerance: float = 1e-9, orientation_tolerance: float = 1e-9,
                mask: ArrayLike | None = None, damping_gain: float = 0.1, damping: float = 1e-6,
-               max_iterations: int = 20, max_restarts: int = 100, time_budget: float = 0.5,
-               respect_limits: bool = True,
+               seeds: int = 8, max_iterations: int = 20, max_restarts: int = 100,
+               time_budget: float = 0.5, respect_limits: bool = True,
                rng: np.random.Generator | int | None = None) -> IKResult:
     """Solve ``fk(q) = T_base_tool`` numerically inside the joint limits.
 
-    Each attempt runs Levenberg-Marquardt steps without limits; a solution outside the
-    limits is wrapped into them by whole turns and, if still outside, moved along its
-    self-motion into them (null-space steps, for redundant arms and masked tasks). An
-    attempt that fails is restarted from a uniform random configuration inside the limits.
+    ``seeds`` configurations iterate together (one vectorised LM step for all): ``q0`` and
+    uniform random ones inside the limits. The first that converges (``q0``'s on a tie)
+    and is inside the limits, or can be moved into them (whole turns, then null-space
+    steps along its self-motion), is the answer. A seed that has not converged after
+    ``max_iterations`` steps is replaced by a new random one (a restart).
 
     Parameters
     ----------
@@ -288,12 +313,14 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
         ``[1, 1, 1, 0, 0, 0]`` for a position-only target. Default all ones.
     damping_gain, damping : float
         The Levenberg-Marquardt damping is ``damping_gain * E + damping``.
+    seeds : int
+        Configurations iterated together (``1``: one seed at a time).
     max_iterations : int
-        Iterations per attempt (and again for moving a solution into the limits).
+        Steps per seed before it is replaced (and for moving a solution into the limits).
     max_restarts : int
-        Attempts from random seeds after the first one.
+        Random seeds drawn after the first ``seeds`` (the budget of replacements).
     time_budget : float
-        Wall-clock budget [s] over all attempts.
+        Wall-clock budget [s].
     respect_limits : bool
         Return only configurations inside the joint limits (default). ``False`` accepts
         any solution, e.g. to refine a known one.
@@ -320,35 +347,44 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
     seed_low = np.where(np.isfinite(lower), lower, -_UNBOUNDED_SEED_RANGE)
     seed_high = np.where(np.isfinite(upper), upper, _UNBOUNDED_SEED_RANGE)
     middle = (seed_low + seed_high) / 2.0
-    if q0 is None:
-        q = middle
-    else:
-        q = np.asarray(q0, dtype=float)
-        if q.shape != (chain.n,) or not np.all(np.isfinite(q)):
-            raise InputError(f"q0: expected {chain.n} finite joint values, got {q.tolist()}")
+    first = middle if q0 is None else np.asarray(q0, dtype=float)
+    if first.shape != (chain.n,) or not np.all(np.isfinite(first)):
+        raise InputError(f"q0: expected {chain.n} finite joint values, got {first.tolist()}")
+    if seeds < 1:
+        raise InputError(f"seeds: expected a positive number of seeds, got {seeds}")
     problem = _Problem(chain, np.asarray(T_base_tool, dtype=float), rows,
                        (position_tolerance, orientation_tolerance), respect_limits)
     rng = np.random.default_rng(rng)
     deadline = time.perf_counter() + time_budget
-    iterations = 0
-    for restarts in range(max_restarts + 1):
-        if restarts:
-            q = rng.uniform(seed_low, seed_high)
-        q, solved, used = _levenberg_marquardt(problem, q, max_iterations, damping_gain, damping)
-        iterations += used
-        if solved and not problem.inside(q):
-            q = wrap_into_limits(chain, q, middle)
-            solved = problem.evaluate(q)[2]
-            if solved and not problem.inside(q):
-                q, solved, used = _repair_limits(problem, q, max_iterations)
-                iterations += used
-        if solved and problem.inside(q):
-            q, position_error, orientation_error = problem.last
-            return IKResult(q, True, iterations, restarts, position_error, orientation_error)
+    q = np.vstack([first, rng.uniform(seed_low, seed_high, (seeds - 1, chain.n))])
+    age = np.zeros(seeds, dtype=int)
+    iterations = restarts = 0
+    while len(q):
+        e, frames, solved, errors = problem.evaluate(q)
+        for i in np.flatnonzero(solved):
+            found, used = _admit(problem, chain, q[i], middle, max_iterations)
+            iterations += used
+            if found is not None:
+                position_error, orientation_error = problem.evaluate(found[None])[3][0]
+                return IKResult(found.copy(), True, iterations, restarts, float(position_error),
+                                float(orientation_error))
+            age[i] = max_iterations  # solved outside the limits: replace it
+        stale = (age >= max_iterations) | ~np.all(np.isfinite(q), axis=-1)
+        if not stale.all():
+            q[~stale] += _step(problem, e[~stale], tuple(f[~stale] for f in frames), damping_gain,
+                               damping)
+            age[~stale] += 1
+            iterations += int(np.sum(~stale))
         if time.perf_counter() > deadline:
             break
-    if problem.best is None:  # no iterate was inside the limits: report the first seed
+        replaced = np.flatnonzero(stale)[:max_restarts - restarts]
+        q[replaced] = rng.uniform(seed_low, seed_high, (len(replaced), chain.n))
+        age[replaced] = 0
+        restarts += len(replaced)
+        stale[replaced] = False
+        q, age = q[~stale], age[~stale]  # seeds not replaced (budget spent) are dropped
+    if problem.best is None:  # no configuration was inside the limits: report the first seed
         problem.respect_limits = False
-        problem.evaluate(np.clip(q0 if q0 is not None else middle, lower, upper))
-    _, q, position_error, orientation_error = problem.best
-    return IKResult(q, False, iterations, restarts, position_error, orientation_error)
+        problem.evaluate(np.clip(first, lower, upper)[None])
+    _, q_best, position_error, orientation_error = problem.best
+    return IKResult(q_best, False, iterations, restarts, position_error, orientation_error)
