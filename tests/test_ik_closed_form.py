@@ -338,3 +338,18 @@ def test_ur5_near_q1_half_pi_loses_no_branch(offset):
     q[:, 0] = np.where(np.arange(40) % 2, np.pi / 2, -np.pi / 2) + offset
     _assert_round_trip(chain, q)
     _assert_same_as_eaik(chain, q)
+
+
+def test_duplicates_are_merged_modulo_two_pi():
+    chain = armkit.load("stanford").chain  # joint 3 prismatic: no 2 pi there
+    solver = closed_form_solver(chain)
+    a = np.array([0.1, -0.2, 0.5, np.pi, 0.3, -np.pi + 1e-12])
+    q = np.tile(a, (8, 1))
+    q[1, 3] = -np.pi  # same angle as pi
+    q[2, 2] += 2 * np.pi  # prismatic: a different solution
+    q[3, 5] += 1e-6  # a different solution
+    q[5, 0] += 2e-10  # within the duplicate tolerance
+    valid = np.array([False, True, True, True, True, True, True, True])
+    duplicate = solver._duplicates(q[None], valid[None])[0]
+    # candidate 0 is invalid, so 1 is the first kept; 4-7 repeat it, 2 and 3 differ
+    assert duplicate.tolist() == [False, False, False, False, True, True, True, True]

@@ -60,11 +60,23 @@ Array = NDArray[np.float64]
 
 def dot(a: Array, b: Array) -> Array:
     """Row-wise dot product of ``(..., 3)`` vectors, shape ``(...)``."""
+    if np.ndim(a) == 1:  # one constant vector: a single 2-D matrix product
+        a, b = b, a
+    if np.ndim(b) == 1:
+        a = np.asarray(a)
+        return (a.reshape(-1, 3) @ b).reshape(a.shape[:-1])
     return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
+
+
+def _skew(k: Array) -> Array:
+    return np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
 
 
 def cross(a: Array, b: Array) -> Array:
     """Row-wise cross product of ``(..., 3)`` vectors (broadcasting), shape ``(..., 3)``."""
+    if np.ndim(a) == 1:  # a x b = [a]_x b, one 2-D matrix product for a constant a
+        b = np.asarray(b)
+        return (b.reshape(-1, 3) @ _skew(a).T).reshape(b.shape)
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
     return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
@@ -97,9 +109,8 @@ def sp1(p: Array, q: Array, k: Array) -> tuple[Array, NDArray[np.bool_]]:
     free : ndarray of bool (...)
         ``p`` (or ``q``) lies on the axis: every angle is a solution.
     """
-    kp = dot(k, p)[..., None]
-    p_perp = p - kp * k
-    sin_part = dot(k, cross(p_perp, q))
+    p_perp = p - dot(k, p)[..., None] * k
+    sin_part = dot(cross(k, p), q)  # k . (p_perp x q)
     cos_part = dot(p_perp, q)
     scale = np.sqrt(dot(p, p) * dot(q, q))
     free = np.hypot(sin_part, cos_part) <= FREE_TOLERANCE * scale
