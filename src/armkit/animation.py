@@ -17,9 +17,10 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
+from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from numpy.typing import ArrayLike, NDArray  # noqa: E402
+from PIL import Image  # noqa: E402
 
 from armkit import kinematics  # noqa: E402
 from armkit.errors import InputError  # noqa: E402
@@ -165,6 +166,9 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
                        size: float = 4.0, title: str = "", link_frames: bool = False) -> Path:
     """Write a GIF of ``robot`` moving through the configurations ``q``.
 
+    Frames are rendered with matplotlib (Agg) and assembled by Pillow, so neither ffmpeg
+    nor a display is needed. Tick labels are left out of animations to keep them small.
+
     Parameters
     ----------
     robot : Robot
@@ -172,11 +176,11 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
         Configurations along the motion [rad or m]; ``frames`` of them are drawn, evenly
         spaced in index.
     path : str or Path
-        The GIF to write (Pillow writer; no ffmpeg needed).
+        The GIF to write.
     t : array_like (N,), optional
         Times [s] shown in the corner.
     trace_tool : bool
-        Draw the tool path travelled so far.
+        Draw the tool path travelled so far (and faintly the whole path).
     frames, fps, dpi, size : int, int, int, float
         GIF length, speed, resolution and size [inch]; keep them small for small files.
     title : str
@@ -204,24 +208,35 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
     picks = np.unique(np.linspace(0, len(q) - 1, max(2, frames)).round().astype(int))
     centre, half = _bounds(robot, model, q[picks])
     tool_path = robot.fk(q)[:, :3, 3]
-    figure = plt.figure(figsize=(size, size), dpi=dpi)
+    figure = Figure(figsize=(size, size), dpi=dpi)
+    FigureCanvasAgg(figure)
     ax = figure.add_subplot(projection="3d")
-    figure.subplots_adjust(left=0.0, right=0.97, bottom=0.02, top=0.93)
-
-    def draw(k: int) -> None:
-        ax.clear()
-        ax.view_init(elev=22, azim=-58)
-        floor = _setup_axes(ax, centre, half, title)
+    figure.subplots_adjust(left=0.0, right=1.0, bottom=0.0, top=0.94)
+    ax.view_init(elev=22, azim=-58)
+    floor = _setup_axes(ax, centre, half, title)
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_ticklabels([])
+    if trace_tool:
+        ax.plot(*tool_path.T, color=_PATH_COLOR, linewidth=0.8, alpha=0.25)
+    figure.canvas.draw()
+    background = figure.canvas.copy_from_bbox(figure.bbox)  # axes drawn once; frames blit the arm on it
+    images = []
+    for k in picks:
+        figure.canvas.restore_region(background)
+        before = set(ax.lines) | set(ax.collections) | set(ax.texts)
         if trace_tool:
-            done = tool_path[: picks[k] + 1]
-            ax.plot(*tool_path.T, color=_PATH_COLOR, linewidth=0.8, alpha=0.25)
-            ax.plot(*done.T, color=_PATH_COLOR, linewidth=2.0)
-        _draw_arm(ax, robot, model, q[picks[k]], floor, half, link_frames)
+            ax.plot(*tool_path[: k + 1].T, color=_PATH_COLOR, linewidth=2.0)
+        _draw_arm(ax, robot, model, q[k], floor, half, link_frames)
         if times is not None:
-            ax.text2D(0.02, 0.02, f"t = {times[picks[k]]:.1f} s", transform=ax.transAxes, fontsize=8)
-
-    animation = FuncAnimation(figure, draw, frames=len(picks))
+            ax.text2D(0.03, 0.03, f"t = {times[k]:.1f} s", transform=ax.transAxes, fontsize=8)
+        added = [a for a in [*ax.lines, *ax.collections, *ax.texts] if a not in before]
+        for artist in added:
+            if hasattr(artist, "do_3d_projection"):
+                artist.do_3d_projection()
+            ax.draw_artist(artist)
+        images.append(Image.fromarray(np.asarray(figure.canvas.buffer_rgba())[..., :3]).quantize(64))
+        for artist in added:
+            artist.remove()
     path = Path(path)
-    animation.save(path, writer=PillowWriter(fps=fps), dpi=dpi)
-    plt.close(figure)
+    images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
     return path

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from armkit.cli import ik, kinematics, motion, robots, sim, trajectory  # noqa: F401  (register commands)
+from armkit.cli import ik, kinematics, lab, motion, robots, sim, trajectory  # noqa: F401  (register commands)
 from armkit.cli.app import app, err_console
 from armkit.errors import ArmkitError
 

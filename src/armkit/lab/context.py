@@ -1,0 +1,86 @@
+"""What every lab experiment shares: the robot, its simulation, the report folder, number formats."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armkit.robot import Robot
+from armkit.sim.runner import Simulation
+from armkit.spatial.rotations import euler_from_matrix, matrix_from_euler
+from armkit.spatial.transforms import transform_from
+
+__all__ = ["LabContext", "fmt", "fmt_error", "fmt_q", "pose_from_transform", "transform_from_pose"]
+
+
+@dataclass
+class LabContext:
+    """The robot under test, its MuJoCo model (gravity on, compensated) and the report folder.
+
+    ``seeds`` is true when the robot is the PROBOT Anno of report 000 and the report's
+    published numbers apply; otherwise the experiments choose reachable targets themselves.
+    """
+
+    robot: Robot
+    folder: Path
+    quick: bool
+    seeds: bool
+    rng: np.random.Generator = field(default_factory=lambda: np.random.default_rng(2024))
+    files: list[str] = field(default_factory=list)
+    _sim: Simulation | None = None
+
+    @property
+    def sim(self) -> Simulation:
+        """The robot in MuJoCo with gravity and gravity compensation (built on first use)."""
+        if self._sim is None:
+            self._sim = Simulation(self.robot, gravity=True, gravity_compensation=True)
+        return self._sim
+
+    @property
+    def home(self) -> NDArray[np.float64]:
+        """Zero joint values, clipped into the limits: where simulated moves start."""
+        return np.clip(np.zeros(self.robot.n), self.robot.limits[:, 0], self.robot.limits[:, 1])
+
+    @property
+    def gif_frames(self) -> int:
+        return 8 if self.quick else 36
+
+    @property
+    def gif_dpi(self) -> int:
+        return 40 if self.quick else 72
+
+    def path(self, name: str) -> Path:
+        """A file of the report (registered so a later run can replace it)."""
+        self.files.append(name)
+        return self.folder / name
+
+
+def pose_from_transform(T: ArrayLike, convention: str = "xyz-fixed", degrees: bool = False) -> NDArray:
+    """``(..., 6)``: position [m] then three angles in ``convention``."""
+    T = np.asarray(T, dtype=float)
+    return np.concatenate([T[..., :3, 3], euler_from_matrix(T, convention, degrees)], axis=-1)
+
+
+def transform_from_pose(pose: ArrayLike, convention: str = "xyz-fixed", degrees: bool = False) -> NDArray:
+    """``(..., 4, 4)`` from ``[x, y, z, a1, a2, a3]``."""
+    pose = np.asarray(pose, dtype=float)
+    return transform_from(matrix_from_euler(pose[..., 3:], convention, degrees), pose[..., :3])
+
+
+def fmt(value: float, digits: int = 6) -> str:
+    """A table number with fixed decimals; ``-0`` shown as ``0``."""
+    text = f"{value:.{digits}f}"
+    return text[1:] if text.startswith("-") and float(text) == 0 else text
+
+
+def fmt_error(value: float) -> str:
+    """An error in scientific notation with two digits."""
+    return f"{value:.1e}"
+
+
+def fmt_q(q: ArrayLike, digits: int = 4) -> str:
+    """Joint values as ``[a, b, ...]``."""
+    return "[" + ", ".join(fmt(v, digits) for v in np.asarray(q, dtype=float)) + "]"

@@ -1,0 +1,368 @@
+"""Lab experiments on motion: a straight line by velocity control, a minimum-jerk trajectory
+through waypoints and a rotation about the tool point, each computed by armkit and then
+driven in MuJoCo (gravity on, gravity compensation, servos at 1 kHz).
+
+Each function returns a :class:`~armkit.lab.report.Section`; when a piece of armkit it
+needs (``armkit.control``, ``armkit.trajectory``, ``Robot.ik``) is missing it returns the
+section marked unavailable, with no numbers.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import NDArray
+
+from armkit import animation
+from armkit.lab import published
+from armkit.lab.context import LabContext, fmt, fmt_error, fmt_q, pose_from_transform, transform_from_pose
+from armkit.lab.report import Section, Table
+from armkit.robot import Robot
+from armkit.sim.runner import SimResult
+from armkit.spatial.rotations import rotation_angle_between
+
+__all__ = ["fixed_point_rotation", "linear_motion", "ready_configuration", "trajectory_experiment"]
+
+LINE_SECONDS = 5.0
+ROTATION_RATE = 0.2  # rad/s, for a user's arm
+USER_ROTATION_ANGLE = np.radians(60.0)
+
+
+class Unavailable(Exception):
+    """A module or function the experiment needs is not in this armkit build."""
+
+
+def require(module: str, name: str):
+    """``module.name``, or :class:`Unavailable` naming what is missing."""
+    try:
+        return getattr(importlib.import_module(module), name)
+    except (ImportError, AttributeError) as exc:
+        raise Unavailable(f"{module}.{name} is not part of this armkit build yet") from exc
+
+
+def ready_configuration(robot: Robot, rng: np.random.Generator) -> NDArray[np.float64]:
+    """A well-conditioned configuration inside the limits (largest smallest singular value of 64)."""
+    q = robot.random_q(64, rng=rng)
+    margin = 0.15 * np.ptp(np.where(np.isfinite(robot.limits), robot.limits, 0), axis=1)
+    q = np.clip(q, robot.limits[:, 0] + margin, robot.limits[:, 1] - margin)
+    return q[int(np.argmax(robot.singular_values(q)[:, -1]))]
+
+
+def _simulate(ctx: LabContext, t: NDArray, q: NDArray, mode: str = "position") -> SimResult:
+    return ctx.sim.run(t, q, mode=mode)
+
+
+def _gif(ctx: LabContext, name: str, result: SimResult, title: str, caption: str, section: Section) -> None:
+    path = ctx.path(name)
+    stride = max(1, len(result.t) // 400)
+    animation.animate_trajectory(ctx.robot, result.q[::stride], path, t=result.t[::stride] - result.t[0],
+                                 frames=ctx.gif_frames, dpi=ctx.gif_dpi, title=title)
+    section.images.append((path.name, caption))
+
+
+def _save(ctx: LabContext, figure: Figure, name: str, caption: str, section: Section) -> None:
+    path = ctx.path(name)
+    if figure.get_layout_engine() is None:
+        figure.subplots_adjust(left=0.08, right=0.98, bottom=0.16, top=0.9, wspace=0.28)
+    figure.savefig(path, dpi=70 if ctx.quick else 100)
+    section.images.append((path.name, caption))
+
+
+def _tool_errors(robot: Robot, result: SimResult) -> tuple[NDArray, NDArray]:
+    """Simulated vs commanded tool: position distance [m] and rotation [rad] per step."""
+    T_command = robot.fk(result.q_command)
+    return (np.linalg.norm(result.T_tool[:, :3, 3] - T_command[:, :3, 3], axis=-1),
+            rotation_angle_between(result.T_tool, T_command))
+
+
+def _line_deviation(points: NDArray, start: NDArray, displacement: NDArray) -> NDArray:
+    """Distance [m] of each point from the straight segment ``start -> start + displacement``."""
+    s = np.clip((points - start) @ displacement / (displacement @ displacement), 0.0, 1.0)
+    return np.linalg.norm(points - (start + s[:, None] * displacement), axis=-1)
+
+
+def _linear_plan(ctx: LabContext, move_linear) -> tuple[NDArray, NDArray, object]:
+    robot = ctx.robot
+    if ctx.seeds:
+        q0 = np.zeros(6)
+        displacement = np.array(published.PROBOT_LINE_DISPLACEMENT)
+        return q0, displacement, move_linear(robot, q0, displacement, LINE_SECONDS)
+    q0 = ready_configuration(robot, ctx.rng)
+    length = 0.15 * max(np.linalg.norm(robot.fk(q0)[:3, 3]), 0.1)
+    last = None
+    for direction in ([1, 0, -1], [0, 1, 0], [0, 0, -1], [-1, 0, 0], [0, -1, 1], [1, 1, 0]):
+        displacement = length * np.array(direction, dtype=float) / np.linalg.norm(direction)
+        last = move_linear(robot, q0, displacement, LINE_SECONDS)
+        if last.completed and last.max_position_error < 1e-4:
+            break
+    return q0, displacement, last
+
+
+def linear_motion(ctx: LabContext) -> Section:
+    """Experiment 3: the tool along a straight line by resolved-rate (Jacobian) control."""
+    section = Section("line", "3. Straight line by velocity control", (
+        "armkit.control.move_linear follows p(t) = p0 + s(t) d with a quintic time law in closed "
+        "loop through the Jacobian (resolved rate, orientation held). The joint motion is then "
+        "driven in MuJoCo twice: with position and velocity servos, and with the velocity servo "
+        "alone, as the report published joint velocities to Gazebo."))
+    try:
+        move_linear = require("armkit.control", "move_linear")
+    except Unavailable as exc:
+        section.status, section.notes = "unavailable", [str(exc)]
+        return section
+    robot = ctx.robot
+    q0, displacement, motion = _linear_plan(ctx, move_linear)
+    start = motion.poses[0, :3, 3]
+    both = _simulate(ctx, motion.t, motion.q)
+    velocity = _simulate(ctx, motion.t, motion.q, mode="velocity")
+    runs = [("armkit (computed)", motion.poses), ("MuJoCo, position + velocity servos", both.T_tool),
+            ("MuJoCo, velocity servo only", velocity.T_tool)]
+    report_end = published.PROBOT_LINE_END if ctx.seeds else None
+    rows = []
+    for label, poses in runs:
+        end = poses[-1, :3, 3]
+        deviation = _line_deviation(poses[:, :3, 3], start, displacement)
+        turn = rotation_angle_between(poses[0], poses).max()
+        rows.append([label, fmt_q(start, 4), fmt_q(end, 6), fmt_q(end - start, 6),
+                     fmt_error(np.linalg.norm(end - (start + displacement))), fmt_error(deviation.max()),
+                     fmt_error(turn)])
+    if report_end is not None:
+        rows.insert(0, ["report (Gazebo)", fmt_q(published.PROBOT_LINE_START, 4),
+                        fmt_q(published.PROBOT_LINE_END_GAZEBO, 6),
+                        fmt_q(np.subtract(published.PROBOT_LINE_END_GAZEBO, published.PROBOT_LINE_START), 6),
+                        "", "", ""])
+        gazebo = fmt_q(published.PROBOT_LINE_END_GAZEBO, 4)
+        section.published = f"end at {fmt_q(report_end, 3)} (Gazebo {gazebo})"
+    section.tables.append(Table(
+        f"Tool moved by d = {fmt_q(displacement, 3)} m in {motion.t[-1]:.1f} s from q0 = {fmt_q(q0, 3)}",
+        ["run", "start [m]", "end [m]", "moved [m]", "|end - target| [m]", "max distance from the line [m]",
+         "max orientation change [rad]"], rows, note=motion.message))
+    position_error, _ = _tool_errors(robot, both)
+    miss = np.linalg.norm(both.T_tool[-1, :3, 3] - start - displacement)
+    section.headline = (f"ends {miss:.1e} m from the target in MuJoCo; "
+                        f"tracking within {position_error.max():.1e} m")
+    figure = Figure(figsize=(8.5, 3.2))
+    ax_position, ax_deviation = figure.subplots(1, 2)
+    for k, name in enumerate("xyz"):
+        ax_position.plot(motion.t, motion.poses[:, k, 3], color=f"C{k}", lw=2.2, alpha=0.5,
+                         label=f"{name} armkit")
+        ax_position.plot(both.t, both.T_tool[:, k, 3], color=f"C{k}", lw=1.0, ls="--", label=f"{name} MuJoCo")
+    ax_position.set(xlabel="time [s]", ylabel="tool position [m]", title="Tool position")
+    ax_position.legend(fontsize=7, ncol=3)
+    for label, poses, t in (("armkit", motion.poses, motion.t), ("MuJoCo, both servos", both.T_tool, both.t),
+                            ("MuJoCo, velocity servo", velocity.T_tool, velocity.t)):
+        ax_deviation.semilogy(t, np.maximum(_line_deviation(poses[:, :3, 3], start, displacement), 1e-12),
+                              label=label, lw=1.2)
+    ax_deviation.set(xlabel="time [s]", ylabel="[m]", title="Distance from the straight line")
+    ax_deviation.legend(fontsize=7)
+    for ax in (ax_position, ax_deviation):
+        ax.grid(True, lw=0.3)
+    _save(ctx, figure, "line_tracking.png", "Tool position over time (computed and simulated) and its "
+                                            "distance from the ideal straight line.", section)
+    _gif(ctx, "line.gif", both, "Straight line in MuJoCo", "The straight-line motion in MuJoCo, tool "
+                                                            "path traced.", section)
+    return section
+
+
+def _waypoints(ctx: LabContext) -> tuple[NDArray, NDArray | None, NDArray | None, NDArray]:
+    """Joint waypoints, their target poses (or None), the report's joint values (or None), durations."""
+    robot = ctx.robot
+    if not ctx.seeds:
+        q0 = ready_configuration(robot, ctx.rng)
+        span = np.where(robot.chain.prismatic, 0.1, 0.5)
+        q = [q0] + [np.clip(q0 + ctx.rng.uniform(-span, span), *robot.limits.T) for _ in range(3)]
+        return np.array(q), None, None, np.full(3, 4.0)
+    if not hasattr(robot, "ik"):
+        raise Unavailable("Robot.ik is not part of this armkit build yet")
+    poses = np.array(published.PROBOT_WAYPOINT_POSES)
+    q, near = [], np.zeros(6)
+    for pose in poses:
+        near = robot.ik(transform_from_pose(pose), near=near)
+        q.append(near)
+    return (np.array(q), poses, np.array(published.PROBOT_WAYPOINT_JOINTS),
+            np.full(3, published.PROBOT_SEGMENT_SECONDS))
+
+
+def _literal_157(robot: Robot, poses: NDArray) -> NDArray:
+    """IK of the waypoint poses with +-pi/2 replaced by the printed +-1.57, each nearest the previous."""
+    printed = poses.copy()
+    angles = printed[:, 3:]
+    quarter = np.isclose(np.abs(angles), np.pi / 2)
+    angles[quarter] = np.sign(angles[quarter]) * 1.57
+    q, near = [], np.zeros(robot.n)
+    for pose in printed:
+        near = robot.ik(transform_from_pose(pose), near=near)
+        q.append(near)
+    return np.array(q)
+
+
+def _waypoint_table(ctx: LabContext, q: NDArray, poses: NDArray | None, report_q: NDArray | None,
+                    times: NDArray, result: SimResult) -> Table:
+    robot = ctx.robot
+    rows = []
+    targets = robot.fk(q) if poses is None else transform_from_pose(poses)
+    literal = None if report_q is None else _literal_157(robot, poses)
+    for k, (q_k, t_k) in enumerate(zip(q, times, strict=True)):
+        step = int(np.argmin(np.abs(result.t - t_k)))
+        T_sim = result.T_tool[step]
+        pose = pose_from_transform(targets[k])
+        residual = published.PROBOT_WAYPOINT_RESIDUALS[k - 1] if ctx.seeds and k in (1, 2) else None
+        rows.append([str(k + 1), f"{t_k:.1f}", fmt_q(pose, 4), fmt_q(q_k),
+                     "" if report_q is None else fmt_error(np.abs(q_k - report_q[k]).max()),
+                     "" if literal is None else fmt_error(np.abs(literal[k] - report_q[k]).max()),
+                     fmt_error(np.linalg.norm(T_sim[:3, 3] - targets[k][:3, 3])),
+                     fmt_error(rotation_angle_between(T_sim, targets[k])),
+                     "" if residual is None else fmt_error(residual)])
+    note = ""
+    if ctx.seeds:
+        note = ("The report's joint waypoints are the IK solutions of the poses with 1.57 taken literally "
+                "(they match those to the digits printed), not of pi/2; armkit uses pi/2, hence the "
+                "1e-3 rad difference. Waypoints 2-4 have pitch = -pi/2, the gimbal lock of roll-pitch-yaw "
+                "angles, so per-angle errors are meaningless there; the rotation error (angle between the "
+                "orientations) is not. The report's figure sums all six pose errors.")
+    return Table("Waypoints: target pose, armkit IK, report, and where MuJoCo passes them",
+                 ["#", "t [s]", "pose x y z [m], roll pitch yaw [rad]", "armkit q [rad]",
+                  "max |q - report q|", "same, IK of 1.57", "MuJoCo position error [m]",
+                  "MuJoCo rotation error [rad]", "report: sum |pose error| (Gazebo)"], rows, note=note)
+
+
+def trajectory_experiment(ctx: LabContext) -> Section:
+    """Experiment 4: a minimum-jerk trajectory through four waypoints, tracked in MuJoCo."""
+    section = Section("trajectory", "4. Minimum-jerk trajectory through four waypoints", (
+        "armkit.trajectory joins quintic segments through the waypoints with continuous velocity "
+        "and acceleration, minimising the integral of squared jerk over all segments (the report's "
+        "QP), at rest at both ends. Waypoints given as poses are solved by IK, each nearest the "
+        "previous solution. MuJoCo tracks the 1 kHz samples with gravity on."))
+    try:
+        plan_trajectory = require("armkit.trajectory", "plan_trajectory")
+        q, poses, report_q, durations = _waypoints(ctx)
+    except Unavailable as exc:
+        section.status, section.notes = "unavailable", [str(exc)]
+        return section
+    robot = ctx.robot
+    trajectory = plan_trajectory(robot, q, durations)
+    samples = trajectory.sample(1000.0)
+    result = ctx.sim.run(samples.t, samples.q, samples.qd)
+    section.tables.append(_waypoint_table(ctx, q, poses, report_q, trajectory.waypoint_times, result))
+    limit_rows = []
+    for j, name in enumerate(robot.joint_names):
+        limit_rows.append([name, fmt(trajectory.peak_velocity[j], 4), fmt(robot.max_velocity[j], 4),
+                           fmt(trajectory.peak_acceleration[j], 4), fmt(robot.max_acceleration[j], 4),
+                           fmt_error(np.abs(result.joint_error[:, j]).max())])
+    position_error, rotation_error = _tool_errors(robot, result)
+    T_goal = robot.fk(q[-1])
+    final = np.append(result.T_tool[-1, :3, 3] - T_goal[:3, 3],
+                      rotation_angle_between(result.T_tool[-1], T_goal))
+    note = (f"Segments {', '.join(f'{d:.2f}' for d in trajectory.durations)} s "
+            f"(stretch {', '.join(f'{s:.3f}' for s in trajectory.stretch)}). Tool tracking in MuJoCo: "
+            f"position within {position_error.max():.1e} m, rotation within {rotation_error.max():.1e} rad. "
+            f"Final error (MuJoCo - target): x y z {', '.join(fmt_error(e) for e in final[:3])} m, "
+            f"rotation {fmt_error(final[3])} rad.")
+    if ctx.seeds:
+        note += (" The report's final pose error in Gazebo: "
+                 f"{', '.join(fmt_error(e) for e in published.PROBOT_TRAJECTORY_FINAL_ERROR)}.")
+        section.published = "final error 1.4e-4 m, 5e-3 rad (Gazebo)"
+    section.tables.append(Table("Peaks against the joint limits, and tracking in MuJoCo (gravity on)",
+                                ["joint", "peak |qd|", "max velocity", "peak |qdd|", "max acceleration",
+                                 "max |q_MuJoCo - q_command|"], limit_rows, note=note))
+    section.headline = (f"{trajectory.duration:.0f} s, within limits; tracked in MuJoCo to "
+                        f"{position_error.max():.1e} m, {rotation_error.max():.1e} rad")
+    try:
+        plot_pva = require("armkit.plots", "plot_pva")
+        _save(ctx, plot_pva(trajectory, robot), "trajectory_pva.png", "Position, velocity and "
+              "acceleration of every joint (dots: waypoints, dashed: limits).", section)
+    except Unavailable as exc:
+        section.notes.append(f"P-V-A plot: {exc}.")
+    figure = Figure(figsize=(8.5, 3.0))
+    ax_joint, ax_tool = figure.subplots(1, 2)
+    for j, name in enumerate(robot.joint_names):
+        ax_joint.plot(result.t, result.joint_error[:, j], lw=1.0, label=name)
+    ax_joint.set(xlabel="time [s]", ylabel="[rad or m]", title="q_MuJoCo - q_command")
+    ax_joint.legend(fontsize=7, ncol=3)
+    ax_tool.plot(result.t, position_error * 1e3, lw=1.0, label="position [mm]")
+    ax_tool.plot(result.t, rotation_error * 1e3, lw=1.0, label="rotation [mrad]")
+    ax_tool.set(xlabel="time [s]", title="Tool: MuJoCo vs commanded")
+    ax_tool.legend(fontsize=7)
+    for ax in (ax_joint, ax_tool):
+        ax.grid(True, lw=0.3)
+        for t_k in trajectory.waypoint_times:
+            ax.axvline(t_k, color="0.6", lw=0.6, ls=":")
+    _save(ctx, figure, "trajectory_tracking.png", "Tracking error in MuJoCo with gravity on and gravity "
+                                                  "compensation.", section)
+    _gif(ctx, "trajectory.gif", result, "Minimum-jerk trajectory in MuJoCo",
+         "The trajectory in MuJoCo with the tool path traced.", section)
+    return section
+
+
+def _rotation_plan(ctx: LabContext, rotate) -> tuple[NDArray, NDArray, object]:
+    robot = ctx.robot
+    if ctx.seeds:  # the twist [v; w] = [0, 0, 0, -0.2, 0, 0]: 0.2 rad/s about -x
+        w = np.array(published.PROBOT_ROTATION_TWIST[3:])
+        angle = np.radians(45.0) if ctx.quick else 2 * np.pi
+        axis = w / np.linalg.norm(w)
+        return np.zeros(6), axis, rotate(robot, np.zeros(6), axis, angle, rate=float(np.linalg.norm(w)))
+    q0 = ready_configuration(robot, ctx.rng)
+    T0 = robot.fk(q0)
+    last = None
+    for axis in (T0[:3, 2], T0[:3, 0], np.array([0.0, 0.0, 1.0]), T0[:3, 1]):
+        last = rotate(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE)
+        if last.completed and last.orientation_error < 1e-3 and last.max_position_error < 1e-3:
+            break
+    return q0, axis, last
+
+
+def fixed_point_rotation(ctx: LabContext) -> Section:
+    """Experiment 5: turn the tool about an axis through its own origin, position held."""
+    section = Section("rotation", "5. Fixed-point rotation", (
+        "armkit.control.rotate_about_tool_point turns the tool at 0.2 rad/s about an axis "
+        "through the tool point (the report's twist [0, 0, 0, -0.2, 0, 0] about the base x "
+        "axis at the home pose) while the Jacobian loop keeps the tool position; the motion "
+        "stops at the first joint limit. MuJoCo then drives the joint motion with gravity on."))
+    try:
+        rotate = require("armkit.control", "rotate_about_tool_point")
+    except Unavailable as exc:
+        section.status, section.notes = "unavailable", [str(exc)]
+        return section
+    q0, axis, motion = _rotation_plan(ctx, rotate)
+    result = _simulate(ctx, motion.t, motion.q)
+    rows = []
+    for label, poses in (("armkit (computed)", motion.poses), ("MuJoCo (servos, gravity)", result.T_tool)):
+        drift = np.linalg.norm(poses[:, :3, 3] - motion.poses[0, :3, 3], axis=-1)
+        turned = np.unwrap(_signed_turn(poses, motion.poses[0], axis))
+        rows.append([label, fmt(np.degrees(np.abs(turned).max()), 2), fmt_error(drift.max()),
+                     fmt_error(drift[-1])])
+    if ctx.seeds:
+        rows.insert(0, ["report (Gazebo)", "> 180", "millimetre level", ""])
+        section.published = published.PROBOT_ROTATION_REPORTED
+    title = (f"Rotation about {fmt_q(axis / np.linalg.norm(axis), 3)} through the tool point "
+             f"from q0 = {fmt_q(q0, 3)}")
+    section.tables.append(Table(title, ["run", "angle turned [deg]", "max position drift [m]",
+                                        "final drift [m]"], rows, note=motion.message))
+    drift_sim = np.linalg.norm(result.T_tool[:, :3, 3] - motion.poses[0, :3, 3], axis=-1)
+    section.headline = (f"turned {float(rows[-1][1]):.0f} deg; MuJoCo tool point drift "
+                        f"{drift_sim.max():.1e} m")
+    figure = Figure(figsize=(8.5, 3.0))
+    ax_angle, ax_drift = figure.subplots(1, 2)
+    ax_angle.plot(motion.t, np.degrees(np.unwrap(_signed_turn(motion.poses, motion.poses[0], axis))), lw=1.4)
+    ax_angle.set(xlabel="time [s]", ylabel="[deg]", title="Angle turned about the axis")
+    ax_drift.semilogy(result.t, np.maximum(drift_sim, 1e-12), lw=1.0, label="MuJoCo")
+    ax_drift.semilogy(motion.t, np.maximum(np.linalg.norm(motion.poses[:, :3, 3] - motion.poses[0, :3, 3],
+                                                          axis=-1), 1e-12), lw=1.0, label="armkit")
+    ax_drift.set(xlabel="time [s]", ylabel="[m]", title="Tool point drift")
+    ax_drift.legend(fontsize=7)
+    for ax in (ax_angle, ax_drift):
+        ax.grid(True, lw=0.3)
+    _save(ctx, figure, "rotation.png", "Angle turned and tool-point drift over time.", section)
+    _gif(ctx, "rotation.gif", result, "Rotation about the tool point in MuJoCo",
+         "The fixed-point rotation in MuJoCo (tool frame drawn).", section)
+    return section
+
+
+def _signed_turn(poses: NDArray, T0: NDArray, axis: NDArray) -> NDArray:
+    """Signed rotation angle [rad] of each pose's orientation relative to ``T0`` about ``axis``."""
+    from armkit.spatial.rotations import axis_angle_from_matrix
+
+    relative = poses[:, :3, :3] @ T0[:3, :3].T
+    return axis_angle_from_matrix(relative) @ (axis / np.linalg.norm(axis))

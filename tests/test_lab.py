@@ -1,0 +1,120 @@
+"""``armkit lab``: the report has every table, plot and animation it promises; folder safety."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+from PIL import Image
+
+import armkit
+from armkit.cli.main import main
+from armkit.errors import InputError
+from armkit.lab import run_lab
+from armkit.lab.report import MARKER, prepare_folder
+
+PNGS = ["fk_configuration.png", "line_tracking.png", "trajectory_pva.png", "trajectory_tracking.png",
+        "rotation.png", "zju_configuration.png", "scara_configuration.png"]
+GIFS = ["ik_solutions.gif", "line.gif", "trajectory.gif", "rotation.gif"]
+
+
+@pytest.fixture(scope="module")
+def seed_report(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("lab") / "armkit-report"
+    return run_lab(None, folder, quick=True, progress=False)
+
+
+def test_every_seed_experiment_is_reproduced(seed_report):
+    keys = [s.key for s in seed_report.sections]
+    assert keys == ["fk", "ik", "line", "trajectory", "rotation", "zju", "scara", "dh"]
+    assert all(s.status == "ok" for s in seed_report.sections), [(s.key, s.notes) for s in seed_report.sections]
+    ik = next(s for s in seed_report.sections if s.key == "ik")
+    assert ik.headline.startswith("4 + 4 + 4 solutions")
+    assert len(next(s for s in seed_report.sections if s.key == "dh").tables) == 3
+
+
+def test_images_exist_decode_and_are_embedded(seed_report):
+    folder = seed_report.index.parent
+    for name in PNGS:
+        with Image.open(folder / name) as image:
+            assert image.format == "PNG" and min(image.size) > 100
+    for name in GIFS:
+        with Image.open(folder / name) as image:
+            assert image.format == "GIF" and image.n_frames >= 4
+    page = seed_report.index.read_text()
+    assert page.count("data:image/png;base64,") == len(PNGS)
+    assert page.count("data:image/gif;base64,") == len(GIFS)
+    assert 'src="' not in page.replace('src="data:', "")  # self-contained: no external files
+
+
+def test_report_tables_show_published_computed_and_simulated_values(seed_report):
+    page = seed_report.index.read_text()
+    for title in ("Tool pose: published, computed by armkit, simulated in MuJoCo", "Target 3:",
+                  "Waypoints: target pose", "Peaks against the joint limits", "Tool moved by d",
+                  "Rotation about", "ZJU-I tool pose", "SCARA tool coordinates", "PROBOT Anno: modified DH"):
+        assert title in page
+    for published in ("0.150035", "0.199922", "-148.05", "36.31", "141.4214", "370.1666", "0.303826"):
+        assert published in page
+    fk_errors = re.findall(r"max \|MuJoCo - armkit\| ([0-9.e+-]+) m", page)
+    assert fk_errors and float(fk_errors[0]) < 1e-9
+
+
+def test_marker_lists_what_was_written(seed_report):
+    folder = seed_report.index.parent
+    manifest = json.loads((folder / MARKER).read_text())
+    assert sorted(manifest["files"]) == sorted([*PNGS, *GIFS, "index.html"])
+
+
+def test_rerun_replaces_its_own_report_and_keeps_other_files(tmp_path):
+    folder = tmp_path / "report"
+    folder.mkdir()
+    (folder / "old.png").write_bytes(b"x")
+    (folder / "mine.txt").write_text("user notes")
+    (folder / MARKER).write_text(json.dumps({"files": ["old.png", "index.html", "../escape.txt"]}))
+    (tmp_path / "escape.txt").write_text("outside")
+    prepare_folder(folder, force=False)
+    assert not (folder / "old.png").exists() and not (folder / MARKER).exists()
+    assert (folder / "mine.txt").read_text() == "user notes"
+    assert (tmp_path / "escape.txt").exists()
+
+
+def test_refuses_a_folder_that_is_not_a_report(tmp_path, capsys):
+    folder = tmp_path / "thesis"
+    folder.mkdir()
+    (folder / "chapter1.tex").write_text("...")
+    with pytest.raises(InputError, match="not an armkit report"):
+        prepare_folder(folder, force=False)
+    assert main(["lab", "--quick", "--out", str(folder)]) == 1
+    assert "not an armkit report" in capsys.readouterr().err
+    assert sorted(p.name for p in folder.iterdir()) == ["chapter1.tex"]
+    prepare_folder(folder, force=True)
+    with pytest.raises(InputError, match="is a file"):
+        prepare_folder(folder / "chapter1.tex", force=True)
+
+
+def test_lab_on_a_users_robot_file(tmp_path, capsys):
+    robot_file = tmp_path / "my_arm.toml"
+    robot_file.write_text(armkit.robot_to_toml(armkit.load("puma560")))
+    out = tmp_path / "out"
+    assert main(["lab", "--quick", "--robot", str(robot_file), "--out", str(out)]) == 0
+    assert "report:" in capsys.readouterr().out
+    page = (out / "index.html").read_text()
+    assert "armkit lab: PUMA 560 in MuJoCo" in page
+    assert "ZJU-I" not in page and page.count("data:image/gif;base64,") == 4
+    assert re.search(r"(\d+) \+ (\d+) \+ (\d+) solutions", page)
+
+
+def test_lab_refuses_a_robot_that_cannot_be_simulated(tmp_path, capsys):
+    robot_file = tmp_path / "point.toml"
+    robot_file.write_text('convention = "modified"\n[[joints]]\nalpha = 0\na = 0\nd = 0\ntheta = 0\n')
+    out = tmp_path / "out"
+    assert main(["lab", "--quick", "--robot", str(robot_file), "--out", str(out)]) == 1
+    assert "cannot be simulated" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_quick_run_is_quick(seed_report):
+    assert seed_report.seconds < 60
+    assert np.isfinite(seed_report.seconds)
