@@ -94,3 +94,22 @@ def test_stretch_on_random_waypoints_is_feasible_and_tight(seed):
     traj = stretch_to_limits(waypoints, requested, SEED_VMAX, SEED_AMAX)
     assert within(traj) and np.all(traj.durations >= requested)
     assert_each_segment_tight(traj, requested)
+
+
+def test_no_random_timing_within_the_limits_is_shorter_than_auto_time():
+    """Random duration ratios, each scaled exactly onto the limits: none beats auto-time."""
+    traj = auto_time(SEED_WAYPOINTS, SEED_VMAX, SEED_AMAX)
+    rng = np.random.default_rng(7)
+    shortest = np.inf
+    for _ in range(300):
+        candidate = traj.durations * np.exp(rng.normal(0, 0.3, 3))
+        k = limit_ratio(min_jerk(SEED_WAYPOINTS, candidate), SEED_VMAX, SEED_AMAX)
+        shortest = min(shortest, k * candidate.sum())
+    assert traj.duration <= shortest * (1 + 1e-4)
+    assert traj.duration < 9.0         # the coordinate descent alone stops at 9.356 s
+
+
+def test_refinement_never_makes_it_longer():
+    plain = auto_time(SEED_WAYPOINTS, SEED_VMAX, SEED_AMAX, refine=False)
+    refined = auto_time(SEED_WAYPOINTS, SEED_VMAX, SEED_AMAX)
+    assert refined.duration <= plain.duration and within(plain) and within(refined)

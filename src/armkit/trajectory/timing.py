@@ -20,14 +20,25 @@ the uniformly scaled (feasible) durations, each segment in turn is shortened to 
 shortest duration that keeps the whole trajectory within the limits (bisection, to a
 relative tolerance ``tol``), and rounds repeat until no segment shortens by more than
 ``tol``. Every iterate is feasible, so the result never exceeds a limit, and no single
-segment can be shortened (by more than ``tol``) without violating one. The result is
-such a coordinate-wise minimum, not a certified global minimum of the total duration.
+segment can be shortened (by more than ``tol``) without violating one.
+
+A coordinate-wise minimum need not be the shortest total: when one joint's limit binds
+across a waypoint, shortening one segment requires lengthening its neighbour. So the
+descent's result is then refined (``refine=True``) by sequential quadratic programming
+(:func:`scipy.optimize.minimize`, SLSQP): minimise ``sum_i T_i`` subject to every
+segment's and joint's ``peak|qd| / vmax <= 1`` and ``peak|qdd| / amax <= 1`` and
+``T_i >= lower_i``, with finite-difference gradients (``N + 1`` minimum-jerk solves per
+iteration). Its answer is made exactly feasible by the uniform factor above and polished
+by the descent again; the shorter of the two results is kept. On report 000's waypoints
+this takes the total from 9.356 s (descent alone) to 8.969 s. Neither step certifies a
+global minimum.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import minimize
 
 from armkit.errors import ConvergenceError, InputError
 from armkit.trajectory._checks import check_durations, check_finite, check_waypoints
@@ -112,14 +123,32 @@ def _feasible_start(waypoints, start, lower, vmax, amax):
     return durations * max(1.0, k)
 
 
-def _fit(waypoints, starts, lower, requested, vmax, amax, tol, max_rounds):
-    """The shortest coordinate-wise minimum found by descending from each of ``starts``."""
+def _refine(waypoints, durations, lower, vmax, amax):
+    """SLSQP on ``min sum(T)`` under the limits, from feasible ``durations``; the input if it fails."""
+    def margins(candidate):
+        velocity, acceleration = limit_ratios(min_jerk(waypoints, candidate), vmax, amax)
+        return np.concatenate([1.0 - velocity.ravel(), 1.0 - acceleration.ravel()])
+
+    result = minimize(np.sum, durations, jac=lambda T: np.ones_like(T), method="SLSQP",
+                      bounds=[(low, None) for low in lower],
+                      constraints=[{"type": "ineq", "fun": margins}], options={"ftol": 1e-10, "maxiter": 200})
+    return result.x if result.success and np.all(np.isfinite(result.x)) else durations
+
+
+def _fit(waypoints, starts, lower, requested, vmax, amax, tol, max_rounds, refine):
+    """The shortest of the coordinate-wise minima from each start, refined by SLSQP if asked."""
     best = None
     for start in starts:
         durations = _shorten(waypoints, _feasible_start(waypoints, start, lower, vmax, amax), lower,
                              vmax, amax, tol, max_rounds)
         if best is None or durations.sum() < best.sum():
             best = durations
+    if refine and best.size > 1:
+        refined = _refine(waypoints, best, lower, vmax, amax)
+        polished = _shorten(waypoints, _feasible_start(waypoints, refined, lower, vmax, amax), lower,
+                            vmax, amax, tol, max_rounds)
+        if polished.sum() < best.sum():
+            best = polished
     final = min_jerk(waypoints, best)
     return JointTrajectory(final.durations, final.coefficients, final.waypoints, requested)
 
@@ -134,8 +163,8 @@ def _checked_limits(waypoints, max_velocity, max_acceleration):
 
 
 def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: ArrayLike,
-                      max_acceleration: ArrayLike, *, tol: float = 1e-4,
-                      max_rounds: int = 200) -> JointTrajectory:
+                      max_acceleration: ArrayLike, *, tol: float = 1e-4, max_rounds: int = 200,
+                      refine: bool = True) -> JointTrajectory:
     """The rest-to-rest minimum-jerk trajectory, segments lengthened only as far as the limits need.
 
     Each final duration is at least the requested one; a trajectory already within the
@@ -154,6 +183,10 @@ def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: 
         Limits [rad/s, rad/s^2 or m/s, m/s^2]; ``inf`` for none.
     tol : float
         Relative accuracy of each duration.
+    max_rounds : int
+        Rounds of the coordinate descent before :class:`ConvergenceError`.
+    refine : bool
+        Refine the descent's result by SLSQP (module notes); costs ``N + 1`` solves per iteration.
 
     Examples
     --------
@@ -166,19 +199,20 @@ def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: 
     vmax, amax = _checked_limits(waypoints, max_velocity, max_acceleration)
     if limit_ratio(min_jerk(waypoints, requested), vmax, amax) <= 1.0:
         return min_jerk(waypoints, requested)
-    fastest = auto_time(waypoints, vmax, amax, tol=tol, max_rounds=max_rounds).durations
+    fastest = auto_time(waypoints, vmax, amax, tol=tol, max_rounds=max_rounds, refine=refine).durations
     return _fit(waypoints, [requested, np.maximum(requested, fastest)], requested, requested, vmax, amax,
-                tol, max_rounds)
+                tol, max_rounds, refine)
 
 
 def auto_time(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: ArrayLike, *,
-              tol: float = 1e-4, max_rounds: int = 200) -> JointTrajectory:
+              tol: float = 1e-4, max_rounds: int = 200, refine: bool = True) -> JointTrajectory:
     """The rest-to-rest minimum-jerk trajectory with the shortest durations meeting the limits.
 
     Starts from durations proportional to each segment's largest ``|dq| / vmax +
     sqrt(|dq| / amax)``, scales them uniformly onto the limits, then shortens segment by
-    segment (see the module notes). A segment cannot be shorter than
-    ``max_j |dq_j| / vmax_j`` (nor than ``1e-6`` of the total, for repeated waypoints).
+    segment and refines by SLSQP (see the module notes; parameters as in
+    :func:`stretch_to_limits`). A segment cannot be shorter than ``max_j |dq_j| / vmax_j``
+    (nor than ``1e-6`` of the total, for repeated waypoints).
 
     Examples
     --------
@@ -194,4 +228,5 @@ def auto_time(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: A
         raise InputError("auto_time: needs finite limits and waypoints that move")
     guess = np.maximum(guess, 1e-6 * guess.sum())
     lower = np.maximum((step / vmax).max(axis=1), 1e-6 * guess.sum())
-    return _fit(waypoints, [guess], lower, guess, vmax, amax, float(check_finite(tol, "tol")), max_rounds)
+    return _fit(waypoints, [guess], lower, guess, vmax, amax, float(check_finite(tol, "tol")), max_rounds,
+                refine)
