@@ -1,6 +1,7 @@
 """Pictures of an arm: a still PNG of a configuration with its link frames, and GIF animations.
 
-Drawn with matplotlib's 3-D axes (no GPU, no ffmpeg; GIFs through Pillow). The links
+Drawn with matplotlib's 3-D axes without ``pyplot`` (no GUI backend, no global figure
+state, no GPU, no ffmpeg; GIF frames are blitted and assembled by Pillow). The links
 are the same cylinders the simulation model uses (:mod:`armkit.export.physical`): from
 each joint along its axis, then to the next joint. Frames are drawn as red/green/blue
 x/y/z arrows: the base, every DH link frame and the tool. A light grey shadow on the
@@ -11,21 +12,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the "3d" projection)
+from numpy.typing import ArrayLike, NDArray
+from PIL import Image
 
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
-from numpy.typing import ArrayLike, NDArray  # noqa: E402
-from PIL import Image  # noqa: E402
-
-from armkit import kinematics  # noqa: E402
-from armkit.errors import InputError  # noqa: E402
-from armkit.export.physical import PhysicalModel, physical_model  # noqa: E402
-from armkit.robot import Robot  # noqa: E402
+from armkit import kinematics
+from armkit.errors import InputError
+from armkit.export.physical import PhysicalModel, physical_model
+from armkit.robot import Robot
 
 __all__ = ["animate_trajectory", "plot_configuration"]
 
@@ -146,7 +143,7 @@ def plot_configuration(robot: Robot, q: ArrayLike, path: str | Path | None = Non
     q = robot.check_q(q)
     model = physical_model(robot)
     centre, half = _bounds(robot, model, q[None])
-    figure = plt.figure(figsize=(size, size), dpi=dpi)
+    figure = Figure(figsize=(size, size), dpi=dpi)
     ax = figure.add_subplot(projection="3d")
     ax.view_init(elev=22, azim=-58)
     label = title if title is not None else (
@@ -157,7 +154,6 @@ def plot_configuration(robot: Robot, q: ArrayLike, path: str | Path | None = Non
     figure.subplots_adjust(left=0.02, right=0.95, bottom=0.03, top=0.93)
     if path is not None:
         figure.savefig(path, dpi=dpi)
-        plt.close(figure)
     return figure
 
 
