@@ -23,6 +23,7 @@ from armkit.errors import (
     RobotDefinitionError,
     UnreachableError,
 )
+from armkit.export import mjcf_from_robot, urdf_from_robot, write_mjcf, write_urdf
 from armkit.ik import IKResult, IKSolutions, ik_solutions, numeric_ik
 from armkit.robot import Robot
 from armkit.robot_file import builtin_robots, load, robot_from_dict, robot_to_toml
@@ -54,6 +55,7 @@ __all__ = [
     "ik_solutions",
     "load",
     "min_jerk",
+    "mjcf_from_robot",
     "move_linear",
     "numeric_ik",
     "plan_trajectory",
@@ -61,4 +63,7 @@ __all__ = [
     "robot_from_dict",
     "robot_to_toml",
     "rotate_about_tool_point",
+    "urdf_from_robot",
+    "write_mjcf",
+    "write_urdf",
 ]

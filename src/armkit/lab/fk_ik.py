@@ -52,7 +52,7 @@ def fk_check(ctx: LabContext) -> Section:
     servo = _servo_poses(ctx.sim, ctx.home, q, ctx.quick)
     table = compare_poses(computed, servo)
     columns = ["configuration q [rad]", "", "report: computed", "report: Gazebo", "armkit FK",
-               "MuJoCo (servo, gravity)", "MuJoCo - armkit", "Gazebo - report"]
+               "MuJoCo (servo, gravity)", "armkit - report", "MuJoCo - armkit", "Gazebo - report"]
     rows, groups = [], set()
     for k in range(len(q)):
         groups.add(len(rows))
@@ -62,6 +62,7 @@ def fk_check(ctx: LabContext) -> Section:
                          "" if report_c is None else f"{report_c[axis]:g}",
                          "" if report_g is None else f"{report_g[axis]:g}",
                          fmt(table.computed[k, axis]), fmt(table.simulated[k, axis]),
+                         "" if report_c is None else fmt_error(table.computed[k, axis] - report_c[axis]),
                          fmt_error(table.error[k, axis]),
                          "" if report_g is None else fmt_error(report_g[axis] - report_c[axis])])
     kin = compare_poses(computed, kinematic)
@@ -74,7 +75,8 @@ def fk_check(ctx: LabContext) -> Section:
                                      f"Kinematic check (qpos set, mj_kinematics): "
                                      f"{kin.position_error.max():.1e} m, {kin.rotation_error.max():.1e} rad. "
                                      f"Without gravity compensation the stiff servos alone sag by up to "
-                                     f"{sag.position_error.max():.1e} m, {sag.rotation_error.max():.1e} rad.",
+                                     f"{sag.position_error.max():.1e} m, {sag.rotation_error.max():.1e} rad. "
+                                     f"The report prints 6 decimals and 1.5708 for pi/2.",
                                 groups=groups))
     section.headline = (f"max |MuJoCo - armkit| {table.position_error.max():.1e} m, "
                         f"{table.rotation_error.max():.1e} rad")

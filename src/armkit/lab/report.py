@@ -132,7 +132,7 @@ th{background:#f2f2f6}td:first-child,th:first-child{text-align:left}tr.group td{
 tbody tr:nth-child(even){background:#fafafc}.note{color:#555;font-size:13px}
 .figures{display:flex;flex-wrap:wrap;gap:18px;align-items:flex-start}
 figure{margin:10px 0}figure img{max-width:100%;border:1px solid #e4e4ea;border-radius:4px}
-.wrap td{white-space:normal;text-align:left}.wrap td:nth-child(2){white-space:nowrap}
+.wrap td,.wrap th{white-space:normal;text-align:left}.wrap td:nth-child(2){white-space:nowrap}
 figcaption{font-size:12px;color:#555;max-width:560px}nav a{margin-right:14px;font-size:14px}
 """
 
