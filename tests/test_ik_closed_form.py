@@ -353,3 +353,23 @@ def test_duplicates_are_merged_modulo_two_pi():
     duplicate = solver._duplicates(q[None], valid[None])[0]
     # candidate 0 is invalid, so 1 is the first kept; 4-7 repeat it, 2 and 3 differ
     assert duplicate.tolist() == [False, False, False, False, True, True, True, True]
+
+
+@pytest.mark.parametrize("name", CLOSED_FORM_ROBOTS)
+def test_every_joint_at_a_multiple_of_half_pi(name):
+    """Where singularities pile up (stretched elbow + wrist + shoulder): nothing is lost.
+
+    Every valid candidate reproduces the pose to machine precision, and the q that made
+    the pose is among the candidates or the pose has a family representative.
+    """
+    import itertools
+
+    chain = armkit.load(name).chain
+    q = np.array(list(itertools.product([0.0, np.pi / 2, -np.pi / 2, np.pi], repeat=chain.n)))
+    q[:, chain.prismatic] = 0.01
+    T = fk(chain, q)
+    sol = closed_form_ik(chain, T)
+    assert np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))[sol.valid].max() < 1e-12
+    found = ((_joint_distance(chain, sol.q, q[:, None]) < 1e-6) & sol.valid).any(axis=-1)
+    assert (found | (sol.family & sol.valid).any(axis=-1)).all()
+    assert sol.valid.any(axis=-1).all()

@@ -430,7 +430,8 @@ class ClosedFormSolver:
         y = self._p5 + rotate(h_all[4], q5, self._p6 - self._p5)
         z = p[0] + rotate(-h_all[0], q1, (_transform_point(R_G, t_G, self._p6) - p[0])[:, None, :])
         if f6.any():
-            q6, theta = self._wrist_family_representative(f6, q6, theta, z - p[1], y - p[3])
+            s6 = np.sign(dot(v, h_all[5]))  # axis 6 along (+1) or against (-1) h at this q5
+            q6, theta = self._wrist_family_representative(f6, s6, q6, theta, z - p[1], y - p[3])
         target = z - p[1] - rotate(h, theta, y - p[3])
         q2, q3, v23, f23 = _planar_2r(h, p[2] - p[1], p[3] - p[2], target)
         q4 = theta[..., None] - q2 - q3
@@ -443,8 +444,8 @@ class ClosedFormSolver:
         family = spread(free | f6) | f23
         return q.reshape(N, 8, 6), valid.reshape(N, 8), family.reshape(N, 8)
 
-    def _wrist_family_representative(self, free: Mask, q6: Array, theta: Array, A: Array,
-                                     B: Array) -> tuple[Array, Array]:
+    def _wrist_family_representative(self, free: Mask, s6: Array, q6: Array, theta: Array,
+                                     A: Array, B: Array) -> tuple[Array, Array]:
         """Axis 6 parallel to axes 2-4: pick the ``q6`` of the family that is best reachable.
 
         Along the family ``q2 + q3 + q4 = theta - s q6`` (``s = +-1``: axis 6 along or against
@@ -452,7 +453,6 @@ class ClosedFormSolver:
         that puts its length where the planar 2R reaches best (``|v|^2 = |a|^2 + |b|^2``).
         """
         h, p = self._h, self._poe.points
-        s6 = np.sign(self._poe.axes[5] @ h)
         A = A - dot(A, h)[..., None] * h
         B = B - dot(B, h)[..., None] * h
         a, b = p[2] - p[1], p[3] - p[2]

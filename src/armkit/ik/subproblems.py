@@ -112,8 +112,7 @@ def sp1(p: Array, q: Array, k: Array) -> tuple[Array, NDArray[np.bool_]]:
     p_perp = p - dot(k, p)[..., None] * k
     sin_part = dot(cross(k, p), q)  # k . (p_perp x q)
     cos_part = dot(p_perp, q)
-    scale = np.sqrt(dot(p, p) * dot(q, q))
-    free = np.hypot(sin_part, cos_part) <= FREE_TOLERANCE * scale
+    free = _on_axis(p, k) | _on_axis(q, k)
     theta = np.where(free, 0.0, np.arctan2(sin_part, cos_part))
     return theta, free
 
@@ -143,7 +142,7 @@ def solve_trig_linear(a: Array, b: Array, c: Array, scale: Array
     x = c / np.where(degenerate, 1.0, r)
     exists = ~degenerate & (np.abs(x) <= 1.0 + OUT_TOLERANCE)
     tangent = np.abs(x) >= 1.0 - TANGENT_TOLERANCE
-    delta = np.arccos(np.clip(x, -1.0, 1.0))
+    delta = np.where(tangent, np.where(x > 0, 0.0, np.pi), np.arccos(np.clip(x, -1.0, 1.0)))
     phi = np.arctan2(b, a)
     theta = np.stack([phi + delta, phi - delta], axis=-1)
     valid = np.stack([exists | free, exists & ~tangent], axis=-1)
@@ -198,7 +197,12 @@ def sp2(p1: Array, p2: Array, k1: Array, k2: Array
     n = cross(k1, k2)
     n1, n2 = dot(p1, p1), dot(p2, p2)
     norm2 = 0.5 * (n1 + n2)
-    gamma2 = (norm2 - dot(base, base)) / det
+    # gamma^2 det^2 = r1^2 det - (a2 - c12 a1)^2 with r1 = |k1 x p1| the radius of p1's
+    # circle (or the same with 1 <-> 2): no cancellation against |p|^2, so a tiny circle
+    # (a wrist near its singularity) keeps its relative accuracy. Use the smaller circle.
+    r1, r2 = dot(cross(k1, p1), cross(k1, p1)), dot(cross(k2, p2), cross(k2, p2))
+    gamma2 = np.where(r1 <= r2, r1 * det - (a2 - c12 * a1) ** 2,
+                      r2 * det - (a1 - c12 * a2) ** 2) / (det * det)
     exists = (gamma2 >= -OUT_TOLERANCE * norm2) & (np.abs(n1 - n2) <= OUT_TOLERANCE * norm2)
     gamma = np.sqrt(np.maximum(gamma2, 0.0))[..., None] * np.array([1.0, -1.0])
     x = base[..., None, :] + gamma[..., None] * n[..., None, :]
