@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 import typer
 from rich.console import Console
+from rich.markup import escape
 
 from armkit.errors import InputError
 from armkit.robot import Robot
@@ -54,7 +55,7 @@ def to_si(robot: Robot, q: Sequence[float], degrees: bool) -> np.ndarray:
 
 def warn(message: str) -> None:
     """A yellow warning line on stderr."""
-    err_console.print(f"[yellow]warning:[/yellow] {message}", highlight=False)
+    err_console.print(f"[yellow]warning:[/yellow] {escape(message)}", highlight=False)
 
 
 def check_limits_or_warn(robot: Robot, q: np.ndarray, strict: bool) -> None:
