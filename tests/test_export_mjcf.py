@@ -90,3 +90,14 @@ def test_write_mjcf_refuses_to_overwrite(tmp_path):
     assert path.read_text() == first
     with pytest.raises(InputError, match="does not exist"):
         write_mjcf(robot, tmp_path / "missing" / "arm.xml")
+
+
+def test_rounded_angles_leave_no_degenerate_capsules():
+    """alpha = 1.5707963 (not quite pi/2) leaves sub-micron offsets that MuJoCo would reject as capsules."""
+    robot = armkit.robot_from_dict({"convention": "standard", "joints": [
+        {"alpha": 1.5707963, "a": 0, "d": 0.3, "theta": 0},
+        {"alpha": 1.5707963, "a": 0, "d": 0, "theta": 1.5707963},
+        {"type": "prismatic", "alpha": 0, "a": 0, "d": 0.2, "theta": 0, "limits": [0.1, 0.5]}]}, "rrp.toml")
+    sim = Simulation(robot, gravity=False)
+    q = robot.random_q(20, rng=5)
+    assert_transform_close(sim.tool_pose(q), robot.fk(q), position_tol=1e-12, angle_tol=1e-12)

@@ -43,7 +43,7 @@ SERVO_BANDWIDTH_HZ = 20.0
 ARMATURE_RATIO = 0.25
 TIMESTEP = 1e-3  # s, the physics and command rate
 GRAVITY = 9.81  # m/s^2
-_MIN_SEGMENT = 1e-9  # m; shorter offsets get no cylinder
+_MIN_SEGMENT = 1e-6  # m; shorter offsets get no cylinder (MuJoCo rejects degenerate capsules)
 _GAIN_SAMPLES = 32
 
 

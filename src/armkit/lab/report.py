@@ -111,7 +111,7 @@ def _section_html(folder: Path, section: Section) -> str:
     parts = [f'<section id="{section.key}"><h2>{_cell(section.title)}{badge}</h2>',
              "".join(f"<p>{_cell(p)}</p>" for p in section.intro.split("\n\n") if p)]
     parts += [f'<p class="note">{_cell(n)}</p>' for n in section.notes]
-    if section.status == "ok":
+    if section.status != "unavailable":
         parts += [_table_html(t) for t in section.tables]
         if section.images:
             parts.append('<div class="figures">' + "".join(
