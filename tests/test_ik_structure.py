@@ -91,3 +91,9 @@ def test_show_prints_the_structure(capsys):
     structure = json.loads(capsys.readouterr().out)["structure"]
     assert structure["kind"] == "none" and not structure["closed_form"]
     assert "redundant" in structure["description"]
+
+
+def test_coincident_axes_have_no_closed_form():
+    rows = [DHRow(0.0, 0.0, 0.3, 0.0), DHRow(0.0, 0.0, 0.2, 0.0), DHRow(np.pi / 2, 0.3, 0.0, 0.0)]
+    structure = analyze_structure(chain_from_dh(rows + rows, "modified"))
+    assert structure.kind == "none" and "axes 1 and 2 are the same line" in structure.description

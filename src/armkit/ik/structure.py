@@ -274,6 +274,13 @@ def plan_closed_form(chain: Chain, tol: float = 1e-9) -> SolverPlan:
         the distance below which axes count as meeting.
     """
     poe = poe_from_chain(chain)
+    g = _Geometry(poe, tol)
+    for i in range(chain.n - 1):
+        if not poe.prismatic[i] and not poe.prismatic[i + 1] and g.parallel(i, i + 1) \
+                and g.distance_to_line(poe.points[i + 1], i) <= g.tol:
+            why = (f"axes {i + 1} and {i + 2} are the same line: the arm has fewer degrees of "
+                   f"freedom than joints, no closed form; use numeric IK")
+            return SolverPlan(ArmStructure("none", False, 0, why), poe)
     if chain.n == 6:
         plan = _spherical(poe, tol, "spherical-wrist")
         if plan is None or not plan.structure.closed_form:
