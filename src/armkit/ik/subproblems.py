@@ -110,17 +110,13 @@ def sp1(p: Array, q: Array, k: Array) -> tuple[Array, NDArray[np.bool_]]:
         ``p`` (or ``q``) lies on the axis: every angle is a solution.
     """
     p_perp = p - dot(k, p)[..., None] * k
-    sin_part = dot(cross(k, p), q)  # k . (p_perp x q)
+    kxp, kxq = cross(k, p), cross(k, q)  # their lengths: distances from the axis
+    sin_part = dot(kxp, q)  # k . (p_perp x q)
     cos_part = dot(p_perp, q)
-    free = _on_axis(p, k) | _on_axis(q, k)
+    tol2 = FREE_TOLERANCE ** 2
+    free = (dot(kxp, kxp) <= tol2 * dot(p, p)) | (dot(kxq, kxq) <= tol2 * dot(q, q))
     theta = np.where(free, 0.0, np.arctan2(sin_part, cos_part))
     return theta, free
-
-
-def _on_axis(p: Array, k: Array) -> NDArray[np.bool_]:
-    """``p`` lies on the axis ``k`` (relative to ``|p|``), shape ``(...)``."""
-    p_perp = p - dot(k, p)[..., None] * k
-    return dot(p_perp, p_perp) <= (FREE_TOLERANCE ** 2) * dot(p, p)
 
 
 def solve_trig_linear(a: Array, b: Array, c: Array, scale: Array
@@ -200,18 +196,20 @@ def sp2(p1: Array, p2: Array, k1: Array, k2: Array
     # gamma^2 det^2 = r1^2 det - (a2 - c12 a1)^2 with r1 = |k1 x p1| the radius of p1's
     # circle (or the same with 1 <-> 2): no cancellation against |p|^2, so a tiny circle
     # (a wrist near its singularity) keeps its relative accuracy. Use the smaller circle.
-    r1, r2 = dot(cross(k1, p1), cross(k1, p1)), dot(cross(k2, p2), cross(k2, p2))
+    c1, c2 = cross(k1, p1), cross(k2, p2)
+    r1, r2 = dot(c1, c1), dot(c2, c2)
     gamma2 = np.where(r1 <= r2, r1 * det - (a2 - c12 * a1) ** 2,
                       r2 * det - (a1 - c12 * a2) ** 2) / (det * det)
     exists = (gamma2 >= -OUT_TOLERANCE * norm2) & (np.abs(n1 - n2) <= OUT_TOLERANCE * norm2)
     gamma = np.sqrt(np.maximum(gamma2, 0.0))[..., None] * np.array([1.0, -1.0])
     x = base[..., None, :] + gamma[..., None] * n[..., None, :]
-    free1, free2 = _on_axis(p1, k1), _on_axis(p2, k2)
+    free1 = r1 <= (FREE_TOLERANCE ** 2) * n1
+    free2 = r2 <= (FREE_TOLERANCE ** 2) * n2
     # a point on its axis stays put: the common point is that point itself, exactly
     x = np.where(free1[..., None, None], p1[..., None, :],
                  np.where(free2[..., None, None], p2[..., None, :], x))
-    theta1, _ = sp1(p1[..., None, :], x, k1[..., None, :])
-    theta2, _ = sp1(p2[..., None, :], x, k2[..., None, :])
+    theta1, _ = sp1(p1[..., None, :], x, k1 if np.ndim(k1) == 1 else k1[..., None, :])
+    theta2, _ = sp1(p2[..., None, :], x, k2 if np.ndim(k2) == 1 else k2[..., None, :])
     theta1 = np.where(free1[..., None], 0.0, theta1)
     theta2 = np.where(free2[..., None], 0.0, theta2)
     single = (gamma2 <= 0.0) | free1 | free2
