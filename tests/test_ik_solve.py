@@ -12,6 +12,7 @@ import armkit
 from armkit.chain import DHRow
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik import ik_solutions
+from armkit.ik.solve import _refine, _residuals
 from armkit.spatial import matrix_from_euler, transform_from
 
 CLOSED_FORM = ["probot-anno", "zju-i", "puma560", "ur5", "stanford", "grb400-scara"]
@@ -138,6 +139,17 @@ def test_batch_equals_one_at_a_time(name):
         np.testing.assert_array_equal(found, robot.ik(t, all=True))
 
 
+def test_numeric_batch_equals_one_at_a_time():
+    panda = armkit.load("panda")
+    q = panda.random_q(3, rng=8)
+    T = panda.fk(q)
+    batch = panda.ik(T, near=q + 0.05, rng=2)
+    assert batch.shape == (3, 7)
+    for found, t, s in zip(batch, T, q + 0.05, strict=True):
+        np.testing.assert_array_equal(found, panda.ik(t, near=s, rng=2))
+        assert_transform_close(panda.fk(found), t, 1e-9, 1e-9)
+
+
 def test_near_picks_the_closest_solution_by_weighted_distance():
     robot = armkit.load("probot-anno")
     T = REPORT_CASES[0][0]
@@ -227,3 +239,17 @@ def test_bad_near_and_weights():
         robot.ik(np.stack([T, T]), near=np.zeros((3, 6)))
     with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
         robot.ik(T, weights=[1, 1, 1, 1, 1, -1])
+
+
+def test_rough_candidates_are_refined_on_their_branch():
+    robot = armkit.load("ur5")
+    q_true = np.array([[0.3, -1.0, 1.2, 0.4, 0.9, -0.5], [2.0, -2.0, -1.0, 1.0, -1.0, 0.5]])
+    T = robot.fk(q_true)
+    q = q_true + 1e-7
+    position_error, orientation_error = _residuals(robot.chain, q, T)
+    assert np.all(position_error > 1e-8)
+    _refine(robot.chain, q, T, position_error, orientation_error, np.array([True, False]))
+    assert position_error[0] < 1e-12 and orientation_error[0] < 1e-12
+    np.testing.assert_allclose(robot.fk(q[0]), T[0], atol=1e-12)
+    assert np.abs(q[0] - q_true[0]).max() < 1e-6
+    np.testing.assert_array_equal(q[1], q_true[1] + 1e-7)  # not a candidate: left alone
