@@ -25,7 +25,7 @@ Example
 -------
 >>> import numpy as np, armkit
 >>> chain = armkit.load("probot-anno").chain
->>> from armkit.kinematics import fk
+>>> from armkit.kinematics import fk, geometric_jacobian
 >>> sol = closed_form_ik(chain, fk(chain, np.array([0.3, -0.5, 0.4, 0.2, 0.6, -0.1])))
 >>> int(sol.valid.sum())
 8
@@ -52,7 +52,7 @@ from armkit.ik.subproblems import (
     sp3,
     sp4,
 )
-from armkit.kinematics import fk
+from armkit.kinematics import fk, geometric_jacobian
 from armkit.spatial.transforms import check_transform
 
 __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
@@ -150,6 +150,7 @@ class ClosedFormSolver:
         # Over-determined chains (fewer than 6 joints) must be checked by FK; for 6 joints
         # every subproblem checks its own existence, so the masks are exact.
         self._verify = chain.n < 6
+        self._polish_by_newton = False
         if kind in ("spherical-wrist", "spherical-base"):
             self._k = 8
             self._u6 = _unit_normal(poe.axes[5])
@@ -188,6 +189,8 @@ class ClosedFormSolver:
             q[..., self._poe.index] = q_int * self._poe.sign
         turns = np.round(q * (0.5 / np.pi)) * (2 * np.pi)
         q -= turns if self._revolute_user.all() else turns * self._revolute_user
+        if self._polish_by_newton:
+            q = self._newton(q, T, valid)
         if self._verify:
             valid = valid & self._reproduces(q, T)
         valid = valid & ~self._duplicates(q, valid)
@@ -196,6 +199,26 @@ class ClosedFormSolver:
                                    (family & valid).reshape(*batch, k))
 
     # ----------------------------------------------------------- verification
+    def _newton(self, q: Array, T: Array, valid: Mask, steps: int = 2) -> Array:
+        """Newton steps on the full pose for the valid candidates (quartic path only).
+
+        Where the three-parallel equations meet other singularities (double roots near an
+        aligned wrist), the candidates may carry errors of ~1e-7; two damped Newton steps on
+        ``fk(q) = T`` bring them to rounding level, and :meth:`_reproduces` then decides.
+        """
+        target = np.broadcast_to(T[:, None], (*q.shape[:-1], 4, 4))
+        for _ in range(steps):
+            T_q = fk(self.chain, q)
+            dR = target[..., :3, :3] @ np.swapaxes(T_q[..., :3, :3], -1, -2)
+            w = 0.5 * np.stack([dR[..., 2, 1] - dR[..., 1, 2], dR[..., 0, 2] - dR[..., 2, 0],
+                                dR[..., 1, 0] - dR[..., 0, 1]], axis=-1)
+            e = np.concatenate([target[..., :3, 3] - T_q[..., :3, 3], w], axis=-1)
+            J = geometric_jacobian(self.chain, q)
+            JJt = J @ np.swapaxes(J, -1, -2) + 1e-14 * np.eye(6)
+            step = (np.swapaxes(J, -1, -2) @ np.linalg.solve(JJt, e[..., None]))[..., 0]
+            q = np.where(valid[..., None], q + step, q)
+        return q
+
     def _reproduces(self, q: Array, T: Array) -> Mask:
         error = np.abs(fk(self.chain, q) - T[:, None]).max(axis=(-1, -2))
         return error <= self._verify_tol
@@ -308,6 +331,11 @@ class ClosedFormSolver:
         self._f = np.array([r[0] for r in rows]) + np.array([0.0, self._h @ (self._p5 - p[0])])
         U, S, _ = np.linalg.svd(self._Q)
         self._q_rank1 = S[1] <= 1e-9 * S[0]
+        # axes 5 and 6 skew: roots of a quartic, polished on the full pose and checked by FK
+        self._polish_by_newton = self._verify = not self._q_rank1
+        # values of q5 that turn axis 6 parallel to h (a UR-like wrist singularity)
+        q5, ok, _ = sp4(self._h, h[5], h[4], np.array([1.0, -1.0]))
+        self._q5_aligned = q5[ok]
         self._lam, self._mu = U[:, 1], U[:, 0]
         self._u_h = _unit_normal(self._h)
 
@@ -384,9 +412,34 @@ class ClosedFormSolver:
         x5 = (W[:, None] @ x1[..., None])[..., 0] - w0[:, None, :]
         q5 = np.arctan2(x5[..., 1], x5[..., 0])
         t, q5, residual = self._polish(P, r, t, q5)
+        t, q5 = self._snap_to_aligned_wrist(P, r, t, q5)
         size = 1.0 + np.abs(P).max(axis=(-1, -2)) + np.abs(r).max(axis=-1)
         valid = valid & (residual <= 1e-10 * size[:, None])
         return t, q5, valid, np.zeros_like(valid)
+
+    def _snap_to_aligned_wrist(self, P: Array, r: Array, q1: Array, q5: Array
+                               ) -> tuple[Array, Array]:
+        """Put q5 exactly where axis 6 is parallel to h when a root is that close to it.
+
+        There the quartic has a double root, which Newton steps reach only to ~1e-8; the
+        exact value lets the family (``q6`` against ``q2 + q3 + q4``) be recognised. ``q1``
+        is then solved from ``P x1 = r + Q x5`` (a 2x2 linear system).
+        """
+        if self._q5_aligned.size == 0:
+            return q1, q5
+        gap = q5[..., None] - self._q5_aligned
+        gap = np.abs(gap - np.round(gap * (0.5 / np.pi)) * (2 * np.pi))
+        near = gap.min(axis=-1) <= 1e-6
+        if not near.any():
+            return q1, q5
+        q5_snap = self._q5_aligned[np.argmin(gap, axis=-1)]
+        rhs = r[:, None, :] + np.stack([np.cos(q5_snap), np.sin(q5_snap)], axis=-1) @ self._Q.T
+        det = P[:, 0, 0] * P[:, 1, 1] - P[:, 0, 1] * P[:, 1, 0]
+        ok = near & (np.abs(det) > 1e-9 * (1.0 + np.abs(P).max(axis=(-1, -2))))[:, None]
+        det = np.where(np.abs(det) > 0, det, 1.0)[:, None]
+        c1 = (P[:, None, 1, 1] * rhs[..., 0] - P[:, None, 0, 1] * rhs[..., 1]) / det
+        s1 = (P[:, None, 0, 0] * rhs[..., 1] - P[:, None, 1, 0] * rhs[..., 0]) / det
+        return np.where(ok, np.arctan2(s1, c1), q1), np.where(ok, q5_snap, q5)
 
     def _polish(self, P: Array, r: Array, q1: Array, q5: Array) -> tuple[Array, Array, Array]:
         """Newton steps on ``P x1(q1) - Q x5(q5) = r`` itself (Q^-1 may be ill-conditioned).
