@@ -10,7 +10,7 @@ from armkit.chain import DHRow, chain_from_dh
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.closed_form import closed_form_ik, closed_form_solver
 from armkit.ik.structure import analyze_structure, poe_from_chain
-from armkit.ik.subproblems import rotation_matrix, sp1
+from armkit.ik.subproblems import rotation_matrix, sp1, sp4
 from armkit.kinematics import fk, singular_values
 from armkit.spatial.rotations import matrix_from_euler
 
@@ -373,3 +373,24 @@ def test_every_joint_at_a_multiple_of_half_pi(name):
     found = ((_joint_distance(chain, sol.q, q[:, None]) < 1e-6) & sol.valid).any(axis=-1)
     assert (found | (sol.family & sol.valid).any(axis=-1)).all()
     assert sol.valid.any(axis=-1).all()
+
+
+def test_skew_wrist_three_parallel_arm_aligned_wrist_family():
+    """Axes 2-4 parallel, axes 5 and 6 skew (the quartic path), axis 6 turned onto h."""
+    rng = np.random.default_rng(21)
+    alpha = [np.pi / 2, 0.0, 0.0, 1.1, 1.1, 0.4]
+    a = [0.05, 0.4, 0.35, 0.03, 0.08, 0.0]
+    d = [0.3, 0.05, -0.04, 0.1, 0.09, 0.07]
+    rows = [DHRow(alpha[i], a[i], d[i], rng.uniform(-1, 1)) for i in range(6)]
+    chain = chain_from_dh(rows, "standard")
+    assert analyze_structure(chain).kind == "three-parallel"
+    assert not closed_form_solver(chain)._q_rank1  # the quartic path
+    poe = poe_from_chain(chain)
+    q5, ok, _ = sp4(poe.axes[1], poe.axes[5], poe.axes[4], np.array([1.0, -1.0]))
+    q = _random_q(rng, chain, 20)
+    q[:, 4] = q5[ok][rng.integers(ok.sum(), size=20)]
+    T = fk(chain, q)
+    sol = closed_form_ik(chain, T)
+    assert np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))[sol.valid].max() < 1e-12
+    same = _joint_distance(chain, sol.q, q[:, None], [0, 4]) < 1e-9
+    assert (same & sol.family & sol.valid).any(axis=-1).all()
