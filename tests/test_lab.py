@@ -15,8 +15,8 @@ from armkit.errors import InputError
 from armkit.lab import run_lab
 from armkit.lab.report import MARKER, prepare_folder
 
-PNGS = ["fk_configuration.png", "line_tracking.png", "trajectory_pva.png", "trajectory_tracking.png",
-        "rotation.png", "zju_configuration.png", "scara_configuration.png"]
+PNGS = ["fk_configuration.png", "ik_solutions.png", "line_tracking.png", "trajectory_pva.png",
+        "trajectory_tracking.png", "rotation.png", "zju_configuration.png", "scara_configuration.png"]
 GIFS = ["ik_solutions.gif", "line.gif", "trajectory.gif", "rotation.gif"]
 
 

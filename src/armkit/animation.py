@@ -24,7 +24,7 @@ from armkit.errors import InputError
 from armkit.export.physical import PhysicalModel, physical_model
 from armkit.robot import Robot
 
-__all__ = ["animate_trajectory", "plot_configuration"]
+__all__ = ["animate_trajectory", "plot_configuration", "plot_configurations"]
 
 _LINK_COLORS = ("#d9731f", "#3366bf")
 _JOINT_COLOR = "#404047"
@@ -141,17 +141,54 @@ def plot_configuration(robot: Robot, q: ArrayLike, path: str | Path | None = Non
     1
     """
     q = robot.check_q(q)
+    label = title if title is not None else f"{robot.name}   q = [{', '.join(f'{v:.3g}' for v in q)}]"
+    return plot_configurations(robot, q[None], path, titles=[label], frames=frames, dpi=dpi, size=size)
+
+
+def plot_configurations(robot: Robot, q: ArrayLike, path: str | Path | None = None, *,
+                        titles: list[str] | None = None, frames: bool = True, columns: int = 4,
+                        dpi: int = 110, size: float = 4.8) -> Figure:
+    """Several configurations side by side (e.g. every IK solution of one pose), same scale.
+
+    Parameters
+    ----------
+    robot : Robot
+    q : array_like (m, n)
+        Joint values [rad or m], one picture each.
+    path : str or Path, optional
+        Save a PNG there.
+    titles : list of str, optional
+        One per configuration; default ``q`` itself.
+    frames : bool
+        Draw the DH link frames.
+    columns : int
+        Pictures per row.
+    dpi, size : int, float
+        Resolution and size of one picture [inch].
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("probot-anno")
+    >>> figure = plot_configurations(robot, robot.ik(robot.fk([0.9, -0.7, -0.4, 0, 1.1, 0.9]), all=True))
+    >>> len(figure.axes)
+    4
+    """
+    q = _trajectory(robot, q)
+    titles = [f"q = [{', '.join(f'{v:.3g}' for v in q_k)}]" for q_k in q] if titles is None else titles
+    if len(titles) != len(q):
+        raise InputError(f"titles: expected {len(q)}, one per configuration, got {len(titles)}")
     model = physical_model(robot)
-    centre, half = _bounds(robot, model, q[None])
-    figure = Figure(figsize=(size, size), dpi=dpi)
-    ax = figure.add_subplot(projection="3d")
-    ax.view_init(elev=22, azim=-58)
-    label = title if title is not None else (
-        f"{robot.name}   q = [{', '.join(f'{v:.3g}' for v in q)}]")
-    floor = _setup_axes(ax, centre, half, label)
-    _draw_arm(ax, robot, model, q, floor, half, frames)
-    _axis_legend(ax)
-    figure.subplots_adjust(left=0.02, right=0.95, bottom=0.03, top=0.93)
+    centre, half = _bounds(robot, model, q)
+    rows, cols = -(-len(q) // columns), min(columns, len(q))
+    figure = Figure(figsize=(size * cols, size * rows), dpi=dpi)
+    for k, (q_k, label) in enumerate(zip(q, titles, strict=True)):
+        ax = figure.add_subplot(rows, cols, k + 1, projection="3d")
+        ax.view_init(elev=22, azim=-58)
+        floor = _setup_axes(ax, centre, half, label)
+        _draw_arm(ax, robot, model, q_k, floor, half, frames)
+        _axis_legend(ax)
+    figure.subplots_adjust(left=0.02, right=0.95, bottom=0.03, top=0.93, wspace=0.05)
     if path is not None:
         figure.savefig(path, dpi=dpi)
     return figure

@@ -128,6 +128,14 @@ def ik_check(ctx: LabContext) -> Section:
                  for s in solutions]
         if index == 1:
             gif_q = [m.q[:: max(1, len(m.q) // 12)] for m in moves]
+            picture = ctx.path("ik_solutions.png")
+            animation.plot_configurations(robot, np.array([m.q[-1] for m in moves]), picture,
+                                          titles=[f"solution {k + 1}" for k in range(len(moves))],
+                                          dpi=60 if ctx.quick else 80, size=3.6)
+            section.images.append((picture.name, "Target 1: every in-limit solution as MuJoCo holds it. The "
+                                                 "same tool pose; the link frames show which joints are "
+                                                 "turned (for this arm the solutions can share link "
+                                                 "positions and differ by 180 deg joint turns)."))
         reached = np.array([m.T_tool[-1] for m in moves])
         table = compare_poses(np.broadcast_to(T, reached.shape), reached)
         counts.append(len(solutions))
