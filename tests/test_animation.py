@@ -1,0 +1,59 @@
+"""Stills and GIFs: files decode, frames move, bad input is refused."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image, ImageChops
+
+import armkit
+from armkit.animation import animate_trajectory, plot_configuration, plot_configurations
+from armkit.errors import InputError
+
+
+def test_still_png_with_link_frames(tmp_path):
+    robot = armkit.load("probot-anno")
+    path = tmp_path / "anno.png"
+    figure = plot_configuration(robot, [0.927, -0.687, -0.396, 0, 1.083, 0.927], path, dpi=60)
+    assert len(figure.axes) == 1 and "PROBOT Anno" in figure.axes[0].get_title()
+    with Image.open(path) as image:
+        assert image.format == "PNG" and image.size == (288, 288)
+    with_frames = np.asarray(Image.open(path).convert("RGB"), dtype=int)
+    plot_configuration(robot, [0.927, -0.687, -0.396, 0, 1.083, 0.927], tmp_path / "plain.png", dpi=60,
+                       frames=False)
+    plain = np.asarray(Image.open(tmp_path / "plain.png").convert("RGB"), dtype=int)
+    red = (with_frames[..., 0] > 180) & (with_frames[..., 1] < 80) & (with_frames[..., 2] < 80)
+    red_plain = (plain[..., 0] > 180) & (plain[..., 1] < 80) & (plain[..., 2] < 80)
+    assert red.sum() > red_plain.sum()  # the x axes of the link frames are drawn in red
+
+
+def test_side_by_side_configurations(tmp_path):
+    robot = armkit.load("grb400-scara")
+    q = np.array([[0.5, 0.5, 0.0, 0.0], [1.0, 1.2, 0.02, 0.5], [2.0, 0.3, -0.03, -1.0]])
+    figure = plot_configurations(robot, q, tmp_path / "three.png", titles=["a", "b", "c"], dpi=40, columns=2)
+    assert [ax.get_title() for ax in figure.axes] == ["a", "b", "c"]
+    with pytest.raises(InputError, match="titles: expected 3"):
+        plot_configurations(robot, q, titles=["a"])
+
+
+def test_gif_frames_show_the_motion(tmp_path):
+    robot = armkit.load("stanford")  # includes a prismatic joint, drawn as a sliding rod
+    q = np.linspace(robot.random_q(rng=1), robot.random_q(rng=2), 30)
+    path = animate_trajectory(robot, q, tmp_path / "arm.gif", t=np.linspace(0, 3, 30), frames=6, dpi=40)
+    with Image.open(path) as image:
+        assert image.format == "GIF" and image.n_frames == 6
+        image.seek(0)
+        first = image.convert("RGB")
+        image.seek(5)
+        last = image.convert("RGB")
+    assert ImageChops.difference(first, last).getbbox() is not None
+
+
+def test_bad_input():
+    robot = armkit.load("grb400-scara")
+    with pytest.raises(InputError, match="4 joints"):
+        plot_configuration(robot, [0.0, 0.0])
+    with pytest.raises(InputError, match=r"expected shape \(samples, 4\)"):
+        animate_trajectory(robot, np.zeros(4), "never.gif")
+    with pytest.raises(InputError, match="expected 3 times"):
+        animate_trajectory(robot, np.zeros((3, 4)), "never.gif", t=[0.0, 1.0])
