@@ -83,3 +83,25 @@ def test_sim_random_table(capsys):
     data = json.loads(out)
     assert code == 0 and np.shape(data["q"]) == (2, 6) and data["convention"] == "xyz-euler"
     assert max(data["servos from home in 1 s, then 0.5 s hold"]["rotation_error_rad"]) < 1e-6
+
+
+def test_without_mujoco_the_cli_still_works_and_names_the_extra(tmp_path):
+    import subprocess
+    import sys
+
+    script = (
+        "import sys\n"
+        "class Block:\n"
+        "    def find_spec(self, name, path, target=None):\n"
+        "        if name == 'mujoco':\n"
+        "            raise ImportError('no mujoco here')\n"
+        "sys.meta_path.insert(0, Block())\n"
+        "from armkit.cli.main import main\n"
+        "codes = [main(['fk', 'ur5', '0', '0', '0', '0', '0', '0']), main(['lab', '--quick']),\n"
+        "         main(['export', 'ur5', '--urdf', 'ur5.urdf'])]\n"
+        "print('codes', codes)\n")
+    result = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, capture_output=True, text=True,
+                            timeout=120)
+    assert "codes [0, 1, 0]" in result.stdout
+    assert "needs MuJoCo: pip install 'armkit[sim]'" in result.stderr
+    assert (tmp_path / "ur5.urdf").exists() and not (tmp_path / "armkit-report").exists()

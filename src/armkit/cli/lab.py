@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from armkit.cli.app import app, console
+from armkit.cli.sim import require_mujoco
 
 
 @app.command("lab")
@@ -21,6 +22,7 @@ def lab_command(
                                                         "report.")] = False,
 ) -> None:
     """Reproduce the seed experiments (FK, IK, straight line, trajectory, rotation) in MuJoCo; write HTML."""
+    require_mujoco()
     from armkit.lab import run_lab
 
     result = run_lab(robot, out, quick=quick, force=force)

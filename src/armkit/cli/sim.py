@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import numpy as np
 import typer
@@ -11,14 +11,25 @@ from rich.markup import escape
 from rich.table import Table
 
 from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, print_json, to_si
-from armkit.errors import InputError
+from armkit.errors import ArmkitError, InputError
 from armkit.robot import Robot
-from armkit.sim.runner import SimResult, Simulation
-from armkit.sim.verify import PoseComparison, compare_poses
 from armkit.spatial.rotations import rotation_angle_between
+
+if TYPE_CHECKING:  # armkit.sim needs MuJoCo, imported only when a command runs
+    from armkit.sim.runner import SimResult
+    from armkit.sim.verify import PoseComparison
 
 RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
 ForceOpt = Annotated[bool, typer.Option("--force", help="Overwrite existing output files.")]
+
+
+def require_mujoco() -> None:
+    """Raise a one-line error naming the missing extra if MuJoCo is not installed."""
+    try:
+        import mujoco  # noqa: F401
+    except ImportError as exc:
+        raise ArmkitError("this command needs MuJoCo: pip install 'armkit[sim]' "
+                          "(or pip install mujoco)") from exc
 
 
 @app.command("export")
@@ -125,6 +136,10 @@ def sim_command(
 ) -> None:
     """Check a robot in MuJoCo: tool pose computed vs simulated, or a trajectory tracked by servos."""
     from armkit.animation import animate_trajectory, plot_configuration
+
+    require_mujoco()
+    from armkit.sim.runner import Simulation
+    from armkit.sim.verify import compare_poses
 
     arm = load_robot(robot)
     for path in (gif, png):
