@@ -136,3 +136,21 @@ def test_bad_input(call, match):
 def test_start_outside_the_limits():
     with pytest.raises(JointLimitError, match="joint q5 = -2 is outside its limits"):
         move_linear(PROBOT, [0, 0, 0, 0, -2.0, 0], [0.1, 0, 0], 1.0)
+
+
+@pytest.mark.parametrize("name", [n for n in armkit.builtin_robots() if n != "grb400-scara"])
+def test_straight_move_on_every_arm(name):
+    robot = armkit.load(name)  # 6 and 7 joints (panda), revolute and prismatic (stanford)
+    candidates = robot.random_q(200, rng=3)
+    q0 = candidates[np.argmax(robot.singular_values(candidates)[:, -1])]  # well away from singular
+    result = move_linear(robot, q0, [0.03, -0.02, 0.02], 2.0)
+    assert result.completed, result.message
+    assert result.position_error < 1e-8 and result.orientation_error < 1e-8
+
+
+def test_straight_move_of_the_four_joint_scara():
+    scara = armkit.load("grb400-scara")  # n < 6: the J^T J form of the damped solve
+    q0 = np.array([np.radians(60), np.radians(50), 0.0, 0.0])
+    result = move_linear(scara, q0, [0.03, -0.02, 0.01], 2.0)
+    assert result.completed, result.message
+    np.testing.assert_allclose(result.pose_final[:3, 3], scara.fk(q0)[:3, 3] + [0.03, -0.02, 0.01], atol=1e-8)
