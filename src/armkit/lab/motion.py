@@ -134,7 +134,8 @@ def linear_motion(ctx: LabContext) -> Section:
         rows.insert(0, ["report (Gazebo)", fmt_q(published.PROBOT_LINE_START, 4),
                         fmt_q(published.PROBOT_LINE_END_GAZEBO, 6),
                         fmt_q(np.subtract(published.PROBOT_LINE_END_GAZEBO, published.PROBOT_LINE_START), 6),
-                        "", "", ""])
+                        fmt_error(np.linalg.norm(np.subtract(published.PROBOT_LINE_END_GAZEBO, report_end))),
+                        "", ""])
         gazebo = fmt_q(published.PROBOT_LINE_END_GAZEBO, 4)
         section.published = f"end at {fmt_q(report_end, 3)} (Gazebo {gazebo})"
     section.tables.append(Table(
