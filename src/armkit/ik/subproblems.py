@@ -60,12 +60,11 @@ Array = NDArray[np.float64]
 
 def dot(a: Array, b: Array) -> Array:
     """Row-wise dot product of ``(..., 3)`` vectors, shape ``(...)``."""
-    if np.ndim(a) == 1:  # one constant vector: a single 2-D matrix product
+    if a.ndim == 1:  # one constant vector: a single 2-D matrix product
         a, b = b, a
-    if np.ndim(b) == 1:
-        a = np.asarray(a)
+    if b.ndim == 1:
         return (a.reshape(-1, 3) @ b).reshape(a.shape[:-1])
-    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
+    return np.einsum("...i,...i->...", a, b)
 
 
 def _skew(k: Array) -> Array:
@@ -74,8 +73,7 @@ def _skew(k: Array) -> Array:
 
 def cross(a: Array, b: Array) -> Array:
     """Row-wise cross product of ``(..., 3)`` vectors (broadcasting), shape ``(..., 3)``."""
-    if np.ndim(a) == 1:  # a x b = [a]_x b, one 2-D matrix product for a constant a
-        b = np.asarray(b)
+    if a.ndim == 1:  # a x b = [a]_x b, one 2-D matrix product for a constant a
         return (b.reshape(-1, 3) @ _skew(a).T).reshape(b.shape)
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
