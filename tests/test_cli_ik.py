@@ -95,3 +95,5 @@ def test_errors_are_one_line(capsys):
     assert code == 1 and "--matrix" in err
     code, _, err = run(capsys, "ik", "ur5", *SEED_POSE, "--near", "0", "0")
     assert code == 1 and "UR5 has 6 joints" in err
+    code, _, err = run(capsys, "ik", "ur5", "--near", *SEED_POSE)
+    assert code == 1 and "UR5 has 6 joints" in err

@@ -49,10 +49,10 @@ def ik_command(
     near_values: Annotated[list[str] | None, typer.Argument(
         metavar="[Q...]", help="Joint values after --near.", show_default=False)] = None,
     pose: Annotated[tuple[float, float, float, float, float, float] | None, typer.Option(
-        help="Target: position X Y Z [m] and three angles A B C in the --euler convention.",
+        help="Target: position X Y Z in m and three angles A B C in the --euler convention.",
         show_default=False)] = None,
     matrix: Annotated[Matrix16 | None, typer.Option(
-        help="Target as 16 numbers, the 4x4 matrix row by row [m].", show_default=False)] = None,
+        help="Target as 16 numbers: the 4x4 matrix row by row, lengths in m.", show_default=False)] = None,
     euler: Annotated[str, typer.Option(help="Convention of the pose angles, e.g. xyz-fixed "
                                             "(roll pitch yaw), xyz-euler, zyz-euler.")] = "xyz-fixed",
     deg: Annotated[bool, typer.Option("--deg", help="Angles (pose, --near, printed joints) "
@@ -75,7 +75,7 @@ def ik_command(
     if near_values and not near:
         raise InputError(f"unexpected values {' '.join(near_values)}: joint values are given "
                          f"after --near")
-    q_near = (to_si(arm, parse_floats(near_values, "--near"), deg) if near
+    q_near = (to_si(arm, parse_floats(near_values or [], "--near"), deg) if near
               else np.zeros(arm.n))
     convention = parse_convention(euler)
     T = _target(pose, matrix, convention, deg)
