@@ -137,6 +137,14 @@ def pose_error(T_target: ArrayLike, T: ArrayLike) -> NDArray[np.float64]:
 
     Both parts are in the base frame; the rotation vector's norm is the angle between
     the two orientations, exact up to ``pi``. Inputs ``(..., 4, 4)`` broadcast.
+
+    Examples
+    --------
+    >>> from armkit.spatial import matrix_from_axis_angle, transform_from
+    >>> T = transform_from(np.eye(3), [0.1, 0.0, 0.0])
+    >>> T_target = transform_from(matrix_from_axis_angle([0.0, 0.0, 0.3]), [0.1, 0.2, 0.0])
+    >>> pose_error(T_target, T).round(12) + 0.0
+    array([0. , 0.2, 0. , 0. , 0. , 0.3])
     """
     T_target, T = np.asarray(T_target, dtype=float), np.asarray(T, dtype=float)
     R = T_target[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2)
