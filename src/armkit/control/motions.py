@@ -280,6 +280,8 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
         Control period [s].
     control : ResolvedRate, optional
         Damping and velocity-limit settings.
+    gain : float
+        Feedback gain [1/s] on the pose error (see :func:`track_poses`).
     stop_at_limits : bool
         See :func:`track_poses`.
 
@@ -364,6 +366,9 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     dt : float
         Control period [s].
     control : ResolvedRate, optional
+        Damping and velocity-limit settings.
+    gain : float
+        Feedback gain [1/s] on the pose error (see :func:`track_poses`).
     stop_at_limits : bool
         At a joint limit stop there, ``completed = False`` and a message naming the joint
         (True), or raise :class:`JointLimitError` (False).
