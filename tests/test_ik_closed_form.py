@@ -384,7 +384,7 @@ def test_skew_wrist_three_parallel_arm_aligned_wrist_family():
     rows = [DHRow(alpha[i], a[i], d[i], rng.uniform(-1, 1)) for i in range(6)]
     chain = chain_from_dh(rows, "standard")
     assert analyze_structure(chain).kind == "three-parallel"
-    assert not closed_form_solver(chain)._q_rank1  # the quartic path
+    assert not closed_form_solver(chain)._pair.rank1  # the quartic path
     poe = poe_from_chain(chain)
     q5, ok, _ = sp4(poe.axes[1], poe.axes[5], poe.axes[4], np.array([1.0, -1.0]))
     q = _random_q(rng, chain, 20)

@@ -127,6 +127,119 @@ def _unit_normal(h: Array) -> Array:
     return u / np.linalg.norm(u)
 
 
+def _trig_coeffs(h: Array, k: Array, v: Array) -> tuple[Array, Array, Array]:
+    """``h . R(k, t) v = const + cos_coeff cos t + sin_coeff sin t`` (broadcasting)."""
+    hk = h @ k if h.ndim == 1 else dot(h, k)
+    kv = dot(k, v)
+    return hk * kv, dot(h, v) - hk * kv, dot(h, cross(k, v))
+
+
+class _TwoAngleSystem:
+    """All ``(t1, t2)`` with ``P x(t1) - Q x(t2) = r``, ``x(t) = [cos t, sin t]``.
+
+    Two equations, each first order in both angles, with ``Q`` fixed by the chain and
+    ``P (N, 2, 2)``, ``r (N, 2)`` by the pose. If ``Q`` has rank 1, a combination of the
+    equations holds ``t1`` alone (SP4-like, then ``t2`` the same way): up to 2 x 2 pairs.
+    Otherwise ``x(t2) = Q^-1 (P x(t1) - r)`` on the unit circle is a quartic in
+    ``exp(i t1)`` (companion matrix, then Newton steps on the equations themselves).
+    """
+
+    def __init__(self, Q: Array) -> None:
+        self.Q = Q
+        U, S, _ = np.linalg.svd(Q)
+        self.rank1 = bool(S[1] <= 1e-9 * S[0])
+        self._lam, self._mu = U[:, 1], U[:, 0]
+
+    def solve(self, P: Array, r: Array, snap=None) -> tuple[Array, Array, Mask, Mask]:
+        """``(t1, t2, valid, free)``, each ``(N, 4)``; ``free``: ``t1`` is arbitrary.
+
+        ``snap(P, r, t1, t2) -> (t1, t2)`` may move quartic roots onto known exact values.
+        """
+        scale = 1.0 + np.abs(P).max(axis=(-1, -2)) + np.abs(r).max(axis=-1)
+        N = len(r)
+        if self.rank1:
+            lam, mu = self._lam, self._mu
+            lP, lr = lam @ P, r @ lam
+            t1, v1, f1 = solve_trig_linear(lP[:, 0], lP[:, 1], lr, scale)
+            mP = (mu @ P)[:, None, :]
+            rhs = mP[..., 0] * np.cos(t1) + mP[..., 1] * np.sin(t1) - (r @ mu)[:, None]
+            mQ = mu @ self.Q
+            t2, v2, f2 = solve_trig_linear(mQ[0], mQ[1], rhs, scale[:, None])
+            t1 = np.broadcast_to(t1[:, :, None], t2.shape)
+            valid = v1[:, :, None] & v2
+            free = np.broadcast_to(f1[:, None, None] | f2[..., None], valid.shape)
+            return t1.reshape(N, 4), t2.reshape(N, 4), valid.reshape(N, 4), free.reshape(N, 4)
+        t1, t2, valid = self._quartic(P, r)
+        t1, t2, residual = self._polish(P, r, t1, t2)
+        if snap is not None:
+            t1, t2 = snap(P, r, t1, t2)
+        valid = valid & (residual <= 1e-10 * scale[:, None])
+        return t1, t2, valid, np.zeros_like(valid)
+
+    def _quartic(self, P: Array, r: Array) -> tuple[Array, Array, Mask]:
+        """Roots of the quartic in ``exp(i t1)`` with ``t2`` from ``Q^-1``: ``(N, 4)`` each."""
+        Q_inv = np.linalg.inv(self.Q)
+        W = Q_inv @ P
+        w0 = r @ Q_inv.T
+        S = np.swapaxes(W, -1, -2) @ W
+        m = (np.swapaxes(W, -1, -2) @ w0[..., None])[..., 0]
+        z0 = dot2(w0, w0) - 1.0
+        # F(t) = A0 + A1 cos t + B1 sin t + A2 cos 2t + B2 sin 2t
+        A0 = 0.5 * (S[:, 0, 0] + S[:, 1, 1]) + z0
+        A1, B1 = -2.0 * m[:, 0], -2.0 * m[:, 1]
+        A2, B2 = 0.5 * (S[:, 0, 0] - S[:, 1, 1]), S[:, 0, 1]
+        # z^2 F in z = exp(i t): coefficients of z^4 ... z^0
+        coeffs = np.stack([(A2 - 1j * B2) / 2, (A1 - 1j * B1) / 2, A0 + 0j,
+                           (A1 + 1j * B1) / 2, (A2 + 1j * B2) / 2], axis=-1)
+        scale = np.abs(coeffs).max(axis=-1)
+        lead = coeffs[:, 0]
+        quartic = np.abs(lead) > 1e-12 * scale
+        companion = np.zeros((len(r), 4, 4), dtype=complex)
+        companion[:, 1:, :3] = np.eye(3)
+        companion[:, 0, :] = -coeffs[:, 1:] / np.where(quartic, lead, 1.0)[:, None]
+        roots = np.linalg.eigvals(companion)
+        t = np.angle(roots)
+        on_circle = np.abs(np.abs(roots) - 1.0) <= 1e-6
+        for _ in range(3):  # Newton on F(t), the real equation
+            c, s, c2, s2 = np.cos(t), np.sin(t), np.cos(2 * t), np.sin(2 * t)
+            F = A0[:, None] + A1[:, None] * c + B1[:, None] * s + A2[:, None] * c2 + B2[:, None] * s2
+            dF = -A1[:, None] * s + B1[:, None] * c - 2 * A2[:, None] * s2 + 2 * B2[:, None] * c2
+            step = np.where(np.abs(dF) > 1e-300, F / np.where(dF == 0, 1.0, dF), 0.0)
+            t = t - np.clip(step, -0.1, 0.1)
+        # degenerate (|lead| ~ 0): F is of degree 1, a cos t + b sin t = -A0
+        t_lin, v_lin, _ = solve_trig_linear(A1, B1, -A0, scale)
+        t = np.where(quartic[:, None], t, np.concatenate([t_lin, t_lin], axis=-1))
+        valid = np.where(quartic[:, None], on_circle,
+                         np.concatenate([v_lin, np.zeros_like(v_lin)], axis=-1))
+        x1 = np.stack([np.cos(t), np.sin(t)], axis=-1)
+        x2 = (W[:, None] @ x1[..., None])[..., 0] - w0[:, None, :]
+        return t, np.arctan2(x2[..., 1], x2[..., 0]), valid
+
+    def _polish(self, P: Array, r: Array, t1: Array, t2: Array) -> tuple[Array, Array, Array]:
+        """Newton steps on ``P x(t1) - Q x(t2) = r`` itself (Q^-1 may be ill-conditioned).
+
+        Returns the polished angles and the remaining residual ``max |P x(t1) - Q x(t2) - r|``.
+        """
+        Q = self.Q
+        for _ in range(6):  # quadratic convergence; linear near a double root
+            c1, s1, c2, s2 = np.cos(t1), np.sin(t1), np.cos(t2), np.sin(t2)
+            x1 = np.stack([c1, s1], axis=-1)
+            x2 = np.stack([c2, s2], axis=-1)
+            F = (P[:, None] @ x1[..., None])[..., 0] - x2 @ Q.T - r[:, None, :]
+            d1 = (P[:, None] @ np.stack([-s1, c1], axis=-1)[..., None])[..., 0]
+            d2 = -np.stack([-s2, c2], axis=-1) @ Q.T
+            det = d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]
+            ok = np.abs(det) > 1e-12 * (1.0 + np.abs(d1).max(-1) * np.abs(d2).max(-1))
+            det = np.where(ok, det, 1.0)
+            step1 = np.where(ok, (d2[..., 1] * F[..., 0] - d2[..., 0] * F[..., 1]) / det, 0.0)
+            step2 = np.where(ok, (d1[..., 0] * F[..., 1] - d1[..., 1] * F[..., 0]) / det, 0.0)
+            t1, t2 = t1 - np.clip(step1, -0.1, 0.1), t2 - np.clip(step2, -0.1, 0.1)
+        x1 = np.stack([np.cos(t1), np.sin(t1)], axis=-1)
+        x2 = np.stack([np.cos(t2), np.sin(t2)], axis=-1)
+        F = (P[:, None] @ x1[..., None])[..., 0] - x2 @ Q.T - r[:, None, :]
+        return t1, t2, np.abs(F).max(axis=-1)
+
+
 class ClosedFormSolver:
     """Closed-form IK of one chain, with everything that depends only on the chain cached.
 
@@ -326,25 +439,16 @@ class ClosedFormSolver:
         s, t = np.linalg.lstsq(A, p[5] - p[4], rcond=None)[0]
         self._p5, self._p6 = p[4] + s * h[4], p[5] + t * h[5]
         # right-hand sides h . R(h5, q5) v = const + c cos q5 + d sin q5, for v = h6, p6 - p5
-        rows = [self._trig_coeffs(self._h, h[4], v) for v in (h[5], self._p6 - self._p5)]
+        rows = [_trig_coeffs(self._h, h[4], v) for v in (h[5], self._p6 - self._p5)]
         self._Q = np.array([[r[1], r[2]] for r in rows])
         self._f = np.array([r[0] for r in rows]) + np.array([0.0, self._h @ (self._p5 - p[0])])
-        U, S, _ = np.linalg.svd(self._Q)
-        self._q_rank1 = S[1] <= 1e-9 * S[0]
+        self._pair = _TwoAngleSystem(self._Q)
         # axes 5 and 6 skew: roots of a quartic, polished on the full pose and checked by FK
-        self._polish_by_newton = self._verify = not self._q_rank1
+        self._polish_by_newton = self._verify = not self._pair.rank1
         # values of q5 that turn axis 6 parallel to h (a UR-like wrist singularity)
         q5, ok, _ = sp4(self._h, h[5], h[4], np.array([1.0, -1.0]))
         self._q5_aligned = q5[ok]
-        self._lam, self._mu = U[:, 1], U[:, 0]
         self._u_h = _unit_normal(self._h)
-
-    @staticmethod
-    def _trig_coeffs(h: Array, k: Array, v: Array) -> tuple[Array, Array, Array]:
-        """``h . R(k, t) v = const + cos_coeff cos t + sin_coeff sin t`` (broadcasting)."""
-        hk = h @ k if np.ndim(h) == 1 else dot(h, k)
-        kv = dot(k, v)
-        return hk * kv, dot(h, v) - hk * kv, dot(h, cross(k, v))
 
     def _q1_q5(self, R_G: Array, t_G: Array) -> tuple[Array, Array, Mask, Mask]:
         """The (q1, q5) pairs: ``(N, 4)`` each, validity, shoulder family."""
@@ -352,70 +456,11 @@ class ClosedFormSolver:
         h1, p1 = poe.axes[0], poe.points[0]
         u1 = R_G @ poe.axes[5]
         u2 = _transform_point(R_G, t_G, self._p6) - p1
-        e1, a1, b1 = self._trig_coeffs(self._h, -h1, u1)
-        e2, a2, b2 = self._trig_coeffs(self._h, -h1, u2)
+        e1, a1, b1 = _trig_coeffs(self._h, -h1, u1)
+        e2, a2, b2 = _trig_coeffs(self._h, -h1, u2)
         P = np.stack([np.stack([a1, b1], -1), np.stack([a2, b2], -1)], -2)  # (N, 2, 2)
         r = self._f - np.stack([e1, e2], axis=-1)  # P x1 - Q x5 = r
-        scale = 1.0 + np.abs(P).max(axis=(-1, -2)) + np.abs(r).max(axis=-1)
-        if self._q_rank1:
-            lam, mu = self._lam, self._mu
-            lP, lr = lam @ P, r @ lam
-            q1, v1, f1 = solve_trig_linear(lP[:, 0], lP[:, 1], lr, scale)
-            mP = (mu @ P)[:, None, :]
-            rhs = mP[..., 0] * np.cos(q1) + mP[..., 1] * np.sin(q1) - (r @ mu)[:, None]
-            mQ = mu @ self._Q
-            q5, v5, f5 = solve_trig_linear(mQ[0], mQ[1], rhs, scale[:, None])
-            q1 = np.broadcast_to(q1[:, :, None], q5.shape)
-            valid = v1[:, :, None] & v5
-            free = f1[:, None, None] | f5[..., None]
-            free = np.broadcast_to(free, valid.shape)
-            N = len(r)
-            return q1.reshape(N, 4), q5.reshape(N, 4), valid.reshape(N, 4), free.reshape(N, 4)
-        return self._q1_q5_quartic(P, r)
-
-    def _q1_q5_quartic(self, P: Array, r: Array) -> tuple[Array, Array, Mask, Mask]:
-        """Axes 5 and 6 skew: ``x5 = Q^-1 (P x1 - r)`` on the unit circle is a quartic in q1."""
-        Q_inv = np.linalg.inv(self._Q)
-        W = Q_inv @ P
-        w0 = r @ Q_inv.T
-        S = np.swapaxes(W, -1, -2) @ W
-        m = (np.swapaxes(W, -1, -2) @ w0[..., None])[..., 0]
-        z0 = dot2(w0, w0) - 1.0
-        # F(t) = A0 + A1 cos t + B1 sin t + A2 cos 2t + B2 sin 2t
-        A0 = 0.5 * (S[:, 0, 0] + S[:, 1, 1]) + z0
-        A1, B1 = -2.0 * m[:, 0], -2.0 * m[:, 1]
-        A2, B2 = 0.5 * (S[:, 0, 0] - S[:, 1, 1]), S[:, 0, 1]
-        # z^2 F in z = exp(i t): coefficients of z^4 ... z^0
-        coeffs = np.stack([(A2 - 1j * B2) / 2, (A1 - 1j * B1) / 2, A0 + 0j,
-                           (A1 + 1j * B1) / 2, (A2 + 1j * B2) / 2], axis=-1)
-        scale = np.abs(coeffs).max(axis=-1)
-        lead = coeffs[:, 0]
-        quartic = np.abs(lead) > 1e-12 * scale
-        companion = np.zeros((len(r), 4, 4), dtype=complex)
-        companion[:, 1:, :3] = np.eye(3)
-        companion[:, 0, :] = -coeffs[:, 1:] / np.where(quartic, lead, 1.0)[:, None]
-        roots = np.linalg.eigvals(companion)
-        t = np.angle(roots)
-        on_circle = np.abs(np.abs(roots) - 1.0) <= 1e-6
-        for _ in range(3):  # Newton on F(t), the real equation
-            c, s, c2, s2 = np.cos(t), np.sin(t), np.cos(2 * t), np.sin(2 * t)
-            F = A0[:, None] + A1[:, None] * c + B1[:, None] * s + A2[:, None] * c2 + B2[:, None] * s2
-            dF = -A1[:, None] * s + B1[:, None] * c - 2 * A2[:, None] * s2 + 2 * B2[:, None] * c2
-            step = np.where(np.abs(dF) > 1e-300, F / np.where(dF == 0, 1.0, dF), 0.0)
-            t = t - np.clip(step, -0.1, 0.1)
-        # degenerate (|lead| ~ 0): F is of degree 1, a cos t + b sin t = -A0
-        t_lin, v_lin, _ = solve_trig_linear(A1, B1, -A0, scale)
-        t = np.where(quartic[:, None], t, np.concatenate([t_lin, t_lin], axis=-1))
-        valid = np.where(quartic[:, None], on_circle,
-                         np.concatenate([v_lin, np.zeros_like(v_lin)], axis=-1))
-        x1 = np.stack([np.cos(t), np.sin(t)], axis=-1)
-        x5 = (W[:, None] @ x1[..., None])[..., 0] - w0[:, None, :]
-        q5 = np.arctan2(x5[..., 1], x5[..., 0])
-        t, q5, residual = self._polish(P, r, t, q5)
-        t, q5 = self._snap_to_aligned_wrist(P, r, t, q5)
-        size = 1.0 + np.abs(P).max(axis=(-1, -2)) + np.abs(r).max(axis=-1)
-        valid = valid & (residual <= 1e-10 * size[:, None])
-        return t, q5, valid, np.zeros_like(valid)
+        return self._pair.solve(P, r, self._snap_to_aligned_wrist)
 
     def _snap_to_aligned_wrist(self, P: Array, r: Array, q1: Array, q5: Array
                                ) -> tuple[Array, Array]:
@@ -433,37 +478,13 @@ class ClosedFormSolver:
         if not near.any():
             return q1, q5
         q5_snap = self._q5_aligned[np.argmin(gap, axis=-1)]
-        rhs = r[:, None, :] + np.stack([np.cos(q5_snap), np.sin(q5_snap)], axis=-1) @ self._Q.T
+        rhs = r[:, None, :] + np.stack([np.cos(q5_snap), np.sin(q5_snap)], axis=-1) @ self._pair.Q.T
         det = P[:, 0, 0] * P[:, 1, 1] - P[:, 0, 1] * P[:, 1, 0]
         ok = near & (np.abs(det) > 1e-9 * (1.0 + np.abs(P).max(axis=(-1, -2))))[:, None]
         det = np.where(np.abs(det) > 0, det, 1.0)[:, None]
         c1 = (P[:, None, 1, 1] * rhs[..., 0] - P[:, None, 0, 1] * rhs[..., 1]) / det
         s1 = (P[:, None, 0, 0] * rhs[..., 1] - P[:, None, 1, 0] * rhs[..., 0]) / det
         return np.where(ok, np.arctan2(s1, c1), q1), np.where(ok, q5_snap, q5)
-
-    def _polish(self, P: Array, r: Array, q1: Array, q5: Array) -> tuple[Array, Array, Array]:
-        """Newton steps on ``P x1(q1) - Q x5(q5) = r`` itself (Q^-1 may be ill-conditioned).
-
-        Returns the polished angles and the remaining residual ``max |P x1 - Q x5 - r|``.
-        """
-        Q = self._Q
-        for _ in range(6):  # quadratic convergence; linear near a double root
-            c1, s1, c5, s5 = np.cos(q1), np.sin(q1), np.cos(q5), np.sin(q5)
-            x1 = np.stack([c1, s1], axis=-1)
-            x5 = np.stack([c5, s5], axis=-1)
-            F = (P[:, None] @ x1[..., None])[..., 0] - x5 @ Q.T - r[:, None, :]
-            d1 = (P[:, None] @ np.stack([-s1, c1], axis=-1)[..., None])[..., 0]
-            d5 = -np.stack([-s5, c5], axis=-1) @ Q.T
-            det = d1[..., 0] * d5[..., 1] - d1[..., 1] * d5[..., 0]
-            ok = np.abs(det) > 1e-12 * (1.0 + np.abs(d1).max(-1) * np.abs(d5).max(-1))
-            det = np.where(ok, det, 1.0)
-            step1 = np.where(ok, (d5[..., 1] * F[..., 0] - d5[..., 0] * F[..., 1]) / det, 0.0)
-            step5 = np.where(ok, (d1[..., 0] * F[..., 1] - d1[..., 1] * F[..., 0]) / det, 0.0)
-            q1, q5 = q1 - np.clip(step1, -0.1, 0.1), q5 - np.clip(step5, -0.1, 0.1)
-        x1 = np.stack([np.cos(q1), np.sin(q1)], axis=-1)
-        x5 = np.stack([np.cos(q5), np.sin(q5)], axis=-1)
-        F = (P[:, None] @ x1[..., None])[..., 0] - x5 @ Q.T - r[:, None, :]
-        return q1, q5, np.abs(F).max(axis=-1)
 
     def _three_parallel(self, R_G: Array, t_G: Array) -> tuple[Array, Mask, Mask]:
         poe = self._poe
