@@ -105,3 +105,27 @@ def test_without_mujoco_the_cli_still_works_and_names_the_extra(tmp_path):
     assert "codes [0, 1, 0]" in result.stdout
     assert "needs MuJoCo: pip install 'armkit[sim]'" in result.stderr
     assert (tmp_path / "ur5.urdf").exists() and not (tmp_path / "armkit-report").exists()
+
+
+def test_sim_drives_what_armkit_traj_writes(capsys, tmp_path):
+    waypoints = tmp_path / "waypoints.csv"
+    np.savetxt(waypoints, [[0, 0, 0, 0, 0, 0], [0.4, -0.3, 0.2, 0.1, 0.5, -0.2]], delimiter=",")
+    for suffix in ("csv", "npz"):
+        samples = tmp_path / f"traj.{suffix}"
+        code, _, _ = run(capsys, "traj", "probot-anno", "--waypoints", waypoints, "--durations", "2",
+                         "--out", samples)
+        assert code == 0
+        code, out, _ = run(capsys, "sim", "probot-anno", "--trajectory", samples, "--json")
+        data = json.loads(out)
+        assert code == 0 and data["duration_s"] >= 2.0  # stretched if the limits need it
+        assert data["steps"] == round(data["duration_s"] * 1000) + 1
+        assert data["max_tool_position_error_m"] < 1e-4
+
+
+def test_sim_trajectory_file_errors(capsys, tmp_path):
+    code, _, err = run(capsys, "sim", "ur5", "--trajectory", tmp_path / "missing.csv")
+    assert code == 1 and "does not exist" in err
+    broken = tmp_path / "broken.npz"
+    broken.write_text("not an archive")
+    code, _, err = run(capsys, "sim", "ur5", "--trajectory", broken)
+    assert code == 1 and "not a readable NPZ archive" in err

@@ -57,13 +57,27 @@ def export_command(
                       highlight=False)
 
 
-def read_trajectory_csv(path: Path, robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    """``(t, q, qd)`` from a CSV with a header ``t,q1..qn[,qd1..qdn,...]`` (as ``armkit traj`` writes).
+def read_trajectory(path: Path, robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """``(t, q, qd)`` from a trajectory file as ``armkit traj --out`` writes it.
 
-    Without a header the columns are ``t, q1 .. qn``.
+    CSV with a header ``t,q1..qn[,qd1..qdn,...]`` (without a header the columns are
+    ``t, q1 .. qn``), or NPZ with one array per column name.
     """
     if not path.is_file():
         raise InputError(f"trajectory file {str(path)!r} does not exist")
+    columns = _npz_columns(path) if path.suffix == ".npz" else _csv_columns(path)
+    q_names = [c for c in columns if c.startswith("q") and c[1:].isdigit()]
+    if len(q_names) != robot.n:
+        raise InputError(f"trajectory file {str(path)!r} has {len(q_names)} joint columns "
+                         f"({', '.join(q_names)}); {robot.name} has {robot.n} joints")
+    if "t" not in columns:
+        raise InputError(f"trajectory file {str(path)!r}: no column 't' (time [s])")
+    qd_names = [f"qd{j}" for j in range(1, robot.n + 1)]
+    qd = np.column_stack([columns[c] for c in qd_names]) if set(qd_names) <= set(columns) else None
+    return columns["t"], np.column_stack([columns[c] for c in q_names]), qd
+
+
+def _csv_columns(path: Path) -> dict[str, np.ndarray]:
     first = path.read_text(encoding="utf-8").splitlines()[:1]
     header = [c.strip() for c in first[0].split(",")] if first and not _is_numeric(first[0]) else None
     try:
@@ -72,15 +86,18 @@ def read_trajectory_csv(path: Path, robot: Robot) -> tuple[np.ndarray, np.ndarra
         raise InputError(f"trajectory file {str(path)!r}: not a numeric CSV table: {exc}") from exc
     if header is None:
         header = ["t"] + [f"q{j}" for j in range(1, table.shape[1])]
-    q_columns = [c for c in header if c.startswith("q") and c[1:].isdigit()]
-    if len(q_columns) != robot.n:
-        raise InputError(f"trajectory file {str(path)!r} has {len(q_columns)} joint columns "
-                         f"({', '.join(q_columns)}); {robot.name} has {robot.n} joints")
-    if "t" not in header:
-        raise InputError(f"trajectory file {str(path)!r}: no column 't' (time [s]) in the header")
-    qd_columns = [f"qd{j}" for j in range(1, robot.n + 1)]
-    qd = table[:, [header.index(c) for c in qd_columns]] if set(qd_columns) <= set(header) else None
-    return table[:, header.index("t")], table[:, [header.index(c) for c in q_columns]], qd
+    if len(header) != table.shape[1]:
+        raise InputError(f"trajectory file {str(path)!r}: {len(header)} column names for "
+                         f"{table.shape[1]} columns")
+    return {name: table[:, k] for k, name in enumerate(header)}
+
+
+def _npz_columns(path: Path) -> dict[str, np.ndarray]:
+    try:
+        with np.load(path) as archive:
+            return {name: np.asarray(archive[name], dtype=float) for name in archive.files}
+    except (OSError, ValueError) as exc:
+        raise InputError(f"trajectory file {str(path)!r}: not a readable NPZ archive: {exc}") from exc
 
 
 def _is_numeric(line: str) -> bool:
@@ -121,7 +138,8 @@ def sim_command(
     random: Annotated[int, typer.Option(help="Check this many random configurations (no Q).")] = 5,
     seed: Annotated[int, typer.Option(help="Seed of the random configurations.")] = 0,
     trajectory: Annotated[Path | None, typer.Option(
-        help="Drive this trajectory CSV (t, q1..qn[, qd1..qdn]) instead.", show_default=False)] = None,
+        help="Drive this trajectory (CSV or NPZ: t, q1..qn[, qd1..qdn]) instead.",
+        show_default=False)] = None,
     gravity: Annotated[bool, typer.Option(help="Gravity on or off in the simulation.")] = True,
     compensation: Annotated[bool, typer.Option(help="Gravity compensation (qfrc_bias) in the "
                                                     "servos.")] = True,
@@ -147,7 +165,7 @@ def sim_command(
             raise InputError(f"output file {str(path)!r} already exists; pass --force to overwrite it")
     sim = Simulation(arm, gravity=gravity, gravity_compensation=compensation)
     if trajectory is not None:
-        t, q_traj, qd = read_trajectory_csv(trajectory, arm)
+        t, q_traj, qd = read_trajectory(trajectory, arm)
         result = sim.run(t, q_traj, qd)
         summary = _tracking_summary(arm, result)
         if json_output:
