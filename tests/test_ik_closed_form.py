@@ -46,14 +46,14 @@ def random_arm(rng, kind, convention, prismatic3=False):
         a[first] = a[last] = 0.0  # axes first..last+1 meet ...
         d[last] = 0.0  # ... at one point
         side = [1, 2] if kind == "spherical-wrist" else [4, 5]
-        case = rng.integers(4) if not prismatic3 else 0
+        case = rng.integers(5) if not prismatic3 else 0  # 4: axes 1-3 (4-6) general
         if case == 0:
             a[side[0]] = 0.0  # axes 1, 2 (or 5, 6) meet
         elif case == 1:
             alpha[side[1]] = 0.0  # axes 2, 3 (or 4, 5) parallel
         elif case == 2:
             a[side[1]] = 0.0  # axes 2, 3 (or 4, 5) meet
-        else:
+        elif case == 3:
             alpha[side[0]] = 0.0  # axes 1, 2 (or 5, 6) parallel
     elif kind == "three-parallel":
         block = rng.choice([2, 3])  # axes 2-4 or 3-5
@@ -311,8 +311,11 @@ def _assert_same_as_eaik(chain, q):
     for i, theirs in enumerate(_eaik_exact_solutions(chain, T)):
         ours = sol.q[i][sol.valid[i]]
         assert len(ours) == len(theirs), f"pose {i}: {len(ours)} solutions, EAIK {len(theirs)}"
+        # ours are exact (checked by the round trips); EAIK's are accepted up to a 1e-6
+        # residual (its least-squares answers), so branches are matched to 1e-4 rad
         distance = _joint_distance(chain, ours[:, None], theirs[None])
-        assert (distance.min(axis=1) < 1e-6).all()
+        assert (distance.min(axis=1) < 1e-4).all()
+        assert np.abs(fk(chain, ours) - T[i]).max() < 1e-9
 
 
 @pytest.mark.parametrize("name", ["probot-anno", "puma560", "ur5", "zju-i"])

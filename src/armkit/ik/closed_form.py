@@ -268,6 +268,8 @@ class ClosedFormSolver:
             self._k = 8
             self._u6 = _unit_normal(poe.axes[5])
             self._solve = self._spherical
+            if plan.case == "general-123":
+                self._setup_general_position()
         elif kind == "three-parallel":
             self._k = 8
             self._setup_three_parallel()
@@ -362,6 +364,8 @@ class ClosedFormSolver:
         poe, case, c, o = self._poe, self._plan.case, self._plan.point, self._plan.point2
         h, p = poe.axes, poe.points
         N = len(w)
+        if case == "general-123":
+            return self._general_position(w)
         if case == "parallel-23":
             q1, v1, f1 = sp4(h[1], w - p[0], -h[0], np.full(N, h[1] @ (c - p[0])))
             y = p[0] + rotate(-h[0], q1, (w - p[0])[:, None, :])
@@ -396,6 +400,43 @@ class ClosedFormSolver:
             free = f3[:, None, None] | (f1 | f2)[:, :, None]
         q = np.stack([q1, q2, q3], axis=-1).reshape(N, 4, 3)
         return q, valid.reshape(N, 4), np.broadcast_to(free, valid.shape).reshape(N, 4)
+
+    def _setup_general_position(self) -> None:
+        """Axes 1-3 general: two equations in q1 and q3 alone, a :class:`_TwoAngleSystem`.
+
+        With ``y = e1^-1 G c`` (q1) and ``x = e3 c`` (q3), ``e2 x = y`` keeps the height along
+        axis 2 and the distance to a point ``o2`` of it: ``h2 . (y - o2) = h2 . (x - o2)`` and
+        ``|y - o2|^2 = |x - o2|^2``, each first order in its angle.
+        """
+        h, p, c = self._poe.axes, self._poe.points, self._plan.point
+        A = np.stack([h[1], -h[2]], axis=1)
+        s, t = np.linalg.lstsq(A, p[2] - p[1], rcond=None)[0]
+        self._o2, self._o3 = p[1] + s * h[1], p[2] + t * h[2]  # closest points of axes 2, 3
+        o2, o3 = self._o2, self._o3
+        height = _trig_coeffs(h[1], h[2], c - o3)
+        distance = _trig_coeffs(2.0 * (o3 - o2), h[2], c - o3)
+        self._Q = np.array([[height[1], height[2]], [distance[1], distance[2]]])
+        self._f = np.array([height[0] + h[1] @ (o3 - o2),
+                            distance[0] + (o3 - o2) @ (o3 - o2) + (c - o3) @ (c - o3)])
+        self._pair = _TwoAngleSystem(self._Q)
+        self._verify = self._polish_by_newton = True
+
+    def _general_position(self, w: Array) -> tuple[Array, Mask, Mask]:
+        """Joints 1-3 for general axes (see :meth:`_setup_general_position`), ``(N, 4, 3)``."""
+        h, p, c = self._poe.axes, self._poe.points, self._plan.point
+        o2, o3 = self._o2, self._o3
+        u = w - p[0]
+        e_h, a_h, b_h = _trig_coeffs(h[1], -h[0], u)
+        e_d, a_d, b_d = _trig_coeffs(2.0 * (p[0] - o2), -h[0], u)
+        e_h = e_h + h[1] @ (p[0] - o2)
+        e_d = e_d + (p[0] - o2) @ (p[0] - o2) + dot(u, u)
+        P = np.stack([np.stack([a_h, b_h], -1), np.stack([a_d, b_d], -1)], -2)
+        r = self._f - np.stack([e_h, e_d], axis=-1)
+        q1, q3, valid, free = self._pair.solve(P, r)
+        y = p[0] + rotate(-h[0], q1, u[:, None, :])
+        x = o3 + rotate(h[2], q3, c - o3)
+        q2, free2 = sp1(x - o2, y - o2, h[1])
+        return np.stack([q1, q2, q3], axis=-1), valid, free | free2
 
     @staticmethod
     def _slide_to_sphere(v: Array, h: Array, d: Array) -> tuple[Array, Mask]:

@@ -8,9 +8,9 @@ with ``M = T(0)``. From these lines alone (never from a robot's name or DH conve
 ==================  =========================================================  ========
 kind                geometry                                                   max sol.
 ==================  =========================================================  ========
-spherical-wrist     6 joints, revolute axes 4-6 meet at one point, and a pair  8
-                    of axes 1-3 meets or is parallel (PROBOT Anno, PUMA 560,
-                    Stanford arm with its prismatic third joint)
+spherical-wrist     6 joints, revolute axes 4-6 meet at one point; joints 1-3  8
+                    revolute, or joint 3 prismatic with axes 1, 2 meeting
+                    (PROBOT Anno, PUMA 560, Stanford arm)
 spherical-base      the same with axes 1-3 meeting at one point                8
 three-parallel      6 revolute joints, axes 2-4 (or 3-5) parallel (UR5, ZJU-I)  8
 scara               3 parallel revolute axes and a prismatic joint along them  2
@@ -182,6 +182,9 @@ def _position_case(g: _Geometry) -> tuple[str, NDArray[np.float64] | None, str] 
             return "intersect-23", point, f"axes {_axes([1, 2], poe)} meet"
         if g.parallel(0, 1) and not g.parallel(1, 2):
             return "parallel-12", None, f"axes {_axes([0, 1], poe)} are parallel"
+        if not g.parallel(0, 1) and not g.parallel(1, 2):
+            return "general-123", None, (f"axes {_axes([0, 1, 2], poe)} neither meet nor are "
+                                         f"parallel (a quartic)")
     return None
 
 
@@ -196,9 +199,9 @@ def _spherical(poe: PoeChain, tol: float, kind: str) -> SolverPlan | None:
     meet = f"spherical {where}: axes {_axes([3, 4, 5], poe)} meet at one point"
     position = _position_case(g)
     if position is None:
-        structure = ArmStructure(kind, False, 0, f"{meet}, but no two of axes "
-                                 f"{_axes([0, 1, 2], poe)} meet or are parallel (general "
-                                 f"Pieper case, not solved in closed form here); use numeric IK")
+        structure = ArmStructure(kind, False, 0, f"{meet}, but joints {_axes([0, 1, 2], poe)} "
+                                 f"are not solved in closed form here (a prismatic joint, or "
+                                 f"degenerate axes); use numeric IK")
         return SolverPlan(structure, poe)
     case, point, clause = position
     if case.startswith("parallel"):
