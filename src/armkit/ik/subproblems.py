@@ -82,8 +82,8 @@ def cross(a: Array, b: Array) -> Array:
 
 def rotate(k: Array, theta: Array, v: Array) -> Array:
     """``R(k, theta) v`` by Rodrigues' formula, shape ``(..., 3)``."""
-    c, s = np.cos(theta)[..., None], np.sin(theta)[..., None]
-    return v * c + cross(k, v) * s + k * (dot(k, v)[..., None] * (1.0 - c))
+    along = dot(k, v)[..., None] * k  # the part of v on the axis stays; the rest turns
+    return along + np.cos(theta)[..., None] * (v - along) + np.sin(theta)[..., None] * cross(k, v)
 
 
 def rotation_matrix(k: Array, theta: Array) -> Array:
