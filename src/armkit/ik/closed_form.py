@@ -7,8 +7,9 @@ Paden-Kahan subproblems (:mod:`armkit.ik.subproblems`):
 
 * spherical wrist (axes 4-6 meet at ``c``): joints 1-3 place ``c`` at ``G c`` (SP3 / SP4
   / SP2 / planar 2R, by which pair of axes 1-3 meets or is parallel; a prismatic third
-  joint gives a quadratic), then the wrist turns ``h6`` (SP2) and ``h5`` (SP1) into place.
-  A spherical base is the same on the reversed chain (the chain of ``T^-1``).
+  joint gives a quadratic; general axes give two equations in ``q1, q3`` solved like the
+  three-parallel case), then the wrist turns ``h6`` (SP2) and a normal of it (SP1) into
+  place. A spherical base is the same on the reversed chain (the chain of ``T^-1``).
 * three parallel axes 2-4 with direction ``h``: rotations about them keep ``h``-components,
   which leaves two equations in ``q1, q5`` alone. If axes 5 and 6 meet, a combination of
   them holds ``q1`` only (SP4), else they give a quartic (roots of a companion matrix,
@@ -16,16 +17,17 @@ Paden-Kahan subproblems (:mod:`armkit.ik.subproblems`):
 * SCARA and planar 2R/3R: the orientation gives the sum of the angles, a prismatic joint
   along the axes the height, and a planar 2R the rest.
 
-Candidates are computed for all poses at once in fixed-size arrays with masks; each one
-is then checked by forward kinematics (a branch that does not reproduce the pose to
-``VERIFY_TOLERANCE`` is marked invalid: an unreachable pose gives no valid candidate) and
-duplicates are merged.
+Candidates are computed for all poses at once in fixed-size arrays with masks. Every
+subproblem says whether its branch exists, so for the closed paths the masks are exact
+(an unreachable pose gives no valid candidate). Over-determined chains (SCARA, planar)
+and the quartic paths are also checked by forward kinematics (``VERIFY_TOLERANCE``), the
+quartic paths after two Newton steps on the full pose. Duplicates are merged.
 
 Example
 -------
 >>> import numpy as np, armkit
 >>> chain = armkit.load("probot-anno").chain
->>> from armkit.kinematics import fk, geometric_jacobian
+>>> from armkit.kinematics import fk
 >>> sol = closed_form_ik(chain, fk(chain, np.array([0.3, -0.5, 0.4, 0.2, 0.6, -0.1])))
 >>> int(sol.valid.sum())
 8
@@ -34,6 +36,7 @@ Example
 from __future__ import annotations
 
 import weakref
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -67,6 +70,7 @@ DUPLICATE_TOLERANCE = 1e-9
 
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
+Snap = Callable[[Array, Array, Array, Array], tuple[Array, Array]]
 
 
 @dataclass(frozen=True)
@@ -150,7 +154,7 @@ class _TwoAngleSystem:
         self.rank1 = bool(S[1] <= 1e-9 * S[0])
         self._lam, self._mu = U[:, 1], U[:, 0]
 
-    def solve(self, P: Array, r: Array, snap=None) -> tuple[Array, Array, Mask, Mask]:
+    def solve(self, P: Array, r: Array, snap: Snap | None = None) -> tuple[Array, Array, Mask, Mask]:
         """``(t1, t2, valid, free)``, each ``(N, 4)``; ``free``: ``t1`` is arbitrary.
 
         ``snap(P, r, t1, t2) -> (t1, t2)`` may move quartic roots onto known exact values.
@@ -302,10 +306,10 @@ class ClosedFormSolver:
         else:
             q = np.empty_like(q_int)
             q[..., self._poe.index] = q_int * self._poe.sign
-        turns = np.round(q * (0.5 / np.pi)) * (2 * np.pi)
-        q -= turns if self._revolute_user.all() else turns * self._revolute_user
         if self._polish_by_newton:
             q = self._newton(q, T, valid)
+        turns = np.round(q * (0.5 / np.pi)) * (2 * np.pi)
+        q -= turns if self._revolute_user.all() else turns * self._revolute_user
         if self._verify:
             valid = valid & self._reproduces(q, T)
         valid = valid & ~self._duplicates(q, valid)
@@ -315,10 +319,10 @@ class ClosedFormSolver:
 
     # ----------------------------------------------------------- verification
     def _newton(self, q: Array, T: Array, valid: Mask, steps: int = 2) -> Array:
-        """Newton steps on the full pose for the valid candidates (quartic path only).
+        """Newton steps on the full pose for the valid candidates (quartic paths only).
 
-        Where the three-parallel equations meet other singularities (double roots near an
-        aligned wrist), the candidates may carry errors of ~1e-7; two damped Newton steps on
+        Where a quartic root meets another singularity (a double root near an aligned
+        wrist), the candidates may carry errors of ~1e-7; two damped Newton steps on
         ``fk(q) = T`` bring them to rounding level, and :meth:`_reproduces` then decides.
         """
         target = np.broadcast_to(T[:, None], (*q.shape[:-1], 4, 4))
@@ -449,6 +453,7 @@ class ClosedFormSolver:
         return s, np.stack([exists, exists & (disc > 0)], axis=-1)
 
     def _spherical(self, R_G: Array, t_G: Array) -> tuple[Array, Mask, Mask]:
+        """Spherical wrist: joints 1-3 for the wrist centre, then the wrist: ``(N, 8, 6)``."""
         poe = self._poe
         h = poe.axes
         N = len(t_G)
@@ -528,6 +533,7 @@ class ClosedFormSolver:
         return np.where(ok, np.arctan2(s1, c1), q1), np.where(ok, q5_snap, q5)
 
     def _three_parallel(self, R_G: Array, t_G: Array) -> tuple[Array, Mask, Mask]:
+        """Axes 2-4 parallel: (q1, q5), then q6, q2 + q3 + q4 and a planar 2R: ``(N, 8, 6)``."""
         poe = self._poe
         h_all, p = poe.axes, poe.points
         h, N = self._h, len(t_G)
@@ -592,6 +598,7 @@ class ClosedFormSolver:
         self._y = poe.points[r[2]] if len(r) == 3 else poe.points[r[1]] + self._u_h
 
     def _planar(self, R_G: Array, t_G: Array) -> tuple[Array, Mask, Mask]:
+        """SCARA / planar arm: angle sum, height, planar 2R: ``(N, 2, n)``."""
         poe, h, r = self._poe, self._h, self._rev
         N = len(t_G)
         theta, _ = sp1(self._u_h, R_G @ self._u_h, h)
