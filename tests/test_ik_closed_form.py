@@ -397,3 +397,27 @@ def test_skew_wrist_three_parallel_arm_aligned_wrist_family():
     assert np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))[sol.valid].max() < 1e-12
     same = _joint_distance(chain, sol.q, q[:, None], [0, 4]) < 1e-9
     assert (same & sol.family & sol.valid).any(axis=-1).all()
+
+
+@pytest.mark.parametrize("name", ["probot-anno", "puma560", "ur5", "zju-i"])
+@pytest.mark.parametrize("offset", [1e-12, 1e-10, 1e-8, 1e-6])
+def test_near_wrist_singularity_keeps_every_branch(name, offset):
+    """q5 just off the wrist singularity: no branch lost, every one reproduces the pose.
+
+    Within 1e-10 of the singularity the pose fixes q4 and q6 only to ~1e-16 / offset, so
+    there q is looked for in the joints it does fix (all but q4 and q6); the pose is
+    reproduced to 1e-11 (a wrist within 1e-12 of the singularity is answered as the family).
+    """
+    chain = armkit.load(name).chain
+    q = _random_q(np.random.default_rng(6), chain, 30)
+    three_parallel = analyze_structure(chain).kind == "three-parallel"
+    q[:, 4] = (0.0 if three_parallel else _wrist_singular_q5(chain)) + offset
+    if offset >= 1e-8:
+        _assert_round_trip(chain, q, tol=1e-11)
+        return
+    T = fk(chain, q)
+    sol = closed_form_ik(chain, T)
+    assert np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))[sol.valid].max() < 1e-11
+    fixed = [0, 4] if three_parallel else [0, 1, 2, 4]
+    found = (_joint_distance(chain, sol.q, q[:, None], fixed) < 1e-6) & sol.valid
+    assert found.any(axis=-1).all()

@@ -148,8 +148,9 @@ class _TwoAngleSystem:
     ``exp(i t1)`` (companion matrix, then Newton steps on the equations themselves).
     """
 
-    def __init__(self, Q: Array) -> None:
+    def __init__(self, Q: Array, snap_t2: bool = True) -> None:
         self.Q = Q
+        self._snap_t2 = snap_t2
         U, S, _ = np.linalg.svd(Q)
         self.rank1 = bool(S[1] <= 1e-9 * S[0])
         self._lam, self._mu = U[:, 1], U[:, 0]
@@ -168,7 +169,7 @@ class _TwoAngleSystem:
             mP = (mu @ P)[:, None, :]
             rhs = mP[..., 0] * np.cos(t1) + mP[..., 1] * np.sin(t1) - (r @ mu)[:, None]
             mQ = mu @ self.Q
-            t2, v2, f2 = solve_trig_linear(mQ[0], mQ[1], rhs, scale[:, None])
+            t2, v2, f2 = solve_trig_linear(mQ[0], mQ[1], rhs, scale[:, None], snap=self._snap_t2)
             t1 = np.broadcast_to(t1[:, :, None], t2.shape)
             valid = v1[:, :, None] & v2
             free = np.broadcast_to(f1[:, None, None] | f2[..., None], valid.shape)
@@ -488,12 +489,14 @@ class ClosedFormSolver:
         rows = [_trig_coeffs(self._h, h[4], v) for v in (h[5], self._p6 - self._p5)]
         self._Q = np.array([[r[1], r[2]] for r in rows])
         self._f = np.array([r[0] for r in rows]) + np.array([0.0, self._h @ (self._p5 - p[0])])
-        self._pair = _TwoAngleSystem(self._Q)
+        # q5 near an aligned wrist is refined from sines, so its cosine equation must not snap
+        self._pair = _TwoAngleSystem(self._Q, snap_t2=False)
         # axes 5 and 6 skew: roots of a quartic, polished on the full pose and checked by FK
         self._polish_by_newton = self._verify = not self._pair.rank1
         # values of q5 that turn axis 6 parallel to h (a UR-like wrist singularity)
         q5, ok, _ = sp4(self._h, h[5], h[4], np.array([1.0, -1.0]))
         self._q5_aligned = q5[ok]
+        self._b_aligned = np.linalg.norm(np.cross(h[4], self._h)) * np.linalg.norm(np.cross(h[4], h[5]))
         self._u_h = _unit_normal(self._h)
 
     def _q1_q5(self, R_G: Array, t_G: Array) -> tuple[Array, Array, Mask, Mask]:
@@ -506,7 +509,37 @@ class ClosedFormSolver:
         e2, a2, b2 = _trig_coeffs(self._h, -h1, u2)
         P = np.stack([np.stack([a1, b1], -1), np.stack([a2, b2], -1)], -2)  # (N, 2, 2)
         r = self._f - np.stack([e1, e2], axis=-1)  # P x1 - Q x5 = r
+        if self._pair.rank1:
+            q1, q5, valid, free = self._pair.solve(P, r)
+            return q1, self._q5_near_aligned_wrist(R_G, q1, q5), valid, free
         return self._pair.solve(P, r, self._snap_to_aligned_wrist)
+
+    def _q5_near_aligned_wrist(self, R_G: Array, q1: Array, q5: Array) -> Array:
+        """Near an aligned wrist, q5 from a sine (accurate) rather than a cosine (~1e-8).
+
+        ``h6 . R5^T h`` is the cosine-like quantity the equations give; at a distance ``d``
+        from the aligned value it differs from +-1 by ``b (1 - cos d)`` only, lost below
+        d ~ 1e-8. The length ``S = |h6 x R5^T h| = |h6 x R_G^T R1 h|`` is computed from
+        vectors, so it keeps its relative accuracy: ``b (1 - cos d) = S^2 / (1 + sqrt(1 -
+        S^2))``. The two branches straddle the aligned value (+d and -d).
+        """
+        if self._q5_aligned.size == 0:
+            return q5
+        gap = q5[..., None] - self._q5_aligned
+        gap -= np.round(gap * (0.5 / np.pi)) * (2 * np.pi)
+        nearest = np.argmin(np.abs(gap), axis=-1)
+        gap = np.take_along_axis(gap, nearest[..., None], axis=-1)[..., 0]
+        near = np.abs(gap) <= 1e-3
+        if not near.any():
+            return q5
+        v = _matvec_transposed(R_G[:, None], rotate(self._poe.axes[0], q1, self._h))
+        c = cross(self._poe.axes[5], v)
+        S2 = np.minimum(dot(c, c), 1.0)
+        one_minus_cos = S2 / (1.0 + np.sqrt(1.0 - S2)) / self._b_aligned
+        d = 2.0 * np.arcsin(np.minimum(np.sqrt(0.5 * one_minus_cos), 1.0))
+        branch = np.where(np.arange(q5.shape[-1]) % 2 == 0, 1.0, -1.0)  # (+d, -d) pairs
+        sign = np.where(gap > 0, 1.0, np.where(gap < 0, -1.0, branch))
+        return np.where(near, self._q5_aligned[nearest] + sign * d, q5)
 
     def _snap_to_aligned_wrist(self, P: Array, r: Array, q1: Array, q5: Array
                                ) -> tuple[Array, Array]:

@@ -117,9 +117,13 @@ def sp1(p: Array, q: Array, k: Array) -> tuple[Array, NDArray[np.bool_]]:
     return theta, free
 
 
-def solve_trig_linear(a: Array, b: Array, c: Array, scale: Array
+def solve_trig_linear(a: Array, b: Array, c: Array, scale: Array, snap: bool = True
                       ) -> tuple[Array, NDArray[np.bool_], NDArray[np.bool_]]:
     """All ``t`` with ``a cos t + b sin t = c``; ``scale`` is the size of the terms.
+
+    ``snap``: within ``TANGENT_TOLERANCE`` of tangency return the double root once (its
+    error is second order where the caller only needs the equation to hold); without it
+    both branches are returned, which a caller refining the angle itself needs.
 
     Returns
     -------
@@ -135,7 +139,7 @@ def solve_trig_linear(a: Array, b: Array, c: Array, scale: Array
     free = degenerate & (np.abs(c) <= OUT_TOLERANCE * scale)
     x = c / np.where(degenerate, 1.0, r)
     exists = ~degenerate & (np.abs(x) <= 1.0 + OUT_TOLERANCE)
-    tangent = np.abs(x) >= 1.0 - TANGENT_TOLERANCE
+    tangent = np.abs(x) >= 1.0 - TANGENT_TOLERANCE if snap else np.zeros(np.shape(x), dtype=bool)
     delta = np.where(tangent, np.where(x > 0, 0.0, np.pi), np.arccos(np.clip(x, -1.0, 1.0)))
     phi = np.arctan2(b, a)
     theta = np.stack([phi + delta, phi - delta], axis=-1)
