@@ -288,11 +288,10 @@ def test_three_parallel_wrist_singularity_returns_family():
 # ---------------------------------------------------------- EAIK cross-check
 def _eaik_exact_solutions(chain, T):
     """EAIK's solutions (robot from our axes at q = 0) that reproduce ``T`` by our FK."""
-    from eaik.IK_HP import HPRobot
-
+    eaik_hp = pytest.importorskip("eaik.IK_HP")  # test-only dependency
     poe = poe_from_chain(chain)
     P = np.vstack([poe.points[0], np.diff(poe.points, axis=0), poe.M[:3, 3] - poe.points[-1]])
-    robot = HPRobot(poe.axes, P)
+    robot = eaik_hp.HPRobot(poe.axes, P)
     result = []
     for pose in T:
         target = pose.copy()
