@@ -275,6 +275,10 @@ class ClosedFormSolver:
             self._solve = self._spherical
             if plan.case == "general-123":
                 self._setup_general_position()
+        elif kind == "three-parallel" and plan.case == "parallel-123":
+            self._k = 8
+            self._setup_parallel_base()
+            self._solve = self._parallel_base
         elif kind == "three-parallel":
             self._k = 8
             self._setup_three_parallel()
@@ -618,6 +622,63 @@ class ClosedFormSolver:
                                                                  -1.0, 1.0))
         phi = np.where(r > 0, phi, theta)
         return np.where(free, q6 + s6 * (theta - phi), q6), np.where(free, phi, theta)
+
+    # ------------------------------------------------ parallel axes 1-3 (or 4-6)
+    def _setup_parallel_base(self) -> None:
+        """Axes 1-3 parallel to ``h``: their motion keeps ``h``-components, which leaves two
+        equations in ``q4`` and ``q6`` alone (a :class:`_TwoAngleSystem`):
+
+        ``h . R4 h5 = (R_G^T h) . R6^T h5`` (orientation, since ``R5 h5 = h5``) and
+        ``h . e4 o5 = h . G e6^-1 o5`` (a point ``o5`` of axis 5, fixed by ``e5``).
+        """
+        h_all, p = self._poe.axes, self._poe.points
+        self._h = h_all[0]
+        A = np.stack([h_all[3], -h_all[4]], axis=1)
+        s, t = np.linalg.lstsq(A, p[4] - p[3], rcond=None)[0]
+        self._o4, self._o5 = p[3] + s * h_all[3], p[4] + t * h_all[4]
+        A = np.stack([h_all[4], -h_all[5]], axis=1)
+        t6 = np.linalg.lstsq(A, p[5] - p[4], rcond=None)[0][1]
+        self._o6 = p[5] + t6 * h_all[5]
+        rows = [_trig_coeffs(self._h, h_all[3], v) for v in (h_all[4], self._o5 - self._o4)]
+        self._Q = np.array([[r[1], r[2]] for r in rows])
+        self._f = np.array([rows[0][0], rows[1][0] + self._h @ self._o4])
+        self._pair = _TwoAngleSystem(self._Q)
+        self._polish_by_newton = self._verify = not self._pair.rank1
+        self._u_h = _unit_normal(self._h)
+
+    def _parallel_base(self, R_G: Array, t_G: Array) -> tuple[Array, Mask, Mask]:
+        """Axes 1-3 parallel: (q6, q4), then q5, q1 + q2 + q3 and a planar 2R: ``(N, 8, 6)``."""
+        h_all, p = self._poe.axes, self._poe.points
+        h, N = self._h, len(t_G)
+        g = np.swapaxes(R_G, -1, -2) @ h  # R_G^T h
+        e1, a1, b1 = _trig_coeffs(g, -h_all[5], h_all[4])
+        e2, a2, b2 = _trig_coeffs(g, -h_all[5], self._o5 - self._o6)
+        e2 = e2 + _transform_point(R_G, t_G, self._o6) @ h
+        P = np.stack([np.stack([a1, b1], -1), np.stack([a2, b2], -1)], -2)
+        r = self._f - np.stack([e1, e2], axis=-1)  # P x6 - Q x4 = r
+        q6, q4, valid, free = self._pair.solve(P, r)
+        # q5: R5^T (R4^T h) = R6 R_G^T h
+        q5, f5 = sp1(rotate(-h_all[3], q4, h), rotate(h_all[5], q6, g[:, None, :]), -h_all[4])
+        # q1 + q2 + q3: R123 = R_G R6^T R5^T R4^T, applied to a normal of h
+        turned = rotate(-h_all[5], q6, rotate(-h_all[4], q5, rotate(-h_all[3], q4, self._u_h)))
+        theta, _ = sp1(self._u_h, _matvec(R_G[:, None], turned), h)
+        # planar part: e1 e2 e3 y = z with y = e4 e5 e6 o4, z = G o4
+        o4, o5, o6 = self._o4, self._o5, self._o6
+        y = o6 + rotate(h_all[5], q6, o4 - o6)
+        y = o5 + rotate(h_all[4], q5, y - o5)
+        y = o4 + rotate(h_all[3], q4, y - o4)
+        z = _transform_point(R_G, t_G, o4)[:, None, :]
+        target = z - p[0] - rotate(h, theta, y - p[2])
+        q1, q2, v12, f12 = _planar_2r(h, p[1] - p[0], p[2] - p[1], target)
+        q3 = theta[..., None] - q1 - q2
+
+        def spread(a: Array) -> Array:
+            return np.broadcast_to(a[..., None], q1.shape)
+
+        q = np.stack([q1, q2, q3, spread(q4), spread(q5), spread(q6)], axis=-1)
+        valid = valid[..., None] & v12
+        family = spread(free | f5) | f12
+        return q.reshape(N, 8, 6), valid.reshape(N, 8), family.reshape(N, 8)
 
     # ----------------------------------------------------- SCARA and planar
     def _setup_planar(self) -> None:

@@ -12,7 +12,8 @@ spherical-wrist     6 joints, revolute axes 4-6 meet at one point; joints 1-3  8
                     revolute, or joint 3 prismatic with axes 1, 2 meeting
                     (PROBOT Anno, PUMA 560, Stanford arm)
 spherical-base      the same with axes 1-3 meeting at one point                8
-three-parallel      6 revolute joints, axes 2-4 (or 3-5) parallel (UR5, ZJU-I)  8
+three-parallel      6 revolute joints, three consecutive axes parallel (UR5,   8
+                    ZJU-I: axes 2-4)
 scara               3 parallel revolute axes and a prismatic joint along them  2
 planar-2r/3r        2 or 3 parallel revolute axes (optionally one prismatic)   2
 none                anything else (redundant arms, general 6R, ...)            0
@@ -212,17 +213,22 @@ def _spherical(poe: PoeChain, tol: float, kind: str) -> SolverPlan | None:
     return SolverPlan(structure, poe, case, centre, point)
 
 
-def _three_parallel(poe: PoeChain, tol: float) -> SolverPlan | None:
+def _three_parallel(poe: PoeChain, tol: float, first: int) -> SolverPlan | None:
+    """Revolute axes ``first .. first + 2`` parallel (internal 0 or 1), the others not."""
     g = _Geometry(poe, tol)
-    if poe.prismatic.any() or not (g.parallel(1, 2) and g.parallel(1, 3)):
+    block = [first, first + 1, first + 2]
+    if poe.prismatic.any() or not (g.parallel(block[0], block[1]) and g.parallel(block[0], block[2])):
         return None
-    if g.parallel(0, 1) or g.parallel(4, 1) or g.parallel(4, 5):
+    # the axes next to the block must leave it, and the ones after must not be parallel
+    before, after = (0, 4) if first == 1 else (None, 3)
+    if (before is not None and g.parallel(before, first)) or g.parallel(after, first) \
+            or g.parallel(after, after + 1) or g.parallel(4, 5):
         return None
-    poe = poe.aligned([1, 2, 3], poe.axes[1])
+    poe = poe.aligned(block, poe.axes[first])
     structure = ArmStructure("three-parallel", True, 8,
-                             f"three parallel axes: axes {_axes([1, 2, 3], poe)} are parallel: "
+                             f"three parallel axes: axes {_axes(block, poe)} are parallel: "
                              f"closed-form IK, up to 8 solutions")
-    return SolverPlan(structure, poe, "parallel-234")
+    return SolverPlan(structure, poe, "parallel-234" if first == 1 else "parallel-123")
 
 
 def _planar(poe: PoeChain, tol: float) -> SolverPlan | None:
@@ -252,14 +258,8 @@ def _no_closed_form(chain: Chain, poe: PoeChain, tol: float) -> ArmStructure:
         why = (f"{n} joints: a redundant arm has infinitely many solutions per pose, so no "
                f"closed form; use numeric IK")
     elif n == 6:
-        why = ("6 joints, but no three consecutive axes meet at one point and axes 2-4 and 3-5 "
-               "are not parallel (the Pieper cases solved here): no closed form; use numeric IK")
-        g = _Geometry(poe, tol)
-        for block in ((0, 1, 2), (3, 4, 5)):
-            if all(not poe.prismatic[j] for j in block) and g.parallel(block[0], block[1]) \
-                    and g.parallel(block[0], block[2]):
-                why = (f"6 joints with axes {_axes(list(block), poe)} parallel: a Pieper arm, "
-                       f"but this case is not solved in closed form here; use numeric IK")
+        why = ("6 joints, but no three consecutive axes meet at one point or are parallel "
+               "(Pieper's conditions): no closed form; use numeric IK")
     else:
         why = (f"{n} joints that are not a planar 2R/3R arm or a SCARA (parallel revolute axes, "
                f"prismatic along them): no closed form; use numeric IK")
@@ -291,7 +291,8 @@ def plan_closed_form(chain: Chain, tol: float = 1e-9) -> SolverPlan:
             if base is not None and (plan is None or base.structure.closed_form):
                 plan = base
         if plan is None:
-            plan = _three_parallel(poe, tol) or _three_parallel(poe.reversed(), tol)
+            plan = (_three_parallel(poe, tol, 1) or _three_parallel(poe.reversed(), tol, 1)
+                    or _three_parallel(poe, tol, 0) or _three_parallel(poe.reversed(), tol, 0))
         if plan is not None:
             return plan
     elif chain.n <= 4:
