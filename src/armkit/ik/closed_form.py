@@ -14,6 +14,8 @@ Paden-Kahan subproblems (:mod:`armkit.ik.subproblems`):
   which leaves two equations in ``q1, q5`` alone. If axes 5 and 6 meet, a combination of
   them holds ``q1`` only (SP4), else they give a quartic (roots of a companion matrix,
   polished by Newton steps). Then ``q6`` (SP1), ``q2 + q3 + q4`` (SP1), and a planar 2R.
+  Axes 1-3 parallel give two equations in ``q4, q6`` the same way; axes 3-5 and 4-6 are
+  these cases on the reversed chain.
 * SCARA and planar 2R/3R: the orientation gives the sum of the angles, a prismatic joint
   along the axes the height, and a planar 2R the rest.
 
