@@ -304,7 +304,7 @@ def _eaik_exact_solutions(chain, T):
         Q = np.array(robot.IK(target).Q).reshape(-1, chain.n)
         Q = Q[np.abs(fk(chain, Q) - pose).max(axis=(-1, -2)) < 1e-6] if len(Q) else Q
         unique = [i for i in range(len(Q))
-                  if not (_joint_distance(chain, Q[:i], Q[i]) < 1e-6).any()]
+                  if not (_joint_distance(chain, Q[:i], Q[i]) < 1e-4).any()]
         result.append(Q[unique])
     return result
 

@@ -169,6 +169,8 @@ class _TwoAngleSystem:
             lP, lr = lam @ P, r @ lam
             t1, v1, f1 = solve_trig_linear(lP[:, 0], lP[:, 1], lr, scale)
             mP = (mu @ P)[:, None, :]
+            if f1.any():  # t1 free: the member whose t2 equation is easiest (middle of its range)
+                t1 = np.where(f1[:, None], self._family_representative(mP[:, 0], r @ mu)[:, None], t1)
             rhs = mP[..., 0] * np.cos(t1) + mP[..., 1] * np.sin(t1) - (r @ mu)[:, None]
             mQ = mu @ self.Q
             t2, v2, f2 = solve_trig_linear(mQ[0], mQ[1], rhs, scale[:, None], snap=self._snap_t2)
@@ -182,6 +184,18 @@ class _TwoAngleSystem:
             t1, t2 = snap(P, r, t1, t2)
         valid = valid & (residual <= 1e-10 * scale[:, None])
         return t1, t2, valid, np.zeros_like(valid)
+
+    @staticmethod
+    def _family_representative(mP: Array, mr: Array) -> Array:
+        """``t1`` with ``mP . x(t1) = mr`` (or as close as it gets), ``(N,)``.
+
+        When the first equation leaves ``t1`` free, the second, ``mP . x(t1) - mQ . x(t2) =
+        mr``, still ties ``t2`` to it; this ``t1`` puts its right-hand side at 0, the middle
+        of the range ``t2`` can reach.
+        """
+        m = np.hypot(mP[:, 0], mP[:, 1])
+        cos = np.clip(mr / np.where(m > 0, m, 1.0), -1.0, 1.0)
+        return np.where(m > 0, np.arctan2(mP[:, 1], mP[:, 0]) + np.arccos(cos), 0.0)
 
     def _quartic(self, P: Array, r: Array) -> tuple[Array, Array, Mask]:
         """Roots of the quartic in ``exp(i t1)`` with ``t2`` from ``Q^-1``: ``(N, 4)`` each."""
