@@ -27,7 +27,7 @@ from spatialmath import SE3
 import armkit
 from armkit.control import ResolvedRate, damping
 from armkit.control.resolved_rate import DEFAULT_MAX_DAMPING, DEFAULT_THRESHOLD
-from armkit.ik.numeric import pose_error
+from armkit.kinematics import pose_error
 
 
 def probot_rtb() -> rtb.DHRobot:
@@ -85,7 +85,7 @@ def main() -> None:
     T_target_se3 = SE3(T_target, check=False)
 
     def armkit_closed_loop():
-        T, J = control._kinematics(q)
+        T, J = control.kernel.pose_jacobian(q)
         return control._solve(J, twist + 20.0 * pose_error(T_target, T)).qd
 
     def rtb_closed_loop():

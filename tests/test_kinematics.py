@@ -9,6 +9,8 @@ from hypothesis import strategies as st
 import armkit
 from armkit import DHRow, Robot
 from armkit.errors import InputError
+from armkit.kinematics import ChainKernel, fk, geometric_jacobian, joint_frames, pose_error
+from armkit.spatial import matrix_from_axis_angle, rotation_angle_between, transform_from
 
 rtb = pytest.importorskip("roboticstoolbox")
 from spatialmath import SE3  # noqa: E402
@@ -150,3 +152,63 @@ def test_manipulability_and_singular_values():
 def test_bad_frame_is_named():
     with pytest.raises(InputError, match="frame 'world': expected 'base' or 'tool'"):
         armkit.load("ur5").jacobian(np.zeros(6), frame="world")
+
+
+def assert_kernel_matches(robot, configurations):
+    kernel = ChainKernel(robot.chain)
+    for q in configurations:
+        T, J = kernel.pose_jacobian(q)
+        frames, _ = joint_frames(robot.chain, q)
+        np.testing.assert_allclose(T, fk(robot.chain, q), rtol=0, atol=1e-14)
+        np.testing.assert_allclose(J, geometric_jacobian(robot.chain, q), rtol=0, atol=1e-14)
+        np.testing.assert_array_equal(kernel.pose(q), T)
+        np.testing.assert_array_equal(kernel.jacobian(q), J)
+        axes, origins = kernel.joint_axes(q)
+        np.testing.assert_allclose(axes, frames[:, :3, 2], rtol=0, atol=1e-14)
+        travel = np.where(robot.chain.prismatic, q, 0.0)[:, None] * axes
+        np.testing.assert_allclose(origins + travel, frames[:, :3, 3], rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize("name", armkit.builtin_robots())
+def test_chain_kernel_equals_batched_kinematics_on_builtins(name):
+    robot = armkit.load(name)
+    assert_kernel_matches(robot, robot.random_q(20, rng=3))
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+@pytest.mark.parametrize("seed", range(10))
+def test_chain_kernel_equals_batched_kinematics_on_random_dh_arms(convention, seed):
+    robot, _ = random_dh_pair(np.random.default_rng(100 + seed), convention)
+    configurations = np.random.default_rng(seed).uniform(-3, 3, (10, robot.n))
+    assert_kernel_matches(robot, configurations)
+
+
+def test_chain_kernel_returns_new_arrays():
+    robot = armkit.load("stanford")
+    kernel = ChainKernel(robot.chain)
+    q1, q2 = robot.random_q(2, rng=0)
+    T1, J1 = kernel.pose_jacobian(q1)
+    kernel.pose_jacobian(q2)
+    np.testing.assert_allclose(T1, robot.fk(q1), atol=1e-14)
+    np.testing.assert_allclose(J1, robot.jacobian(q1), atol=1e-14)
+
+
+@given(st.lists(st.floats(-1, 1), min_size=3, max_size=3), st.floats(0.0, np.pi - 1e-6))
+def test_pose_error_is_the_rotation_vector_in_the_base_frame(direction, angle):
+    axis = np.asarray(direction)
+    if np.linalg.norm(axis) < 1e-3:
+        axis = np.array([0.0, 0.0, 1.0])
+    w = axis / np.linalg.norm(axis) * angle
+    T = transform_from(matrix_from_axis_angle([0.3, -0.2, 0.5]), [0.1, 0.2, 0.3])
+    T_target = transform_from(matrix_from_axis_angle(w) @ T[:3, :3], [0.4, 0.2, 0.0])
+    e = pose_error(T_target, T)
+    np.testing.assert_allclose(e[:3], [0.3, 0.0, -0.3], atol=1e-15)
+    np.testing.assert_allclose(e[3:], w, atol=1e-9)
+    assert np.isclose(np.linalg.norm(e[3:]), rotation_angle_between(T_target, T), atol=1e-9)
+
+
+def test_pose_error_at_a_half_turn():
+    T = np.eye(4)
+    for axis in np.eye(3):
+        e = pose_error(transform_from(matrix_from_axis_angle(np.pi * axis), [0, 0, 0]), T)
+        np.testing.assert_allclose(np.abs(e[3:]), np.pi * axis, atol=1e-12)

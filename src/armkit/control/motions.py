@@ -33,7 +33,7 @@ from scipy.spatial.transform import Rotation
 
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError
-from armkit.ik.numeric import pose_error
+from armkit.kinematics import pose_error
 from armkit.robot import LIMIT_TOLERANCE, Robot
 from armkit.spatial.rotations import rotation_angle_between
 from armkit.trajectory.polynomial import quintic
@@ -222,7 +222,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     lower, upper = robot.limits.T
     message, last = "", N - 1
     for k in range(N - 1):
-        T, J = control._kinematics(q)
+        T, J = control.kernel.pose_jacobian(q)
         poses[k] = T
         dt = t[k + 1] - t[k]
         feedforward = pose_error(reference[k + 1], reference[k]) / dt
@@ -242,7 +242,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
         qs[k + 1] = q
         if message:
             break
-    T, J = control._kinematics(q)
+    T, J = control.kernel.pose_jacobian(q)
     poses[last] = T
     sigma[last] = control._solve(J, np.zeros(6)).sigma_min
     sl = slice(0, last + 1)

@@ -19,8 +19,9 @@ by the same factor, which keeps the direction of motion.
 
 ``sigma_min`` comes from the eigenvalues of the small Gram matrix (LAPACK ``dsyev``),
 which is cheaper than an SVD of ``J`` and accurate to about ``1e-8`` near zero, more than
-the damping needs. :class:`ResolvedRate` precomputes the chain and keeps work buffers,
-so one step of a 6-joint arm takes about 20 microseconds (``benchmarks/bench_control.py``).
+the damping needs. :class:`ResolvedRate` evaluates FK and the Jacobian with the shared
+single-configuration :class:`armkit.kinematics.ChainKernel`, so one step of a 6-joint arm
+takes about 20 microseconds (``benchmarks/bench_control.py``).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
 from armkit.errors import InputError
+from armkit.kinematics import ChainKernel
 from armkit.robot import Robot
 
 __all__ = [
@@ -48,16 +50,6 @@ __all__ = [
 DEFAULT_THRESHOLD = 0.04
 #: Default ``lambda_max``: the damping at a singularity (``sigma_min = 0``).
 DEFAULT_MAX_DAMPING = 0.04
-
-# Levi-Civita symbol as a (9, 3) matrix: cross(z, r) = (z outer r).reshape(9) @ _EPSILON.
-_EPSILON = np.zeros((9, 3))
-for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-    _EPSILON[3 * _i + _j, _k] = 1.0
-    _EPSILON[3 * _j + _i, _k] = -1.0
-_EPSILON.setflags(write=False)
-_QUARTER_TURNS = np.array([[0.0, np.pi / 2], [-np.pi / 2, 0.0]])
-_QUARTER_TURNS.setflags(write=False)
-
 
 def damping(sigma_min: ArrayLike, threshold: float = DEFAULT_THRESHOLD,
             max_damping: float = DEFAULT_MAX_DAMPING) -> NDArray[np.float64]:
@@ -179,51 +171,16 @@ class ResolvedRate:
         self.threshold = float(threshold)
         self.max_damping = float(max_damping)
         self.limit_velocity = bool(limit_velocity)
-        chain = robot.chain
-        n = chain.n
-        self._n = n
-        self._prismatic = chain.prismatic.astype(float)
-        self._revolute = 1.0 - self._prismatic
-        self._has_prismatic = bool(self._prismatic.any())
-        self._between = np.array(chain.T_between[1:])
+        self._n = robot.n
         self._inverse_max_velocity = 1.0 / robot.max_velocity
-        # Work buffers: joint motions M_i, A_i = M_i @ T_between_(i+1), frames F_0..F_n.
-        self._motion = np.zeros((n, 4, 4))
-        self._motion[:, 2, 2] = self._motion[:, 3, 3] = 1.0
-        self._rotation_view = self._motion[:, :2, :2]
-        self._link = np.empty((n, 4, 4))
-        self._frames = np.empty((n + 1, 4, 4))
-        self._frames[0] = chain.T_between[0]
-        self._products = [(self._frames[i], self._link[i], self._frames[i + 1]) for i in range(n)]
-        self._jacobian_t = np.empty((n, 6))  # J^T: rows are joints
+        #: Tool pose and Jacobian of one configuration (:class:`armkit.kinematics.ChainKernel`).
+        self.kernel = ChainKernel(robot.chain)
 
     # ------------------------------------------------------------------ fast path
-    def _kinematics(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64],
-                                                            NDArray[np.float64]]:
-        """Tool pose ``(4, 4)`` and base-frame Jacobian ``(6, n)``; the pose is a work buffer."""
-        angle = q * self._revolute if self._has_prismatic else q
-        # [[cos, -sin], [sin, cos]] in one call: cos(q + pi/2) = -sin q, cos(q - pi/2) = sin q.
-        self._rotation_view[...] = np.cos(angle[:, None, None] + _QUARTER_TURNS)
-        if self._has_prismatic:
-            self._motion[:, 2, 3] = q * self._prismatic
-        np.matmul(self._motion, self._between, out=self._link)
-        for before, link, after in self._products:
-            np.matmul(before, link, out=after)
-        F = self._frames
-        z = F[:-1, :3, 2]
-        r = F[-1, :3, 3] - F[:-1, :3, 3]
-        Jt = self._jacobian_t
-        np.matmul((z[:, :, None] * r[:, None, :]).reshape(self._n, 9), _EPSILON, out=Jt[:, :3])
-        Jt[:, 3:] = z
-        if self._has_prismatic:
-            Jt[:, :3] = Jt[:, :3] * self._revolute[:, None] + z * self._prismatic[:, None]
-            Jt[:, 3:] *= self._revolute[:, None]
-        return F[-1], Jt.T
-
     def _solve(self, J: NDArray[np.float64], twist: NDArray[np.float64]) -> RateStep:
         """DLS joint velocities for a base-frame twist, then velocity scaling."""
         wide = self._n >= 6
-        gram = J @ J.T if wide else J.T @ J
+        gram = J.dot(J.T) if wide else J.T.dot(J)
         sigma_min = float(np.sqrt(max(lapack.dsyev(gram, compute_v=0)[0][0], 0.0)))
         lam2 = 0.0
         if sigma_min < self.threshold:
@@ -252,7 +209,7 @@ class ResolvedRate:
         twist : (6,) array
             ``[v; w]`` of the tool origin in the base frame [m/s, rad/s].
         """
-        return self._solve(self._kinematics(q)[1], twist)
+        return self._solve(self.kernel.jacobian(q), twist)
 
     # ------------------------------------------------------------------ checked API
     def joint_velocity(self, q: ArrayLike, twist: ArrayLike, frame: str = "base") -> NDArray[np.float64]:
@@ -271,7 +228,7 @@ class ResolvedRate:
         if q.ndim != 1:
             raise InputError(f"q: expected one configuration of {self._n} values, got shape {q.shape}")
         twist = check_twist(twist)
-        T, J = self._kinematics(q)
+        T, J = self.kernel.pose_jacobian(q)
         if frame == "tool":
             twist = np.concatenate((T[:3, :3] @ twist[:3], T[:3, :3] @ twist[3:]))
         elif frame != "base":

@@ -113,7 +113,7 @@ def _refine(chain: Chain, q: NDArray[np.float64], T_target: NDArray[np.float64],
     """Newton-refine (in place) the candidates whose residual is above ``_REFINE_ABOVE``."""
     rough = candidates & ((position_error > _REFINE_ABOVE) | (orientation_error > _REFINE_ABOVE))
     for index in zip(*np.nonzero(rough), strict=True):
-        result = numeric_ik(chain, T_target[index], q0=q[index], seeds=1, max_iterations=8, max_restarts=0,
+        result = numeric_ik(chain, T_target[index], q0=q[index], max_iterations=8, max_restarts=0,
                             position_tolerance=1e-13, orientation_tolerance=1e-13,
                             respect_limits=False)
         moved = np.abs(result.q - q[index]).max()
