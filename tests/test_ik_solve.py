@@ -12,8 +12,9 @@ import armkit
 from armkit.chain import DHRow
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik import ik_solutions
-from armkit.ik.solve import _refine, _residuals
-from armkit.spatial import matrix_from_euler, transform_from
+from armkit.ik.closed_form import CHUNK
+from armkit.ik.solve import IKSolutionsBatch, _refine, _residuals, _solver
+from armkit.spatial import matrix_from_euler, rotation_angle_between, transform_from
 
 CLOSED_FORM = ["probot-anno", "zju-i", "puma560", "ur5", "stanford", "grb400-scara"]
 HALF_PI = np.pi / 2
@@ -245,11 +246,45 @@ def test_rough_candidates_are_refined_on_their_branch():
     robot = armkit.load("ur5")
     q_true = np.array([[0.3, -1.0, 1.2, 0.4, 0.9, -0.5], [2.0, -2.0, -1.0, 1.0, -1.0, 0.5]])
     T = robot.fk(q_true)
-    q = q_true + 1e-7
-    position_error, orientation_error = _residuals(robot.chain, q, T)
+    q = q_true[:, None, :] + 1e-7  # one candidate per target: (2, 1, 6)
+    position_error, orientation_error = _residuals(_solver(robot.chain), q, T)
     assert np.all(position_error > 1e-8)
-    _refine(robot.chain, q, T, position_error, orientation_error, np.array([True, False]))
-    assert position_error[0] < 1e-12 and orientation_error[0] < 1e-12
-    np.testing.assert_allclose(robot.fk(q[0]), T[0], atol=1e-12)
-    assert np.abs(q[0] - q_true[0]).max() < 1e-6
-    np.testing.assert_array_equal(q[1], q_true[1] + 1e-7)  # not a candidate: left alone
+    _refine(robot.chain, q, T, position_error, orientation_error, np.array([[True], [False]]))
+    assert position_error[0, 0] < 1e-12 and orientation_error[0, 0] < 1e-12
+    np.testing.assert_allclose(robot.fk(q[0, 0]), T[0], atol=1e-12)
+    assert np.abs(q[0, 0] - q_true[0]).max() < 1e-6
+    np.testing.assert_array_equal(q[1, 0], q_true[1] + 1e-7)  # not a candidate: left alone
+
+
+@pytest.mark.parametrize("name", ["probot-anno", "ur5", "grb400-scara"])
+def test_residuals_agree_with_fk_and_rotation_angle(name):
+    robot = armkit.load(name)
+    q = robot.random_q((4, 3), rng=21)
+    T = robot.fk(robot.random_q(4, rng=22))  # unrelated targets: errors up to pi
+    position_error, orientation_error = _residuals(_solver(robot.chain), q, T)
+    F = robot.fk(q)
+    np.testing.assert_allclose(position_error, np.linalg.norm(F[..., :3, 3] - T[:, None, :3, 3], axis=-1),
+                               rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(orientation_error, rotation_angle_between(F, T[:, None]), rtol=0, atol=1e-7)
+    tiny = robot.fk(q[:, 0]) @ transform_from(matrix_from_euler([1e-11, 0, 0], "xyz-fixed"), [0, 0, 0])
+    _, small = _residuals(_solver(robot.chain), q[:, :1], tiny)
+    np.testing.assert_allclose(small, 1e-11, rtol=1e-4)  # accurate near zero
+
+
+@pytest.mark.parametrize("name", ["probot-anno", "ur5"])
+def test_batches_across_chunks_equal_one_at_a_time(name):
+    robot = armkit.load(name)
+    count = CHUNK + 3
+    T = robot.fk(robot.random_q(count, rng=31))
+    near = robot.random_q(count, rng=32)
+    picked = robot.ik(T, near=near)
+    found = ik_solutions(robot.chain, T, near=near)
+    assert isinstance(found, IKSolutionsBatch) and len(found) == count
+    for i in (0, CHUNK - 1, CHUNK, count - 1):
+        np.testing.assert_array_equal(picked[i], robot.ik(T[i], near=near[i]))
+        one = ik_solutions(robot.chain, T[i], near=near[i])
+        for field in ("q", "within_limits", "family", "position_error", "orientation_error"):
+            np.testing.assert_array_equal(getattr(found[i], field), getattr(one, field))
+    assert [len(s.q) for s in found[:3]] == found.counts[:3].tolist()
+    every = robot.ik(T, all=True, near=near)
+    np.testing.assert_array_equal(every[CHUNK], robot.ik(T[CHUNK], all=True, near=near[CHUNK]))

@@ -21,21 +21,20 @@ differences in radians and metres (weights ``w`` default 1), after the ``2 pi`` 
 from __future__ import annotations
 
 import weakref
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armkit import kinematics
 from armkit.chain import Chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
-from armkit.ik.closed_form import ClosedFormSolver, closed_form_solver
+from armkit.ik.closed_form import CHUNK, ClosedFormSolver, closed_form_solver
 from armkit.ik.numeric import numeric_ik, wrap_into_limits
 from armkit.robot import LIMIT_TOLERANCE
-from armkit.spatial.rotations import rotation_angle_between
 from armkit.spatial.transforms import check_transform
 
-__all__ = ["VERIFY_TOLERANCE", "IKSolutions", "ik", "ik_solutions"]
+__all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
 
 #: Position [m] and angle [rad] within which every returned solution reproduces the target.
 VERIFY_TOLERANCE = 1e-9
@@ -91,6 +90,47 @@ class IKSolutions:
     orientation_error: NDArray[np.float64]
 
 
+@dataclass(frozen=True)
+class IKSolutionsBatch(Sequence[IKSolutions]):
+    """The solutions of ``N`` target poses as padded arrays; ``batch[i]`` is pose ``i``'s.
+
+    Attributes
+    ----------
+    q : ndarray, shape (N, k_max, n)
+        Per pose, its ``counts[i]`` solutions first (nearest to ``near`` first), then padding.
+    counts : ndarray, shape (N,), int
+        Number of solutions of each pose (0: out of reach).
+    within_limits, family : ndarray, shape (N, k_max), bool
+    position_error, orientation_error : ndarray, shape (N, k_max)
+        As in :class:`IKSolutions`; padding entries are meaningless.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("ur5")
+    >>> found = ik_solutions(robot.chain, robot.fk(robot.random_q(3, rng=0)))
+    >>> len(found), found.q.shape, found[0].q.shape == (found.counts[0], 6)
+    (3, (3, 8, 6), True)
+    """
+
+    q: NDArray[np.float64]
+    counts: NDArray[np.int_]
+    within_limits: NDArray[np.bool_]
+    family: NDArray[np.bool_]
+    position_error: NDArray[np.float64]
+    orientation_error: NDArray[np.float64]
+
+    def __len__(self) -> int:
+        return len(self.q)
+
+    def __getitem__(self, i):  # type: ignore[override]  # int -> IKSolutions, slice -> list
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        k = self.counts[i]
+        return IKSolutions(self.q[i, :k], self.within_limits[i, :k], self.family[i, :k],
+                           self.position_error[i, :k], self.orientation_error[i, :k])
+
+
 def _limits(chain: Chain) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     return (np.array([j.lower for j in chain.joints]), np.array([j.upper for j in chain.joints]))
 
@@ -100,20 +140,30 @@ def _inside(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.bool_]:
     return np.all((q >= lower - LIMIT_TOLERANCE) & (q <= upper + LIMIT_TOLERANCE), axis=-1)
 
 
-def _residuals(chain: Chain, q: NDArray[np.float64],
+def _residuals(solver: ClosedFormSolver, q: NDArray[np.float64],
                T_target: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    T = kinematics.fk(chain, q)
-    return (np.linalg.norm(T[..., :3, 3] - T_target[..., :3, 3], axis=-1),
-            rotation_angle_between(T, T_target))
+    """FK residuals of candidates ``q`` ``(N, k, n)`` of targets ``(N, 4, 4)``: [m], [rad].
+
+    The angle between two rotations is ``2 asin(|R - R_target|_F / sqrt(8))``: computed
+    from differences, accurate near zero.
+    """
+    D = solver.pose_difference(q, T_target)
+    position = np.sqrt(np.einsum("...i,...i->...", D[..., 3], D[..., 3]))
+    chord = np.sqrt(np.einsum("...ij,...ij->...", D[..., :3], D[..., :3]))
+    return position, 2.0 * np.arcsin(np.minimum(chord * (1.0 / np.sqrt(8.0)), 1.0))
 
 
 def _refine(chain: Chain, q: NDArray[np.float64], T_target: NDArray[np.float64],
             position_error: NDArray[np.float64], orientation_error: NDArray[np.float64],
             candidates: NDArray[np.bool_]) -> None:
-    """Newton-refine (in place) the candidates whose residual is above ``_REFINE_ABOVE``."""
+    """Newton-refine (in place) the candidates whose residual is above ``_REFINE_ABOVE``.
+
+    ``q`` ``(N, k, n)`` and the residuals and ``candidates`` ``(N, k)`` belong to the
+    targets ``T_target`` ``(N, 4, 4)``.
+    """
     rough = candidates & ((position_error > _REFINE_ABOVE) | (orientation_error > _REFINE_ABOVE))
     for index in zip(*np.nonzero(rough), strict=True):
-        result = numeric_ik(chain, T_target[index], q0=q[index], max_iterations=8, max_restarts=0,
+        result = numeric_ik(chain, T_target[index[0]], q0=q[index], max_iterations=8, max_restarts=0,
                             position_tolerance=1e-13, orientation_tolerance=1e-13,
                             respect_limits=False)
         moved = np.abs(result.q - q[index]).max()
@@ -126,28 +176,74 @@ def _refine(chain: Chain, q: NDArray[np.float64], T_target: NDArray[np.float64],
 
 
 def _candidates(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64],
-                weights: NDArray[np.float64]) -> dict[str, NDArray]:
+                weights: NDArray[np.float64], within_limits: bool = False) -> dict[str, NDArray]:
     """The verified closed-form solutions of the targets ``T`` ``(N, 4, 4)``, nearest first.
 
     Returns arrays over ``(N, k)`` candidates, sorted per pose so that the verified ones
-    (``keep``) come first, nearest to ``near`` first: ``q`` ``(N, k, n)``, ``keep``,
-    ``inside``, ``family``, ``position_error``, ``orientation_error``.
+    (``keep``; with ``within_limits`` only those also ``inside``) come first, nearest to
+    ``near`` first: ``q`` ``(N, k, n)``, ``keep``, ``inside``, ``family``,
+    ``position_error``, ``orientation_error``. The poses are solved ``CHUNK`` at a time
+    (the temporaries stay in the CPU cache).
     """
+    parts = [_candidates_chunk(solver, T[i:i + CHUNK], near[i:i + CHUNK], weights, within_limits)
+             for i in range(0, len(T), CHUNK)]
+    if len(parts) == 1:
+        return parts[0]
+    return {key: np.concatenate([part[key] for part in parts]) for key in parts[0]}
+
+
+def _candidates_chunk(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64],
+                      weights: NDArray[np.float64], within_limits: bool) -> dict[str, NDArray]:
     chain = solver.chain
-    raw = solver.solve(T)
-    q = wrap_into_limits(chain, raw.q, near[:, None, :])
-    valid = np.asarray(raw.valid, dtype=bool) & np.all(np.isfinite(q), axis=-1)
-    q = np.where(valid[..., None], q, 0.0)
-    T_target = np.broadcast_to(T[:, None], (*q.shape[:-1], 4, 4))
-    position_error, orientation_error = _residuals(chain, q, T_target)
-    _refine(chain, q, T_target, position_error, orientation_error, valid)
+    q, valid, family = solver.candidates(T)
+    q = wrap_into_limits(chain, q, near[:, None, :])
+    valid &= np.isfinite(q).all(axis=-1)
+    q[~valid] = 0.0
+    position_error, orientation_error = _residuals(solver, q, T)
+    _refine(chain, q, T, position_error, orientation_error, valid)
     keep = valid & (position_error <= VERIFY_TOLERANCE) & (orientation_error <= VERIFY_TOLERANCE)
-    distance = np.linalg.norm(weights * (q - near[:, None, :]), axis=-1)
-    order = np.argsort(np.where(keep, distance, np.inf), axis=1, kind="stable")
-    out = {"q": q, "keep": keep, "inside": _inside(chain, q), "family": raw.family & keep,
+    inside = _inside(chain, q)
+    first = keep & inside if within_limits else keep
+    order = np.argsort(np.where(first, _distance(q, near, weights), np.inf), axis=1, kind="stable")
+    out = {"q": q, "keep": keep, "inside": inside, "family": family & keep,
            "position_error": position_error, "orientation_error": orientation_error}
     return {key: np.take_along_axis(value, order[:, :, None] if value.ndim == 3 else order, axis=1)
             for key, value in out.items()}
+
+
+def _distance(q: NDArray[np.float64], near: NDArray[np.float64],
+              weights: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``|w * (q - near)|`` for candidates ``(N, k, n)`` and references ``(N, n)``: ``(N, k)``."""
+    d = weights * (q - near[:, None, :])
+    return np.sqrt(np.einsum("...i,...i->...", d, d))
+
+
+def _nearest(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64],
+             weights: NDArray[np.float64], within_limits: bool
+             ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """For each target, the candidate nearest to ``near``, verified by FK: ``(N, n)``, ``ok``.
+
+    Only the chosen candidate is put through FK. ``ok`` is False where no candidate is
+    usable or the chosen one is not accurate to ``_REFINE_ABOVE``; the caller hands those
+    poses to the full treatment (:func:`_candidates`: refinement, errors).
+    """
+    if len(T) > CHUNK:
+        parts = [_nearest(solver, T[i:i + CHUNK], near[i:i + CHUNK], weights, within_limits)
+                 for i in range(0, len(T), CHUNK)]
+        return np.concatenate([q for q, _ in parts]), np.concatenate([ok for _, ok in parts])
+    q, valid, _ = solver.candidates(T)
+    q = wrap_into_limits(solver.chain, q, near[:, None, :])
+    usable = valid & np.isfinite(q).all(axis=-1)
+    if within_limits:
+        usable &= _inside(solver.chain, q)
+    distance = np.where(usable, _distance(np.where(usable[..., None], q, 0.0), near, weights), np.inf)
+    best = np.argmin(distance, axis=1)
+    q = np.take_along_axis(q, best[:, None, None], axis=1)
+    found = usable.any(axis=1)
+    q[~found] = 0.0
+    position_error, orientation_error = _residuals(solver, q, T)
+    ok = found & (position_error[:, 0] <= _REFINE_ABOVE) & (orientation_error[:, 0] <= _REFINE_ABOVE)
+    return q[:, 0], ok
 
 
 def _angle_text(angle: float) -> str:
@@ -196,7 +292,7 @@ def _check_inputs(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
 
 
 def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
-                 weights: ArrayLike | None = None) -> IKSolutions | list[IKSolutions]:
+                 weights: ArrayLike | None = None) -> IKSolutions | IKSolutionsBatch:
     """Every closed-form solution of a target pose, inside the limits or not, with flags.
 
     Parameters
@@ -212,7 +308,7 @@ def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None
 
     Returns
     -------
-    IKSolutions, or a list of them for a batch of poses
+    IKSolutions, or for a batch of poses an IKSolutionsBatch (a sequence of them)
         Empty (``k = 0``) when the pose is out of reach.
 
     Raises
@@ -236,10 +332,9 @@ def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None
     if isinstance(solver, NoClosedFormError):
         raise solver
     c = _candidates(solver, T, near, weights)
-    fields = [c[key] for key in ("q", "inside", "family", "position_error", "orientation_error")]
-    out = [IKSolutions(*(field[i, :count] for field in fields))
-           for i, count in enumerate(c["keep"].sum(axis=1))]
-    return out if batch else out[0]
+    found = IKSolutionsBatch(c["q"], c["keep"].sum(axis=1), c["inside"], c["family"],
+                             c["position_error"], c["orientation_error"])
+    return found if batch else found[0]
 
 
 def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
@@ -317,21 +412,50 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
         raise NoClosedFormError(
             f"all=True asks for every solution, but {reason}; numeric IK returns one "
             f"solution per seed: call ik(T, near=q_seed) once per seed configuration")
-    labels = [f"pose {i} of {len(T)}: " if batch else "" for i in range(len(T))]
+    labels = _Labels(len(T) if batch else 0)
     if not closed:
         q = np.stack([_numeric_one(chain, T[i], near[i], within_limits, labels[i], numeric_options)
                       for i in range(len(T))])
         return q.reshape(*batch, chain.n)
-    c = _candidates(solver, T, near, weights)
-    usable = c["keep"] & (c["inside"] if within_limits else True)
-    for i in np.flatnonzero(~usable.any(axis=-1)):
+    if not all:
+        q, ok = _nearest(solver, T, near, weights, within_limits)
+        if ok.all():
+            return q.reshape(*batch, chain.n)
+        rest = np.flatnonzero(~ok)
+        c = _candidates(solver, T[rest], near[rest], weights, within_limits)
+        _raise_if_unusable(chain, c, T[rest], near[rest], labels.of(rest), within_limits)
+        q[rest] = c["q"][:, 0]
+        return q.reshape(*batch, chain.n)
+    c = _candidates(solver, T, near, weights, within_limits)
+    count = _raise_if_unusable(chain, c, T, near, labels, within_limits)
+    found = [q[:k] for q, k in zip(c["q"], count.tolist(), strict=True)]
+    return found if batch else found[0]
+
+
+class _Labels:
+    """``labels[i]``: ``"pose i of N: "`` to start an error message about pose ``i`` of a batch."""
+
+    def __init__(self, size: int, index: NDArray[np.int_] | None = None) -> None:
+        self.size, self.index = size, index
+
+    def __getitem__(self, i: int) -> str:
+        i = i if self.index is None else int(self.index[i])
+        return f"pose {i} of {self.size}: " if self.size else ""
+
+    def of(self, index: NDArray[np.int_]) -> _Labels:
+        """The labels of the poses ``index`` of this batch."""
+        return _Labels(self.size, index)
+
+
+def _raise_if_unusable(chain: Chain, c: dict[str, NDArray], T: NDArray[np.float64],
+                       near: NDArray[np.float64], labels: _Labels, within_limits: bool
+                       ) -> NDArray[np.int_]:
+    """Number of usable (sorted-first) candidates per pose; raise for a pose without any."""
+    usable = c["keep"] & c["inside"] if within_limits else c["keep"]
+    count = usable.sum(axis=1)
+    for i in np.flatnonzero(count == 0):
         if c["keep"][i].any():
             first = np.flatnonzero(c["keep"][i])[0]
             raise _outside_limits(chain, c["q"][i, first], labels[i])
         raise _unreachable(chain, T[i], near[i], labels[i])
-    if all:
-        found = [c["q"][i, usable[i]] for i in range(len(T))]
-        return found if batch else found[0]
-    first = np.argmax(usable, axis=-1)  # candidates are sorted nearest first
-    q = np.take_along_axis(c["q"], first[:, None, None], axis=1)[:, 0]
-    return q.reshape(*batch, chain.n)
+    return count
