@@ -27,6 +27,7 @@ import roboticstoolbox as rtb
 import armkit
 from armkit import kinematics
 from armkit.ik import closed_form_ik, ik_solutions, numeric_ik
+from armkit.ik.numeric import NumericIK
 from armkit.spatial import euler_from_matrix, rotation_angle_between
 
 TOLERANCE = 1e-6  # m and rad: a solution counts if armkit's FK reproduces the pose this well
@@ -188,8 +189,11 @@ def bench_numeric(poses: int, slow_poses: int) -> None:
         start = np.concatenate([[0.0], q0, [0.0]])
         return ik_py.inverse_kinematics_frame(T, initial_position=start, orientation_mode="all")[1:-1]
 
+    solver = NumericIK(chain)  # built once per chain, as rtb's ETS is
     solvers = [
-        ("armkit numeric_ik (tol 1e-9)", lambda T, q0, i: numeric_ik(chain, T, q0=q0, rng=i).q, poses),
+        ("armkit NumericIK.solve (tol 1e-9)", lambda T, q0, i: solver.solve(T, q0, rng=i).q, poses),
+        ("armkit numeric_ik (builds the solver)", lambda T, q0, i: numeric_ik(chain, T, q0=q0, rng=i).q,
+         poses),
         ("rtb ik_LM C++ (tol 1e-6, default)",
          lambda T, q0, i: ets.ik_LM(T, q0=q0, joint_limits=True).q, poses),
         ("rtb ik_LM C++ (tol 1e-14)",

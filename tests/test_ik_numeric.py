@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit.chain import DHRow
 from armkit.errors import InputError
-from armkit.ik.numeric import _TargetError, numeric_ik
+from armkit.ik.numeric import NumericIK, _TargetError, numeric_ik
 from armkit.kinematics import pose_error
 from armkit.spatial import matrix_from_axis_angle, transform_from
 
@@ -102,3 +102,48 @@ def test_bad_mask_and_seed():
         numeric_ik(panda.chain, np.eye(4), mask=[0.5, 1, 1, 1, 1, 1])
     with pytest.raises(InputError, match="q0: expected 7 finite joint values"):
         numeric_ik(panda.chain, np.eye(4), q0=[0.0, np.nan, 0, 0, 0, 0, 0])
+
+
+def test_a_reused_solver_equals_one_off_calls():
+    panda = armkit.load("panda")
+    solver = NumericIK(panda.chain)
+    seeds = panda.random_q(5, rng=12)
+    for i, T in enumerate(panda.fk(panda.random_q(5, rng=13))):
+        reused, one_off = solver.solve(T, seeds[i], rng=i), numeric_ik(panda.chain, T, q0=seeds[i], rng=i)
+        _check_solution(panda, T, reused)
+        np.testing.assert_array_equal(reused.q, one_off.q)
+        assert (reused.iterations, reused.restarts) == (one_off.iterations, one_off.restarts)
+
+
+def test_solutions_with_joints_at_their_limits():
+    panda = armkit.load("panda")
+    lower, upper = panda.limits.T
+    rng = np.random.default_rng(8)
+    for k in range(panda.n):
+        q = panda.random_q(rng=rng)
+        q[k] = lower[k] if k % 2 else upper[k]
+        T = panda.fk(q)
+        _check_solution(panda, T, numeric_ik(panda.chain, T, q0=panda.random_q(rng=rng), rng=k))
+
+
+def test_a_seed_outside_the_limits_is_moved_into_them():
+    panda = armkit.load("panda")
+    T = panda.fk(panda.random_q(rng=14))
+    q0 = panda.limits[:, 1] + 0.5
+    _check_solution(panda, T, numeric_ik(panda.chain, T, q0=q0, rng=0))
+
+
+def test_without_limits_a_known_solution_outside_them_is_refined():
+    panda = armkit.load("panda")
+    q = panda.random_q(rng=15)
+    q[3] = 0.3  # beyond joint 4's upper limit -0.0698
+    T = panda.fk(q)
+    result = numeric_ik(panda.chain, T, q0=q + 1e-4, respect_limits=False, max_restarts=0)
+    assert result.success and result.restarts == 0
+    assert result.q[3] > panda.limits[3, 1] + 0.2  # stayed near q, outside the limits
+    assert_transform_close(panda.fk(result.q), T, 1e-9, 1e-9)
+
+
+def test_bad_iteration_budget():
+    with pytest.raises(InputError, match="max_iterations: expected at least 1 step per attempt, got 0"):
+        NumericIK(armkit.load("panda").chain, max_iterations=0)

@@ -6,7 +6,8 @@ are ``[v; w]``: linear velocity of the tool origin [m/s] over angular velocity [
 
 Solver and control loops evaluate one configuration at a time, thousands of times; for
 them :class:`ChainKernel` gives the same tool pose and Jacobian with a fraction of the
-NumPy calls (about 10 us instead of 60 us for a 6- or 7-joint arm).
+NumPy calls (about 10 us for a 6- or 7-joint arm, where :func:`fk` plus
+:func:`geometric_jacobian` of one configuration take over 100 us).
 """
 
 from __future__ import annotations
@@ -249,8 +250,11 @@ class ChainKernel:
         self._origins = frames[:-1, :3, 3]
         self._tool = frames[-1]
         self._tool_position = frames[-1, :3, 3]
-        self._lever = np.ones((n, 4))
+        lever = np.ones((n, 4))
+        self._lever, self._lever_rows = lever[:, :3], lever[:, None, :]
+        self._axis_columns = self._axes[:, :, None]
         self._outer = np.empty((n, 3, 4))
+        self._outer_rows = self._outer.reshape(n, 12)
 
     def _compute_frames(self, q: NDArray[np.float64]) -> None:
         if self._revolute is None:
@@ -264,9 +268,9 @@ class ChainKernel:
             before.dot(moved, out=after)
 
     def _jacobian_from_frames(self) -> NDArray[np.float64]:
-        np.subtract(self._tool_position, self._origins, out=self._lever[:, :3])
-        np.multiply(self._axes[:, :, None], self._lever[:, None, :], out=self._outer)
-        J_t = self._outer.reshape(self.n, 12).dot(_CROSS_AND_AXIS)  # (n, 6): row i is column i of J
+        np.subtract(self._tool_position, self._origins, out=self._lever)
+        np.multiply(self._axis_columns, self._lever_rows, out=self._outer)
+        J_t = self._outer_rows.dot(_CROSS_AND_AXIS)  # (n, 6): row i is column i of J
         if len(self._prismatic_joints):
             J_t[self._prismatic_joints, :3] = self._axes[self._prismatic_joints]
             J_t[self._prismatic_joints, 3:] = 0.0

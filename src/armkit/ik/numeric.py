@@ -16,8 +16,9 @@ the last steps converge quadratically (Sugihara uses ``g = 1``; ``g = 0.1`` and
 ``(J J^T + lambda I) y = e``, solved by Cholesky (LAPACK ``dposv``).
 
 Joint limits are kept during the iterations, as bounds: after each step a revolute angle
-outside its range is moved by whole turns towards the middle of the range and then
-clipped, and a joint held at a bound by the gradient (``J^T e`` pointing outwards) is
+outside its range is moved into it by whole turns if that fits, else to the bound nearer
+in angle (a prismatic value to the nearer bound), and a joint held at a bound by the
+gradient (``J^T e`` pointing outwards) is
 left out of the next step (its Jacobian column is zeroed), so the other joints take
 over instead of the step stalling against the bound. One seed iterates at a time, first
 the caller's ``q0``: an attempt that has not halved its error in ``3`` steps, or has
@@ -42,7 +43,7 @@ from armkit.errors import InputError
 from armkit.kinematics import ChainKernel, pose_error
 from armkit.robot import LIMIT_TOLERANCE
 
-__all__ = ["IKResult", "numeric_ik", "wrap_into_limits"]
+__all__ = ["IKResult", "NumericIK", "numeric_ik", "wrap_into_limits"]
 
 #: Range [m] used for random seeds of prismatic joints without limits.
 _UNBOUNDED_SEED_RANGE = 1.0
@@ -50,6 +51,25 @@ _UNBOUNDED_SEED_RANGE = 1.0
 #: _STALL_STEPS steps is abandoned for a new seed.
 _STALL_STEPS = 3
 _STALL_FACTOR = 0.5
+
+
+def _error_coefficients() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Constants of :class:`_TargetError`: ``C[b, c, a]``, the coefficient of ``X[a, b]`` in
+    output ``c`` of ``(X[2,1] - X[1,2], X[0,2] - X[2,0], X[1,0] - X[0,1], trace X)``, and the
+    map's fixed part (``-1`` from each tool position entry to its error)."""
+    C = np.zeros((4, 3, 3))  # [c, a, b]
+    for c, (a, b) in enumerate(((2, 1), (0, 2), (1, 0))):
+        C[c, a, b], C[c, b, a] = 1.0, -1.0
+    C[3] = np.eye(3)
+    base = np.zeros((16, 7))
+    base[[3, 7, 11], [0, 1, 2]] = -1.0
+    C, base = np.ascontiguousarray(C.transpose(2, 0, 1)), base
+    C.setflags(write=False)
+    base.setflags(write=False)
+    return C, base
+
+
+_ROTATION_COEFFICIENTS, _ERROR_MAP_BASE = _error_coefficients()
 
 
 @dataclass(frozen=True)
@@ -118,32 +138,21 @@ def _limits(chain: Chain) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     return (np.array([j.lower for j in chain.joints]), np.array([j.upper for j in chain.joints]))
 
 
-
-
 class _TargetError:
     """Pose errors (see :func:`armkit.kinematics.pose_error`) to one target, one product each.
 
     ``[p_target - p, 2 sin(angle) axis, trace(R_target R^T)]`` is affine in the entries of
-    ``T`` (whose last entry is 1), so a ``(16, 7)`` matrix built once per target maps
-    ``T.reshape(16)`` to it; the rotation vector then needs only its angle.
+    ``T`` (whose last entry is 1): with ``X = R_target R^T``, ``X[a, b] = sum_k
+    R_target[a, k] T[b, k]``. So a ``(16, 7)`` matrix built once per target maps
+    ``T.reshape(16)`` to it, and the rotation vector then needs only its angle.
     """
 
     def __init__(self, T_target: NDArray[np.float64]) -> None:
         self.T_target = T_target
-        R_t = T_target[:3, :3]
-
-        def product_entry(a: int, b: int) -> NDArray[np.float64]:
-            """Coefficients of ``(R_t R^T)[a, b] = sum_k R_t[a, k] T[b, k]`` over ``T.reshape(16)``."""
-            c = np.zeros(16)
-            c[4 * b:4 * b + 3] = R_t[a]
-            return c
-
-        M = np.zeros((16, 7))
-        M[[3, 7, 11], [0, 1, 2]] = -1.0
+        M = _ERROR_MAP_BASE.copy()
         M[15, :3] = T_target[:3, 3]
-        for column, (a, b) in enumerate(((2, 1), (0, 2), (1, 0)), start=3):
-            M[:, column] = product_entry(a, b) - product_entry(b, a)
-        M[:, 6] = product_entry(0, 0) + product_entry(1, 1) + product_entry(2, 2)
+        # rows 4 b + k, columns 3..6: sum_a C[b, c, a] R_target[a, k]
+        M.reshape(4, 4, 7)[:3, :3, 3:] = (_ROTATION_COEFFICIENTS @ T_target[:3, :3]).transpose(0, 2, 1)
         self._map = M
 
     def __call__(self, T: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -156,40 +165,86 @@ class _TargetError:
         return np.array((x, y, z, scale * u, scale * v, scale * w))
 
 
-class _Solver:
-    """Levenberg-Marquardt descent towards one target, one seed at a time, inside the limits."""
+class NumericIK:
+    """Numeric IK of one chain, reusable for many targets (see :func:`numeric_ik`).
 
-    def __init__(self, chain: Chain, T_target: NDArray[np.float64], rows: NDArray[np.bool_],
-                 tolerances: tuple[float, float], gains: tuple[float, float],
-                 respect_limits: bool) -> None:
-        self.kernel, self.error = ChainKernel(chain), _TargetError(T_target)
-        self.rows, self.all_rows, self.weights = rows, bool(rows.all()), rows.astype(float)
-        self.squared_tolerances = (tolerances[0] ** 2, tolerances[1] ** 2)
-        self.damping_gain, self.damping = gains
+    Holds the chain's :class:`~armkit.kinematics.ChainKernel`, its limits and work buffers,
+    so that a loop over targets pays for them once (about 30 us per construction).
+    Parameters are those of :func:`numeric_ik`. Use one solver per thread.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> panda = armkit.load("panda")
+    >>> solver = NumericIK(panda.chain, position_tolerance=1e-10)
+    >>> T = panda.fk([0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5])
+    >>> result = solver.solve(T, rng=0)
+    >>> result.success, bool(result.position_error < 1e-10), bool(panda.within_limits(result.q))
+    (True, True, True)
+    """
+
+    def __init__(self, chain: Chain, *, position_tolerance: float = 1e-9,
+                 orientation_tolerance: float = 1e-9, mask: ArrayLike | None = None,
+                 damping_gain: float = 0.1, damping: float = 1e-6, max_iterations: int = 30,
+                 max_restarts: int = 100, time_budget: float = 0.5, respect_limits: bool = True) -> None:
+        if max_iterations < 1:
+            raise InputError(f"max_iterations: expected at least 1 step per attempt, got {max_iterations}")
+        self.chain = chain
+        self.kernel = ChainKernel(chain)
+        self.rows = _check_mask(mask)
+        self.all_rows, self.weights = bool(self.rows.all()), self.rows.astype(float)
+        self.squared_tolerances = (position_tolerance**2, orientation_tolerance**2)
+        self.damping_gain, self.damping = damping_gain, damping
+        self.max_iterations, self.max_restarts, self.time_budget = max_iterations, max_restarts, time_budget
         self.respect_limits = respect_limits
         lower, upper = _limits(chain)
-        revolute = (~chain.prismatic).tolist()
-        self.bounds = list(zip(lower.tolist(), upper.tolist(), ((lower + upper) / 2).tolist(), revolute,
-                               strict=True))
-        m = int(rows.sum())
+        self.seed_low = np.where(np.isfinite(lower), lower, -_UNBOUNDED_SEED_RANGE)
+        self.seed_high = np.where(np.isfinite(upper), upper, _UNBOUNDED_SEED_RANGE)
+        self.bounds = list(zip(lower.tolist(), upper.tolist(), (~chain.prismatic).tolist(), strict=True))
+        m = int(self.rows.sum())
         self.wide = m <= chain.n  # solve the m x m system (J J^T) rather than the n x n one
-        self.diagonal = m + 1 if self.wide else chain.n + 1  # stride of the diagonal in .flat
-        #: (cost, q, position error, orientation error) of the best configuration seen.
-        self.best: tuple[float, NDArray[np.float64], float, float] = (math.inf, np.empty(0), math.inf,
-                                                                        math.inf)
+        size = m if self.wide else chain.n
+        self.normal = np.empty((size, size))  # work buffer of the damped normal equations
+        self.diagonal = self.normal.reshape(-1)[::size + 1]  # a view of its diagonal
 
-    def project(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], list[tuple[int, float]]]:
-        """``q`` moved into the limits (whole turns towards the middle, then clipped), and the
-        joints at a bound as ``(index, -1.0 at the lower / +1.0 at the upper)``."""
+    def solve(self, T_base_tool: NDArray[np.float64], q0: ArrayLike | None = None,
+              rng: np.random.Generator | int | None = None) -> IKResult:
+        """Solve ``fk(q) = T_base_tool`` ``(4, 4)`` from ``q0`` ``(n,)``; see :func:`numeric_ik`."""
+        n = self.chain.n
+        q = (self.seed_low + self.seed_high) / 2.0 if q0 is None else np.asarray(q0, dtype=float)
+        if q.shape != (n,) or not math.isfinite(q.sum()):
+            raise InputError(f"q0: expected {n} finite joint values, got {q.tolist()}")
+        error = _TargetError(np.asarray(T_base_tool, dtype=float))
+        best: list = [math.inf, q, math.inf, math.inf]  # cost, q, position and orientation error
+        deadline = time.perf_counter() + self.time_budget
+        iterations = restarts = 0
+        while True:
+            q, solved, steps, errors = self._descend(error, q, best)
+            iterations += steps
+            if solved:
+                return IKResult(q.copy(), True, iterations, restarts, *errors)
+            if restarts >= self.max_restarts or time.perf_counter() > deadline:
+                break
+            if restarts == 0:
+                rng = np.random.default_rng(rng)
+            q = rng.uniform(self.seed_low, self.seed_high)
+            restarts += 1
+        return IKResult(best[1].copy(), False, iterations, restarts, best[2], best[3])
+
+    def _project(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], list[tuple[int, float]]]:
+        """``q`` moved into the limits (by whole turns if that fits, else to the bound nearest
+        in angle), and the joints at a bound as ``(index, -1.0 at the lower / +1.0 at the upper)``."""
         if not self.respect_limits:
             return q, []
         values, held, moved = q.tolist(), [], False
-        for i, (lower, upper, middle, revolute) in enumerate(self.bounds):
+        for i, (lower, upper, revolute) in enumerate(self.bounds):
             value = values[i]
             if lower < value < upper:
                 continue
             if revolute and not lower <= value <= upper:
-                value = middle + (value - middle + math.pi) % (2 * math.pi) - math.pi
+                turned = lower + (value - lower) % (2 * math.pi)  # in [lower, lower + 2 pi)
+                # inside, or else at the bound nearer in angle
+                value = turned if turned <= upper or turned - upper < lower + 2 * math.pi - turned else lower
             if value <= lower:
                 value, side = lower, -1.0
             elif value >= upper:
@@ -202,23 +257,25 @@ class _Solver:
                 values[i], moved = value, True
         return (np.array(values) if moved else q), held
 
-    def descend(self, q: NDArray[np.float64],
-                max_iterations: int) -> tuple[NDArray[np.float64], bool, int, tuple[float, float]]:
-        """Iterate from ``q`` (inside the limits): ``(q, solved, steps, (position, orientation error))``."""
-        q, held = self.project(q)
+    def _descend(self, error: _TargetError, q: NDArray[np.float64],
+                 best: list) -> tuple[NDArray[np.float64], bool, int, tuple[float, float]]:
+        """One attempt from ``q``: ``(q, solved, steps, (position, orientation error))``;
+        updates ``best`` with the lowest-cost configuration seen."""
+        q, held = self._project(q)
         reference, since = math.inf, 0
-        for step in range(1, max_iterations + 1):
+        position_tolerance, orientation_tolerance = self.squared_tolerances
+        for step in range(1, self.max_iterations + 1):
             T, J = self.kernel.pose_jacobian(q)
-            e = self.error(T)
+            e = error(T)
             if not self.all_rows:
                 e *= self.weights
             e0, e1, e2, e3, e4, e5 = e.tolist()
             position, orientation = e0 * e0 + e1 * e1 + e2 * e2, e3 * e3 + e4 * e4 + e5 * e5
             cost = 0.5 * (position + orientation)
             errors = (math.sqrt(position), math.sqrt(orientation))
-            if cost < self.best[0]:
-                self.best = (cost, q, *errors)
-            if position <= self.squared_tolerances[0] and orientation <= self.squared_tolerances[1]:
+            if cost < best[0]:
+                best[:] = cost, q, *errors
+            if position <= position_tolerance and orientation <= orientation_tolerance:
                 return q, True, step, errors
             if cost < _STALL_FACTOR * reference:
                 reference, since = cost, 0
@@ -226,11 +283,11 @@ class _Solver:
                 since += 1
                 if since >= _STALL_STEPS or not math.isfinite(cost):
                     break
-            q, held = self.project(q + self.step(J, e, cost, held))
+            q, held = self._project(q + self._step(J, e, cost, held))
         return q, False, step, errors
 
-    def step(self, J: NDArray[np.float64], e: NDArray[np.float64], cost: float,
-             held: list[tuple[int, float]]) -> NDArray[np.float64]:
+    def _step(self, J: NDArray[np.float64], e: NDArray[np.float64], cost: float,
+              held: list[tuple[int, float]]) -> NDArray[np.float64]:
         """The damped step ``dq`` ``(n,)``; joints held at a bound by the gradient stay put."""
         if held:
             gradient = e.dot(J).tolist()  # J^T e: the direction that lowers the error
@@ -240,15 +297,17 @@ class _Solver:
                 J[:, frozen] = 0.0
         if not self.all_rows:
             J, e = J[self.rows], e[self.rows]
-        damping = self.damping_gain * cost + self.damping
         if self.wide:
-            A, rhs = J.dot(J.T), e
+            np.dot(J, J.T, out=self.normal)
+            rhs = e
         else:
-            A, rhs = J.T.dot(J), e.dot(J)
-        A.flat[::self.diagonal] += damping
-        x, info = lapack.dposv(A, rhs, overwrite_a=1)[1:]
-        if info != 0:  # not positive definite (no damping asked): least squares
-            x = np.linalg.lstsq(A, rhs, rcond=None)[0]
+            np.dot(J.T, J, out=self.normal)
+            rhs = e.dot(J)
+        self.diagonal += self.damping_gain * cost + self.damping
+        # symmetric, so its transpose is the Fortran-ordered matrix LAPACK solves in place
+        x, info = lapack.dposv(self.normal.T, rhs, overwrite_a=1)[1:]
+        if info != 0:  # singular and no damping asked: the minimum-norm least-squares step
+            return np.linalg.lstsq(J, e, rcond=None)[0]
         return J.T.dot(x) if self.wide else x
 
 
@@ -263,6 +322,8 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
     improving (error not halved in 3 steps) or reaches ``max_iterations`` steps is
     restarted from a uniform random configuration inside the limits. The joint limits
     are bounds of every step (see the module notes), so every answer is inside them.
+    For many targets of one chain, build a :class:`NumericIK` once and call its
+    ``solve``.
 
     Parameters
     ----------
@@ -305,26 +366,8 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
     >>> result.success, bool(result.position_error < 1e-9)
     (True, True)
     """
-    rows = _check_mask(mask)
-    lower, upper = _limits(chain)
-    seed_low = np.where(np.isfinite(lower), lower, -_UNBOUNDED_SEED_RANGE)
-    seed_high = np.where(np.isfinite(upper), upper, _UNBOUNDED_SEED_RANGE)
-    q = (seed_low + seed_high) / 2.0 if q0 is None else np.asarray(q0, dtype=float)
-    if q.shape != (chain.n,) or not np.all(np.isfinite(q)):
-        raise InputError(f"q0: expected {chain.n} finite joint values, got {q.tolist()}")
-    solver = _Solver(chain, np.asarray(T_base_tool, dtype=float), rows,
-                     (position_tolerance, orientation_tolerance), (damping_gain, damping), respect_limits)
-    rng = np.random.default_rng(rng)
-    deadline = time.perf_counter() + time_budget
-    iterations = restarts = 0
-    while True:
-        q, solved, steps, errors = solver.descend(q, max_iterations)
-        iterations += steps
-        if solved:
-            return IKResult(q.copy(), True, iterations, restarts, *errors)
-        if restarts >= max_restarts or time.perf_counter() > deadline:
-            break
-        q = rng.uniform(seed_low, seed_high)
-        restarts += 1
-    _, q_best, position_error, orientation_error = solver.best
-    return IKResult(q_best.copy(), False, iterations, restarts, position_error, orientation_error)
+    solver = NumericIK(chain, position_tolerance=position_tolerance,
+                       orientation_tolerance=orientation_tolerance, mask=mask,
+                       damping_gain=damping_gain, damping=damping, max_iterations=max_iterations,
+                       max_restarts=max_restarts, time_budget=time_budget, respect_limits=respect_limits)
+    return solver.solve(T_base_tool, q0, rng)
