@@ -18,9 +18,9 @@ the last steps converge quadratically (Sugihara uses ``g = 1``; ``g = 0.1`` and
 Joint limits are kept during the iterations, as bounds: after each step a revolute angle
 outside its range is moved into it by whole turns if that fits, else to the bound nearer
 in angle (a prismatic value to the nearer bound), and a joint held at a bound by the
-gradient (``J^T e`` pointing outwards) is
-left out of the next step (its Jacobian column is zeroed), so the other joints take
-over instead of the step stalling against the bound. One seed iterates at a time, first
+gradient (``J^T e`` pointing outwards) is left out of the next step (its Jacobian column
+is zeroed), so the other joints take over instead of the step stalling against the
+bound: an active set, so every answer is inside the limits. One seed iterates at a time, first
 the caller's ``q0``: an attempt that has not halved its error in ``3`` steps, or has
 used ``max_iterations`` steps, is abandoned for a new uniform random seed inside the
 limits, until the restart or time budget runs out. One step costs about 20 us (the
@@ -63,7 +63,7 @@ def _error_coefficients() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     C[3] = np.eye(3)
     base = np.zeros((16, 7))
     base[[3, 7, 11], [0, 1, 2]] = -1.0
-    C, base = np.ascontiguousarray(C.transpose(2, 0, 1)), base
+    C = np.ascontiguousarray(C.transpose(2, 0, 1))
     C.setflags(write=False)
     base.setflags(write=False)
     return C, base
