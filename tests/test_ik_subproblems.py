@@ -4,7 +4,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from armkit.ik.subproblems import rotate, rotation_matrix, solve_trig_linear, sp1, sp2, sp3, sp4
+from armkit.ik.subproblems import cos_sin, rotate, rotation_matrix, solve_trig_linear, sp1, sp2, sp3, sp4
 
 seeds = st.integers(0, 2**32 - 1)
 
@@ -125,3 +125,11 @@ def test_trig_linear_free_and_impossible():
     theta, valid, _ = solve_trig_linear(np.array(1.0), np.array(0.0), np.array(0.5), np.array(1.0))
     np.testing.assert_allclose(np.sort(theta), [-np.pi / 3, np.pi / 3], atol=1e-15)
     assert valid.all()
+
+
+def test_cos_sin_from_the_tangent_matches_numpy():
+    theta = np.concatenate([np.linspace(-7.0, 7.0, 4001), [np.pi, -np.pi, np.pi / 2, 0.0, 2 * np.pi]])
+    cos, sin = cos_sin(theta)  # large: from tan(theta / 2)
+    np.testing.assert_allclose(cos, np.cos(theta), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(sin, np.sin(theta), rtol=0, atol=1e-15)
+    assert cos_sin(np.zeros(1000))[1].max() == 0.0 and cos_sin(np.zeros(1000))[0].min() == 1.0

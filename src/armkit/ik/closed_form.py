@@ -48,6 +48,7 @@ from armkit.chain import Chain
 from armkit.errors import NoClosedFormError
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
 from armkit.ik.subproblems import (
+    cos_sin,
     cross,
     dot,
     rotate,
@@ -284,6 +285,7 @@ class ClosedFormSolver:
         self._M_inv = M_inv
         self._revolute_user = ~chain.prismatic
         self._prismatic_user = chain.prismatic.tolist()
+        self._after_T = np.swapaxes(chain.T_between[1:], -1, -2).copy()  # rows @ C = C^T @ columns
         kind = plan.structure.kind
         # Over-determined chains (fewer than 6 joints) must be checked by FK; for 6 joints
         # every subproblem checks its own existence, so the masks are exact.
@@ -352,23 +354,25 @@ class ClosedFormSolver:
         return q, valid, family & valid
 
     def pose_difference(self, q: Array, T: Array) -> Array:
-        """``fk(q) - T`` in the top three rows, ``(N, k, 3, 4)``, for ``q`` ``(N, k, n)``.
+        """``fk(q) - T`` in the top three rows for candidates ``q`` ``(N, k, n)``: ``(3, 4, k, N)``.
 
-        A lean forward kinematics for verification: the rows ``(3, 4)`` of all candidates
-        at once, per joint its motion on two columns, then one 2-D matrix product with the
-        next fixed transform.
+        A lean forward kinematics for verification, component-major so that every array
+        operation runs over all ``k N`` candidates at once: per joint its motion on two
+        columns, then the next fixed transform as one matrix product.
         """
-        cos, sin = np.cos(q)[..., None], np.sin(q)[..., None]
-        rows = np.array(np.broadcast_to(self.chain.T_between[0][:3], (*q.shape[:-1], 3, 4)))
+        N, k, n = q.shape
+        q = np.swapaxes(q, 0, 1).reshape(k * N, n).T  # (n, k N), candidate-major
+        cos, sin = cos_sin(q)
+        rows = np.empty((3, 4, k * N))
+        rows[...] = self.chain.T_between[0][:3, :, None]
         for j, prismatic in enumerate(self._prismatic_user):
             if prismatic:
-                rows[..., 3] += q[..., j, None] * rows[..., 2]
+                rows[:, 3] += q[j] * rows[:, 2]
             else:
-                x, y = rows[..., 0], rows[..., 1]
-                x, y = cos[..., j, :] * x + sin[..., j, :] * y, cos[..., j, :] * y - sin[..., j, :] * x
-                rows[..., 0], rows[..., 1] = x, y
-            rows = (rows.reshape(-1, 4) @ self.chain.T_between[j + 1]).reshape(rows.shape)
-        return rows - T[:, None, :3, :]
+                x, y = rows[:, 0], rows[:, 1]
+                rows[:, 0], rows[:, 1] = cos[j] * x + sin[j] * y, cos[j] * y - sin[j] * x
+            rows = self._after_T[j] @ rows
+        return rows.reshape(3, 4, k, N) - np.moveaxis(T[:, :3, :], 0, -1)[:, :, None, :]
 
     # ----------------------------------------------------------- verification
     def _newton(self, q: Array, T: Array, valid: Mask, steps: int = 2) -> Array:
@@ -392,7 +396,7 @@ class ClosedFormSolver:
         return q
 
     def _reproduces(self, q: Array, T: Array) -> Mask:
-        return np.abs(self.pose_difference(q, T)).max(axis=(-1, -2)) <= self._verify_tol
+        return (np.abs(self.pose_difference(q, T)).max(axis=(0, 1)) <= self._verify_tol).T
 
     def _duplicates(self, q: Array, valid: Mask) -> Mask:
         """Candidates equal (modulo 2 pi) to an earlier valid one, ``(N, k)``.

@@ -147,10 +147,10 @@ def _residuals(solver: ClosedFormSolver, q: NDArray[np.float64],
     The angle between two rotations is ``2 asin(|R - R_target|_F / sqrt(8))``: computed
     from differences, accurate near zero.
     """
-    D = solver.pose_difference(q, T_target)
-    position = np.sqrt(np.einsum("...i,...i->...", D[..., 3], D[..., 3]))
-    chord = np.sqrt(np.einsum("...ij,...ij->...", D[..., :3], D[..., :3]))
-    return position, 2.0 * np.arcsin(np.minimum(chord * (1.0 / np.sqrt(8.0)), 1.0))
+    D = solver.pose_difference(q, T_target)  # (3, 4, k, N)
+    position = np.sqrt(D[0, 3] ** 2 + D[1, 3] ** 2 + D[2, 3] ** 2)
+    chord = np.sqrt(np.einsum("ij...,ij...->...", D[:, :3], D[:, :3]))
+    return position.T, 2.0 * np.arcsin(np.minimum(chord * (1.0 / np.sqrt(8.0)), 1.0)).T
 
 
 def _refine(chain: Chain, q: NDArray[np.float64], T_target: NDArray[np.float64],

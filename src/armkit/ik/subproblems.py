@@ -36,6 +36,7 @@ __all__ = [
     "FREE_TOLERANCE",
     "OUT_TOLERANCE",
     "TANGENT_TOLERANCE",
+    "cos_sin",
     "cross",
     "dot",
     "rotate",
@@ -80,10 +81,25 @@ def cross(a: Array, b: Array) -> Array:
     return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
 
 
+def cos_sin(theta: Array) -> tuple[Array, Array]:
+    """``(cos theta, sin theta)``; for many angles from ``t = tan(theta / 2)``.
+
+    NumPy's float64 ``tan`` is several times faster than its ``sin`` and ``cos`` on large
+    arrays; ``cos = (1 - t^2) / (1 + t^2)``, ``sin = 2 t / (1 + t^2)`` are accurate to a few
+    units in the last place (absolute), also where ``t`` is huge (``theta`` near ``pi``).
+    """
+    if np.size(theta) < 256:
+        return np.cos(theta), np.sin(theta)
+    t = np.tan(0.5 * theta)
+    scale = 1.0 / (1.0 + t * t)
+    return (1.0 - t * t) * scale, 2.0 * t * scale
+
+
 def rotate(k: Array, theta: Array, v: Array) -> Array:
     """``R(k, theta) v`` by Rodrigues' formula, shape ``(..., 3)``."""
     along = dot(k, v)[..., None] * k  # the part of v on the axis stays; the rest turns
-    return along + np.cos(theta)[..., None] * (v - along) + np.sin(theta)[..., None] * cross(k, v)
+    cos, sin = cos_sin(theta)
+    return along + cos[..., None] * (v - along) + sin[..., None] * cross(k, v)
 
 
 def rotation_matrix(k: Array, theta: Array) -> Array:
