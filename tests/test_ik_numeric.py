@@ -147,3 +147,13 @@ def test_without_limits_a_known_solution_outside_them_is_refined():
 def test_bad_iteration_budget():
     with pytest.raises(InputError, match="max_iterations: expected at least 1 step per attempt, got 0"):
         NumericIK(armkit.load("panda").chain, max_iterations=0)
+
+
+@pytest.mark.parametrize("name", armkit.builtin_robots())
+def test_every_builtin_from_random_seeds(name):
+    # near-singular poses included: with too large a damping floor some stalled above 1e-9
+    robot = armkit.load(name)
+    solver = NumericIK(robot.chain)
+    seeds = robot.random_q(60, rng=2)
+    for i, T in enumerate(robot.fk(robot.random_q(60, rng=1))):
+        _check_solution(robot, T, solver.solve(T, seeds[i], rng=i))
