@@ -175,7 +175,8 @@ class _TwoAngleSystem:
             mP = (mu @ P)[:, None, :]
             if f1.any():  # t1 free: the member whose t2 equation is easiest (middle of its range)
                 t1 = np.where(f1[:, None], self._family_representative(mP[:, 0], r @ mu)[:, None], t1)
-            rhs = mP[..., 0] * np.cos(t1) + mP[..., 1] * np.sin(t1) - (r @ mu)[:, None]
+            cos1, sin1 = cos_sin(t1)
+            rhs = mP[..., 0] * cos1 + mP[..., 1] * sin1 - (r @ mu)[:, None]
             mQ = mu @ self.Q
             t2, v2, f2 = solve_trig_linear(mQ[0], mQ[1], rhs, scale[:, None], snap=self._snap_t2)
             t1 = np.broadcast_to(t1[:, :, None], t2.shape)
@@ -197,7 +198,7 @@ class _TwoAngleSystem:
         mr``, still ties ``t2`` to it; this ``t1`` puts its right-hand side at 0, the middle
         of the range ``t2`` can reach.
         """
-        m = np.hypot(mP[:, 0], mP[:, 1])
+        m = np.sqrt(mP[:, 0] ** 2 + mP[:, 1] ** 2)
         cos = np.clip(mr / np.where(m > 0, m, 1.0), -1.0, 1.0)
         return np.where(m > 0, np.arctan2(mP[:, 1], mP[:, 0]) + np.arccos(cos), 0.0)
 
@@ -668,7 +669,7 @@ class ClosedFormSolver:
         a, b = a - (a @ h) * h, b - (b @ h) * h
         wanted = 0.5 * (dot(A, A) + dot(B, B) - (a @ a) - (b @ b))  # A . R(h, phi) B
         cos_part, sin_part = dot(A, B), dot(A, cross(h, B))
-        r = np.hypot(cos_part, sin_part)
+        r = np.sqrt(cos_part * cos_part + sin_part * sin_part)
         phi = np.arctan2(sin_part, cos_part) + np.arccos(np.clip(wanted / np.where(r > 0, r, 1.0),
                                                                  -1.0, 1.0))
         phi = np.where(r > 0, phi, theta)

@@ -150,7 +150,7 @@ def solve_trig_linear(a: Array, b: Array, c: Array, scale: Array, snap: bool = T
     free : ndarray of bool (...)
         ``a = b = c = 0``: every angle is a solution (``theta = 0`` returned).
     """
-    r = np.hypot(a, b)
+    r = np.sqrt(a * a + b * b)  # not np.hypot: several times slower on large arrays
     degenerate = r <= FREE_TOLERANCE * scale
     free = degenerate & (np.abs(c) <= OUT_TOLERANCE * scale)
     x = c / np.where(degenerate, 1.0, r)
