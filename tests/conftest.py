@@ -2,9 +2,18 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
+from hypothesis import settings
 
 from armkit.spatial.rotations import rotation_angle_between
+
+# CI runs the same examples every time (a failure there is reproducible from its log);
+# locally hypothesis explores new ones on every run.
+settings.register_profile("ci", derandomize=True, print_blob=True)
+if os.environ.get("CI"):
+    settings.load_profile("ci")
 
 
 def assert_transform_close(T_actual, T_expected, position_tol: float = 1e-10,
