@@ -109,7 +109,8 @@ def test_lab_on_a_users_robot_file(tmp_path, capsys):
 
 def test_lab_refuses_a_robot_that_cannot_be_simulated(tmp_path, capsys):
     robot_file = tmp_path / "point.toml"
-    robot_file.write_text('convention = "modified"\n[[joints]]\nalpha = 0\na = 0\nd = 0\ntheta = 0\n')
+    robot_file.write_text('convention = "modified"\nlength_unit = "m"\nangle_unit = "rad"\n'
+                          '[[joints]]\nalpha = 0\na = 0\nd = 0\ntheta = 0\n')
     out = tmp_path / "out"
     assert main(["lab", "--quick", "--robot", str(robot_file), "--out", str(out)]) == 1
     assert "cannot be simulated" in capsys.readouterr().err

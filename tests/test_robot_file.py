@@ -117,6 +117,8 @@ def test_round_trip_through_toml(tmp_path):
     (lambda t: t.replace('name = "two link"', 'name = "two link"\ncolour = "red"'),
      r"arm.toml: unknown key 'colour'"),
     (lambda t: t.replace('convention = "standard"\n', ""), r"arm.toml: missing key 'convention'"),
+    (lambda t: t.replace('angle_unit = "deg"\n', ""), r"arm.toml: missing key 'angle_unit'"),
+    (lambda t: t.replace('length_unit = "mm"\n', ""), r"arm.toml: missing key 'length_unit'"),
     (lambda t: t.replace("[[joints]]", "[[joint]]"), r"unknown key 'joint'"),
     (lambda t: t + "\n[broken", r"arm.toml: not valid TOML"),
 ])

@@ -38,7 +38,8 @@ def test_export_needs_an_output(capsys):
 
 def test_export_of_a_zero_length_arm_is_a_clear_error(capsys, tmp_path):
     robot = tmp_path / "point.toml"
-    robot.write_text('convention = "standard"\n[[joints]]\nalpha = 0\na = 0\nd = 0\ntheta = 0\n')
+    robot.write_text('convention = "standard"\nlength_unit = "m"\nangle_unit = "rad"\n'
+                     '[[joints]]\nalpha = 0\na = 0\nd = 0\ntheta = 0\n')
     code, _, err = run(capsys, "export", robot, "--mjcf", tmp_path / "point.xml")
     assert code == 1 and "cannot be simulated" in err and "Traceback" not in err
     assert not (tmp_path / "point.xml").exists()

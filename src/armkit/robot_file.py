@@ -23,7 +23,9 @@ Format (every length in ``length_unit``, every angle in ``angle_unit``)::
     theta = 0
 
 ``[[base]]`` rows work like ``[[tool]]`` rows, before the first joint. For a prismatic
-joint the joint variable is added to ``d``. Values are converted to SI units once, here.
+joint the joint variable is added to ``d``. In a file ``convention``, ``length_unit`` and
+``angle_unit`` are required: a table written in degrees must never be read as radians.
+Values are converted to SI units once, here.
 """
 
 from __future__ import annotations
@@ -85,7 +87,7 @@ def _load_text(text: str, source: str) -> Robot:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise RobotDefinitionError(f"{source}: not valid TOML: {exc}") from exc
-    return robot_from_dict(data, source)
+    return robot_from_dict(data, source, require_units=True)
 
 
 def _number(value: Any, where: str) -> float:
@@ -136,9 +138,15 @@ def _fixed_rows(data: dict, key: str, source: str, length: float, angle: float) 
     return out
 
 
-def robot_from_dict(data: dict, source: str = "robot description") -> Robot:
-    """Build a :class:`Robot` from the parsed contents of a robot file (see module docstring)."""
-    _check_keys(data, _TOP_KEYS, {"convention", "joints"}, source)
+def robot_from_dict(data: dict, source: str = "robot description", require_units: bool = False) -> Robot:
+    """Build a :class:`Robot` from the parsed contents of a robot file (see module docstring).
+
+    In code the units default to SI (``"m"``, ``"rad"``) like the rest of the Python API;
+    ``require_units=True`` (how files are read) makes ``length_unit`` and ``angle_unit``
+    required keys.
+    """
+    required = {"convention", "joints"} | ({"length_unit", "angle_unit"} if require_units else set())
+    _check_keys(data, _TOP_KEYS, required, source)
     convention = _choice(data, "convention", ("standard", "modified"), source, None)
     length_unit = _choice(data, "length_unit", _LENGTH_UNITS, source, "m")
     angle_unit = _choice(data, "angle_unit", _ANGLE_UNITS, source, "rad")
