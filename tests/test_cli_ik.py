@@ -90,10 +90,28 @@ def test_errors_are_one_line(capsys):
     code, _, err = run(capsys, "ik", "ur5", "--pose", "0.3", "0", "0.3", "0", "0", "0", "0.1", "0.2")
     assert code == 1 and "joint values are given after --near" in err
     code, _, err = run(capsys, "ik", "ur5", *SEED_POSE, "--matrix", *["0"] * 16)
-    assert code == 1 and "not both" in err
+    assert code == 1 and "give the target as one of --pose" in err
     code, _, err = run(capsys, "ik", "ur5", "--matrix", *["1"] * 16)
     assert code == 1 and "--matrix" in err
     code, _, err = run(capsys, "ik", "ur5", *SEED_POSE, "--near", "0", "0")
     assert code == 1 and "UR5 has 6 joints" in err
-    code, _, err = run(capsys, "ik", "ur5", "--near", *SEED_POSE)
-    assert code == 1 and "UR5 has 6 joints" in err
+
+
+def test_position_only_target(capsys):
+    code = main(["ik", "probot-anno", "--position", "0.3", "0.1", "0.2", "--json"])
+    data = json.loads(capsys.readouterr().out)
+    assert code == 0 and len(data["solutions"]) == 1
+    reached = armkit.load("probot-anno").fk(data["solutions"][0])[:3, 3]
+    np.testing.assert_allclose(reached, [0.3, 0.1, 0.2], atol=1e-9)
+
+
+def test_near_without_values_means_zeros(capsys):
+    assert main(["ik", "probot-anno", "--pose", "0.2289", "0", "0.454", "1.5707963267948966", "0", "0",
+                 "--near", "--json"]) == 0
+    solution = json.loads(capsys.readouterr().out)["solutions"][0]
+    np.testing.assert_allclose(solution, np.zeros(6), atol=1e-9)
+
+
+def test_angles_beyond_two_pi_without_deg_are_refused(capsys):
+    assert main(["ik", "probot-anno", "--pose", "0.2", "0.2", "0.2007", "90", "-90", "0"]) == 1
+    assert "add --deg if they are degrees" in capsys.readouterr().err

@@ -55,7 +55,8 @@ def test_robots_and_show(capsys):
 @pytest.mark.parametrize(("argv", "message"), [
     (["fk", "ur5", "1", "2"], "UR5 has 6 joints, so expected 6 joint values"),
     (["fk", "nosuchbot", "1"], "unknown robot 'nosuchbot'"),
-    (["fk", "probot-anno", "0", "0", "0", "0", "0", "5", "--strict"], "joint q6 = 5 is outside its limits"),
+    (["fk", "probot-anno", "0", "0", "0", "0", "0", "5", "--strict"],
+     "joint q6 = 5 rad is outside its limits"),
     (["fk", "ur5", "0", "0", "0", "0", "0", "0", "--euler", "abc"], "unknown angle convention 'abc'"),
     (["jacobian", "ur5", "0", "0", "0", "0", "0", "0", "--frame", "world"], "frame 'world'"),
 ])
@@ -68,9 +69,27 @@ def test_errors_are_one_line_and_exit_1(capsys, argv, message):
 
 def test_out_of_limits_warns_without_strict(capsys):
     code, out, err = run(capsys, "fk", "probot-anno", "0", "0", "0", "0", "0", "5")
-    assert code == 0 and "warning: joint q6 = 5 is outside its limits" in err
+    assert code == 0 and "warning: joint q6 = 5 rad is outside its limits" in err
 
 
 def test_usage_error_exit_code(capsys):
     code, _, err = run(capsys, "fk")
     assert code == 2 and "Missing argument" in err
+
+
+def test_degrees_everywhere_with_deg(capsys):
+    code, _, err = run(capsys, "fk", "probot-anno", "0", "0", "0", "0", "0", "200", "--deg", "--strict")
+    assert code == 1 and "joint q6 = 200 deg is outside its limits [-180, 180] deg" in err
+    code, out, _ = run(capsys, "fk", "probot-anno", "0", "0", "0", "0", "0", "90", "--deg", "--json")
+    data = json.loads(out)
+    assert data["q"][5] == 90.0 and data["q_si"][5] == pytest.approx(np.pi / 2)
+
+
+def test_non_numeric_joint_value_is_named(capsys):
+    code, _, err = run(capsys, "fk", "probot-anno", "1", "2", "3", "abc", "5", "6")
+    assert code == 1 and "joint values: 'abc' is not a number" in err
+
+
+def test_show_writes_offsets_as_a_dh_table_does(capsys):
+    code, out, _ = run(capsys, "show", "probot-anno")
+    assert "q - 90" in out and "q + 90" in out and "-0 " not in out

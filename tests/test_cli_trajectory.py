@@ -101,7 +101,7 @@ def test_bad_durations(capsys, args, message):
     ("0,0,0,0,0,0\n", False, "at least two waypoints, found 1"),
     ("0,0,0,0,0,0\n1,1,1,1,1\n", False, "line 2: expected 6 values per waypoint, got 5"),
     ("0,0,0,0,0,0\n0,nan,0,0,0,0\n", False, "line 2: NaN"),
-    ("0,0,0,0,0,0\n0,2.5,0,0,0,0\n", False, "waypoint 2: joint q2 = 2.5 is outside its limits"),
+    ("0,0,0,0,0,0\n0,2.5,0,0,0,0\n", False, "waypoint 2: joint q2 = 2.5 rad is outside its limits"),
     ("0.2289,0,0.454,1.5707963,0,0\n2,0,0.3,0,0,0\n", True, "waypoint 2 .*"),
 ])
 def test_bad_waypoint_files(capsys, tmp_path, text, poses, message):

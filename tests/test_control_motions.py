@@ -136,7 +136,7 @@ def test_bad_input(call, match):
 
 
 def test_start_outside_the_limits():
-    with pytest.raises(JointLimitError, match="joint q5 = -2 is outside its limits"):
+    with pytest.raises(JointLimitError, match="joint q5 = -2 rad is outside its limits"):
         move_linear(PROBOT, [0, 0, 0, 0, -2.0, 0], [0.1, 0, 0], 1.0)
 
 

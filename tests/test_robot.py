@@ -30,7 +30,8 @@ def test_limits_checks_name_joint_value_and_range():
     q = np.array([0, 0, 0, 0, 4.0, 0])
     assert not robot.within_limits(q)
     assert robot.within_limits(np.zeros((3, 6))).tolist() == [True] * 3
-    with pytest.raises(JointLimitError, match=r"joint q5 = 4 is outside its limits \[-0.785398, 3.92699\]"):
+    with pytest.raises(JointLimitError,
+                       match=r"joint q5 = 4 rad is outside its limits \[-0.785398, 3.92699\] rad"):
         robot.check_limits(q)
     np.testing.assert_array_equal(robot.check_limits(np.zeros(6)), np.zeros(6))
 

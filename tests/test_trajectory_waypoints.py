@@ -59,7 +59,7 @@ def test_joint_waypoints_check_count_and_limits(robot):
         joint_waypoints(robot, np.zeros((3, 5)))
     outside = SEED_WAYPOINTS.copy()
     outside[2, 1] = 2.5
-    with pytest.raises(JointLimitError, match=r"waypoint 3: joint q2 = 2.5 is outside its limits"):
+    with pytest.raises(JointLimitError, match=r"waypoint 3: joint q2 = 2.5 rad is outside its limits"):
         joint_waypoints(robot, outside)
 
 

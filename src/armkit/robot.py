@@ -78,7 +78,7 @@ class Robot:
 
     def __repr__(self) -> str:
         kinds = "".join("P" if p else "R" for p in self.chain.prismatic)
-        return f"Robot({self.name!r}, {self.n} joints {kinds})"
+        return f"Robot({self.name!r}, {self.n} joint{'s' * (self.n != 1)} {kinds})"
 
     # ----------------------------------------------------------------- properties
     @property
@@ -134,21 +134,26 @@ class Robot:
         return np.all((q >= lim[:, 0] - LIMIT_TOLERANCE) & (q <= lim[:, 1] + LIMIT_TOLERANCE),
                       axis=-1)
 
-    def limit_violations(self, q: ArrayLike) -> list[str]:
-        """One message per joint value of a single configuration outside its limits."""
+    def limit_violations(self, q: ArrayLike, degrees: bool = False) -> list[str]:
+        """One message per joint value of a single configuration outside its limits.
+
+        With ``degrees`` the messages show revolute values and limits in degrees.
+        """
         q = self.check_q(q)
         if q.ndim != 1:
             raise InputError(f"q: expected one configuration of {self.n} values, got {q.shape}")
         messages = []
         for joint, value in zip(self.chain.joints, q, strict=True):
             if not joint.lower - LIMIT_TOLERANCE <= value <= joint.upper + LIMIT_TOLERANCE:
-                messages.append(f"joint {joint.name} = {value:.6g} is outside its limits "
-                                f"[{joint.lower:.6g}, {joint.upper:.6g}]")
+                scale, unit = ((180 / np.pi, " deg") if degrees and joint.kind == "revolute"
+                               else (1.0, " rad" if joint.kind == "revolute" else " m"))
+                messages.append(f"joint {joint.name} = {value * scale:.6g}{unit} is outside its limits "
+                                f"[{joint.lower * scale:.6g}, {joint.upper * scale:.6g}]{unit}")
         return messages
 
-    def check_limits(self, q: ArrayLike) -> NDArray[np.float64]:
+    def check_limits(self, q: ArrayLike, degrees: bool = False) -> NDArray[np.float64]:
         """Return ``q`` if every value is inside its limits, else raise :class:`JointLimitError`."""
-        violations = self.limit_violations(q)
+        violations = self.limit_violations(q, degrees)
         if violations:
             raise JointLimitError("; ".join(violations))
         return self.check_q(q)

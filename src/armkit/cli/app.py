@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 from collections.abc import Sequence
 from typing import Any
 
@@ -33,7 +34,8 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
     add_completion=False,
 )
-console = Console()
+#: Piped output gets wide lines rather than tables cut to 80 columns.
+console = Console(width=None if sys.stdout.isatty() else 160)
 err_console = Console(stderr=True)
 
 #: Command settings that let joint values such as ``-0.687`` be read as numbers.
@@ -45,9 +47,9 @@ def load_robot(name_or_path: str) -> Robot:
     return load(name_or_path)
 
 
-def to_si(robot: Robot, q: Sequence[float], degrees: bool) -> np.ndarray:
+def to_si(robot: Robot, q: Sequence[float | str], degrees: bool) -> np.ndarray:
     """Joint values from the command line in SI units (``--deg`` converts revolute joints only)."""
-    q = robot.check_q(np.asarray(q, dtype=float), "joint values")
+    q = robot.check_q(np.asarray(parse_floats(q, "joint values"), dtype=float), "joint values")
     if degrees:
         q = np.where(robot.chain.prismatic, q, np.radians(q))
     return q
@@ -58,11 +60,11 @@ def warn(message: str) -> None:
     err_console.print(f"[yellow]warning:[/yellow] {escape(message)}", highlight=False)
 
 
-def check_limits_or_warn(robot: Robot, q: np.ndarray, strict: bool) -> None:
+def check_limits_or_warn(robot: Robot, q: np.ndarray, strict: bool, degrees: bool = False) -> None:
     """Warn about joint values outside their limits, or fail with ``--strict``."""
-    violations = robot.limit_violations(q)
+    violations = robot.limit_violations(q, degrees)
     if violations and strict:
-        robot.check_limits(q)
+        robot.check_limits(q, degrees)
     for message in violations:
         warn(message)
 
@@ -86,7 +88,7 @@ def print_json(data: dict) -> None:
     typer.echo(json.dumps(_plain(data), indent=2))
 
 
-def parse_floats(values: Sequence[str], what: str) -> list[float]:
+def parse_floats(values: Sequence[float | str], what: str) -> list[float]:
     """Numbers from command-line words, with an error naming the bad word."""
     out = []
     for word in values:

@@ -23,14 +23,24 @@ from armkit.spatial.transforms import check_transform, transform_from
 Matrix16 = tuple[(float,) * 16]
 
 
-def _target(pose: tuple[float, ...] | None, matrix: tuple[float, ...] | None, convention: str,
-            degrees: bool) -> np.ndarray:
-    if (pose is None) == (matrix is None):
-        raise InputError("give the target either as --pose X Y Z A B C or as --matrix with "
-                         "16 numbers (row by row), not both and not neither")
+#: Task mask of ``--position``: the tool position only, any orientation.
+POSITION_ONLY = (1.0, 1.0, 1.0, 0.0, 0.0, 0.0)
+
+
+def _target(pose: tuple[float, ...] | None, matrix: tuple[float, ...] | None,
+            position: tuple[float, ...] | None, convention: str, degrees: bool) -> np.ndarray:
+    if sum(x is not None for x in (pose, matrix, position)) != 1:
+        raise InputError("give the target as one of --pose X Y Z A B C, --matrix with 16 numbers "
+                         "(row by row) or --position X Y Z (position only)")
     if matrix is not None:
         return check_transform(np.reshape(matrix, (4, 4)), "--matrix")
-    R = matrix_from_euler(pose[3:], convention, degrees=degrees)
+    if position is not None:
+        return transform_from(np.eye(3), position)
+    angles = np.asarray(pose[3:])
+    if not degrees and np.any(np.abs(angles) > 2 * np.pi):
+        raise InputError(f"pose angles {angles.tolist()} rad: larger than 2 pi in magnitude; add --deg "
+                         f"if they are degrees")
+    R = matrix_from_euler(angles, convention, degrees=degrees)
     return transform_from(R, pose[:3])
 
 
@@ -53,6 +63,8 @@ def ik_command(
         show_default=False)] = None,
     matrix: Annotated[Matrix16 | None, typer.Option(
         help="Target as 16 numbers: the 4x4 matrix row by row, lengths in m.", show_default=False)] = None,
+    position: Annotated[tuple[float, float, float] | None, typer.Option(
+        help="Target position X Y Z in m, any orientation (numeric IK).", show_default=False)] = None,
     euler: Annotated[str, typer.Option(help="Convention of the pose angles, e.g. xyz-fixed "
                                             "(roll pitch yaw), xyz-euler, zyz-euler.")] = "xyz-fixed",
     deg: Annotated[bool, typer.Option("--deg", help="Angles (pose, --near, printed joints) "
@@ -75,18 +87,22 @@ def ik_command(
     if near_values and not near:
         raise InputError(f"unexpected values {' '.join(near_values)}: joint values are given "
                          f"after --near")
-    q_near = (to_si(arm, parse_floats(near_values or [], "--near"), deg) if near
-              else np.zeros(arm.n))
+    q_near = to_si(arm, parse_floats(near_values, "--near"), deg) if near_values else np.zeros(arm.n)
     convention = parse_convention(euler)
-    T = _target(pose, matrix, convention, deg)
+    T = _target(pose, matrix, position, convention, deg)
     structure = analyze_structure(arm.chain)
-    q = np.atleast_2d(arm.ik(T, all=all_solutions, near=q_near, within_limits=not outside))
+    if position is not None and all_solutions:
+        raise InputError("--position asks the numeric solver for one solution; drop --all")
+    options = {"mask": POSITION_ONLY} if position is not None else {}
+    q = np.atleast_2d(arm.ik(T, all=all_solutions, near=q_near, within_limits=not outside, **options))
     inside = arm.within_limits(q)
     T_found = arm.fk(q)
     position_error = np.linalg.norm(T_found[:, :3, 3] - T[:3, 3], axis=-1)
-    orientation_error = rotation_angle_between(T_found, T)
-    family = _family_flags(arm, T, q, structure.closed_form)
-    method = "closed form" if structure.closed_form else "numeric (Levenberg-Marquardt)"
+    orientation_error = (rotation_angle_between(T_found, T) if position is None
+                         else np.full(len(q), np.nan))
+    family = _family_flags(arm, T, q, structure.closed_form and position is None)
+    method = ("closed form" if structure.closed_form and position is None
+              else "numeric (Levenberg-Marquardt)")
     if json_output:
         print_json({"robot": arm.name, "target": T, "method": method,
                     "structure": structure.description, "solutions": q,
@@ -109,7 +125,8 @@ def ik_command(
     for k in range(len(q)):
         flags = ["in" if inside[k] else "OUT", *(["yes" if family[k] else ""] if family.any() else [])]
         table.add_row(str(k + 1), *(f"{v:.{d}f}" for v, d in zip(shown[k], digits, strict=True)),
-                      *flags, f"{position_error[k]:.0e}", f"{orientation_error[k]:.0e}")
+                      *flags, f"{position_error[k]:.0e}",
+                      "-" if np.isnan(orientation_error[k]) else f"{orientation_error[k]:.0e}")
     natural = Measurement.get(console, console.options.update_width(1000), table).maximum
     # wider than the terminal rather than truncate a joint value
     Console(width=max(console.width, natural)).print(table)

@@ -23,7 +23,8 @@ from armkit.spatial.rotations import euler_from_matrix, parse_convention
 SINGULAR_THRESHOLD = 1e-9
 
 RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
-JointsArg = Annotated[list[float], typer.Argument(help="Joint values q1 ... qn (rad and m).")]
+JointsArg = Annotated[list[str], typer.Argument(help="Joint values q1 ... qn (rad and m; "
+                                                         "revolute in deg with --deg).")]
 DegOpt = Annotated[bool, typer.Option("--deg", help="Revolute joint values (and printed "
                                                     "angles) in degrees.")]
 StrictOpt = Annotated[bool, typer.Option("--strict", help="Fail on joint values outside the "
@@ -57,13 +58,14 @@ def fk_command(
     """Forward kinematics: the tool pose for joint values q1 ... qn."""
     arm = load_robot(robot)
     q_si = to_si(arm, q, deg)
-    check_limits_or_warn(arm, q_si, strict)
+    check_limits_or_warn(arm, q_si, strict, deg)
     convention = parse_convention(euler)
     T = arm.fk(q_si)
     angles = euler_from_matrix(T, convention, degrees=deg)
     unit = "deg" if deg else "rad"
     if json_output:
-        print_json({"robot": arm.name, "q": q_si, "matrix": T, "position": T[:3, 3],
+        print_json({"robot": arm.name, "q": [float(v) for v in q], "q_si": q_si, "matrix": T,
+                    "position": T[:3, 3],
                     "angles": angles, "convention": convention.name,
                     "convention_formula": f"R = {convention.formula()}", "angle_unit": unit})
         return
@@ -86,11 +88,11 @@ def jacobian_command(
     """Geometric Jacobian (rows vx vy vz wx wy wz), manipulability and singular values."""
     arm = load_robot(robot)
     q_si = to_si(arm, q, deg)
-    check_limits_or_warn(arm, q_si, strict)
+    check_limits_or_warn(arm, q_si, strict, deg)
     J = arm.jacobian(q_si, frame=frame)
     sigma = arm.singular_values(q_si)
     if json_output:
-        print_json({"robot": arm.name, "q": q_si, "frame": frame, "jacobian": J,
+        print_json({"robot": arm.name, "q_si": q_si, "frame": frame, "jacobian": J,
                     "rows": ["vx", "vy", "vz", "wx", "wy", "wz"],
                     "manipulability": float(np.prod(sigma)), "singular_values": sigma})
         return

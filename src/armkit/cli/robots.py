@@ -30,7 +30,7 @@ def robots_command() -> None:
 
 
 def _fmt(value: float, scale: float) -> str:
-    return "inf" if not math.isfinite(value) else f"{value / scale:.6g}"
+    return "inf" if not math.isfinite(value) else f"{value / scale + 0.0:.6g}"
 
 
 def dh_table(robot: Robot) -> Table:
@@ -55,7 +55,8 @@ def dh_table(robot: Robot) -> Table:
             value = _fmt(getattr(row, key), angle if key in ("alpha", "theta") else length)
             variable = joint is not None and (
                 (key == "theta") == (joint.kind == "revolute") and key in ("theta", "d"))
-            cells.append(("q" if value == "0" else f"q + {value}") if variable else value)
+            offset = "" if value == "0" else (f" - {value[1:]}" if value.startswith("-") else f" + {value}")
+            cells.append(f"q{offset}" if variable else value)
         if joint is None:
             table.add_row(label, "fixed", *cells, "", "", "")
             continue
