@@ -186,6 +186,19 @@ def sp3(p1: Array, p2: Array, k: Array, d: Array) -> tuple[Array, NDArray[np.boo
     return sp4(p2, p1, k, rhs)
 
 
+def _angles_to_branches(kxp: Array, p_perp: Array, base: Array, n: Array, gamma: Array) -> Array:
+    """SP1 onto both points ``x = base +- gamma n``: the angles ``(..., 2)`` [rad].
+
+    For ``R(k, t) p = x`` the angle is ``atan2((k x p) . x, p_perp . x)``, linear in
+    ``gamma``: four dot products instead of building both points.
+    """
+    sign = np.array([1.0, -1.0])
+    g = gamma[..., None] * sign
+    sin = dot(kxp, base)[..., None] + g * dot(kxp, n)[..., None]
+    cos = dot(p_perp, base)[..., None] + g * dot(p_perp, n)[..., None]
+    return np.arctan2(sin, cos)
+
+
 def sp2(p1: Array, p2: Array, k1: Array, k2: Array
         ) -> tuple[Array, Array, NDArray[np.bool_], NDArray[np.bool_], NDArray[np.bool_]]:
     """SP2: all ``(t1, t2)`` with ``R(k1, t1) p1 = R(k2, t2) p2`` for non-parallel ``k1, k2``.
@@ -219,15 +232,15 @@ def sp2(p1: Array, p2: Array, k1: Array, k2: Array
     gamma2 = np.where(r1 <= r2, r1 * det - (a2 - c12 * a1) ** 2,
                       r2 * det - (a1 - c12 * a2) ** 2) / (det * det)
     exists = (gamma2 >= -OUT_TOLERANCE * norm2) & (np.abs(n1 - n2) <= OUT_TOLERANCE * norm2)
-    gamma = np.sqrt(np.maximum(gamma2, 0.0))[..., None] * np.array([1.0, -1.0])
-    x = base[..., None, :] + gamma[..., None] * n[..., None, :]
     free1 = r1 <= (FREE_TOLERANCE ** 2) * n1
     free2 = r2 <= (FREE_TOLERANCE ** 2) * n2
-    # a point on its axis stays put: the common point is that point itself, exactly
-    x = np.where(free1[..., None, None], p1[..., None, :],
-                 np.where(free2[..., None, None], p2[..., None, :], x))
-    theta1, _ = sp1(p1[..., None, :], x, k1 if np.ndim(k1) == 1 else k1[..., None, :])
-    theta2, _ = sp1(p2[..., None, :], x, k2 if np.ndim(k2) == 1 else k2[..., None, :])
+    gamma = np.sqrt(np.maximum(gamma2, 0.0))
+    on_axis = free1 | free2
+    if np.any(on_axis):  # a point on its axis stays put: the common point is that point itself
+        base = np.where(free1[..., None], p1, np.where(free2[..., None], p2, base))
+        gamma = np.where(on_axis, 0.0, gamma)
+    theta1 = _angles_to_branches(c1, p1 - a1[..., None] * k1, base, n, gamma)
+    theta2 = _angles_to_branches(c2, p2 - a2[..., None] * k2, base, n, gamma)
     theta1 = np.where(free1[..., None], 0.0, theta1)
     theta2 = np.where(free2[..., None], 0.0, theta2)
     single = (gamma2 <= 0.0) | free1 | free2
