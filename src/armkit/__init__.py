@@ -24,7 +24,8 @@ from armkit.errors import (
     UnreachableError,
 )
 from armkit.export import mjcf_from_robot, urdf_from_robot, write_mjcf, write_urdf
-from armkit.ik import IKResult, IKSolutions, ik_solutions, numeric_ik
+from armkit.ik import IKResult, IKSolutions, NumericIK, analyze_structure, ik_solutions, numeric_ik
+from armkit.kinematics import ChainKernel
 from armkit.robot import Robot
 from armkit.robot_file import builtin_robots, load, robot_from_dict, robot_to_toml
 from armkit.trajectory import JointTrajectory, auto_time, min_jerk, plan_trajectory, quintic
@@ -34,6 +35,7 @@ __version__ = "0.1.0"
 __all__ = [
     "ArmkitError",
     "Chain",
+    "ChainKernel",
     "ConvergenceError",
     "DHRow",
     "IKResult",
@@ -44,10 +46,12 @@ __all__ = [
     "JointTrajectory",
     "MotionResult",
     "NoClosedFormError",
+    "NumericIK",
     "ResolvedRate",
     "Robot",
     "RobotDefinitionError",
     "UnreachableError",
+    "analyze_structure",
     "auto_time",
     "builtin_robots",
     "cartesian_line",
