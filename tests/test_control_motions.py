@@ -179,3 +179,9 @@ def test_property_turn_and_turn_back_returns_to_the_start(seed, axis, angle, fra
     # A turn leaves its own axis fixed, so in either frame the way back is the same axis.
     back = rotate_about_tool_point(PROBOT, there.q_final, axis, -angle, duration=3.0, frame=frame)
     np.testing.assert_allclose(back.q_final, q0, atol=1e-5)
+
+
+def test_target_beyond_reach_is_called_out_of_reach():
+    result = move_linear(PROBOT, np.zeros(6), [1.0, 0.0, 0.0], 2.0)
+    assert not result.completed
+    assert "singularity" in result.message and "probably out of reach" in result.message

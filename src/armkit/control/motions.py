@@ -166,6 +166,9 @@ def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
     """Why a motion that ran to its end did not reach its target."""
     position, angle = result_errors
     text = f"the tool ended {position:.3g} m and {angle:.3g} rad from the target"
+    if sigma[-1] < control.threshold:
+        return (f"{text}: the arm ended at a singularity (smallest singular value {sigma[-1]:.3g}), "
+                f"e.g. fully stretched: the target is probably out of reach")
     if scale.min() < 1.0:
         return (f"{text}: the joint velocity limits held it back (velocities scaled down to "
                 f"{scale.min():.0%} at the worst step); allow a longer duration")
