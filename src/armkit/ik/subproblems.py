@@ -64,7 +64,7 @@ def dot(a: Array, b: Array) -> Array:
     if a.ndim == 1:  # one constant vector: a single 2-D matrix product
         a, b = b, a
     if b.ndim == 1:
-        return (a.reshape(-1, 3) @ b).reshape(a.shape[:-1])
+        return a @ b if a.ndim <= 2 else (a.reshape(-1, 3) @ b).reshape(a.shape[:-1])
     return np.einsum("...i,...i->...", a, b)
 
 
