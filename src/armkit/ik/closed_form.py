@@ -325,11 +325,12 @@ class ClosedFormSolver:
         return ClosedFormSolutions(q.reshape(*batch, k, n), valid.reshape(*batch, k),
                                    family.reshape(*batch, k))
 
-    def candidates(self, T: Array) -> tuple[Array, Mask, Mask]:
+    def candidates(self, T: Array, merge: bool = True) -> tuple[Array, Mask, Mask]:
         """``(q, valid, family)`` ``(N, k, n)``, ``(N, k)`` for checked poses ``T`` ``(N, 4, 4)``.
 
         Solves all ``N`` poses in one set of array operations; :meth:`solve` feeds it
-        ``CHUNK`` poses at a time.
+        ``CHUNK`` poses at a time. ``merge=False`` keeps duplicate candidates valid (for a
+        caller that wants only the nearest one).
         """
         T_int = T
         if self._poe.inverted:
@@ -351,7 +352,8 @@ class ClosedFormSolver:
         q -= turns if self._revolute_user.all() else turns * self._revolute_user
         if self._verify:
             valid = valid & self._reproduces(q, T)
-        valid = valid & ~self._duplicates(q, valid)
+        if merge:
+            valid = valid & ~self._duplicates(q, valid)
         return q, valid, family & valid
 
     def pose_difference(self, q: Array, T: Array) -> Array:

@@ -231,12 +231,12 @@ def _nearest(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.
         parts = [_nearest(solver, T[i:i + CHUNK], near[i:i + CHUNK], weights, within_limits)
                  for i in range(0, len(T), CHUNK)]
         return np.concatenate([q for q, _ in parts]), np.concatenate([ok for _, ok in parts])
-    q, valid, _ = solver.candidates(T)
+    q, valid, _ = solver.candidates(T, merge=False)
     q = wrap_into_limits(solver.chain, q, near[:, None, :])
     usable = valid & np.isfinite(q).all(axis=-1)
     if within_limits:
         usable &= _inside(solver.chain, q)
-    distance = np.where(usable, _distance(np.where(usable[..., None], q, 0.0), near, weights), np.inf)
+    distance = np.where(usable, _distance(q, near, weights), np.inf)
     best = np.argmin(distance, axis=1)
     q = np.take_along_axis(q, best[:, None, None], axis=1)
     found = usable.any(axis=1)
