@@ -116,13 +116,13 @@ def _planar_2r(h: Array, a: Array, b: Array, v: Array) -> tuple[Array, Array, Ma
 
 
 def _matvec(R: Array, v: Array) -> Array:
-    """``R v`` for broadcasting stacks of ``(..., 3, 3)`` matrices and ``(..., 3)`` vectors."""
-    return np.sum(R * v[..., None, :], axis=-1)
+    """``R v`` for one matrix per pose ``(N, 3, 3)`` and vectors ``(N, ..., 3)``."""
+    return (v.reshape(len(v), -1, 3) @ np.swapaxes(R, -1, -2)).reshape(v.shape)
 
 
 def _matvec_transposed(R: Array, v: Array) -> Array:
-    """``R^T v`` for broadcasting stacks of matrices ``(..., 3, 3)`` and vectors ``(..., 3)``."""
-    return np.sum(R * v[..., :, None], axis=-2)
+    """``R^T v`` for one matrix per pose ``(N, 3, 3)`` and vectors ``(N, ..., 3)``."""
+    return (v.reshape(len(v), -1, 3) @ R).reshape(v.shape)
 
 
 def _transform_point(R: Array, t: Array, p: Array) -> Array:
@@ -590,7 +590,7 @@ class ClosedFormSolver:
         near = np.abs(gap) <= 1e-3
         if not near.any():
             return q5
-        v = _matvec_transposed(R_G[:, None], rotate(self._poe.axes[0], q1, self._h))
+        v = _matvec_transposed(R_G, rotate(self._poe.axes[0], q1, self._h))
         c = cross(self._poe.axes[5], v)
         S2 = np.minimum(dot(c, c), 1.0)
         one_minus_cos = S2 / (1.0 + np.sqrt(1.0 - S2)) / self._b_aligned
@@ -629,14 +629,13 @@ class ClosedFormSolver:
         h_all, p = poe.axes, poe.points
         h, N = self._h, len(t_G)
         q1, q5, valid, free = self._q1_q5(R_G, t_G)
-        R_G4 = R_G[:, None]
         # q6: R6^T (R5^T h) = R_G^T R1 h
         v = rotate(-h_all[4], q5, h)
-        w = _matvec_transposed(R_G4, rotate(h_all[0], q1, h))
+        w = _matvec_transposed(R_G, rotate(h_all[0], q1, h))
         q6, f6 = sp1(v, w, -h_all[5])
         # q2 + q3 + q4: R234 = R1^T R_G R6^T R5^T, applied to a normal of h
         turned = rotate(-h_all[5], q6, rotate(-h_all[4], q5, self._u_h))
-        turned = rotate(-h_all[0], q1, _matvec(R_G4, turned))
+        turned = rotate(-h_all[0], q1, _matvec(R_G, turned))
         theta, _ = sp1(self._u_h, turned, h)
         # planar part: e2 e3 e4 y = z with y = e5 p6, z = e1^-1 G p6
         y = self._p5 + rotate(h_all[4], q5, self._p6 - self._p5)
@@ -715,7 +714,7 @@ class ClosedFormSolver:
         q5, f5 = sp1(rotate(-h_all[3], q4, h), rotate(h_all[5], q6, g[:, None, :]), -h_all[4])
         # q1 + q2 + q3: R123 = R_G R6^T R5^T R4^T, applied to a normal of h
         turned = rotate(-h_all[5], q6, rotate(-h_all[4], q5, rotate(-h_all[3], q4, self._u_h)))
-        theta, _ = sp1(self._u_h, _matvec(R_G[:, None], turned), h)
+        theta, _ = sp1(self._u_h, _matvec(R_G, turned), h)
         # planar part: e1 e2 e3 y = z with y = e4 e5 e6 o4, z = G o4
         o4, o5, o6 = self._o4, self._o5, self._o6
         y = o6 + rotate(h_all[5], q6, o4 - o6)
