@@ -48,6 +48,7 @@ from armkit.chain import Chain
 from armkit.errors import NoClosedFormError
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
 from armkit.ik.subproblems import (
+    FREE_TOLERANCE,
     cos_sin,
     cross,
     dot,
@@ -110,9 +111,15 @@ def _planar_2r(h: Array, a: Array, b: Array, v: Array) -> tuple[Array, Array, Ma
     b = b - dot(b, h)[..., None] * h
     v = v - dot(v, h)[..., None] * h
     tb, valid, free_b = sp3(b, -a, h, np.sqrt(dot(v, v)))
-    u = a[..., None, :] + rotate(h, tb, b[..., None, :])
-    ta, free_a = sp1(u, v[..., None, :], h)
-    return ta, tb, valid, free_a | free_b[..., None]
+    # ta: SP1 turning u = a + R(h, tb) b onto v. With b normal to h, R(h, tb) b = cos b +
+    # sin (h x b), so (h x u) . v and u . v are linear in cos tb, sin tb.
+    hbv, bv = dot(cross(h, b), v)[..., None], dot(b, v)[..., None]
+    cos, sin = cos_sin(tb)
+    ta = np.arctan2(dot(cross(h, a), v)[..., None] + cos * hbv - sin * bv,
+                    dot(a, v)[..., None] + cos * bv + sin * hbv)
+    hxv = cross(h, v)
+    free_a = np.broadcast_to((dot(hxv, hxv) <= FREE_TOLERANCE ** 2 * dot(v, v))[..., None], ta.shape)
+    return np.where(free_a, 0.0, ta), tb, valid, free_a | free_b[..., None]
 
 
 def _matvec(R: Array, v: Array) -> Array:
