@@ -594,17 +594,20 @@ class ClosedFormSolver:
         gap -= np.round(gap * (0.5 / np.pi)) * (2 * np.pi)
         nearest = np.argmin(np.abs(gap), axis=-1)
         gap = np.take_along_axis(gap, nearest[..., None], axis=-1)[..., 0]
-        near = np.abs(gap) <= 1e-3
-        if not near.any():
+        rows, cols = np.nonzero(np.abs(gap) <= 1e-3)
+        if rows.size == 0:
             return q5
-        v = _matvec_transposed(R_G, rotate(self._poe.axes[0], q1, self._h))
+        v = _matvec_transposed(R_G[rows], rotate(self._poe.axes[0], q1[rows, cols], self._h))
         c = cross(self._poe.axes[5], v)
         S2 = np.minimum(dot(c, c), 1.0)
         one_minus_cos = S2 / (1.0 + np.sqrt(1.0 - S2)) / self._b_aligned
         d = 2.0 * np.arcsin(np.minimum(np.sqrt(0.5 * one_minus_cos), 1.0))
-        branch = np.where(np.arange(q5.shape[-1]) % 2 == 0, 1.0, -1.0)  # (+d, -d) pairs
+        gap = gap[rows, cols]
+        branch = np.where(cols % 2 == 0, 1.0, -1.0)  # (+d, -d) pairs
         sign = np.where(gap > 0, 1.0, np.where(gap < 0, -1.0, branch))
-        return np.where(near, self._q5_aligned[nearest] + sign * d, q5)
+        q5 = q5.copy()
+        q5[rows, cols] = self._q5_aligned[nearest[rows, cols]] + sign * d
+        return q5
 
     def _snap_to_aligned_wrist(self, P: Array, r: Array, q1: Array, q5: Array
                                ) -> tuple[Array, Array]:
