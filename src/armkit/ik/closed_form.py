@@ -657,12 +657,11 @@ class ClosedFormSolver:
         q2, q3, v23, f23 = _planar_2r(h, p[2] - p[1], p[3] - p[2], target)
         q4 = theta[..., None] - q2 - q3
 
-        def spread(a: Array) -> Array:
-            return np.broadcast_to(a[..., None], q2.shape)
-
-        q = np.stack([spread(q1), q2, q3, q4, spread(q5), spread(q6)], axis=-1)
+        q = np.empty((*q2.shape, 6))
+        q[..., 0], q[..., 1], q[..., 2] = q1[..., None], q2, q3
+        q[..., 3], q[..., 4], q[..., 5] = q4, q5[..., None], q6[..., None]
         valid = valid[..., None] & v23
-        family = spread(free | f6) | f23
+        family = (free | f6)[..., None] | f23
         return q.reshape(N, 8, 6), valid.reshape(N, 8), family.reshape(N, 8)
 
     def _wrist_family_representative(self, free: Mask, s6: Array, q6: Array, theta: Array,
@@ -735,12 +734,11 @@ class ClosedFormSolver:
         q1, q2, v12, f12 = _planar_2r(h, p[1] - p[0], p[2] - p[1], target)
         q3 = theta[..., None] - q1 - q2
 
-        def spread(a: Array) -> Array:
-            return np.broadcast_to(a[..., None], q1.shape)
-
-        q = np.stack([q1, q2, q3, spread(q4), spread(q5), spread(q6)], axis=-1)
+        q = np.empty((*q1.shape, 6))
+        q[..., 0], q[..., 1], q[..., 2] = q1, q2, q3
+        q[..., 3], q[..., 4], q[..., 5] = q4[..., None], q5[..., None], q6[..., None]
         valid = valid[..., None] & v12
-        family = spread(free | f5) | f12
+        family = (free | f5)[..., None] | f12
         return q.reshape(N, 8, 6), valid.reshape(N, 8), family.reshape(N, 8)
 
     # ----------------------------------------------------- SCARA and planar

@@ -207,8 +207,8 @@ def _candidates_chunk(solver: ClosedFormSolver, T: NDArray[np.float64], near: ND
     order = np.argsort(np.where(first, _distance(q, near, weights), np.inf), axis=1, kind="stable")
     out = {"q": q, "keep": keep, "inside": inside, "family": family & keep,
            "position_error": position_error, "orientation_error": orientation_error}
-    return {key: np.take_along_axis(value, order[:, :, None] if value.ndim == 3 else order, axis=1)
-            for key, value in out.items()}
+    rows = np.arange(len(order))[:, None]
+    return {key: value[rows, order] for key, value in out.items()}
 
 
 def _distance(q: NDArray[np.float64], near: NDArray[np.float64],
