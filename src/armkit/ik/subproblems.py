@@ -29,6 +29,8 @@ Example
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -68,14 +70,20 @@ def dot(a: Array, b: Array) -> Array:
     return np.einsum("...i,...i->...", a, b)
 
 
-def _skew(k: Array) -> Array:
-    return np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+@lru_cache(maxsize=256)
+def _skew_transposed(key: bytes) -> Array:
+    """``[k]_x^T`` (read-only) for the float64 vector ``k`` given by its bytes (memoised:
+    the solvers cross with a few constant axes, thousands of times)."""
+    k = np.frombuffer(key)
+    S = np.array([[0.0, k[2], -k[1]], [-k[2], 0.0, k[0]], [k[1], -k[0], 0.0]])
+    S.setflags(write=False)
+    return S
 
 
 def cross(a: Array, b: Array) -> Array:
     """Row-wise cross product of ``(..., 3)`` vectors (broadcasting), shape ``(..., 3)``."""
     if a.ndim == 1:  # a x b = [a]_x b, one 2-D matrix product for a constant a
-        return (b.reshape(-1, 3) @ _skew(a).T).reshape(b.shape)
+        return (b.reshape(-1, 3) @ _skew_transposed(a.astype(float, copy=False).tobytes())).reshape(b.shape)
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
     return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
