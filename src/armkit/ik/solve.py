@@ -11,6 +11,10 @@ of :func:`armkit.ik.closed_form.closed_form_ik` is
 3. flagged inside or outside the limits and sorted by distance to ``near``
    (``closed_form_ik`` has already merged duplicates, modulo ``2 pi``).
 
+When only the solution nearest to ``near`` is asked for, the nearest candidate is
+verified alone (and the pose gets the full treatment above if it is not accurate to
+``1e-10``). Batches are solved ``CHUNK`` poses at a time, all in array operations.
+
 Chains without a closed form, and targets with a task ``mask``, go to the numeric
 solver (:func:`armkit.ik.numeric.numeric_ik`) seeded from ``near``.
 
