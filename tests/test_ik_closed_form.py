@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit.chain import DHRow, chain_from_dh
 from armkit.errors import InputError, NoClosedFormError
-from armkit.ik.closed_form import closed_form_ik, closed_form_solver
+from armkit.ik.closed_form import CHUNK, closed_form_ik, closed_form_solver
 from armkit.ik.structure import analyze_structure, poe_from_chain
 from armkit.ik.subproblems import rotation_matrix, sp1, sp4
 from armkit.kinematics import fk, singular_values
@@ -428,3 +428,17 @@ def test_near_wrist_singularity_keeps_every_branch(name, offset):
     fixed = [0, 4] if three_parallel else [0, 1, 2, 4]
     found = (_joint_distance(chain, sol.q, q[:, None], fixed) < 1e-6) & sol.valid
     assert found.any(axis=-1).all()
+
+
+@pytest.mark.parametrize("name", ["probot-anno", "ur5", "grb400-scara"])
+def test_batches_over_several_chunks_match_single_poses(name):
+    robot = armkit.load(name)
+    T = robot.fk(robot.random_q((2, CHUNK + 2), rng=17))  # (2, CHUNK + 2, 4, 4): two chunks each row
+    batch = closed_form_ik(robot.chain, T)
+    assert batch.q.shape[:2] == (2, CHUNK + 2) and batch.valid.shape == (2, CHUNK + 2, batch.q.shape[2])
+    for i, j in ((0, 0), (0, CHUNK), (1, CHUNK + 1)):
+        one = closed_form_ik(robot.chain, T[i, j])
+        np.testing.assert_array_equal(batch.valid[i, j], one.valid)
+        np.testing.assert_allclose(batch.q[i, j][one.valid], one.q[one.valid], rtol=0, atol=1e-12)
+        F = fk(robot.chain, batch.q[i, j][batch.valid[i, j]])
+        np.testing.assert_allclose(F, np.broadcast_to(T[i, j], F.shape), rtol=0, atol=1e-12)
