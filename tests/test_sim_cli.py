@@ -130,3 +130,11 @@ def test_sim_trajectory_file_errors(capsys, tmp_path):
     broken.write_text("not an archive")
     code, _, err = run(capsys, "sim", "ur5", "--trajectory", broken)
     assert code == 1 and "not a readable NPZ archive" in err
+
+
+def test_sim_random_count_and_export_suffix_are_checked(capsys, tmp_path):
+    assert main(["sim", "ur5", "--random", "-3"]) == 1
+    assert "--random -3: expected at least 1 configuration" in capsys.readouterr().err
+    assert main(["export", "ur5", "--urdf", str(tmp_path / "arm.txt")]) == 1
+    assert "expected a name ending in .urdf" in capsys.readouterr().err
+    assert not (tmp_path / "arm.txt").exists()

@@ -47,6 +47,9 @@ def export_command(
     if urdf is None and mjcf is None:
         raise InputError("nothing to write: give --urdf FILE and/or --mjcf FILE")
     arm = load_robot(robot)
+    for path, suffix in ((urdf, ".urdf"), (mjcf, ".xml")):
+        if path is not None and path.suffix.lower() != suffix:
+            raise InputError(f"output file {str(path)!r}: expected a name ending in {suffix}")
     for path in (urdf, mjcf):
         if path is not None and path.exists() and not force:
             raise InputError(f"output file {str(path)!r} already exists; pass --force to overwrite it")
@@ -160,6 +163,8 @@ def sim_command(
     from armkit.sim.verify import compare_poses
 
     arm = load_robot(robot)
+    if random < 1:
+        raise InputError(f"--random {random}: expected at least 1 configuration")
     for path in (gif, png):
         if path is not None and path.exists() and not force:
             raise InputError(f"output file {str(path)!r} already exists; pass --force to overwrite it")
@@ -172,12 +177,16 @@ def sim_command(
             print_json({"robot": arm.name, **summary})
         else:
             for key, value in summary.items():
-                console.print(f"{key}: {np.array2string(np.asarray(value), precision=3)}", markup=False)
+                text = (np.array2string(np.asarray(value), formatter={"float_kind": "{:.3g}".format})
+                        if isinstance(value, np.ndarray | float) else str(value))
+                console.print(f"{key}: {text}", markup=False)
         if gif is not None:
             stride = max(1, len(result.t) // 200)
             animate_trajectory(arm, result.q[::stride], gif, t=result.t[::stride], title=arm.name)
+            console.print(f"wrote {gif}", highlight=False)
         if png is not None:
             plot_configuration(arm, result.q[0], png)
+            console.print(f"wrote {png}", highlight=False)
         return
     configurations = (to_si(arm, q, deg)[None] if q else arm.random_q(random, rng=seed))
     home = np.clip(np.zeros(arm.n), arm.limits[:, 0], arm.limits[:, 1])
@@ -198,3 +207,4 @@ def sim_command(
                                                    f"(gravity {'on' if gravity else 'off'})"))
     if png is not None:
         plot_configuration(arm, configurations[0], png)
+        console.print(f"wrote {png}", highlight=False)
