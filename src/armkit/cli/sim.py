@@ -10,7 +10,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, print_json, to_si
+from armkit.cli.app import ALLOW_NEGATIVE, app, console, err_console, load_robot, print_json, to_si
 from armkit.errors import ArmkitError, InputError
 from armkit.robot import Robot
 from armkit.spatial.rotations import rotation_angle_between
@@ -183,10 +183,10 @@ def sim_command(
         if gif is not None:
             stride = max(1, len(result.t) // 200)
             animate_trajectory(arm, result.q[::stride], gif, t=result.t[::stride], title=arm.name)
-            console.print(f"wrote {gif}", highlight=False)
+            err_console.print(f"wrote {gif}", highlight=False)
         if png is not None:
             plot_configuration(arm, result.q[0], png)
-            console.print(f"wrote {png}", highlight=False)
+            err_console.print(f"wrote {png}", highlight=False)
         return
     configurations = (to_si(arm, q, deg)[None] if q else arm.random_q(random, rng=seed))
     home = np.clip(np.zeros(arm.n), arm.limits[:, 0], arm.limits[:, 1])
@@ -207,4 +207,4 @@ def sim_command(
                                                    f"(gravity {'on' if gravity else 'off'})"))
     if png is not None:
         plot_configuration(arm, configurations[0], png)
-        console.print(f"wrote {png}", highlight=False)
+        err_console.print(f"wrote {png}", highlight=False)
