@@ -292,3 +292,12 @@ def test_batches_across_chunks_equal_one_at_a_time(name):
     every = robot.ik(T, all=True, near=near)
     np.testing.assert_allclose(every[CHUNK], robot.ik(T[CHUNK], all=True, near=near[CHUNK]),
                                rtol=0, atol=1e-12)
+
+
+def test_a_pose_printed_with_six_decimals_is_solved():
+    # A rotation rounded to 6 decimals is projected onto the nearest rotation, not rejected.
+    robot = armkit.load("puma560")
+    q = np.array([0.3, -0.5, 0.4, 0.2, 0.6, -0.1])
+    T = np.round(robot.fk(q), 6)
+    found = robot.ik(T, near=q)
+    np.testing.assert_allclose(found, q, atol=1e-5)

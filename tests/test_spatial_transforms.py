@@ -49,3 +49,13 @@ def test_check_transform_accepts_rigid_and_names_problems():
         check_transform(mirrored)
     with pytest.raises(InputError, match="4x4 numeric"):
         check_transform([["a"] * 4] * 4)
+
+
+def test_check_transform_projects_a_rounded_rotation_onto_the_nearest_one():
+    T = transform_from(matrix_from_euler([0.3, -0.7, 1.1], "xyz-fixed"), [0.1, 0.2, 0.3])
+    rounded = np.round(T, 6)
+    fixed = check_transform(np.stack([rounded, T]))
+    R = fixed[0, :3, :3]
+    np.testing.assert_allclose(R.T @ R, np.eye(3), atol=1e-15)
+    assert np.abs(fixed[0] - rounded).max() < 2e-6
+    np.testing.assert_array_equal(fixed[1], T)  # an exact one is left alone

@@ -21,8 +21,9 @@ __all__ = [
     "trans_z",
 ]
 
-#: Tolerance on ``R^T R - I`` and ``det R - 1`` for a matrix to count as a rigid transform.
-RIGID_TOLERANCE = 1e-6
+#: Tolerance on ``R^T R - I`` and ``det R - 1`` for a matrix to count as a rigid transform
+#: (a rotation printed with six decimals deviates by up to about 2e-6).
+RIGID_TOLERANCE = 1e-5
 
 
 def _identity_batch(shape: tuple[int, ...]) -> NDArray[np.float64]:
@@ -84,6 +85,10 @@ def invert_transform(T: ArrayLike) -> NDArray[np.float64]:
 def check_transform(T: ArrayLike, name: str = "pose") -> NDArray[np.float64]:
     """Return ``T`` as float64 ``(..., 4, 4)`` after checking that it is a rigid transform.
 
+    A rotation part that is orthonormal only to within ``RIGID_TOLERANCE`` (a matrix
+    printed with six decimals, say) is replaced by the nearest rotation matrix (SVD
+    projection), so what follows works with an exactly rigid pose.
+
     Raises
     ------
     InputError
@@ -111,4 +116,9 @@ def check_transform(T: ArrayLike, name: str = "pose") -> NDArray[np.float64]:
             f"{orth.max():.3g}, det R = {np.ravel(det)[np.argmax(np.ravel(bad))]:.6g}); "
             f"expected an orthonormal matrix with determinant +1"
         )
+    rough = orth > 1e-14
+    if np.any(rough):
+        T = T.copy()
+        U, _, Vt = np.linalg.svd(T[rough][..., :3, :3])
+        T[rough, :3, :3] = U @ Vt
     return T
