@@ -350,10 +350,15 @@ def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64]
         outside = numeric_ik(chain, T, q0=seed, respect_limits=False, **options)
         if outside.success:
             raise _outside_limits(chain, wrap_into_limits(chain, outside.q, seed), label)
+    hint = ""
+    if chain.n < 6 and "mask" not in options:
+        hint = (f" (an arm with {chain.n} joints reaches only a {chain.n}-dimensional set of poses, so a "
+                f"rounded pose misses it: ask for the position only, mask=[1, 1, 1, 0, 0, 0] or "
+                f"'armkit ik --position')")
     raise UnreachableError(
         f"{label}no solution found by numeric IK within its budget ({result.restarts + 1} "
         f"attempts): the closest pose found is {result.position_error:.3g} m and "
-        f"{_angle_text(result.orientation_error)} away; the target is probably out of reach",
+        f"{_angle_text(result.orientation_error)} away; the target is probably out of reach{hint}",
         result.position_error, result.orientation_error)
 
 
