@@ -13,6 +13,7 @@ import armkit
 from armkit.cli.main import main
 from armkit.errors import InputError
 from armkit.lab import run_lab
+from armkit.lab.motion import rotation_axes
 from armkit.lab.report import MARKER, prepare_folder
 
 PNGS = ["fk_configuration.png", "ik_solutions.png", "line_tracking.png", "trajectory_pva.png",
@@ -33,6 +34,9 @@ def test_every_seed_experiment_is_reproduced(seed_report):
     assert not problems
     ik = next(s for s in seed_report.sections if s.key == "ik")
     assert ik.headline.startswith("4 + 4 + 4 solutions")
+    # report 000 prints four in-limit solutions of target 3 though its text says three
+    assert ik.published.startswith("lists 4 + 4 + 4 in-limit solutions (its text says 4 + 4 + 3)")
+    assert all(s.badge is False or s.status == "ok" for s in seed_report.sections)
     assert len(next(s for s in seed_report.sections if s.key == "dh").tables) == 3
 
 
@@ -58,6 +62,8 @@ def test_report_tables_show_published_computed_and_simulated_values(seed_report)
         assert title in page
     for published in ("0.150035", "0.199922", "-148.05", "36.31", "141.4214", "370.1666", "0.303826"):
         assert published in page
+    assert page.count(">reproduced<") == 2 * 7 and ">checked<" not in page  # badges and summary
+    assert "its text says &quot;3 solutions in range&quot; but it prints 4" in page
     fk_errors = re.findall(r"max \|MuJoCo - armkit\| ([0-9.e+-]+) m", page)
     assert fk_errors and float(fk_errors[0]) < 1e-9
 
@@ -105,6 +111,22 @@ def test_lab_on_a_users_robot_file(tmp_path, capsys):
     assert "armkit lab: PUMA 560 in MuJoCo" in page
     assert "ZJU-I" not in page and page.count("data:image/gif;base64,") == 4
     assert re.search(r"(\d+) \+ (\d+) \+ (\d+) solutions", page)
+    text = re.sub(r"<[^>]+>", " ", re.sub(r'src="data:[^"]+"', "", page))
+    for seed_only in ("report", "Gazebo", "reproduced", "pi/2", "printed", "twist"):
+        assert seed_only not in text, seed_only  # no empty published columns, no sentences about report 000
+    assert page.count(">checked<") >= 2 * 3
+    moved = re.search(r"The axis is ([^,]+).*?Joints that moved [^:]*: [^(]*\((\d) of 6\)", text)
+    assert moved and int(moved.group(2)) >= 3, "the rotation must exercise more than the last joint"
+
+
+def test_rotation_axes_of_a_users_arm_are_not_the_last_joint_axis():
+    robot = armkit.load("puma560")
+    q = robot.random_q(rng=np.random.default_rng(3))
+    last = robot.jacobian(q)[3:, -1]
+    axes = [axis for axis, _ in rotation_axes(robot, q)]
+    assert len(axes) >= 4 and np.allclose([a @ a for a in axes], 1.0)
+    assert max(abs(a @ last) for a in axes) < np.cos(np.radians(25.0))
+    assert np.allclose(axes[0], [1, 0, 0]) or abs(last[0]) > np.cos(np.radians(25.0))
 
 
 def test_lab_refuses_a_robot_that_cannot_be_simulated(tmp_path, capsys):

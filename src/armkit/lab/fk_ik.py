@@ -68,15 +68,17 @@ def fk_check(ctx: LabContext) -> Section:
     kin = compare_poses(computed, kinematic)
     stiff_only = Simulation(robot, gravity=True, gravity_compensation=False)
     sag = compare_poses(computed, _servo_poses(stiff_only, ctx.home, q, ctx.quick))
-    section.tables.append(Table("Tool pose: published, computed by armkit, simulated in MuJoCo",
-                                columns, rows,
+    title = ("Tool pose: published, computed by armkit, simulated in MuJoCo" if ctx.seeds
+             else "Tool pose: computed by armkit, simulated in MuJoCo")
+    section.tables.append(Table(title, columns, rows,
                                 note=f"Largest MuJoCo - armkit distance {table.position_error.max():.1e} m, "
                                      f"rotation {table.rotation_error.max():.1e} rad (servoed, gravity on). "
                                      f"Kinematic check (qpos set, mj_kinematics): "
                                      f"{kin.position_error.max():.1e} m, {kin.rotation_error.max():.1e} rad. "
                                      f"Without gravity compensation the stiff servos alone sag by up to "
-                                     f"{sag.position_error.max():.1e} m, {sag.rotation_error.max():.1e} rad. "
-                                     f"The report prints 6 decimals and 1.5708 for pi/2.",
+                                     f"{sag.position_error.max():.1e} m, {sag.rotation_error.max():.1e} rad."
+                                     + (" The report prints 6 decimals and 1.5708 for pi/2." if ctx.seeds
+                                        else ""),
                                 groups=groups))
     section.headline = (f"max |MuJoCo - armkit| {table.position_error.max():.1e} m, "
                         f"{table.rotation_error.max():.1e} rad")
@@ -108,15 +110,19 @@ def ik_check(ctx: LabContext) -> Section:
     section = Section("ik", "2. Inverse kinematics: every solution driven in simulation", (
         "For each target pose armkit lists every inverse-kinematics solution inside the joint "
         "limits. Each one is driven in MuJoCo (servoed from home, gravity on) and the simulated "
-        "tool pose is compared with the target. The report computed with pi/2 where it printed "
-        "1.57; the targets here use pi/2."))
+        "tool pose is compared with the target."
+        + (" The report computed with pi/2 where it printed 1.57; the targets here use pi/2." if ctx.seeds
+           else " The targets are the tool poses of random configurations inside the limits.")))
     if not hasattr(robot, "ik"):
         section.status = "unavailable"
         section.notes.append("Robot.ik is not part of this armkit build yet.")
         return section
     if ctx.seeds:
         targets = [(np.array(p), np.array(s), e) for p, s, e in published.PROBOT_IK]
-        section.published = "4 + 4 + 3 in-limit solutions, Gazebo error up to 5.4e-3 m"
+        listed_counts = " + ".join(str(len(t[1])) for t in targets)
+        section.published = (f"lists {listed_counts} in-limit solutions (its text "
+                             f"says {' + '.join(map(str, published.PROBOT_IK_STATED_COUNTS))}), Gazebo error "
+                             f"up to 5.4e-3 m")
     else:
         targets = [(pose_from_transform(robot.fk(q)), None, None) for q in robot.random_q(3, rng=ctx.rng)]
     counts, worst_position, worst_rotation = [], 0.0, 0.0
@@ -154,8 +160,12 @@ def ik_check(ctx: LabContext) -> Section:
                          fmt_error(table.rotation_error[k])])
         note = f"{len(solutions)} solution(s), {method}."
         if listed is not None:
-            note += (f" The report lists {len(listed)} (its Gazebo pose error: "
-                     f"{', '.join(fmt_error(e) for e in report_error)}).")
+            stated = published.PROBOT_IK_STATED_COUNTS[index - 1]
+            note += f" The report lists {len(listed)}"
+            if stated != len(listed):
+                note += (f" (its text says \"{stated} solutions in range\" but it prints {len(listed)}, "
+                         f"and its video caption says {len(listed)})")
+            note += f"; its Gazebo pose error: {', '.join(fmt_error(e) for e in report_error)}."
         section.tables.append(Table(
             f"Target {index}: [{', '.join(fmt(v, 4) for v in pose)}] (x y z [m], roll pitch yaw [rad])",
             ["#", "armkit solution q [rad]", "report's nearest (max |dq|)", "FK residual [m]",

@@ -108,7 +108,7 @@ def linear_motion(ctx: LabContext) -> Section:
         "armkit.control.move_linear follows p(t) = p0 + s(t) d with a quintic time law in closed "
         "loop through the Jacobian (resolved rate, orientation held). The joint motion is then "
         "driven in MuJoCo twice: with position and velocity servos, and with the velocity servo "
-        "alone, as the report published joint velocities to Gazebo."))
+        "alone" + (", as the report published joint velocities to Gazebo." if ctx.seeds else ".")))
     try:
         move_linear = require("armkit.control", "move_linear")
     except Unavailable as exc:
@@ -229,7 +229,9 @@ def _waypoint_table(ctx: LabContext, q: NDArray, poses: NDArray | None, report_q
                 "1e-3 rad difference. Waypoints 2-4 have pitch = -pi/2, the gimbal lock of roll-pitch-yaw "
                 "angles, so per-angle errors are meaningless there; the rotation error (angle between the "
                 "orientations) is not. The report's figure sums all six pose errors.")
-    return Table("Waypoints: target pose, armkit IK, report, and where MuJoCo passes them",
+    title = ("Waypoints: target pose, armkit IK, report, and where MuJoCo passes them" if ctx.seeds
+             else "Waypoints: pose, joint values, and where MuJoCo passes them")
+    return Table(title,
                  ["#", "t [s]", "pose x y z [m], roll pitch yaw [rad]", "armkit q [rad]",
                   "max |q - report q|", "same, IK of 1.57", "MuJoCo position error [m]",
                   "MuJoCo rotation error [rad]", "report: sum |pose error| (Gazebo)"], rows, note=note)
@@ -239,9 +241,11 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     """Experiment 4: a minimum-jerk trajectory through four waypoints, tracked in MuJoCo."""
     section = Section("trajectory", "4. Minimum-jerk trajectory through four waypoints", (
         "armkit.trajectory joins quintic segments through the waypoints with continuous velocity "
-        "and acceleration, minimising the integral of squared jerk over all segments (the report's "
-        "QP), at rest at both ends. Waypoints given as poses are solved by IK, each nearest the "
-        "previous solution. MuJoCo tracks the 1 kHz samples with gravity on."))
+        "and acceleration, minimising the integral of squared jerk over all segments"
+        + (" (the report's QP)" if ctx.seeds else "") + ", at rest at both ends. "
+        + ("Waypoints given as poses are solved by IK, each nearest the previous solution. " if ctx.seeds
+           else "The waypoints are a well-conditioned configuration and three random moves from it. ")
+        + "MuJoCo tracks the 1 kHz samples with gravity on."))
     try:
         plan_trajectory = require("armkit.trajectory", "plan_trajectory")
         q, poses, report_q, durations = _waypoints(ctx)
@@ -303,39 +307,75 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     return section
 
 
-def _rotation_plan(ctx: LabContext, rotate) -> tuple[NDArray, NDArray, object]:
+def rotation_axes(robot: Robot, q0: NDArray) -> list[tuple[NDArray, str]]:
+    """Candidate axes (base frame, unit) for the fixed-point rotation of a user's arm, best first.
+
+    The base x axis (as in the seed experiment), then axes perpendicular to the last revolute
+    joint's axis, then base y and z; an axis within 25 deg of the last joint's axis is left out,
+    since turning about it only turns that joint and tests nothing.
+    """
+    angular = robot.jacobian(q0)[3:]
+    revolute = np.flatnonzero(np.linalg.norm(angular, axis=0) > 0.5)
+    last = angular[:, revolute[-1]] if len(revolute) else np.zeros(3)
+    helper = np.eye(3)[int(np.argmin(np.abs(last)))]
+    across = np.cross(last, helper)
+    across = across / np.linalg.norm(across) if np.linalg.norm(across) > 0 else np.array([0.0, 1.0, 0.0])
+    named = [(np.array([1.0, 0.0, 0.0]), "the base x axis, as in the seed experiment"),
+             (across, "an axis perpendicular to the last joint's axis"),
+             (np.cross(last, across) if len(revolute) else across,
+              "an axis perpendicular to the last joint's axis"),
+             (np.array([0.0, 1.0, 0.0]), "the base y axis"), (np.array([0.0, 0.0, 1.0]), "the base z axis")]
+    candidates = []
+    for axis, why in named:
+        if np.linalg.norm(axis) > 0.5 and abs(axis @ last) < np.cos(np.radians(25.0)):
+            candidates += [(axis, why), (-axis, why)]
+    return candidates
+
+
+def _rotation_plan(ctx: LabContext, rotate) -> tuple[NDArray, NDArray, object, str]:
+    """Start, axis, the computed motion, and a sentence on why this axis."""
     robot = ctx.robot
     if ctx.seeds:  # the twist [v; w] = [0, 0, 0, -0.2, 0, 0]: 0.2 rad/s about -x
         w = np.array(published.PROBOT_ROTATION_TWIST[3:])
         angle = np.radians(45.0) if ctx.quick else 2 * np.pi
         axis = w / np.linalg.norm(w)
-        return np.zeros(6), axis, rotate(robot, np.zeros(6), axis, angle, rate=float(np.linalg.norm(w)))
+        motion = rotate(robot, np.zeros(6), axis, angle, rate=float(np.linalg.norm(w)))
+        return np.zeros(6), axis, motion, "The axis is the report's: -x of the base frame."
     q0 = ready_configuration(robot, ctx.rng)
     T0 = robot.fk(q0)
     best, best_turn = None, -1.0
-    for axis in (T0[:3, 2], -T0[:3, 2], T0[:3, 0], -T0[:3, 0], np.array([0.0, 0.0, 1.0]), T0[:3, 1]):
+    for axis, why in rotation_axes(robot, q0):
         motion = rotate(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE)
-        if motion.completed and motion.orientation_error < 1e-3 and motion.max_position_error < 1e-3:
-            return q0, axis, motion
         turn = float(np.abs(_signed_turn(motion.poses, T0, axis)).max())
-        if turn > best_turn:
-            best, best_turn = (q0, axis, motion), turn
-    return best
+        held = motion.orientation_error < 1e-3 and motion.max_position_error < 1e-3
+        if motion.completed and held:
+            return q0, axis, motion, (f"The axis is {why}, the first candidate the arm follows for "
+                                      f"{np.degrees(USER_ROTATION_ANGLE):.0f} deg with the tool point held.")
+        if held and turn > best_turn:
+            best, best_turn = (q0, axis, motion, why), turn
+    if best is None:
+        axis, why = rotation_axes(robot, q0)[0]
+        best = (q0, axis, rotate(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE), why)
+    q0, axis, motion, why = best
+    return q0, axis, motion, (f"No candidate axis (base x, perpendicular to the last joint's axis, base y, "
+                              f"base z) could be followed for {np.degrees(USER_ROTATION_ANGLE):.0f} deg; "
+                              f"shown: {why}, the one turned farthest with the tool point held.")
 
 
 def fixed_point_rotation(ctx: LabContext) -> Section:
     """Experiment 5: turn the tool about an axis through its own origin, position held."""
     section = Section("rotation", "5. Fixed-point rotation", (
         "armkit.control.rotate_about_tool_point turns the tool at 0.2 rad/s about an axis "
-        "through the tool point (the report's twist [0, 0, 0, -0.2, 0, 0] about the base x "
-        "axis at the home pose) while the Jacobian loop keeps the tool position; the motion "
+        "through the tool point"
+        + (" (the report's twist [0, 0, 0, -0.2, 0, 0] about the base x axis at the home pose)" if ctx.seeds
+           else "") + " while the Jacobian loop keeps the tool position; the motion "
         "stops at the first joint limit. MuJoCo then drives the joint motion with gravity on."))
     try:
         rotate = require("armkit.control", "rotate_about_tool_point")
     except Unavailable as exc:
         section.status, section.notes = "unavailable", [str(exc)]
         return section
-    q0, axis, motion = _rotation_plan(ctx, rotate)
+    q0, axis, motion, why = _rotation_plan(ctx, rotate)
     result = _simulate(ctx, motion.t, motion.q)
     rows, turns = [], []
     for label, poses in (("armkit (computed)", motion.poses), ("MuJoCo (servos, gravity)", result.T_tool)):
@@ -347,8 +387,13 @@ def fixed_point_rotation(ctx: LabContext) -> Section:
         section.published = published.PROBOT_ROTATION_REPORTED
     title = (f"Rotation about {fmt_q(axis / np.linalg.norm(axis), 3)} through the tool point "
              f"from q0 = {fmt_q(q0, 3)}")
+    swept = np.ptp(motion.q, axis=0)
+    moving = [name for name, sweep, prismatic in zip(ctx.robot.joint_names, swept, ctx.robot.chain.prismatic,
+                                                      strict=True) if sweep > (1e-3 if prismatic else 0.0175)]
+    note = (f"{why} Joints that moved (more than 1 deg or 1 mm): {', '.join(moving) or 'none'} "
+            f"({len(moving)} of {ctx.robot.n}). {motion.message}")
     section.tables.append(Table(title, ["run", "angle turned [deg]", "max position drift [m]",
-                                        "final drift [m]"], rows, note=motion.message))
+                                        "final drift [m]"], rows, note=note))
     drift_sim = np.linalg.norm(result.T_tool[:, :3, 3] - motion.poses[0, :3, 3], axis=-1)
     turned = float(turns[0])
     section.headline = f"turned {turned:.0f} deg; MuJoCo tool point drift {drift_sim.max():.1e} m"
@@ -356,6 +401,9 @@ def fixed_point_rotation(ctx: LabContext) -> Section:
         section.status = "failed"
         section.notes.append(f"The tool turned {turned:.1f} deg (at least {MIN_TURN_DEG:g} deg asked) with "
                              f"its point drifting up to {drift_sim.max():.1e} m: {motion.message}")
+        if ctx.robot.n <= 3:
+            section.notes.append(f"With {ctx.robot.n} joints nothing is left to move once the tool point is "
+                                 f"held: this arm cannot turn its tool about a fixed point.")
     figure = Figure(figsize=(8.5, 3.0))
     ax_angle, ax_drift = figure.subplots(1, 2)
     ax_angle.plot(motion.t, np.degrees(np.unwrap(_signed_turn(motion.poses, motion.poses[0], axis))), lw=1.4)

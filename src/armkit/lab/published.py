@@ -51,6 +51,10 @@ PROBOT_IK = (
      (-0.000019, 0.0, 0.000026, 0.000801, 0.0, 0.0)),
 )
 
+#: How many in-limit solutions the report's text says each target has ("在范围内共有N组解"). For
+#: target 3 it says 3 but prints 4 (Check 0-3) and its video caption says 4 ("4个解").
+PROBOT_IK_STATED_COUNTS = (4, 4, 3)
+
 #: Straight line by velocity control: start, displacement, the end the report measured.
 PROBOT_LINE_START = (0.229, 0.0, 0.454)
 PROBOT_LINE_DISPLACEMENT = (0.15, 0.0, -0.15)

@@ -16,12 +16,17 @@ from pathlib import Path
 
 from armkit.errors import InputError
 
-__all__ = ["MARKER", "Section", "Table", "prepare_folder", "write_report"]
+__all__ = ["MARKER", "Section", "Table", "prepare_folder", "status_label", "write_report"]
 
 MARKER = ".armkit-report"
 _MIME = {".png": "image/png", ".gif": "image/gif"}
-_STATUS = {"ok": ("reproduced", "#1e7b34"), "unavailable": ("not available", "#8a6d00"),
-           "failed": ("failed", "#b00020")}
+_COLORS = {"ok": "#1e7b34", "unavailable": "#8a6d00", "failed": "#b00020"}
+
+
+def status_label(status: str, seeds: bool) -> str:
+    """The words for a section status: a seed experiment is "reproduced", a user's arm "checked"."""
+    return {"ok": "reproduced" if seeds else "checked", "unavailable": "not available",
+            "failed": "failed"}[status]
 
 
 @dataclass
@@ -87,13 +92,16 @@ def _cell(text: str) -> str:
 
 
 def _table_html(table: Table) -> str:
-    head = "".join(f"<th>{_cell(c)}</th>" for c in table.columns)
+    """The table as HTML; a column empty in every row (a published value a user's arm lacks) is left out."""
+    shown = [j for j in range(len(table.columns))
+             if not table.rows or any(row[j] != "" for row in table.rows)]
+    head = "".join(f"<th>{_cell(table.columns[j])}</th>" for j in shown)
     body = []
     for k, row in enumerate(table.rows):
         css = ' class="group"' if k in table.groups else ""
-        body.append(f"<tr{css}>" + "".join(f"<td>{_cell(c)}</td>" for c in row) + "</tr>")
+        body.append(f"<tr{css}>" + "".join(f"<td>{_cell(row[j])}</td>" for j in shown) + "</tr>")
     note = f'<p class="note">{_cell(table.note)}</p>' if table.note else ""
-    css = "table wrap" if table.wrap else "table"
+    css = "table wrap" if table.wrap else ("table wide" if len(shown) > 6 else "table")
     return (f'<div class="{css}"><h4>{_cell(table.title)}</h4><div class="scroll"><table><thead>'
             f'<tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table></div>{note}</div>')
 
@@ -105,8 +113,8 @@ def _image_html(folder: Path, name: str, caption: str) -> str:
             f"<figcaption>{_cell(caption)}</figcaption></figure>")
 
 
-def _section_html(folder: Path, section: Section) -> str:
-    label, color = _STATUS[section.status]
+def _section_html(folder: Path, section: Section, seeds: bool) -> str:
+    label, color = status_label(section.status, seeds), _COLORS[section.status]
     badge = f' <span class="badge" style="background:{color}">{label}</span>' if section.badge else ""
     parts = [f'<section id="{section.key}"><h2>{_cell(section.title)}{badge}</h2>',
              "".join(f"<p>{_cell(p)}</p>" for p in section.intro.split("\n\n") if p)]
@@ -138,14 +146,18 @@ figcaption{font-size:12px;color:#555;max-width:560px}nav a{margin-right:14px;fon
 
 
 def write_report(folder: Path, title: str, subtitle: str, summary: Table, sections: list[Section],
-                 files: list[str]) -> Path:
-    """Write ``index.html`` (everything embedded) and the marker listing ``files``; return the page."""
+                 files: list[str], seeds: bool = True) -> Path:
+    """Write ``index.html`` (everything embedded) and the marker listing ``files``; return the page.
+
+    ``seeds``: the sections reproduce the seed reports (badge "reproduced") rather than check a
+    user's arm (badge "checked").
+    """
     nav = "".join(f'<a href="#{s.key}">{_cell(s.title)}</a>' for s in sections)
     page = (f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{_cell(title)}</title>"
             f"<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
             f"<style>{_CSS}</style></head><body><h1>{_cell(title)}</h1><p class=\"sub\">{_cell(subtitle)}"
             f"</p><nav>{nav}</nav>{_table_html(summary)}"
-            + "".join(_section_html(folder, s) for s in sections) + "</body></html>\n")
+            + "".join(_section_html(folder, s, seeds) for s in sections) + "</body></html>\n")
     index = folder / "index.html"
     index.write_text(page, encoding="utf-8")
     manifest = {"generator": "armkit lab", "files": sorted({*files, "index.html"})}

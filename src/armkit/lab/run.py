@@ -21,7 +21,7 @@ import armkit
 from armkit.errors import ArmkitError
 from armkit.lab import fk_ik, motion
 from armkit.lab.context import LabContext
-from armkit.lab.report import Section, Table, prepare_folder, write_report
+from armkit.lab.report import Section, Table, prepare_folder, status_label, write_report
 from armkit.robot import Robot
 from armkit.robot_file import load
 
@@ -82,10 +82,12 @@ def _run_one(experiment: Experiment, ctx: LabContext) -> Section:
         return section
 
 
-def _summary(sections: list[Section]) -> Table:
-    rows = [[s.title, {"ok": "reproduced", "unavailable": "not available", "failed": "failed"}[s.status],
-             s.headline, s.published] for s in sections if s.key != "dh"]
-    return Table("Summary", ["experiment", "status", "armkit + MuJoCo", "the seed report"], rows, wrap=True)
+def _summary(sections: list[Section], seeds: bool) -> Table:
+    """One row per experiment; the seed reports' column only when the seed experiments ran."""
+    rows = [[s.title, status_label(s.status, seeds), s.headline, *([s.published] if seeds else [])]
+            for s in sections if s.key != "dh"]
+    columns = ["experiment", "status", "armkit + MuJoCo", *(["the seed report"] if seeds else [])]
+    return Table("Summary", columns, rows, wrap=True)
 
 
 def run_lab(robot: str | Path | None = None, out: str | Path = "armkit-report", *, quick: bool = False,
@@ -142,6 +144,6 @@ def run_lab(robot: str | Path | None = None, out: str | Path = "armkit-report", 
         subtitle = (f"armkit {armkit.__version__}, MuJoCo simulation at 1 kHz with gravity, "
                     f"{datetime.now(UTC):%Y-%m-%d %H:%M} UTC, {seconds:.0f} s"
                     f"{' (quick mode)' if quick else ''}.")
-        index = write_report(folder, title, subtitle, _summary(sections), sections, ctx.files)
+        index = write_report(folder, title, subtitle, _summary(sections, seeds), sections, ctx.files, seeds)
         bar.advance(task)
     return LabResult(index=index, sections=sections, seconds=time.perf_counter() - started)
