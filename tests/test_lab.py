@@ -14,7 +14,7 @@ from armkit.cli.main import main
 from armkit.errors import InputError
 from armkit.lab import run_lab
 from armkit.lab.motion import rotation_axes
-from armkit.lab.report import MARKER, prepare_folder
+from armkit.lab.report import _CSS, MARKER, Table, _table_html, prepare_folder
 
 PNGS = ["fk_configuration.png", "ik_solutions.png", "line_tracking.png", "trajectory_pva.png",
         "trajectory_tracking.png", "rotation.png", "zju_configuration.png", "scara_configuration.png"]
@@ -137,6 +137,16 @@ def test_lab_refuses_a_robot_that_cannot_be_simulated(tmp_path, capsys):
     assert main(["lab", "--quick", "--robot", str(robot_file), "--out", str(out)]) == 1
     assert "cannot be simulated" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_tables_drop_empty_columns_and_wide_ones_fit_the_page():
+    columns = ["q", "report: computed", *[f"value {k}" for k in range(7)]]
+    html = _table_html(Table("t", columns, [["[0, 1]", "", *["1.0"] * 7], ["[1, 0]", "", *["2.0"] * 7]]))
+    assert "report: computed" not in html and html.count("<th>") == 8 and html.count("<td>") == 16
+    assert html.startswith('<div class="table wide">')  # smaller font, wrapping cells (see _CSS)
+    assert ".wide td{white-space:normal}" in _CSS and "th{white-space:normal" in _CSS
+    narrow = _table_html(Table("t", ["a", "b"], [["1", "2"]]))
+    assert narrow.startswith('<div class="table">')
 
 
 def test_quick_run_is_quick(seed_report):

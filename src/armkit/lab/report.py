@@ -137,7 +137,8 @@ vertical-align:middle}.sub{color:#666;margin-top:0}.scroll{overflow-x:auto}
 table{border-collapse:collapse;font-size:13px;font-variant-numeric:tabular-nums}
 th,td{border:1px solid #dcdce3;padding:3px 8px;text-align:right;white-space:nowrap}
 th{background:#f2f2f6}td:first-child,th:first-child{text-align:left}tr.group td{border-top:2px solid #999}
-tbody tr:nth-child(even){background:#fafafc}.note{color:#555;font-size:13px}
+th{white-space:normal;vertical-align:bottom}.wide table{font-size:12px}.wide td,.wide th{padding:2px 5px}
+.wide td{white-space:normal}tbody tr:nth-child(even){background:#fafafc}.note{color:#555;font-size:13px}
 .figures{display:flex;flex-wrap:wrap;gap:18px;align-items:flex-start}
 figure{margin:10px 0}figure img{max-width:100%;border:1px solid #e4e4ea;border-radius:4px}
 .wrap td,.wrap th{white-space:normal;text-align:left}.wrap td:nth-child(2){white-space:nowrap}
