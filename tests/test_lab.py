@@ -10,9 +10,11 @@ import pytest
 from PIL import Image
 
 import armkit
+from armkit.animation import animate_trajectory
 from armkit.cli.main import main
 from armkit.errors import InputError
 from armkit.lab import run_lab
+from armkit.lab.context import LabContext
 from armkit.lab.motion import rotation_axes
 from armkit.lab.report import _CSS, MARKER, Table, _table_html, prepare_folder
 
@@ -147,6 +149,16 @@ def test_tables_drop_empty_columns_and_wide_ones_fit_the_page():
     assert ".wide td{white-space:normal}" in _CSS and "th{white-space:normal" in _CSS
     narrow = _table_html(Table("t", ["a", "b"], [["1", "2"]]))
     assert narrow.startswith('<div class="table">')
+
+
+def test_full_run_animations_are_480_px(tmp_path):
+    robot = armkit.load("grb400-scara")
+    ctx = LabContext(robot=robot, folder=tmp_path, quick=False, seeds=False)
+    q = np.linspace(np.zeros(4), [0.5, 0.5, 0.05, 1.0], 20)
+    gif = animate_trajectory(robot, q, tmp_path / "a.gif", frames=3, dpi=ctx.gif_dpi)
+    with Image.open(gif) as image:
+        assert image.size == (480, 480) and image.n_frames == 3
+    assert LabContext(robot=robot, folder=tmp_path, quick=True, seeds=False).gif_dpi < ctx.gif_dpi
 
 
 def test_quick_run_is_quick(seed_report):

@@ -50,7 +50,8 @@ class LabContext:
 
     @property
     def gif_dpi(self) -> int:
-        return 40 if self.quick else 72
+        """Animations are 4 inch square: 160 px in quick mode, 480 px otherwise."""
+        return 40 if self.quick else 120
 
     def path(self, name: str) -> Path:
         """A file of the report (registered so a later run can replace it)."""
