@@ -34,7 +34,7 @@ class JointLimitError(ArmkitError, ValueError):
 
 
 class UnreachableError(ArmkitError):
-    """A target pose cannot be reached; ``distance`` says how far the closest pose found is.
+    """A target pose cannot be reached; the attributes say how far the closest pose found is.
 
     Attributes
     ----------

@@ -4,7 +4,7 @@ A :class:`PoseComparison` holds, per row, the pose armkit computed and the pose 
 simulator produced, both as ``[x, y, z, a1, a2, a3]`` in a named angle convention
 (e.g. ``"xyz-fixed"`` roll/pitch/yaw for report 000, ``"xyz-euler"`` in degrees for report
 003), the per-axis error ``simulated - computed`` (angle differences wrapped to
-``(-180, 180]`` deg or ``(-pi, pi]``), and the two numbers that do not depend on a
+``[-180, 180)`` deg or ``[-pi, pi)``), and the two numbers that do not depend on a
 convention: position distance [m] and rotation angle between the orientations [rad].
 Per-axis angle errors are meaningless near the convention's gimbal lock; the rotation
 angle is not.
