@@ -16,13 +16,12 @@ from armkit.errors import InputError, RobotDefinitionError
 from armkit.export import urdf_from_robot, write_urdf
 from armkit.sim import Simulation
 
-pinocchio = pytest.importorskip("pinocchio")
-
 BUILTINS = armkit.builtin_robots()
 
 
 @pytest.mark.parametrize("name", BUILTINS)
 def test_urdf_in_pinocchio_matches_fk(name):
+    pinocchio = pytest.importorskip("pinocchio")
     robot = armkit.load(name)
     model = pinocchio.buildModelFromXML(urdf_from_robot(robot))
     data = model.createData()
@@ -86,7 +85,7 @@ def test_zero_length_chain_and_overwrite(tmp_path):
     with pytest.raises(InputError, match="already exists"):
         write_urdf(armkit.load("ur5"), path)
     assert path.read_text() == "keep me"
-    write_urdf(armkit.load("ur5"), path, force=True)
+    write_urdf(armkit.load("ur5"), path, overwrite=True)
     assert ET.parse(path).getroot().get("name") == "UR5"
 
 
@@ -110,6 +109,7 @@ def random_arms(draw):
 @settings(max_examples=25, deadline=None)
 @given(random_arms())
 def test_random_arms_round_trip_through_urdf_and_mjcf(arm):
+    pinocchio = pytest.importorskip("pinocchio")
     robot, seed = arm
     q = robot.random_q(5, rng=seed)
     model = pinocchio.buildModelFromXML(urdf_from_robot(robot))

@@ -1,4 +1,4 @@
-"""FK, Jacobians and manipulability, cross-checked against roboticstoolbox-python."""
+"""FK, Jacobians and manipulability; cross-checked against roboticstoolbox-python where it is installed."""
 
 import numpy as np
 import pytest
@@ -12,14 +12,12 @@ from armkit.errors import InputError
 from armkit.kinematics import ChainKernel, fk, geometric_jacobian, joint_frames, pose_error
 from armkit.spatial import matrix_from_axis_angle, rotation_angle_between, transform_from
 
-rtb = pytest.importorskip("roboticstoolbox")
-from spatialmath import SE3  # noqa: E402
-
 RTB_MODELS = {"puma560": "Puma560", "stanford": "Stanford", "ur5": "UR5", "panda": "Panda"}
 
 
 @pytest.mark.parametrize("name", sorted(RTB_MODELS))
 def test_builtins_match_roboticstoolbox(name):
+    rtb = pytest.importorskip("roboticstoolbox")
     ours = armkit.load(name)
     theirs = getattr(rtb.models.DH, RTB_MODELS[name])()
     q = ours.random_q(25, rng=0)
@@ -31,15 +29,30 @@ def test_builtins_match_roboticstoolbox(name):
         np.testing.assert_allclose(ours.jacobian(q[k], frame="tool"), theirs.jacobe(q[k]), atol=1e-10)
 
 
-def random_dh_pair(rng, convention):
-    """A random DH arm (revolute and prismatic joints, offsets, base and tool) in armkit and rtb."""
+def random_dh_arm(rng, convention):
+    """A random DH arm (revolute and prismatic joints, offsets, base and tool) and its rows."""
     n = int(rng.integers(2, 8))
-    rows, links = [], []
+    rows = []
     for _ in range(n):
         alpha, a, d, theta = rng.choice([0, np.pi / 2, -np.pi / 2, rng.uniform(-3, 3)]), *rng.uniform(
             -0.5, 0.5, 2), rng.uniform(-np.pi, np.pi)
         prismatic = rng.random() < 0.3
         rows.append(DHRow(alpha, a, d, theta, "prismatic" if prismatic else "revolute"))
+    base_row = DHRow(*rng.uniform(-1, 1, 4), joint=None)
+    tool_row = DHRow(*rng.uniform(-1, 1, 4), joint=None)
+    ours = Robot.from_dh(rows, convention, base_rows=[base_row], tool_rows=[tool_row])
+    return ours, (rows, base_row, tool_row)
+
+
+def random_dh_pair(rng, convention):
+    """The arm of :func:`random_dh_arm` in armkit and in roboticstoolbox-python (skips without it)."""
+    rtb = pytest.importorskip("roboticstoolbox")
+    from spatialmath import SE3
+
+    ours, (rows, base_row, tool_row) = random_dh_arm(rng, convention)
+    links = []
+    for row in rows:
+        alpha, a, d, theta, prismatic = row.alpha, row.a, row.d, row.theta, row.joint == "prismatic"
         if convention == "standard":
             link = (rtb.PrismaticDH(theta=theta, a=a, alpha=alpha, offset=d) if prismatic
                     else rtb.RevoluteDH(d=d, a=a, alpha=alpha, offset=theta))
@@ -47,9 +60,6 @@ def random_dh_pair(rng, convention):
             link = (rtb.PrismaticMDH(theta=theta, a=a, alpha=alpha, offset=d) if prismatic
                     else rtb.RevoluteMDH(d=d, a=a, alpha=alpha, offset=theta))
         links.append(link)
-    base_row = DHRow(*rng.uniform(-1, 1, 4), joint=None)
-    tool_row = DHRow(*rng.uniform(-1, 1, 4), joint=None)
-    ours = Robot.from_dh(rows, convention, base_rows=[base_row], tool_rows=[tool_row])
     base = SE3(base_row.transform(convention), check=False)
     tool = SE3(tool_row.transform(convention), check=False)
     return ours, rtb.DHRobot(links, base=base, tool=tool)
@@ -123,7 +133,7 @@ def test_batches_equal_one_at_a_time(name):
 @pytest.mark.parametrize("convention", ["standard", "modified"])
 def test_link_frames_are_products_of_dh_rows(convention):
     rng = np.random.default_rng(7)
-    ours, _ = random_dh_pair(rng, convention)
+    ours, _ = random_dh_arm(rng, convention)
     q = ours.random_q(rng=rng)
     frames = ours.link_frames(q)
     T = ours.dh.base_rows[0].transform(convention)
@@ -178,7 +188,7 @@ def test_chain_kernel_equals_batched_kinematics_on_builtins(name):
 @pytest.mark.parametrize("convention", ["standard", "modified"])
 @pytest.mark.parametrize("seed", range(10))
 def test_chain_kernel_equals_batched_kinematics_on_random_dh_arms(convention, seed):
-    robot, _ = random_dh_pair(np.random.default_rng(100 + seed), convention)
+    robot, _ = random_dh_arm(np.random.default_rng(100 + seed), convention)
     configurations = np.random.default_rng(seed).uniform(-3, 3, (10, robot.n))
     assert_kernel_matches(robot, configurations)
 
