@@ -118,7 +118,7 @@ def test_never_overwrites_without_force(capsys, tmp_path):
     out.write_text("keep me")
     args = ["traj", "probot-anno", "--waypoints", JOINTS, "--durations", "10", "10", "10", "--out", out]
     code, _, err = run(capsys, *args)
-    assert code == 1 and "already exists; add --force" in err
+    assert code == 1 and "already exists; pass --force" in err
     assert out.read_text() == "keep me"
     code, _, err = run(capsys, *args, "--force")
     assert code == 0 and out.read_text().startswith("t,q1")

@@ -83,10 +83,10 @@ def test_write_mjcf_refuses_to_overwrite(tmp_path):
     write_mjcf(robot, path)
     first = path.read_text()
     path.write_text("user's file")
-    with pytest.raises(InputError, match="already exists; pass --force"):
+    with pytest.raises(InputError, match="already exists; pass overwrite=True"):
         write_mjcf(robot, path)
     assert path.read_text() == "user's file"
-    write_mjcf(robot, path, force=True)
+    write_mjcf(robot, path, overwrite=True)
     assert path.read_text() == first
     with pytest.raises(InputError, match="does not exist"):
         write_mjcf(robot, tmp_path / "missing" / "arm.xml")

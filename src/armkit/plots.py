@@ -20,6 +20,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the "3d" projection)
 
+from armkit._io import check_output_path
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.trajectory.joint_trajectory import JointTrajectory
@@ -35,10 +36,7 @@ def save_figure(figure: Figure, path: str | Path, overwrite: bool = False, dpi: 
     path = Path(path)
     if path.suffix.lower() not in _FORMATS:
         raise InputError(f"{path}: expected a figure file ending in {', '.join(_FORMATS)}")
-    if path.exists() and not overwrite:
-        raise InputError(f"{path} already exists; pass overwrite=True (CLI: --force) to replace it")
-    if not path.parent.is_dir():
-        raise InputError(f"{path}: directory {path.parent} does not exist")
+    check_output_path(path, overwrite)
     figure.savefig(path, dpi=dpi)
     return path
 

@@ -10,6 +10,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from armkit._io import check_output_path
 from armkit.cli.app import ALLOW_NEGATIVE, app, console, err_console, load_robot, print_json, to_si
 from armkit.errors import ArmkitError, InputError
 from armkit.robot import Robot
@@ -51,12 +52,12 @@ def export_command(
         if path is not None and path.suffix.lower() != suffix:
             raise InputError(f"output file {str(path)!r}: expected a name ending in {suffix}")
     for path in (urdf, mjcf):
-        if path is not None and path.exists() and not force:
-            raise InputError(f"output file {str(path)!r} already exists; pass --force to overwrite it")
+        if path is not None:
+            check_output_path(path, force, remedy="pass --force")
     if urdf is not None:
-        console.print(f"wrote {write_urdf(arm, urdf, force=force)}", highlight=False)
+        console.print(f"wrote {write_urdf(arm, urdf, overwrite=force)}", highlight=False)
     if mjcf is not None:
-        console.print(f"wrote {write_mjcf(arm, mjcf, force=force, gravity=not no_gravity)}",
+        console.print(f"wrote {write_mjcf(arm, mjcf, overwrite=force, gravity=not no_gravity)}",
                       highlight=False)
 
 
@@ -166,8 +167,8 @@ def sim_command(
     if random < 1:
         raise InputError(f"--random {random}: expected at least 1 configuration")
     for path in (gif, png):
-        if path is not None and path.exists() and not force:
-            raise InputError(f"output file {str(path)!r} already exists; pass --force to overwrite it")
+        if path is not None:
+            check_output_path(path, force, remedy="pass --force")
     sim = Simulation(arm, gravity=gravity, gravity_compensation=compensation)
     if trajectory is not None:
         t, q_traj, qd = read_trajectory(trajectory, arm)

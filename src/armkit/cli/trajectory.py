@@ -9,6 +9,7 @@ import numpy as np
 import typer
 from rich.table import Table
 
+from armkit._io import check_output_path
 from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, parse_floats, warn
 from armkit.errors import InputError
 from armkit.plots import plot_pva, plot_tool_path, save_figure
@@ -22,8 +23,7 @@ def _check_output(path: Path | None, suffixes: tuple[str, ...], force: bool, wha
         return
     if path.suffix.lower() not in suffixes:
         raise InputError(f"{what} {path}: expected a file name ending in {', '.join(suffixes)}")
-    if path.exists() and not force:
-        raise InputError(f"{path} already exists; add --force to replace it")
+    check_output_path(path, force, remedy="pass --force")
 
 
 def _durations(values: list[str] | None, durations: bool, times: bool, auto: bool) -> np.ndarray | None:

@@ -119,12 +119,12 @@ def mjcf_from_robot(robot: Robot, *, gravity: bool = True,
     return ET.tostring(root, encoding="unicode") + "\n"
 
 
-def write_mjcf(robot: Robot, path: str | Path, *, force: bool = False, gravity: bool = True) -> Path:
-    """Write :func:`mjcf_from_robot` to ``path``; refuses to overwrite unless ``force``.
+def write_mjcf(robot: Robot, path: str | Path, *, overwrite: bool = False, gravity: bool = True) -> Path:
+    """Write :func:`mjcf_from_robot` to ``path``; refuses to overwrite unless ``overwrite``.
 
     Raises
     ------
     InputError
-        If ``path`` exists and ``force`` is false, or its folder does not exist.
+        If ``path`` exists and ``overwrite`` is false, or its folder does not exist.
     """
-    return write_text(path, mjcf_from_robot(robot, gravity=gravity), force=force)
+    return write_text(path, mjcf_from_robot(robot, gravity=gravity), overwrite=overwrite)

@@ -141,12 +141,12 @@ def urdf_from_robot(robot: Robot, *, model: PhysicalModel | None = None) -> str:
     return '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
-def write_urdf(robot: Robot, path: str | Path, *, force: bool = False) -> Path:
-    """Write :func:`urdf_from_robot` to ``path``; refuses to overwrite unless ``force``.
+def write_urdf(robot: Robot, path: str | Path, *, overwrite: bool = False) -> Path:
+    """Write :func:`urdf_from_robot` to ``path``; refuses to overwrite unless ``overwrite``.
 
     Raises
     ------
     InputError
-        If ``path`` exists and ``force`` is false, or its folder does not exist.
+        If ``path`` exists and ``overwrite`` is false, or its folder does not exist.
     """
-    return write_text(path, urdf_from_robot(robot), force=force)
+    return write_text(path, urdf_from_robot(robot), overwrite=overwrite)

@@ -4,26 +4,19 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from armkit.errors import InputError
+from armkit._io import check_output_path
 
 __all__ = ["write_text"]
 
 
-def write_text(path: str | Path, text: str, *, force: bool = False) -> Path:
+def write_text(path: str | Path, text: str, *, overwrite: bool = False) -> Path:
     """Write ``text`` to ``path`` (UTF-8) and return the path.
 
     Raises
     ------
     InputError
-        If ``path`` exists and ``force`` is false, is a folder, or its folder is missing.
+        If ``path`` exists and ``overwrite`` is false, is a folder, or its folder is missing.
     """
-    path = Path(path)
-    if path.is_dir():
-        raise InputError(f"output path {str(path)!r} is a folder; expected a file name")
-    if path.exists() and not force:
-        raise InputError(f"output file {str(path)!r} already exists; pass --force "
-                         f"(force=True) to overwrite it")
-    if not path.parent.is_dir():
-        raise InputError(f"output folder {str(path.parent)!r} does not exist")
+    path = check_output_path(path, overwrite)
     path.write_text(text, encoding="utf-8")
     return path

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from armkit._io import check_output_path
 from armkit.errors import InputError
 
 __all__ = ["column_names", "sample_columns", "write_csv", "write_npz"]
@@ -25,18 +26,9 @@ def sample_columns(samples) -> NDArray[np.float64]:
     return np.column_stack([samples.t, samples.q, samples.qd, samples.qdd])
 
 
-def _target(path: str | Path, overwrite: bool) -> Path:
-    path = Path(path)
-    if path.exists() and not overwrite:
-        raise InputError(f"{path} already exists; pass overwrite=True (CLI: --force) to replace it")
-    if not path.parent.is_dir():
-        raise InputError(f"{path}: directory {path.parent} does not exist")
-    return path
-
-
 def write_csv(samples, path: str | Path, overwrite: bool = False) -> Path:
     """Write :class:`TrajectorySamples` as CSV with a header line; returns the path."""
-    path = _target(path, overwrite)
+    path = check_output_path(path, overwrite)
     table = sample_columns(samples)
     names = column_names(samples.q.shape[1])
     np.savetxt(path, table, delimiter=",", header=",".join(names), comments="", fmt="%.17g")
@@ -48,7 +40,7 @@ def write_npz(samples, path: str | Path, overwrite: bool = False) -> Path:
 
     ``path`` should end in ``.npz`` (numpy would otherwise append it).
     """
-    path = _target(path, overwrite)
+    path = check_output_path(path, overwrite)
     if path.suffix != ".npz":
         raise InputError(f"{path}: an NPZ file name must end in .npz")
     table = sample_columns(samples)
