@@ -53,7 +53,7 @@ def test_robots_and_show(capsys):
 
 
 @pytest.mark.parametrize(("argv", "message"), [
-    (["fk", "ur5", "1", "2"], "UR5 has 6 joints, so expected 6 joint values"),
+    (["fk", "ur5", "1", "2"], "expected 6 joint values, got 2 (UR5 has 6 joints)"),
     (["fk", "nosuchbot", "1"], "unknown robot 'nosuchbot'"),
     (["fk", "probot-anno", "0", "0", "0", "0", "0", "5", "--strict"],
      "joint q6 = 5 rad is outside its limits"),

@@ -76,3 +76,10 @@ def test_errors_are_one_line(capsys):
     code, _, err = run(capsys, "rotate", "probot-anno", "--axis", "1", "0", "0", "--angle", "1",
                        "--rate", "0.1", "--duration", "3")
     assert code == 1 and "give two of" in err
+
+
+def test_rotate_opposite_signs_reported_in_the_units_typed(capsys):
+    code, _, err = run(capsys, "rotate", "probot-anno", "--axis", "1", "0", "0", "--angle", "90",
+                       "--rate", "-10", "--deg")
+    assert code == 1 and "--angle 90 deg and --rate -10 deg/s have opposite signs" in err
+    assert "rad" not in err

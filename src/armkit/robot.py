@@ -120,9 +120,9 @@ class Robot:
         except (TypeError, ValueError) as exc:
             raise InputError(f"{name}: expected {self.n} numbers, got {q!r}") from exc
         if q.ndim == 0 or q.shape[-1] != self.n:
-            got = "a scalar" if q.ndim == 0 else f"shape {q.shape}"
-            raise InputError(f"{name}: {self.name} has {self.n} joints, so expected "
-                             f"{self.n} joint values (shape (..., {self.n})), got {got}")
+            got = {0: "a scalar", 1: f"{q.size}"}.get(q.ndim, f"an array of shape {q.shape}")
+            raise InputError(f"{name}: expected {self.n} joint values, got {got} "
+                             f"({self.name} has {self.n} joints)")
         if not np.all(np.isfinite(q)):
             raise InputError(f"{name}: contains NaN or infinite values: {q.tolist()}")
         return q

@@ -143,6 +143,10 @@ def rotate_command(
     arm = load_robot(robot)
     q0 = _start(arm, start_values, start, deg)
     scale = np.pi / 180 if deg else 1.0
+    if rate is not None and rate < 0 < angle:
+        unit = "deg" if deg else "rad"
+        raise InputError(f"--angle {angle:g} {unit} and --rate {rate:g} {unit}/s have opposite signs; "
+                         f"give the direction once (the sign of --angle)")
     if rate is None and duration is None:
         rate = 0.2 / scale
     result = rotate_about_tool_point(arm, q0, np.array(axis), angle * scale,
