@@ -222,3 +222,22 @@ def test_pose_error_at_a_half_turn():
     for axis in np.eye(3):
         e = pose_error(transform_from(matrix_from_axis_angle(np.pi * axis), [0, 0, 0]), T)
         np.testing.assert_allclose(np.abs(e[3:]), np.pi * axis, atol=1e-12)
+
+
+@pytest.mark.parametrize("distance", [0.0, 1e-12, 1e-9, 3e-8, 1e-7, 1e-6, 1e-4, 4e-3, 6e-3, 1e-2])
+def test_pose_error_near_and_at_a_half_turn_keeps_angle_axis_and_sign(distance):
+    """General axes (not only x, y, z) within ``distance`` of a half turn: the rotation vector
+    itself, signed, to rounding; at exactly pi either sign of the axis is the same rotation."""
+    rng = np.random.default_rng(7)
+    axes = np.vstack([[0.6, 0.8, 0.0], rng.normal(size=(200, 3))])
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    T = transform_from(matrix_from_axis_angle([0.3, -0.2, 0.5]), [0.1, 0.2, 0.3])
+    for axis in axes:
+        w = (np.pi - distance) * axis
+        T_target = transform_from(matrix_from_axis_angle(w) @ T[:3, :3], T[:3, 3])
+        e = pose_error(T_target, T)[3:]
+        if distance == 0.0 and np.dot(e, w) < 0:
+            w = -w
+        # Past 5e-3 rad from pi the axis is v / |v|: rounding of R_target R^T (~4e-16) over
+        # |v| = 2 sin(angle) >= 1e-2 allows about 1e-13 there.
+        np.testing.assert_allclose(e, w, rtol=0, atol=1e-14 if distance < 5e-3 else 1e-13)

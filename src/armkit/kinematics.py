@@ -144,11 +144,16 @@ def manipulability(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.prod(singular_values(chain, q), axis=-1)
 
 
+#: Below this ``|2 sin(angle)|`` (angle within 5e-3 rad of ``pi``) :func:`pose_error` takes the
+#: axis from the symmetric part of the rotation: ``v / |v|`` would lose ``eps / |v|`` there.
+HALF_TURN_NORM = 1e-2
+
+
 def pose_error(T_target: ArrayLike, T: ArrayLike) -> NDArray[np.float64]:
     """Pose errors ``(..., 6)``: ``p_target - p`` [m] and the rotation vector of ``R_target R^T`` [rad].
 
     Both parts are in the base frame; the rotation vector's norm is the angle between
-    the two orientations, exact up to ``pi``. Inputs ``(..., 4, 4)`` broadcast.
+    the two orientations, exact (to rounding) up to and at ``pi``. Inputs ``(..., 4, 4)`` broadcast.
 
     Examples
     --------
@@ -170,17 +175,29 @@ def pose_error(T_target: ArrayLike, T: ArrayLike) -> NDArray[np.float64]:
     # angle / (2 sin angle) -> 1/2 for small angles
     scale = np.divide(angle, norm, out=np.full_like(angle, 0.5), where=norm > 1e-300)
     e[..., 3:] = v * scale[..., None]
-    half_turn = (norm <= 1e-7) & (trace <= 0.0)
-    if np.any(half_turn):  # angle near pi: axis from the diagonal, signs from off-diagonals
-        Rh = R[half_turn]
-        axis = np.sqrt(np.clip((np.diagonal(Rh, axis1=-2, axis2=-1) + 1.0) / 2.0, 0.0, None))
-        k = np.argmax(axis, axis=-1)
-        rows = np.take_along_axis(Rh, k[:, None, None], axis=-2)[:, 0]
-        columns = np.take_along_axis(Rh, k[:, None, None], axis=-1)[..., 0]
-        sign = np.where(rows + columns < 0, -1.0, 1.0)
-        np.put_along_axis(sign, k[:, None], 1.0, axis=-1)
-        e[half_turn, 3:] = np.pi * axis * sign
+    half_turn = (norm <= HALF_TURN_NORM) & (trace <= 0.0)
+    if np.any(half_turn):  # near pi v / |v| loses digits: axis from R + R^T, same angle
+        e[half_turn, 3:] = angle[half_turn, None] * _half_turn_axis(R[half_turn], trace[half_turn],
+                                                                      v[half_turn])
     return e
+
+
+def _half_turn_axis(R: NDArray[np.float64], trace: NDArray[np.float64],
+                    v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Unit axes ``(k, 3)`` of rotations ``R`` ``(k, 3, 3)`` near a half turn.
+
+    ``(R + R^T) / 2 - cos(angle) I = (1 - cos(angle)) axis axis^T``: its column with the
+    largest diagonal entry is the axis times a factor. The sign is that of ``v`` (``2
+    sin(angle) axis``), which decides it whenever the angle is not exactly ``pi``.
+    """
+    S = 0.5 * (R + np.swapaxes(R, -1, -2))
+    S -= ((trace - 1.0) / 2.0)[:, None, None] * np.eye(3)
+    k = np.argmax(np.diagonal(S, axis1=-2, axis2=-1), axis=-1)
+    axis = np.take_along_axis(S, k[:, None, None], axis=-1)[..., 0]
+    axis /= np.linalg.norm(axis, axis=-1, keepdims=True)
+    flip = np.einsum("...i,...i->...", axis, v) < 0.0
+    axis[flip] *= -1.0
+    return axis
 
 
 def _cross_and_axis_map() -> NDArray[np.float64]:

@@ -43,7 +43,7 @@ from scipy.linalg import lapack
 
 from armkit.chain import Chain
 from armkit.errors import InputError
-from armkit.kinematics import ChainKernel, pose_error
+from armkit.kinematics import HALF_TURN_NORM, ChainKernel, pose_error
 from armkit.robot import LIMIT_TOLERANCE
 
 __all__ = ["IKResult", "NumericIK", "numeric_ik", "wrap_into_limits"]
@@ -162,7 +162,7 @@ class _TargetError:
         """The pose error ``(6,)`` [m, rad] of the tool pose ``T`` ``(4, 4)``."""
         x, y, z, u, v, w, trace = T.reshape(16).dot(self._map).tolist()
         norm = math.sqrt(u * u + v * v + w * w)  # 2 sin(angle)
-        if norm <= 1e-7 and trace <= 0.0:  # near a half turn: the axis needs the diagonal
+        if norm <= HALF_TURN_NORM and trace <= 0.0:  # near a half turn: the axis needs R + R^T
             return pose_error(self.T_target, T)
         scale = math.atan2(norm, trace - 1.0) / norm if norm > 1e-300 else 0.5
         return np.array((x, y, z, scale * u, scale * v, scale * w))
