@@ -3,15 +3,17 @@ import pytest
 from conftest import assert_transform_close
 
 from armkit.errors import InputError
-from armkit.spatial.rotations import matrix_from_euler
+from armkit.spatial.rotations import CONVENTIONS, matrix_from_euler
 from armkit.spatial.transforms import (
     check_transform,
     invert_transform,
+    pose_from_transform,
     rot_x,
     rot_z,
     trans_x,
     trans_z,
     transform_from,
+    transform_from_pose,
 )
 
 
@@ -59,3 +61,23 @@ def test_check_transform_projects_a_rounded_rotation_onto_the_nearest_one():
     np.testing.assert_allclose(R.T @ R, np.eye(3), atol=1e-15)
     assert np.abs(fixed[0] - rounded).max() < 2e-6
     np.testing.assert_array_equal(fixed[1], T)  # an exact one is left alone
+
+
+@pytest.mark.parametrize("convention", sorted(CONVENTIONS))
+@pytest.mark.parametrize("degrees", [False, True])
+def test_pose_transform_round_trip(convention, degrees):
+    rng = np.random.default_rng(7)
+    T = transform_from(matrix_from_euler(rng.uniform(-3, 3, (20, 3)), "zyz-euler"), rng.normal(size=(20, 3)))
+    pose = pose_from_transform(T, convention, degrees)
+    assert pose.shape == (20, 6)
+    np.testing.assert_array_equal(pose[:, :3], T[:, :3, 3])
+    assert_transform_close(transform_from_pose(pose, convention, degrees), T, 1e-15, 1e-12)
+
+
+def test_transform_from_pose_degrees_and_errors():
+    T = transform_from_pose([0.1, 0.0, 0.2, 90.0, 0.0, 0.0], "xyz-fixed", degrees=True)
+    assert_transform_close(T, transform_from(rot_x(np.pi / 2)[:3, :3], [0.1, 0.0, 0.2]), 0.0, 1e-15)
+    with pytest.raises(InputError, match=r"expected 6 values \(x y z a b c\), got shape \(5,\)"):
+        transform_from_pose([0, 0, 0, 0, 0])
+    with pytest.raises(InputError, match="NaN or infinite"):
+        transform_from_pose([0, 0, 0, 0, 0, np.nan])

@@ -16,11 +16,13 @@ from armkit.spatial.rotations import (
 from armkit.spatial.transforms import (
     check_transform,
     invert_transform,
+    pose_from_transform,
     rot_x,
     rot_z,
     trans_x,
     trans_z,
     transform_from,
+    transform_from_pose,
 )
 
 __all__ = [
@@ -35,6 +37,7 @@ __all__ = [
     "matrix_from_euler",
     "matrix_from_quaternion_wxyz",
     "parse_convention",
+    "pose_from_transform",
     "quaternion_wxyz_from_matrix",
     "rot_x",
     "rot_z",
@@ -42,4 +45,5 @@ __all__ = [
     "trans_x",
     "trans_z",
     "transform_from",
+    "transform_from_pose",
 ]

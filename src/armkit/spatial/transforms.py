@@ -10,13 +10,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError
+from armkit.spatial.rotations import AngleConvention, euler_from_matrix, matrix_from_euler
 
 __all__ = [
     "check_transform",
     "invert_transform",
+    "pose_from_transform",
     "rot_x",
     "rot_z",
     "transform_from",
+    "transform_from_pose",
     "trans_x",
     "trans_z",
 ]
@@ -122,3 +125,52 @@ def check_transform(T: ArrayLike, name: str = "pose") -> NDArray[np.float64]:
         U, _, Vt = np.linalg.svd(T[rough][..., :3, :3])
         T[rough, :3, :3] = U @ Vt
     return T
+
+
+def pose_from_transform(T: ArrayLike, convention: str | AngleConvention = "xyz-fixed",
+                        degrees: bool = False) -> NDArray[np.float64]:
+    """Poses ``(..., 6)``, position [m] then three angles in ``convention``, from transforms.
+
+    Parameters
+    ----------
+    T : array_like, shape (..., 4, 4)
+        Rigid transforms (not checked; see :func:`check_transform`).
+    convention : str
+        Angle convention, e.g. ``"xyz-fixed"`` (roll, pitch, yaw); see :mod:`armkit.spatial.rotations`.
+    degrees : bool
+        Whether the angles come out in degrees (the position stays in metres).
+
+    Examples
+    --------
+    >>> pose_from_transform(transform_from(rot_x(np.pi / 2)[:3, :3], [0.1, 0, 0.2])).round(4)
+    array([0.1   , 0.    , 0.2   , 1.5708, 0.    , 0.    ])
+    """
+    T = np.asarray(T, dtype=float)
+    return np.concatenate([T[..., :3, 3], euler_from_matrix(T, convention, degrees)], axis=-1)
+
+
+def transform_from_pose(pose: ArrayLike, convention: str | AngleConvention = "xyz-fixed",
+                        degrees: bool = False) -> NDArray[np.float64]:
+    """Transforms ``(..., 4, 4)`` from poses ``(..., 6)``: x y z [m] then three angles.
+
+    The inverse of :func:`pose_from_transform` (same ``convention`` and ``degrees``).
+
+    Raises
+    ------
+    InputError
+        If the last axis does not hold 6 values or a value is not finite.
+
+    Examples
+    --------
+    >>> transform_from_pose([0.1, 0, 0.2, 90, 0, 0], degrees=True)[:3, 3]
+    array([0.1, 0. , 0.2])
+    """
+    try:
+        pose = np.asarray(pose, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"pose: expected numbers x y z a b c, got {pose!r}") from exc
+    if pose.ndim == 0 or pose.shape[-1] != 6:
+        raise InputError(f"pose: expected 6 values (x y z a b c), got shape {pose.shape}")
+    if not np.all(np.isfinite(pose)):
+        raise InputError(f"pose: contains NaN or infinite values: {pose.tolist()}")
+    return transform_from(matrix_from_euler(pose[..., 3:], convention, degrees), pose[..., :3])
