@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from armkit import kinematics
 from armkit.chain import Chain, DHConvention, DHRow, chain_from_dh
 from armkit.errors import InputError, JointLimitError
-from armkit.spatial.rotations import euler_from_matrix
+from armkit.spatial.transforms import pose_from_transform
 
 __all__ = ["DHDescription", "Robot"]
 
@@ -173,8 +173,7 @@ class Robot:
     def pose(self, q: ArrayLike, convention: str = "xyz-fixed",
              degrees: bool = False) -> NDArray[np.float64]:
         """Tool pose as ``(..., 6)``: position [m] then three angles in ``convention``."""
-        T = self.fk(q)
-        return np.concatenate([T[..., :3, 3], euler_from_matrix(T, convention, degrees)], axis=-1)
+        return pose_from_transform(self.fk(q), convention, degrees)
 
     def link_frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """Base, every DH link frame and tool: ``(..., n + 2, 4, 4)``."""

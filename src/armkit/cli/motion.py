@@ -22,7 +22,7 @@ from armkit.cli.app import (
 from armkit.control.motions import DEFAULT_DT, MotionResult, move_linear, rotate_about_tool_point
 from armkit.errors import InputError
 from armkit.robot import Robot
-from armkit.spatial.rotations import euler_from_matrix
+from armkit.spatial.transforms import pose_from_transform
 
 RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
 StartValues = Annotated[list[str] | None, typer.Argument(
@@ -55,8 +55,8 @@ def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_
     if json_output:
         print_json({"robot": robot.name, "completed": result.completed, "message": result.message,
                     "duration": result.t[-1], "q_start": result.q[0], "q_final": result.q_final,
-                    "position_final": final[:3, 3], "rpy_final": euler_from_matrix(final),
-                    "position_target": target[:3, 3], "rpy_target": euler_from_matrix(target),
+                    "position_final": final[:3, 3], "rpy_final": pose_from_transform(final)[3:],
+                    "position_target": target[:3, 3], "rpy_target": pose_from_transform(target)[3:],
                     "position_error": result.position_error,
                     "orientation_error": result.orientation_error,
                     "max_position_error": result.max_position_error,
@@ -77,8 +77,7 @@ def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_
         for column in ("", "x", "y", "z", "roll", "pitch", "yaw"):
             poses.add_column(column, justify="right")
         for label, T in (("final", final), ("target", target)):
-            rpy = euler_from_matrix(T, "xyz-fixed", degrees=degrees)
-            poses.add_row(label, *(f"{v:.6g}" for v in (*T[:3, 3], *rpy)))
+            poses.add_row(label, *(f"{v:.6g}" for v in pose_from_transform(T, "xyz-fixed", degrees)))
         console.print(poses)
         console.print(f"pose error: position {result.position_error:.3g} m, orientation "
                       f"{result.orientation_error * angle_scale:.3g} {unit}; largest along the way: "

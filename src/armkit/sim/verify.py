@@ -19,8 +19,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError
-from armkit.spatial.rotations import euler_from_matrix, parse_convention, rotation_angle_between
-from armkit.spatial.transforms import check_transform
+from armkit.spatial.rotations import parse_convention, rotation_angle_between
+from armkit.spatial.transforms import check_transform, pose_from_transform
 
 __all__ = ["PoseComparison", "compare_poses"]
 
@@ -95,7 +95,7 @@ def compare_poses(T_computed: ArrayLike, T_simulated: ArrayLike, *, convention: 
     half_turn = 180.0 if degrees else np.pi
 
     def pose(T: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.concatenate([T[:, :3, 3] * scale, euler_from_matrix(T, convention, degrees)], axis=-1)
+        return pose_from_transform(T, convention, degrees) * [scale, scale, scale, 1.0, 1.0, 1.0]
 
     computed, simulated = pose(T_c), pose(T_s)
     error = simulated - computed

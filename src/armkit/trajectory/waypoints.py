@@ -14,8 +14,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.robot import Robot
-from armkit.spatial.rotations import matrix_from_euler
-from armkit.spatial.transforms import transform_from
+from armkit.spatial.transforms import transform_from_pose
 from armkit.trajectory._checks import check_waypoints
 
 __all__ = ["joint_waypoints", "joint_waypoints_from_poses", "read_waypoints"]
@@ -114,7 +113,7 @@ def joint_waypoints_from_poses(robot: Robot, poses: ArrayLike, convention: str =
     poses = check_waypoints(poses, "poses")
     if poses.shape[1] != 6:
         raise InputError(f"poses: expected 6 values per pose (x y z a b c), got {poses.shape[1]}")
-    transforms = transform_from(matrix_from_euler(poses[:, 3:], convention), poses[:, :3])
+    transforms = transform_from_pose(poses, convention)
     q_previous = np.zeros(robot.n) if q_start is None else robot.check_q(q_start, "q_start")
     solutions = []
     for k, T in enumerate(transforms, start=1):
