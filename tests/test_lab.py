@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,13 +14,14 @@ import armkit
 from armkit.animation import animate_trajectory
 from armkit.cli.main import main
 from armkit.errors import InputError
-from armkit.lab import run_lab
+from armkit.lab import motion, run_lab
 from armkit.lab.context import LabContext
 from armkit.lab.motion import rotation_axes
 from armkit.lab.report import _CSS, MARKER, Table, _table_html, prepare_folder
 
 PNGS = ["fk_configuration.png", "ik_solutions.png", "line_tracking.png", "trajectory_pva.png",
         "trajectory_tracking.png", "rotation.png", "zju_configuration.png", "scara_configuration.png"]
+EXAMPLE_ARM = Path(__file__).parents[1] / "examples" / "data" / "my_arm.toml"
 GIFS = ["ik_solutions.gif", "line.gif", "trajectory.gif", "rotation.gif"]
 
 
@@ -139,6 +141,14 @@ def test_lab_refuses_a_robot_that_cannot_be_simulated(tmp_path, capsys):
     assert main(["lab", "--quick", "--robot", str(robot_file), "--out", str(out)]) == 1
     assert "cannot be simulated" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_a_three_joint_arm_is_told_why_line_and_rotation_fail(tmp_path):
+    ctx = LabContext(robot=armkit.load(EXAMPLE_ARM), folder=tmp_path, quick=True, seeds=False)
+    line, rotation = motion.linear_motion(ctx), motion.fixed_point_rotation(ctx)
+    assert line.status == rotation.status == "failed"
+    assert "3 joints cannot in general move its tool point while keeping" in " ".join(line.notes)
+    assert "cannot turn its tool about a fixed point" in " ".join(rotation.notes)
 
 
 def test_tables_drop_empty_columns_and_wide_ones_fit_the_page():

@@ -150,6 +150,10 @@ def linear_motion(ctx: LabContext) -> Section:
         section.status = "failed"
         section.notes.append(f"The tool ended {miss:.1e} m from the end of the line "
                              f"({robot.n} joints; {motion.message}).")
+        if robot.n < 6:
+            section.notes.append(f"move_linear holds the tool's orientation along the line; an arm with "
+                                 f"{robot.n} joints cannot in general move its tool point while keeping all "
+                                 f"three orientation angles.")
     figure = Figure(figsize=(8.5, 3.2))
     ax_position, ax_deviation = figure.subplots(1, 2)
     for k, name in enumerate("xyz"):
@@ -375,6 +379,11 @@ def fixed_point_rotation(ctx: LabContext) -> Section:
     except Unavailable as exc:
         section.status, section.notes = "unavailable", [str(exc)]
         return section
+    if ctx.robot.n <= 3:
+        section.status, section.headline = "failed", f"not attempted: {ctx.robot.n} joints"
+        section.notes.append(f"With {ctx.robot.n} joints nothing is left to move once the tool point is "
+                             f"held: this arm cannot turn its tool about a fixed point (not attempted).")
+        return section
     q0, axis, motion, why = _rotation_plan(ctx, rotate)
     result = _simulate(ctx, motion.t, motion.q)
     rows, turns = [], []
@@ -401,9 +410,6 @@ def fixed_point_rotation(ctx: LabContext) -> Section:
         section.status = "failed"
         section.notes.append(f"The tool turned {turned:.1f} deg (at least {MIN_TURN_DEG:g} deg asked) with "
                              f"its point drifting up to {drift_sim.max():.1e} m: {motion.message}")
-        if ctx.robot.n <= 3:
-            section.notes.append(f"With {ctx.robot.n} joints nothing is left to move once the tool point is "
-                                 f"held: this arm cannot turn its tool about a fixed point.")
     figure = Figure(figsize=(8.5, 3.0))
     ax_angle, ax_drift = figure.subplots(1, 2)
     ax_angle.plot(motion.t, np.degrees(np.unwrap(_signed_turn(motion.poses, motion.poses[0], axis))), lw=1.4)
