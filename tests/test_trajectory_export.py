@@ -68,3 +68,41 @@ def test_refuses_to_overwrite_unless_asked(traj, tmp_path):
 def test_arrays_are_read_only(traj):
     with pytest.raises(ValueError, match="read-only"):
         traj.durations[0] = 5.0
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".npz"])
+def test_read_trajectory_round_trip(traj, tmp_path, suffix):
+    import armkit
+    from armkit.trajectory.export import read_trajectory
+
+    robot = armkit.load("grb400-scara")  # 4 joints
+    four = min_jerk(np.column_stack([WAYPOINTS, WAYPOINTS * 0.01]), [1.0, 1.5])
+    path = tmp_path / f"traj{suffix}"
+    (four.to_npz if suffix == ".npz" else four.to_csv)(path, rate_hz=20.0)
+    samples = four.sample(20.0)
+    t, q, qd = read_trajectory(path, robot)
+    np.testing.assert_array_equal(t, samples.t)
+    np.testing.assert_array_equal(q, samples.q)
+    np.testing.assert_array_equal(qd, samples.qd)
+    with pytest.raises(InputError, match="has 4 joint columns .* PROBOT Anno has 6 joints"):
+        read_trajectory(path, armkit.load("probot-anno"))
+
+
+def test_read_trajectory_csv_rules(tmp_path):
+    import armkit
+    from armkit.trajectory.export import read_trajectory
+
+    robot = armkit.load("grb400-scara")
+    path = tmp_path / "bare.csv"
+    path.write_text("# t q1 q2 q3 q4\n0, 0 0 0 0\n1, 0.1 0 0 0  # end\n")
+    t, q, qd = read_trajectory(path, robot)
+    np.testing.assert_array_equal(t, [0.0, 1.0])
+    assert q.shape == (2, 4) and q[1, 0] == 0.1 and qd is None
+    path.write_text("t,q1,q2,q3,q4\n0,0,0,0,0\n1,0,0,0\n")
+    with pytest.raises(InputError, match="line 3: expected 5 values per row, got 4"):
+        read_trajectory(path, robot)
+    path.write_text("t,q1,q2,q3,q4\n0,0,0,0,0\nq,0,0,0,0\n")
+    with pytest.raises(InputError, match="line 3: expected 5 numbers"):
+        read_trajectory(path, robot)
+    with pytest.raises(InputError, match="does not exist"):
+        read_trajectory(tmp_path / "missing.csv", robot)

@@ -15,6 +15,7 @@ from armkit.cli.app import ALLOW_NEGATIVE, app, console, err_console, load_robot
 from armkit.errors import ArmkitError, InputError
 from armkit.robot import Robot
 from armkit.spatial.rotations import rotation_angle_between
+from armkit.trajectory.export import read_trajectory
 
 if TYPE_CHECKING:  # armkit.sim needs MuJoCo, imported only when a command runs
     from armkit.sim.runner import SimResult
@@ -59,57 +60,6 @@ def export_command(
     if mjcf is not None:
         console.print(f"wrote {write_mjcf(arm, mjcf, overwrite=force, gravity=not no_gravity)}",
                       highlight=False)
-
-
-def read_trajectory(path: Path, robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    """``(t, q, qd)`` from a trajectory file as ``armkit traj --out`` writes it.
-
-    CSV with a header ``t,q1..qn[,qd1..qdn,...]`` (without a header the columns are
-    ``t, q1 .. qn``), or NPZ with one array per column name.
-    """
-    if not path.is_file():
-        raise InputError(f"trajectory file {str(path)!r} does not exist")
-    columns = _npz_columns(path) if path.suffix == ".npz" else _csv_columns(path)
-    q_names = [c for c in columns if c.startswith("q") and c[1:].isdigit()]
-    if len(q_names) != robot.n:
-        raise InputError(f"trajectory file {str(path)!r} has {len(q_names)} joint columns "
-                         f"({', '.join(q_names)}); {robot.name} has {robot.n} joints")
-    if "t" not in columns:
-        raise InputError(f"trajectory file {str(path)!r}: no column 't' (time [s])")
-    qd_names = [f"qd{j}" for j in range(1, robot.n + 1)]
-    qd = np.column_stack([columns[c] for c in qd_names]) if set(qd_names) <= set(columns) else None
-    return columns["t"], np.column_stack([columns[c] for c in q_names]), qd
-
-
-def _csv_columns(path: Path) -> dict[str, np.ndarray]:
-    first = path.read_text(encoding="utf-8").splitlines()[:1]
-    header = [c.strip() for c in first[0].split(",")] if first and not _is_numeric(first[0]) else None
-    try:
-        table = np.loadtxt(path, delimiter=",", skiprows=1 if header else 0, ndmin=2)
-    except ValueError as exc:
-        raise InputError(f"trajectory file {str(path)!r}: not a numeric CSV table: {exc}") from exc
-    if header is None:
-        header = ["t"] + [f"q{j}" for j in range(1, table.shape[1])]
-    if len(header) != table.shape[1]:
-        raise InputError(f"trajectory file {str(path)!r}: {len(header)} column names for "
-                         f"{table.shape[1]} columns")
-    return {name: table[:, k] for k, name in enumerate(header)}
-
-
-def _npz_columns(path: Path) -> dict[str, np.ndarray]:
-    try:
-        with np.load(path) as archive:
-            return {name: np.asarray(archive[name], dtype=float) for name in archive.files}
-    except (OSError, ValueError) as exc:
-        raise InputError(f"trajectory file {str(path)!r}: not a readable NPZ archive: {exc}") from exc
-
-
-def _is_numeric(line: str) -> bool:
-    try:
-        [float(word) for word in line.split(",")]
-    except ValueError:
-        return False
-    return True
 
 
 def _comparison_table(table: PoseComparison, title: str) -> Table:

@@ -16,15 +16,9 @@ from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.robot import Robot
 from armkit.spatial.transforms import transform_from_pose
 from armkit.trajectory._checks import check_waypoints
+from armkit.trajectory.export import read_csv_rows
 
 __all__ = ["joint_waypoints", "joint_waypoints_from_poses", "read_waypoints"]
-
-
-def _numbers(words: list[str]) -> list[float] | None:
-    try:
-        return [float(word) for word in words]
-    except ValueError:
-        return None
 
 
 def _show(values: NDArray[np.float64]) -> str:
@@ -41,33 +35,10 @@ def read_waypoints(path: str | Path, columns: int) -> NDArray[np.float64]:
     columns : int
         Values expected per line (the joint count, or 6 for poses).
     """
-    path = Path(path)
-    try:
-        lines = path.read_text().splitlines()
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read the waypoint file ({exc.strerror})") from exc
-    rows, first = [], True
-    for number, line in enumerate(lines, start=1):
-        text = line.split("#", 1)[0].strip()
-        if not text:
-            continue
-        words = [word.strip() for word in text.replace(",", " ").split()]
-        values = _numbers(words)
-        if values is None:
-            if first:
-                first = False
-                continue
-            raise InputError(f"{path}, line {number}: expected {columns} numbers, got {text!r}")
-        first = False
-        if len(values) != columns:
-            raise InputError(f"{path}, line {number}: expected {columns} values per waypoint, "
-                             f"got {len(values)}")
-        if not np.all(np.isfinite(values)):
-            raise InputError(f"{path}, line {number}: NaN or infinite value in {text!r}")
-        rows.append(values)
+    _, rows = read_csv_rows(path, columns, "waypoint")
     if len(rows) < 2:
         raise InputError(f"{path}: a trajectory needs at least two waypoints, found {len(rows)}")
-    return np.array(rows)
+    return rows
 
 
 def joint_waypoints(robot: Robot, waypoints: ArrayLike) -> NDArray[np.float64]:
