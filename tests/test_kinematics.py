@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit import DHRow, Robot
 from armkit.errors import InputError
-from armkit.kinematics import ChainKernel, fk, geometric_jacobian, joint_frames, pose_error
+from armkit.kinematics import ChainKernel, fk, geometric_jacobian, joint_frames, link_frames, pose_error
 from armkit.spatial import matrix_from_axis_angle, rotation_angle_between, transform_from
 
 RTB_MODELS = {"puma560": "Puma560", "stanford": "Stanford", "ur5": "UR5", "panda": "Panda"}
@@ -241,3 +241,21 @@ def test_pose_error_near_and_at_a_half_turn_keeps_angle_axis_and_sign(distance):
         # Past 5e-3 rad from pi the axis is v / |v|: rounding of R_target R^T (~4e-16) over
         # |v| = 2 sin(angle) >= 1e-2 allows about 1e-13 there.
         np.testing.assert_allclose(e, w, rtol=0, atol=1e-14 if distance < 5e-3 else 1e-13)
+
+
+@pytest.mark.parametrize("function", [fk, joint_frames, geometric_jacobian, link_frames])
+def test_kinematics_functions_check_joint_values(function):
+    chain = armkit.load("ur5").chain
+    np.testing.assert_allclose(np.asarray(function(chain, [0] * 6)[0]),
+                               np.asarray(function(chain, np.zeros(6))[0]), atol=0)  # a list works
+    with pytest.raises(InputError, match=r"6 joints, so expected joint values of shape \(\.\.\., 6\), "
+                                         r"got shape \(5,\)"):
+        function(chain, np.zeros(5))
+    with pytest.raises(InputError, match="got a scalar"):
+        function(chain, 0.0)
+    with pytest.raises(InputError, match=r"expected 6 joint values"):
+        function(chain, "abc")
+    q = np.zeros((3, 6))
+    q[1, 4] = np.nan
+    with pytest.raises(InputError, match=r"expected finite joint values, got nan at index \(1, 4\)"):
+        function(chain, q)

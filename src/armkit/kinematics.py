@@ -43,12 +43,42 @@ def _apply_motion(T: NDArray[np.float64], q_i: NDArray[np.float64], prismatic: b
     T[..., :, 1] = c * y - s * x
 
 
+def _joint_values(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
+    """``q`` as float64 ``(..., n)``, or :class:`InputError` naming the expected and actual shape."""
+    try:
+        q = np.asarray(q, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"q: expected {chain.n} joint values (shape (..., {chain.n})), "
+                         f"got {q!r}") from exc
+    if q.shape[-1:] != (chain.n,):
+        got = "a scalar" if q.ndim == 0 else f"shape {q.shape}"
+        raise InputError(f"q: the chain has {chain.n} joints, so expected joint values of shape "
+                         f"(..., {chain.n}), got {got}")
+    if not np.isfinite(q).all():
+        first = np.argwhere(~np.isfinite(q))[0]
+        raise InputError(f"q: expected finite joint values, got {q[tuple(first)]} at index "
+                         f"{tuple(first.tolist()) if q.ndim > 1 else int(first[0])}")
+    return q
+
+
 def _start(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.broadcast_to(chain.T_between[0], (*q.shape[:-1], 4, 4)).copy()
 
 
-def fk(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Tool poses ``T_base_tool``, shape ``(..., 4, 4)``, for joint values ``(..., n)``."""
+def fk(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
+    """Tool poses ``T_base_tool`` [m], shape ``(..., 4, 4)``, for joint values ``(..., n)``.
+
+    Raises
+    ------
+    InputError
+        If ``q`` is not numbers of shape ``(..., n)`` or holds NaN or infinity (also in
+        :func:`joint_frames`, :func:`link_frames` and :func:`geometric_jacobian`).
+    """
+    return _fk(chain, _joint_values(chain, q))
+
+
+# The unchecked forms below are for callers that have checked q already (Robot.check_q).
+def _fk(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     T = _start(chain, q)
     for i, joint in enumerate(chain.joints):
         _apply_motion(T, q[..., i], joint.kind == "prismatic")
@@ -56,12 +86,15 @@ def fk(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     return T
 
 
-def joint_frames(chain: Chain, q: NDArray[np.float64]) -> tuple[NDArray[np.float64],
-                                                                  NDArray[np.float64]]:
+def joint_frames(chain: Chain, q: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Joint frames (after each motion) ``(..., n, 4, 4)`` and the tool pose ``(..., 4, 4)``.
 
     Joint ``i`` moves about or along the z axis of frame ``i`` of the first result.
     """
+    return _joint_frames(chain, _joint_values(chain, q))
+
+
+def _joint_frames(chain: Chain, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     T = _start(chain, q)
     frames = np.empty((*q.shape[:-1], chain.n, 4, 4))
     for i, joint in enumerate(chain.joints):
@@ -71,19 +104,23 @@ def joint_frames(chain: Chain, q: NDArray[np.float64]) -> tuple[NDArray[np.float
     return frames, T
 
 
-def link_frames(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
+def link_frames(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
     """Poses of the base, every DH link frame and the tool: ``(..., n + 2, 4, 4)``.
 
     Index 0 is the base frame (after any base rows), ``i`` is link frame ``i`` of the DH
     table (after joint ``i``), and ``n + 1`` is the tool.
     """
-    frames, T_tool = joint_frames(chain, q)
+    return _link_frames(chain, _joint_values(chain, q))
+
+
+def _link_frames(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
+    frames, T_tool = _joint_frames(chain, q)
     base = np.broadcast_to(chain.T_base, (*q.shape[:-1], 1, 4, 4))
     links = frames @ np.stack([j.T_after for j in chain.joints])
     return np.concatenate([base, links, T_tool[..., None, :, :]], axis=-3)
 
 
-def geometric_jacobian(chain: Chain, q: NDArray[np.float64],
+def geometric_jacobian(chain: Chain, q: ArrayLike,
                        frame: str = "base") -> NDArray[np.float64]:
     """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``.
 
@@ -93,7 +130,11 @@ def geometric_jacobian(chain: Chain, q: NDArray[np.float64],
         Frame the twist is expressed in. ``"base"``: ``[v; w]`` of the tool origin in base
         coordinates; ``"tool"``: the same twist in tool coordinates.
     """
-    frames, T_tool = joint_frames(chain, q)
+    return _geometric_jacobian(chain, _joint_values(chain, q), frame)
+
+
+def _geometric_jacobian(chain: Chain, q: NDArray[np.float64], frame: str = "base") -> NDArray[np.float64]:
+    frames, T_tool = _joint_frames(chain, q)
     z = frames[..., :3, 2]
     r = T_tool[..., None, :3, 3] - frames[..., :3, 3]
     prismatic = chain.prismatic
@@ -120,8 +161,9 @@ def analytic_jacobian(chain: Chain, q: NDArray[np.float64],
     InputError
         At a gimbal lock of the convention, where the angle rates are undefined.
     """
-    J = geometric_jacobian(chain, q)
-    T = fk(chain, q)
+    q = _joint_values(chain, q)
+    J = _geometric_jacobian(chain, q)
+    T = _fk(chain, q)
     E = angular_velocity_matrix(euler_from_matrix(T, convention), convention)
     det = np.abs(np.linalg.det(E))
     if np.any(det < 1e-9):

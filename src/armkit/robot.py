@@ -168,7 +168,7 @@ class Robot:
         >>> armkit.load("probot-anno").fk([0, 0, 0, 0, 0, 0])[:3, 3].round(4)
         array([0.2289, 0.    , 0.454 ])
         """
-        return kinematics.fk(self.chain, self.check_q(q))
+        return kinematics._fk(self.chain, self.check_q(q))  # checked once, here
 
     def pose(self, q: ArrayLike, convention: str = "xyz-fixed",
              degrees: bool = False) -> NDArray[np.float64]:
@@ -177,11 +177,11 @@ class Robot:
 
     def link_frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """Base, every DH link frame and tool: ``(..., n + 2, 4, 4)``."""
-        return kinematics.link_frames(self.chain, self.check_q(q))
+        return kinematics._link_frames(self.chain, self.check_q(q))
 
     def jacobian(self, q: ArrayLike, frame: str = "base") -> NDArray[np.float64]:
         """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``, in the ``"base"`` or ``"tool"`` frame."""
-        return kinematics.geometric_jacobian(self.chain, self.check_q(q), frame)
+        return kinematics._geometric_jacobian(self.chain, self.check_q(q), frame)
 
     def analytic_jacobian(self, q: ArrayLike, convention: str = "xyz-fixed") -> NDArray[np.float64]:
         """Analytic Jacobian ``(..., 6, n)``: position rates over angle rates in ``convention``."""
