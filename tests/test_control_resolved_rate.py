@@ -167,3 +167,16 @@ def test_step_matches_a_jacobian_from_roboticstoolbox():
         U, s, Vt = np.linalg.svd(J)
         expected = Vt.T @ ((s / (s**2 + damping(s[-1]))) * (U.T @ twist))
         np.testing.assert_allclose(control.step(q, twist).qd, expected, atol=1e-9 * np.abs(expected).max())
+
+
+def test_step_uses_the_public_damping_and_scaling():
+    control = ResolvedRate(PROBOT)
+    twist = np.array([0.5, -0.3, 0.2, 1.0, 0.5, -2.0])
+    for q in (np.zeros(6), np.array([0.2, -0.4, 0.3, 0.5, 1.0, -0.2])):
+        step = control.step(q, twist)
+        assert step.damping == damping(step.sigma_min)
+        free = ResolvedRate(PROBOT, limit_velocity=False).step(q, twist).qd
+        qd, scale = scale_to_limits(free, PROBOT.max_velocity)
+        assert step.scale == scale
+        np.testing.assert_array_equal(step.qd, qd)
+    np.testing.assert_array_equal(damping([0.0, 0.1], threshold=0.0), [0.0, 0.0])

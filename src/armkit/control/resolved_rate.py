@@ -75,11 +75,14 @@ def damping(sigma_min: ArrayLike, threshold: float = DEFAULT_THRESHOLD,
     >>> damping([0.0, 0.02, 0.04, 0.1], threshold=0.04, max_damping=0.04)
     array([0.0016, 0.0012, 0.    , 0.    ])
     """
-    sigma = np.asarray(sigma_min, dtype=float)
-    if threshold <= 0:
-        return np.zeros_like(sigma)
-    ratio = np.minimum(sigma / threshold, 1.0)
-    return (1.0 - ratio**2) * max_damping**2
+    return np.vectorize(_damping, otypes=[float])(np.asarray(sigma_min, dtype=float), threshold, max_damping)
+
+
+def _damping(sigma_min: float, threshold: float, max_damping: float) -> float:
+    """:func:`damping` of one value, in plain floats (the control step calls it directly)."""
+    if sigma_min >= threshold:  # also every sigma_min >= 0 when threshold <= 0
+        return 0.0
+    return (1.0 - (sigma_min / threshold) ** 2) * max_damping**2
 
 
 def scale_to_limits(qd: ArrayLike, max_velocity: ArrayLike) -> tuple[NDArray[np.float64], float]:
@@ -105,10 +108,16 @@ def scale_to_limits(qd: ArrayLike, max_velocity: ArrayLike) -> tuple[NDArray[np.
     (array([1.  , 0.25]), 0.5)
     """
     qd = np.asarray(qd, dtype=float)
-    ratio = np.max(np.abs(qd) / np.asarray(max_velocity, dtype=float), axis=-1)
-    scale = 1.0 / np.maximum(ratio, 1.0)
-    scaled = qd * np.asarray(scale)[..., None]
-    return scaled, (float(scale) if np.ndim(scale) == 0 else scale)
+    inverse_max_velocity = 1.0 / np.asarray(max_velocity, dtype=float)
+    rows = qd.reshape(-1, qd.shape[-1])
+    scale = np.array([_limit_scale(row, inverse_max_velocity) for row in rows]).reshape(qd.shape[:-1])
+    return qd * scale[..., None], (float(scale) if scale.ndim == 0 else scale)
+
+
+def _limit_scale(qd: NDArray[np.float64], inverse_max_velocity: NDArray[np.float64]) -> float:
+    """:func:`scale_to_limits`' factor for one ``(n,)`` row (the control step calls it directly)."""
+    ratio = float((np.abs(qd) * inverse_max_velocity).max())
+    return 1.0 / ratio if ratio > 1.0 else 1.0
 
 
 class RateStep(NamedTuple):
@@ -182,21 +191,17 @@ class ResolvedRate:
         wide = self._n >= 6
         gram = J.dot(J.T) if wide else J.T.dot(J)
         sigma_min = float(np.sqrt(max(lapack.dsyev(gram, compute_v=0)[0][0], 0.0)))
-        lam2 = 0.0
-        if sigma_min < self.threshold:
-            lam2 = (1.0 - (sigma_min / self.threshold) ** 2) * self.max_damping**2
+        lam2 = _damping(sigma_min, self.threshold, self.max_damping)
+        if lam2:
             gram = gram + lam2 * np.eye(gram.shape[0])
         rhs = twist if wide else J.T @ twist
         x, info = lapack.dposv(gram, rhs)[1:]
         if info != 0:  # exactly singular and no damping asked (threshold 0): least squares
             x = np.linalg.lstsq(gram, rhs, rcond=None)[0]
         qd = J.T @ x if wide else x
-        scale = 1.0
-        if self.limit_velocity:
-            ratio = float((np.abs(qd) * self._inverse_max_velocity).max())
-            if ratio > 1.0:
-                scale = 1.0 / ratio
-                qd = qd * scale
+        scale = _limit_scale(qd, self._inverse_max_velocity) if self.limit_velocity else 1.0
+        if scale != 1.0:
+            qd = qd * scale
         return RateStep(qd, sigma_min, lam2, scale)
 
     def step(self, q: NDArray[np.float64], twist: NDArray[np.float64]) -> RateStep:
