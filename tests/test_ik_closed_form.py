@@ -73,13 +73,8 @@ def random_arm(rng, kind, convention, prismatic3=False):
 
 
 # ------------------------------------------------------------------- helpers
-def _limits(chain):
-    return np.array([[j.lower, j.upper] for j in chain.joints])
-
-
 def _random_q(rng, chain, n):
-    lim = _limits(chain)
-    return rng.uniform(lim[:, 0], lim[:, 1], (n, chain.n))
+    return rng.uniform(chain.lower, chain.upper, (n, chain.n))
 
 
 def _joint_distance(chain, q_a, q_b, joints=slice(None)):

@@ -259,3 +259,18 @@ def test_kinematics_functions_check_joint_values(function):
     q[1, 4] = np.nan
     with pytest.raises(InputError, match=r"expected finite joint values, got nan at index \(1, 4\)"):
         function(chain, q)
+
+
+def test_chain_limits_are_read_only_arrays_and_within_limits_uses_them():
+    robot = armkit.load("panda")
+    chain = robot.chain
+    np.testing.assert_array_equal(chain.lower, [j.lower for j in chain.joints])
+    np.testing.assert_array_equal(chain.upper, [j.upper for j in chain.joints])
+    np.testing.assert_array_equal(robot.limits, np.stack([chain.lower, chain.upper], axis=1))
+    with pytest.raises(ValueError):
+        chain.lower[0] = 0.0
+    q = robot.random_q(4, rng=0)
+    q[1, 3] = chain.upper[3] + 1e-6
+    q[2, 0] = chain.lower[0] - 0.5e-9  # within the slack
+    np.testing.assert_array_equal(chain.within_limits(q), [True, False, True, True])
+    np.testing.assert_array_equal(robot.within_limits(q), chain.within_limits(q))

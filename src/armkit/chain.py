@@ -24,7 +24,10 @@ from numpy.typing import NDArray
 from armkit.errors import RobotDefinitionError
 from armkit.spatial.transforms import rot_x, rot_z, trans_x, trans_z
 
-__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "chain_from_dh"]
+__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERANCE", "chain_from_dh"]
+
+#: Slack [rad or m] allowed beyond a joint limit before a value counts as outside it.
+LIMIT_TOLERANCE = 1e-9
 
 JointKind = Literal["revolute", "prismatic"]
 DHConvention = Literal["standard", "modified"]
@@ -114,7 +117,13 @@ class Joint:
 
 @dataclass(frozen=True)
 class Chain:
-    """A serial chain: base transform, joints in order, tool transform."""
+    """A serial chain: base transform, joints in order, tool transform.
+
+    Attributes
+    ----------
+    lower, upper : ndarray (n,)
+        The joints' position limits [rad or m], read-only (computed once).
+    """
 
     joints: tuple[Joint, ...]
     T_base: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
@@ -131,6 +140,8 @@ class Chain:
         links += [a.T_after @ b.T_before for a, b in zip(self.joints, self.joints[1:], strict=False)]
         links.append(self.joints[-1].T_after @ self.T_tool)
         object.__setattr__(self, "T_between", _frozen(np.stack(links)))
+        object.__setattr__(self, "lower", _frozen([j.lower for j in self.joints]))
+        object.__setattr__(self, "upper", _frozen([j.upper for j in self.joints]))
 
     @property
     def n(self) -> int:
@@ -141,6 +152,18 @@ class Chain:
     def prismatic(self) -> NDArray[np.bool_]:
         """``(n,)`` mask of prismatic joints."""
         return np.array([j.kind == "prismatic" for j in self.joints])
+
+    def within_limits(self, q: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Whether each configuration ``q`` ``(..., n)`` (float, not checked) is inside all
+        position limits, to :data:`LIMIT_TOLERANCE`: ``(...)``.
+
+        Examples
+        --------
+        >>> chain = chain_from_dh([DHRow(0, 1.0, 0, 0)], "standard", limits=[(-1.0, 1.0)])
+        >>> chain.within_limits(np.array([[0.5], [1.5]]))
+        array([ True, False])
+        """
+        return np.all((q >= self.lower - LIMIT_TOLERANCE) & (q <= self.upper + LIMIT_TOLERANCE), axis=-1)
 
 
 def chain_from_dh(rows: Sequence[DHRow], convention: DHConvention, *,

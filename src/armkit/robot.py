@@ -9,14 +9,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import kinematics
-from armkit.chain import Chain, DHConvention, DHRow, chain_from_dh
+from armkit.chain import LIMIT_TOLERANCE, Chain, DHConvention, DHRow, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.spatial.transforms import pose_from_transform
 
 __all__ = ["DHDescription", "Robot"]
-
-#: Slack [rad or m] allowed beyond a joint limit before a value counts as outside it.
-LIMIT_TOLERANCE = 1e-9
 
 
 @dataclass(frozen=True)
@@ -98,7 +95,7 @@ class Robot:
     @property
     def limits(self) -> NDArray[np.float64]:
         """``(n, 2)`` lower/upper position limits [rad or m]."""
-        return np.array([[j.lower, j.upper] for j in self.chain.joints])
+        return np.stack([self.chain.lower, self.chain.upper], axis=1)
 
     @property
     def max_velocity(self) -> NDArray[np.float64]:
@@ -129,10 +126,7 @@ class Robot:
 
     def within_limits(self, q: ArrayLike) -> NDArray[np.bool_]:
         """Whether each configuration ``(..., n)`` lies inside all position limits, ``(...)``."""
-        q = self.check_q(q)
-        lim = self.limits
-        return np.all((q >= lim[:, 0] - LIMIT_TOLERANCE) & (q <= lim[:, 1] + LIMIT_TOLERANCE),
-                      axis=-1)
+        return self.chain.within_limits(self.check_q(q))
 
     def limit_violations(self, q: ArrayLike, degrees: bool = False) -> list[str]:
         """One message per joint value of a single configuration outside its limits.

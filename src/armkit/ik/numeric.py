@@ -41,10 +41,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import lapack
 
-from armkit.chain import Chain
+from armkit.chain import LIMIT_TOLERANCE, Chain
 from armkit.errors import InputError
 from armkit.kinematics import HALF_TURN_NORM, ChainKernel, pose_error
-from armkit.robot import LIMIT_TOLERANCE
 
 __all__ = ["IKResult", "NumericIK", "numeric_ik", "wrap_into_limits"]
 
@@ -129,16 +128,12 @@ def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArra
     3.2832
     """
     q = np.asarray(q, dtype=float)
-    lower, upper = _limits(chain)
+    lower, upper = chain.lower, chain.upper
     turns_low = np.ceil((lower - LIMIT_TOLERANCE - q) / (2 * np.pi))
     turns_high = np.floor((upper + LIMIT_TOLERANCE - q) / (2 * np.pi))
     turns = np.round((np.asarray(reference, dtype=float) - q) / (2 * np.pi))
     turns = np.where(turns_low <= turns_high, np.clip(turns, turns_low, turns_high), turns)
     return np.where(chain.prismatic, q, q + 2 * np.pi * turns)
-
-
-def _limits(chain: Chain) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    return (np.array([j.lower for j in chain.joints]), np.array([j.upper for j in chain.joints]))
 
 
 class _TargetError:
@@ -200,7 +195,7 @@ class NumericIK:
         self.damping_gain, self.damping = damping_gain, damping
         self.max_iterations, self.max_restarts, self.time_budget = max_iterations, max_restarts, time_budget
         self.respect_limits = respect_limits
-        lower, upper = _limits(chain)
+        lower, upper = chain.lower, chain.upper
         self.seed_low = np.where(np.isfinite(lower), lower, -_UNBOUNDED_SEED_RANGE)
         self.seed_high = np.where(np.isfinite(upper), upper, _UNBOUNDED_SEED_RANGE)
         self.bounds = list(zip(lower.tolist(), upper.tolist(), (~chain.prismatic).tolist(), strict=True))

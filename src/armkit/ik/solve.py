@@ -31,11 +31,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armkit.chain import Chain
+from armkit.chain import LIMIT_TOLERANCE, Chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik.closed_form import CHUNK, ClosedFormSolver, closed_form_solver
 from armkit.ik.numeric import numeric_ik, wrap_into_limits
-from armkit.robot import LIMIT_TOLERANCE
 from armkit.spatial.transforms import check_transform
 
 __all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
@@ -135,15 +134,6 @@ class IKSolutionsBatch(Sequence[IKSolutions]):
                            self.position_error[i, :k], self.orientation_error[i, :k])
 
 
-def _limits(chain: Chain) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    return (np.array([j.lower for j in chain.joints]), np.array([j.upper for j in chain.joints]))
-
-
-def _inside(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.bool_]:
-    lower, upper = _limits(chain)
-    return np.all((q >= lower - LIMIT_TOLERANCE) & (q <= upper + LIMIT_TOLERANCE), axis=-1)
-
-
 def _residuals(solver: ClosedFormSolver, q: NDArray[np.float64],
                T_target: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """FK residuals of candidates ``q`` ``(N, k, n)`` of targets ``(N, 4, 4)``: [m], [rad].
@@ -206,7 +196,7 @@ def _candidates_chunk(solver: ClosedFormSolver, T: NDArray[np.float64], near: ND
     position_error, orientation_error = _residuals(solver, q, T)
     _refine(chain, q, T, position_error, orientation_error, valid)
     keep = valid & (position_error <= VERIFY_TOLERANCE) & (orientation_error <= VERIFY_TOLERANCE)
-    inside = _inside(chain, q)
+    inside = chain.within_limits(q)
     first = keep & inside if within_limits else keep
     order = np.argsort(np.where(first, _distance(q, near, weights), np.inf), axis=1, kind="stable")
     out = {"q": q, "keep": keep, "inside": inside, "family": family & keep,
@@ -239,7 +229,7 @@ def _nearest(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.
     q = wrap_into_limits(solver.chain, q, near[:, None, :])
     usable = valid & np.isfinite(q).all(axis=-1)
     if within_limits:
-        usable &= _inside(solver.chain, q)
+        usable &= solver.chain.within_limits(q)
     distance = np.where(usable, _distance(q, near, weights), np.inf)
     best = np.argmin(distance, axis=1)
     q = np.take_along_axis(q, best[:, None, None], axis=1)
@@ -265,7 +255,7 @@ def _unreachable(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64]
 
 
 def _outside_limits(chain: Chain, q: NDArray[np.float64], label: str) -> JointLimitError:
-    lower, upper = _limits(chain)
+    lower, upper = chain.lower, chain.upper
     bad = [f"{j.name} = {v:.4g} not in [{lo:.4g}, {hi:.4g}]"
            for j, v, lo, hi in zip(chain.joints, q, lower, upper, strict=True)
            if not lo - LIMIT_TOLERANCE <= v <= hi + LIMIT_TOLERANCE]
