@@ -217,15 +217,17 @@ def test_reachable_only_outside_the_limits():
     T = narrow.fk(np.full(6, 0.5))
     with pytest.raises(JointLimitError, match="reachable, but only outside the joint limits"):
         narrow.ik(T)
-    with pytest.raises(JointLimitError, match="within_limits=False"):
+    with pytest.raises(JointLimitError, match="outside the limits with within_limits=False or "
+                                              "'armkit ik --outside'"):
         narrow.ik(T, all=True)
     assert contains(narrow, narrow.ik(T, all=True, within_limits=False), np.full(6, 0.5))
 
 
 def test_all_solutions_of_a_chain_without_closed_form():
     panda = armkit.load("panda")
-    with pytest.raises(NoClosedFormError, match="numeric IK returns one solution per seed: "
-                                                r"call ik\(T, near=q_seed\)"):
+    with pytest.raises(NoClosedFormError, match="numeric IK returns one solution per seed: solve "
+                                                r"once per seed configuration, near=q_seed or "
+                                                r"'armkit ik --near Q\.\.\.'"):
         panda.ik(panda.fk(np.zeros(7)), all=True)
     with pytest.raises(NoClosedFormError, match="a task mask needs the numeric solver"):
         armkit.load("ur5").ik(np.eye(4), all=True, mask=[1, 1, 1, 0, 0, 0])

@@ -261,7 +261,8 @@ def _outside_limits(chain: Chain, q: NDArray[np.float64], label: str) -> JointLi
            if not lo - LIMIT_TOLERANCE <= v <= hi + LIMIT_TOLERANCE]
     return JointLimitError(
         f"{label}the target pose is reachable, but only outside the joint limits (e.g. "
-        f"{', '.join(bad)}); pass within_limits=False to get such solutions")
+        f"{', '.join(bad)}): ask for solutions outside the limits with within_limits=False or "
+        f"'armkit ik --outside'")
 
 
 def _check_inputs(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
@@ -410,7 +411,8 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
                   else str(solver))
         raise NoClosedFormError(
             f"all=True asks for every solution, but {reason}; numeric IK returns one "
-            f"solution per seed: call ik(T, near=q_seed) once per seed configuration")
+            f"solution per seed: solve once per seed configuration, near=q_seed or "
+            f"'armkit ik --near Q...'")
     labels = _Labels(len(T) if batch else 0)
     if not closed:
         q = np.stack([_numeric_one(chain, T[i], near[i], within_limits, labels[i], numeric_options)
