@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
+from armkit._time import even_time_grid
 from armkit.control.motions import DEFAULT_DT, _check_positive, _check_start, track_poses
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError, UnreachableError
@@ -227,7 +228,7 @@ def cartesian_line(robot: Robot, q0: ArrayLike, T_goal: ArrayLike, duration: flo
     T_goal = check_transform(T_goal, "T_goal")
     duration = _check_positive(duration, "duration", "s")
     rate = _check_positive(rate, "rate", "Hz")
-    t = np.linspace(0.0, duration, max(1, int(np.ceil(duration * rate - 1e-9))) + 1)
+    t = even_time_grid(duration, 1.0 / rate)
     poses, twists, twist_rates = line_poses(robot.fk(q0), T_goal, t, duration)
     if method == "ik":
         q = _by_ik(robot, q0, poses, t, _check_positive(max_joint_step, "max_joint_step", "rad or m"))

@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
+from armkit._time import even_time_grid
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError
 from armkit.kinematics import pose_error
@@ -139,12 +140,6 @@ def _check_vector(value: ArrayLike, name: str, unit: str) -> NDArray[np.float64]
     if not np.all(np.isfinite(v)):
         raise InputError(f"{name}: contains NaN or infinite values: {v.tolist()}")
     return v
-
-
-def _time_grid(duration: float, dt: float) -> NDArray[np.float64]:
-    """Times 0 .. duration with steps of at most ``dt`` (the last step lands on ``duration``)."""
-    steps = max(1, int(np.ceil(duration / dt - 1e-9)))
-    return np.linspace(0.0, duration, steps + 1)
 
 
 def _limit_stop(lower: NDArray[np.float64], upper: NDArray[np.float64], q: NDArray[np.float64],
@@ -311,7 +306,7 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
         displacement = T0[:3, :3] @ displacement
     elif frame != "base":
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
-    t = _time_grid(duration, dt)
+    t = even_time_grid(duration, dt)
     s = quintic(0.0, 1.0, duration).sample(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     reference[:, :3, 3] += s[:, None] * displacement
@@ -403,7 +398,7 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
         axis = T0[:3, :3] @ axis
     elif frame != "base":
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
-    t = _time_grid(total_time, dt)
+    t = even_time_grid(total_time, dt)
     s = t / total_time if constant_rate else quintic(0.0, 1.0, total_time).sample(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     turns = Rotation.from_rotvec(np.outer(s * signed_angle, axis)).as_matrix()

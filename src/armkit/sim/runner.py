@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicHermiteSpline, CubicSpline
 
+from armkit._time import even_time_grid
 from armkit.errors import InputError
 from armkit.export.mjcf import mjcf_from_robot
 from armkit.export.physical import physical_model
@@ -225,8 +226,7 @@ class Simulation:
         if not (duration > 0 and settle >= 0):
             raise InputError(f"duration {duration}, settle {settle}: expected a positive move time "
                              f"and a non-negative settling time [s]")
-        samples = max(2, int(round(duration / self.timestep)) + 1)
-        t = np.linspace(0.0, duration, samples)
+        t = even_time_grid(duration, self.timestep)
         q, qd = quintic(q_start, q_goal, duration).sample(t)[:2]
         if settle > 0:
             t, q, qd = np.append(t, duration + settle), np.vstack([q, q_goal]), np.vstack([qd, 0 * q_goal])

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
+from armkit._time import rate_time_grid
 from armkit.errors import InputError
 from armkit.trajectory import export
 from armkit.trajectory._checks import check_finite
@@ -121,10 +122,7 @@ class JointTrajectory:
         rate = float(check_finite(rate_hz, "rate_hz"))
         if rate <= 0:
             raise InputError(f"rate_hz: expected a positive sampling rate (Hz), got {rate:g}")
-        count = int(np.floor(self.duration * rate + 1e-9))
-        t = np.arange(count + 1) / rate
-        if self.duration - t[-1] > TIME_TOLERANCE * max(1.0, self.duration):
-            t = np.append(t, self.duration)
+        t = rate_time_grid(self.duration, rate, TIME_TOLERANCE * max(1.0, self.duration))
         return TrajectorySamples(t, *self._evaluate(t, 4))
 
     # ----------------------------------------------------------------- peaks
