@@ -113,10 +113,6 @@ def ik_check(ctx: LabContext) -> Section:
         "tool pose is compared with the target."
         + (" The report computed with pi/2 where it printed 1.57; the targets here use pi/2." if ctx.seeds
            else " The targets are the tool poses of random configurations inside the limits.")))
-    if not hasattr(robot, "ik"):
-        section.status = "unavailable"
-        section.notes.append("Robot.ik is not part of this armkit build yet.")
-        return section
     if ctx.seeds:
         targets = [(np.array(p), np.array(s), e) for p, s, e in published.PROBOT_IK]
         listed_counts = " + ".join(str(len(t[1])) for t in targets)

@@ -2,26 +2,25 @@
 through waypoints and a rotation about the tool point, each computed by armkit and then
 driven in MuJoCo (gravity on, gravity compensation, servos at 1 kHz).
 
-Each function returns a :class:`~armkit.lab.report.Section`; when a piece of armkit it
-needs (``armkit.control``, ``armkit.trajectory``, ``Robot.ik``) is missing it returns the
-section marked unavailable, with no numbers.
+Each function returns a :class:`~armkit.lab.report.Section`.
 """
 
 from __future__ import annotations
-
-import importlib
 
 import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
 from armkit import animation
+from armkit.control import move_linear, rotate_about_tool_point
 from armkit.lab import published
 from armkit.lab.context import LabContext, fmt, fmt_error, fmt_q, pose_from_transform, transform_from_pose
 from armkit.lab.report import Section, Table
+from armkit.plots import plot_pva
 from armkit.robot import Robot
 from armkit.sim.runner import SimResult
 from armkit.spatial.rotations import rotation_angle_between
+from armkit.trajectory import plan_trajectory
 
 __all__ = ["fixed_point_rotation", "linear_motion", "ready_configuration", "trajectory_experiment"]
 
@@ -30,18 +29,6 @@ ROTATION_RATE = 0.2  # rad/s, for a user's arm
 USER_ROTATION_ANGLE = np.radians(60.0)
 MIN_TURN_DEG = 40.0  # the seed experiment's minimum
 MOTION_TOLERANCE = 1e-3  # m: the reports' millimetre level; a worse end or drift counts as failed
-
-
-class Unavailable(Exception):
-    """A module or function the experiment needs is not in this armkit build."""
-
-
-def require(module: str, name: str):
-    """``module.name``, or :class:`Unavailable` naming what is missing."""
-    try:
-        return getattr(importlib.import_module(module), name)
-    except (ImportError, AttributeError) as exc:
-        raise Unavailable(f"{module}.{name} is not part of this armkit build yet") from exc
 
 
 def ready_configuration(robot: Robot, rng: np.random.Generator) -> NDArray[np.float64]:
@@ -85,7 +72,7 @@ def _line_deviation(points: NDArray, start: NDArray, displacement: NDArray) -> N
     return np.linalg.norm(points - (start + s[:, None] * displacement), axis=-1)
 
 
-def _linear_plan(ctx: LabContext, move_linear) -> tuple[NDArray, NDArray, object]:
+def _linear_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object]:
     robot = ctx.robot
     if ctx.seeds:
         q0 = np.zeros(6)
@@ -109,13 +96,8 @@ def linear_motion(ctx: LabContext) -> Section:
         "loop through the Jacobian (resolved rate, orientation held). The joint motion is then "
         "driven in MuJoCo twice: with position and velocity servos, and with the velocity servo "
         "alone" + (", as the report published joint velocities to Gazebo." if ctx.seeds else ".")))
-    try:
-        move_linear = require("armkit.control", "move_linear")
-    except Unavailable as exc:
-        section.status, section.notes = "unavailable", [str(exc)]
-        return section
     robot = ctx.robot
-    q0, displacement, motion = _linear_plan(ctx, move_linear)
+    q0, displacement, motion = _linear_plan(ctx)
     start = motion.poses[0, :3, 3]
     both = _simulate(ctx, motion.t, motion.q)
     velocity = _simulate(ctx, motion.t, motion.q, mode="velocity")
@@ -185,8 +167,6 @@ def _waypoints(ctx: LabContext) -> tuple[NDArray, NDArray | None, NDArray | None
         span = np.where(robot.chain.prismatic, 0.1, 0.5)
         q = [q0] + [np.clip(q0 + ctx.rng.uniform(-span, span), *robot.limits.T) for _ in range(3)]
         return np.array(q), None, None, np.full(3, 4.0)
-    if not hasattr(robot, "ik"):
-        raise Unavailable("Robot.ik is not part of this armkit build yet")
     poses = np.array(published.PROBOT_WAYPOINT_POSES)
     q, near = [], np.zeros(6)
     for pose in poses:
@@ -250,12 +230,7 @@ def trajectory_experiment(ctx: LabContext) -> Section:
         + ("Waypoints given as poses are solved by IK, each nearest the previous solution. " if ctx.seeds
            else "The waypoints are a well-conditioned configuration and three random moves from it. ")
         + "MuJoCo tracks the 1 kHz samples with gravity on."))
-    try:
-        plan_trajectory = require("armkit.trajectory", "plan_trajectory")
-        q, poses, report_q, durations = _waypoints(ctx)
-    except Unavailable as exc:
-        section.status, section.notes = "unavailable", [str(exc)]
-        return section
+    q, poses, report_q, durations = _waypoints(ctx)
     robot = ctx.robot
     trajectory = plan_trajectory(robot, q, durations)
     samples = trajectory.sample(1000.0)
@@ -284,12 +259,8 @@ def trajectory_experiment(ctx: LabContext) -> Section:
                                  "max |q_MuJoCo - q_command|"], limit_rows, note=note))
     section.headline = (f"{trajectory.duration:.0f} s, within limits; tracked in MuJoCo to "
                         f"{position_error.max():.1e} m, {rotation_error.max():.1e} rad")
-    try:
-        plot_pva = require("armkit.plots", "plot_pva")
-        _save(ctx, plot_pva(trajectory, robot), "trajectory_pva.png", "Position, velocity and "
-              "acceleration of every joint (dots: waypoints, dashed: limits).", section)
-    except Unavailable as exc:
-        section.notes.append(f"P-V-A plot: {exc}.")
+    _save(ctx, plot_pva(trajectory, robot), "trajectory_pva.png", "Position, velocity and "
+          "acceleration of every joint (dots: waypoints, dashed: limits).", section)
     figure = Figure(figsize=(8.5, 3.0))
     ax_joint, ax_tool = figure.subplots(1, 2)
     for j, name in enumerate(robot.joint_names):
@@ -336,20 +307,20 @@ def rotation_axes(robot: Robot, q0: NDArray) -> list[tuple[NDArray, str]]:
     return candidates
 
 
-def _rotation_plan(ctx: LabContext, rotate) -> tuple[NDArray, NDArray, object, str]:
+def _rotation_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object, str]:
     """Start, axis, the computed motion, and a sentence on why this axis."""
     robot = ctx.robot
     if ctx.seeds:  # the twist [v; w] = [0, 0, 0, -0.2, 0, 0]: 0.2 rad/s about -x
         w = np.array(published.PROBOT_ROTATION_TWIST[3:])
         angle = np.radians(45.0) if ctx.quick else 2 * np.pi
         axis = w / np.linalg.norm(w)
-        motion = rotate(robot, np.zeros(6), axis, angle, rate=float(np.linalg.norm(w)))
+        motion = rotate_about_tool_point(robot, np.zeros(6), axis, angle, rate=float(np.linalg.norm(w)))
         return np.zeros(6), axis, motion, "The axis is the report's: -x of the base frame."
     q0 = ready_configuration(robot, ctx.rng)
     T0 = robot.fk(q0)
     best, best_turn = None, -1.0
     for axis, why in rotation_axes(robot, q0):
-        motion = rotate(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE)
+        motion = rotate_about_tool_point(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE)
         turn = float(np.abs(_signed_turn(motion.poses, T0, axis)).max())
         held = motion.orientation_error < 1e-3 and motion.max_position_error < 1e-3
         if motion.completed and held:
@@ -359,7 +330,8 @@ def _rotation_plan(ctx: LabContext, rotate) -> tuple[NDArray, NDArray, object, s
             best, best_turn = (q0, axis, motion, why), turn
     if best is None:
         axis, why = rotation_axes(robot, q0)[0]
-        best = (q0, axis, rotate(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE), why)
+        turn = rotate_about_tool_point(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE)
+        best = (q0, axis, turn, why)
     q0, axis, motion, why = best
     return q0, axis, motion, (f"No candidate axis (base x, perpendicular to the last joint's axis, base y, "
                               f"base z) could be followed for {np.degrees(USER_ROTATION_ANGLE):.0f} deg; "
@@ -374,17 +346,12 @@ def fixed_point_rotation(ctx: LabContext) -> Section:
         + (" (the report's twist [0, 0, 0, -0.2, 0, 0] about the base x axis at the home pose)" if ctx.seeds
            else "") + " while the Jacobian loop keeps the tool position; the motion "
         "stops at the first joint limit. MuJoCo then drives the joint motion with gravity on."))
-    try:
-        rotate = require("armkit.control", "rotate_about_tool_point")
-    except Unavailable as exc:
-        section.status, section.notes = "unavailable", [str(exc)]
-        return section
     if ctx.robot.n <= 3:
         section.status, section.headline = "failed", f"not attempted: {ctx.robot.n} joints"
         section.notes.append(f"With {ctx.robot.n} joints nothing is left to move once the tool point is "
                              f"held: this arm cannot turn its tool about a fixed point (not attempted).")
         return section
-    q0, axis, motion, why = _rotation_plan(ctx, rotate)
+    q0, axis, motion, why = _rotation_plan(ctx)
     result = _simulate(ctx, motion.t, motion.q)
     rows, turns = [], []
     for label, poses in (("armkit (computed)", motion.poses), ("MuJoCo (servos, gravity)", result.T_tool)):

@@ -20,13 +20,12 @@ __all__ = ["MARKER", "Section", "Table", "prepare_folder", "status_label", "writ
 
 MARKER = ".armkit-report"
 _MIME = {".png": "image/png", ".gif": "image/gif"}
-_COLORS = {"ok": "#1e7b34", "unavailable": "#8a6d00", "failed": "#b00020"}
+_COLORS = {"ok": "#1e7b34", "failed": "#b00020"}
 
 
 def status_label(status: str, seeds: bool) -> str:
     """The words for a section status: a seed experiment is "reproduced", a user's arm "checked"."""
-    return {"ok": "reproduced" if seeds else "checked", "unavailable": "not available",
-            "failed": "failed"}[status]
+    return {"ok": "reproduced" if seeds else "checked", "failed": "failed"}[status]
 
 
 @dataclass
@@ -46,8 +45,8 @@ class Table:
 class Section:
     """One experiment of the report.
 
-    ``status`` is ``"ok"``, ``"unavailable"`` (a piece of armkit it needs is missing; no
-    numbers are shown) or ``"failed"`` (it raised an error, shown as is). ``images`` are
+    ``status`` is ``"ok"`` or ``"failed"`` (it raised an error, or missed its target; the
+    message is shown as is). ``images`` are
     ``(file name in the report folder, caption)``.
     """
 
@@ -119,11 +118,10 @@ def _section_html(folder: Path, section: Section, seeds: bool) -> str:
     parts = [f'<section id="{section.key}"><h2>{_cell(section.title)}{badge}</h2>',
              "".join(f"<p>{_cell(p)}</p>" for p in section.intro.split("\n\n") if p)]
     parts += [f'<p class="note">{_cell(n)}</p>' for n in section.notes]
-    if section.status != "unavailable":
-        parts += [_table_html(t) for t in section.tables]
-        if section.images:
-            parts.append('<div class="figures">' + "".join(
-                _image_html(folder, name, caption) for name, caption in section.images) + "</div>")
+    parts += [_table_html(t) for t in section.tables]
+    if section.images:
+        parts.append('<div class="figures">' + "".join(
+            _image_html(folder, name, caption) for name, caption in section.images) + "</div>")
     parts.append("</section>")
     return "\n".join(parts)
 
