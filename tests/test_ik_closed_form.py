@@ -437,3 +437,15 @@ def test_batches_over_several_chunks_match_single_poses(name):
         np.testing.assert_allclose(batch.q[i, j][one.valid], one.q[one.valid], rtol=0, atol=1e-12)
         F = fk(robot.chain, batch.q[i, j][batch.valid[i, j]])
         np.testing.assert_allclose(F, np.broadcast_to(T[i, j], F.shape), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["probot-anno", "ur5", "puma560", "zju-i"])
+def test_pose_difference_is_fk_minus_target(name):
+    """The solver's component-major verification FK equals kinematics.fk, candidate by candidate."""
+    chain = armkit.load(name).chain
+    rng = np.random.default_rng(5)
+    q = _random_q(rng, chain, 12).reshape(3, 4, chain.n)
+    T = fk(chain, _random_q(rng, chain, 3))
+    expected = (fk(chain, q)[..., :3, :] - T[:, None, :3, :]).transpose(2, 3, 1, 0)
+    np.testing.assert_allclose(closed_form_solver(chain).pose_difference(q, T), expected,
+                               rtol=0, atol=1e-14)
