@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from armkit.trajectory.peaks import segment_peaks
+from armkit.errors import InputError
+from armkit.trajectory.peaks import segment_peaks, segment_ranges
 
 
 def sampled_peaks(coefficients, durations, order, count=20001):
@@ -42,3 +44,39 @@ def test_interior_peak_of_the_rest_to_rest_quintic():
     assert segment_peaks(coefficients, durations, 1)[0, 0] == 15 / 8
     np.testing.assert_allclose(segment_peaks(coefficients, durations, 2)[0, 0], 10 / np.sqrt(3), rtol=1e-14)
     np.testing.assert_allclose(segment_peaks(coefficients, durations, 3)[0, 0], 60.0, rtol=1e-14)
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), degree=st.integers(1, 5))
+def test_exact_ranges_bound_and_match_dense_samples(seed, degree):
+    rng = np.random.default_rng(seed)
+    coefficients = np.zeros((6, 3, 2))
+    coefficients[:degree + 1] = rng.normal(0, 1, (degree + 1, 3, 2))
+    durations = rng.uniform(0.2, 3.0, 3)
+    low, high = segment_ranges(coefficients, durations)
+    for i, T in enumerate(durations):
+        q = np.polynomial.polynomial.polyval(np.linspace(0, T, 20001), coefficients[:, i, :])
+        assert np.all(low[i] <= q.min(axis=1) + 1e-12) and np.all(high[i] >= q.max(axis=1) - 1e-12)
+        np.testing.assert_allclose(low[i], q.min(axis=1), rtol=1e-6, atol=1e-9)
+        np.testing.assert_allclose(high[i], q.max(axis=1), rtol=1e-6, atol=1e-9)
+
+
+def test_position_limit_violations_find_the_overshoot_between_waypoints():
+    import armkit
+    from armkit.chain import LIMIT_TOLERANCE
+    from armkit.trajectory import min_jerk
+
+    robot = armkit.load("probot-anno")                   # q2 limits +-2.00713 rad
+    inside = min_jerk([[0] * 6, [0, 1.9, 0, 0, 0, 0], [0] * 6], [1.0, 1.0])
+    assert inside.position_limit_violations(robot) == []
+    overshoot = min_jerk([[0] * 6, [0, 1.9, 0, 0, 0, 0], [0] * 6], [1.0, 0.3])
+    assert robot.within_limits(overshoot.waypoints).all()
+    (message,) = overshoot.position_limit_violations(robot, degrees=True)
+    assert message.startswith("joint q2 reaches 0 .. 209.6") and "limits [-115, 115] deg" in message
+    high = overshoot.position_range[1][1]
+    assert high >= overshoot.sample(2000.0).q[:, 1].max()
+    upper = robot.limits[0, 1]                          # a waypoint exactly on a limit is allowed
+    on_limit = min_jerk([[upper + 0.5 * LIMIT_TOLERANCE] + [0] * 5, [0] * 6], [1.0])
+    assert on_limit.position_limit_violations(robot) == []
+    with pytest.raises(InputError, match="GRB400 SCARA has 4 joints, the trajectory 6"):
+        overshoot.position_limit_violations(armkit.load("grb400-scara"))

@@ -69,14 +69,6 @@ def _waypoint_table(robot: Robot, traj: JointTrajectory) -> Table:
     return table
 
 
-def _warn_position_limits(robot: Robot, q: np.ndarray) -> None:
-    low, high = robot.limits.T
-    for j, name in enumerate(robot.joint_names):
-        if q[:, j].min() < low[j] or q[:, j].max() > high[j]:
-            warn(f"joint {name} leaves its limits [{low[j]:.4g}, {high[j]:.4g}] between waypoints "
-                 f"(range {q[:, j].min():.4g} .. {q[:, j].max():.4g})")
-
-
 @app.command("traj", context_settings=ALLOW_NEGATIVE)
 def traj_command(
     robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
@@ -125,7 +117,8 @@ def traj_command(
                          f"{wanted}, got {len(duration_values)}")
     traj = plan_trajectory(arm, rows, segment_durations, poses=poses, convention=euler)
     samples = traj.sample(rate)
-    _warn_position_limits(arm, traj.sample(max(rate, 2000.0 / traj.duration)).q)
+    for message in traj.position_limit_violations(arm):
+        warn(message)
     if poses:
         console.print(_waypoint_table(arm, traj))
     console.print(_summary(arm, traj))

@@ -19,10 +19,12 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
 from armkit._time import rate_time_grid
+from armkit.chain import LIMIT_TOLERANCE
 from armkit.errors import InputError
+from armkit.robot import Robot
 from armkit.trajectory import export
 from armkit.trajectory._checks import check_finite
-from armkit.trajectory.peaks import segment_peaks
+from armkit.trajectory.peaks import segment_peaks, segment_ranges
 from armkit.trajectory.polynomial import TIME_TOLERANCE
 
 __all__ = ["JointTrajectory", "TrajectorySamples"]
@@ -129,6 +131,53 @@ class JointTrajectory:
     def segment_peaks(self, order: int) -> NDArray[np.float64]:
         """Exact largest ``|d^order q / dt^order|`` per segment and joint, ``(N, n)`` (order 1, 2 or 3)."""
         return segment_peaks(self.coefficients, self.durations, order)
+
+    @property
+    def position_range(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Exact lowest and highest ``q`` per joint over the whole trajectory, two ``(n,)`` arrays.
+
+        A quintic or min-jerk spline can overshoot its waypoints; these are its true extremes
+        (turning points between waypoints included), not samples.
+        """
+        low, high = segment_ranges(self.coefficients, self.durations)
+        return low.min(axis=0), high.max(axis=0)
+
+    def position_limit_violations(self, robot: Robot, degrees: bool = False) -> list[str]:
+        """One message per joint whose exact range leaves ``robot``'s position limits.
+
+        Uses the same tolerance as :meth:`Robot.within_limits` (``LIMIT_TOLERANCE``).
+
+        Parameters
+        ----------
+        robot : Robot
+            The arm the trajectory is for (``robot.n`` joints).
+        degrees : bool
+            Show revolute values and limits in degrees.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> from armkit.trajectory import min_jerk
+        >>> robot = armkit.load("probot-anno")        # q2 within +-115 deg
+        >>> traj = min_jerk([[0, 0, 0, 0, 0, 0], [0, 1.9, 0, 0, 0, 0], [0] * 6], [1.0, 0.3])
+        >>> round(float(traj.position_range[1][1]), 4)   # overshoots the 1.9 rad waypoint
+        3.6585
+        >>> len(traj.position_limit_violations(robot))
+        1
+        """
+        if robot.n != self.dof:
+            raise InputError(f"robot: {robot.name} has {robot.n} joints, the trajectory {self.dof}")
+        messages = []
+        for joint, low, high in zip(robot.chain.joints, *self.position_range, strict=True):
+            if joint.lower - LIMIT_TOLERANCE <= low and high <= joint.upper + LIMIT_TOLERANCE:
+                continue
+            scale, unit = ((180 / np.pi, " deg") if degrees and joint.kind == "revolute"
+                           else (1.0, " rad" if joint.kind == "revolute" else " m"))
+            low, high = np.round([low * scale, high * scale], 9) + 0.0  # no -1e-14 from the root finder
+            messages.append(f"joint {joint.name} reaches {low:.6g} .. {high:.6g}{unit} "
+                            f"between waypoints, outside its limits "
+                            f"[{joint.lower * scale:.6g}, {joint.upper * scale:.6g}]{unit}")
+        return messages
 
     @property
     def peak_velocity(self) -> NDArray[np.float64]:

@@ -1,4 +1,4 @@
-"""Exact peaks of polynomial pieces: the largest ``|d^k q / dt^k|`` on each segment.
+"""Exact peaks of polynomial pieces: the largest ``|d^k q / dt^k|`` and the range of ``q`` on each segment.
 
 The extremes of a polynomial on an interval lie at its ends or at real roots of its
 derivative; the roots come from companion-matrix eigenvalues (batched with numpy), so the
@@ -11,7 +11,7 @@ import numpy as np
 from numpy.polynomial import polynomial as P
 from numpy.typing import NDArray
 
-__all__ = ["segment_peaks"]
+__all__ = ["segment_peaks", "segment_ranges"]
 
 #: A derivative whose leading coefficient is below this fraction of its largest one is
 #: treated as one degree lower (its roots found one row at a time).
@@ -53,6 +53,27 @@ def segment_peaks(coefficients: NDArray[np.float64], durations: NDArray[np.float
     order : int
         1 velocity, 2 acceleration, 3 jerk.
     """
+    N, n = coefficients.shape[1:]
+    values = _critical_values(coefficients, durations, order)
+    scale = np.repeat(durations, n) ** order
+    return (np.abs(values).max(axis=1) / scale).reshape(N, n)
+
+
+def segment_ranges(coefficients: NDArray[np.float64],
+                   durations: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Lowest and highest ``q`` on each segment and joint, two ``(N, n)`` arrays [rad or m].
+
+    Parameters are those of :func:`segment_peaks`; the extremes are exact (ends and
+    interior turning points), not sampled.
+    """
+    N, n = coefficients.shape[1:]
+    values = _critical_values(coefficients, durations, 0)
+    return values.min(axis=1).reshape(N, n), values.max(axis=1).reshape(N, n)
+
+
+def _critical_values(coefficients: NDArray[np.float64], durations: NDArray[np.float64],
+                     order: int) -> NDArray[np.float64]:
+    """``d^order q / ds^order`` (``s = t / T_i``) at its candidate extremes, ``(N n, K)``."""
     k1, N, n = coefficients.shape
     powers = np.arange(k1)[:, None, None]
     c = coefficients * durations[None, :, None] ** powers  # polynomials in s = t / T_i
@@ -60,6 +81,4 @@ def segment_peaks(coefficients: NDArray[np.float64], durations: NDArray[np.float
         c = P.polyder(c, axis=0)
     c = c.reshape(c.shape[0], N * n)
     s = _critical_points(c)                                   # (R, K)
-    values = np.einsum("rkm,mr->rk", s[..., None] ** np.arange(c.shape[0]), c)
-    scale = np.repeat(durations, n) ** order
-    return (np.abs(values).max(axis=1) / scale).reshape(N, n)
+    return np.einsum("rkm,mr->rk", s[..., None] ** np.arange(c.shape[0]), c)
