@@ -72,3 +72,10 @@ def test_chain_arrays_are_read_only():
         robot.chain.T_tool[0, 0] = 2.0
     with pytest.raises(ValueError, match="read-only"):
         robot.chain.joints[0].T_after[0, 3] = 1.0
+
+
+def test_home_is_zero_clipped_into_the_limits():
+    stanford = armkit.load("stanford")
+    np.testing.assert_array_equal(stanford.home, [0.0, 0.0, stanford.limits[2, 0], 0.0, 0.0, 0.0])
+    assert stanford.limits[2, 0] > 0 and stanford.within_limits(stanford.home)
+    np.testing.assert_array_equal(armkit.load("probot-anno").home, np.zeros(6))

@@ -98,6 +98,16 @@ class Robot:
         return np.stack([self.chain.lower, self.chain.upper], axis=1)
 
     @property
+    def home(self) -> NDArray[np.float64]:
+        """``(n,)`` the zero configuration clipped into the position limits [rad or m].
+
+        >>> import armkit
+        >>> armkit.load("stanford").home.tolist()   # prismatic d3 starts at 0.3048 m
+        [0.0, 0.0, 0.3048, 0.0, 0.0, 0.0]
+        """
+        return np.clip(np.zeros(self.n), self.chain.lower, self.chain.upper)
+
+    @property
     def max_velocity(self) -> NDArray[np.float64]:
         """``(n,)`` velocity limits [rad/s or m/s]; ``inf`` where none was given."""
         return np.array([np.inf if j.max_velocity is None else j.max_velocity

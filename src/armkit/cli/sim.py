@@ -140,8 +140,7 @@ def sim_command(
             err_console.print(f"wrote {png}", highlight=False)
         return
     configurations = (to_si(arm, q, deg)[None] if q else arm.random_q(random, rng=seed))
-    home = np.clip(np.zeros(arm.n), arm.limits[:, 0], arm.limits[:, 1])
-    settled = np.array([sim.move(home, q_k, 1.0, 0.5).T_tool[-1] for q_k in configurations])
+    settled = np.array([sim.move(arm.home, q_k, 1.0, 0.5).T_tool[-1] for q_k in configurations])
     computed = arm.fk(configurations)
     rows = {"mj_kinematics (qpos set)": compare_poses(computed, sim.tool_pose(configurations),
                                                       convention=euler, degrees=deg),

@@ -206,8 +206,7 @@ def physical_model(robot: Robot) -> PhysicalModel:
     radius = max(LINK_RADIUS_RATIO * total_length, MIN_RADIUS)
     base = _shape(offsets[0], radius, housing=False)
     bodies = tuple(_shape(offsets[i + 1], radius, housing=True) for i in range(chain.n))
-    q = np.vstack([np.clip(np.zeros(chain.n), robot.limits[:, 0], robot.limits[:, 1]),
-                   robot.random_q(_GAIN_SAMPLES, rng=0)])
+    q = np.vstack([robot.home, robot.random_q(_GAIN_SAMPLES, rng=0)])
     inertia = _joint_inertias(robot, bodies, q).max(axis=0)
     armature = ARMATURE_RATIO * inertia
     omega = 2 * np.pi * SERVO_BANDWIDTH_HZ
