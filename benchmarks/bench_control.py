@@ -17,10 +17,10 @@ Prints the median time per step [us] and the ratio peer / armkit (> 1: armkit is
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 import roboticstoolbox as rtb
+from _timing import median_seconds
 from scipy.linalg import lapack
 from spatialmath import SE3
 
@@ -52,13 +52,7 @@ def dls_numpy(J: np.ndarray, twist: np.ndarray, inverse_max_velocity: np.ndarray
 
 
 def median_us(function, repeat: int, number: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        for _ in range(number):
-            function()
-        times.append((time.perf_counter() - start) / number)
-    return float(np.median(times)) * 1e6
+    return median_seconds(function, repeat, number) * 1e6
 
 
 def main() -> None:

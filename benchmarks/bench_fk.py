@@ -7,23 +7,13 @@ Prints median time per configuration and the ratio peer / armkit (> 1: armkit is
 from __future__ import annotations
 
 import argparse
-import time
 
-import numpy as np
 import roboticstoolbox as rtb
+from _timing import median_seconds
 
 import armkit
 
 MODELS = {"puma560": "Puma560", "ur5": "UR5", "panda": "Panda"}
-
-
-def median_seconds(function, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times))
 
 
 def measure(ours: armkit.Robot, theirs, name: str, repeat: int, batch: int) -> list[tuple]:

@@ -19,11 +19,11 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import roboticstoolbox as rtb
+from _timing import median_seconds
 from ruckig import InputParameter, Result, Ruckig, Trajectory
 
 from armkit.trajectory import auto_time, min_jerk, quintic, read_waypoints
@@ -32,15 +32,6 @@ from armkit.trajectory.min_jerk import min_jerk_boundary_values
 DATA = Path(__file__).parent.parent / "examples" / "data"
 VMAX = np.array([0.7854, 0.6981, 0.7854, 0.9599, 0.9599, 0.9599])   # report 000, rad/s
 AMAX = np.array([0.3491, 0.2618, 0.3491, 0.4363, 0.4363, 0.4363])   # rad/s^2
-
-
-def median_seconds(function, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times))
 
 
 def ruckig_segments(waypoints: np.ndarray, vmax, amax, jmax) -> list[Trajectory]:
