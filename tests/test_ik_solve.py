@@ -14,7 +14,7 @@ from armkit.errors import InputError, JointLimitError, NoClosedFormError, Unreac
 from armkit.ik import ik_solutions
 from armkit.ik.closed_form import CHUNK
 from armkit.ik.solve import IKSolutionsBatch, _refine, _residuals, _solver
-from armkit.spatial import matrix_from_euler, rotation_angle_between, transform_from
+from armkit.spatial import matrix_from_axis_angle, matrix_from_euler, rotation_angle_between, transform_from
 
 CLOSED_FORM = ["probot-anno", "zju-i", "puma560", "ur5", "stanford", "grb400-scara"]
 HALF_PI = np.pi / 2
@@ -267,10 +267,18 @@ def test_residuals_agree_with_fk_and_rotation_angle(name):
     F = robot.fk(q)
     np.testing.assert_allclose(position_error, np.linalg.norm(F[..., :3, 3] - T[:, None, :3, 3], axis=-1),
                                rtol=1e-12, atol=1e-15)
-    np.testing.assert_allclose(orientation_error, rotation_angle_between(F, T[:, None]), rtol=0, atol=1e-7)
+    # Both are atan2(|2 sin(angle) axis|, trace - 1) of products of the same rotations: they
+    # differ by rounding only, about 1e-15 rad, also near pi (the arcsine of the chord that
+    # _residuals used before lost half the digits there and needed 1e-7).
+    np.testing.assert_allclose(orientation_error, rotation_angle_between(F, T[:, None]), rtol=0, atol=1e-14)
     tiny = robot.fk(q[:, 0]) @ transform_from(matrix_from_euler([1e-11, 0, 0], "xyz-fixed"), [0, 0, 0])
     _, small = _residuals(_solver(robot.chain), q[:, :1], tiny)
     np.testing.assert_allclose(small, 1e-11, rtol=1e-4)  # accurate near zero
+    for distance in (0.0, 1e-9, 1e-6):  # and near a half turn, about a general axis
+        turned = robot.fk(q[:, 0]) @ transform_from(
+            matrix_from_axis_angle((np.pi - distance) * np.array([0.6, 0.8, 0.0])), [0, 0, 0])
+        _, large = _residuals(_solver(robot.chain), q[:, :1], turned)
+        np.testing.assert_allclose(large, np.pi - distance, rtol=0, atol=1e-13)
 
 
 @pytest.mark.parametrize("name", ["probot-anno", "ur5"])

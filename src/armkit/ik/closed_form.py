@@ -59,7 +59,7 @@ from armkit.ik.subproblems import (
     sp3,
     sp4,
 )
-from armkit.kinematics import fk, geometric_jacobian
+from armkit.kinematics import fk, geometric_jacobian, pose_error
 from armkit.spatial.transforms import check_transform
 
 __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
@@ -397,17 +397,15 @@ class ClosedFormSolver:
         wrist), the candidates may carry errors of ~1e-7; two damped Newton steps on
         ``fk(q) = T`` bring them to rounding level, and :meth:`_reproduces` then decides.
         """
-        target = np.broadcast_to(T[:, None], (*q.shape[:-1], 4, 4))
+        target = T[:, None]
+        moving = (valid & np.isfinite(q).all(axis=-1))[..., None]  # invalid ones may be NaN
         for _ in range(steps):
-            T_q = fk(self.chain, q)
-            dR = target[..., :3, :3] @ np.swapaxes(T_q[..., :3, :3], -1, -2)
-            w = 0.5 * np.stack([dR[..., 2, 1] - dR[..., 1, 2], dR[..., 0, 2] - dR[..., 2, 0],
-                                dR[..., 1, 0] - dR[..., 0, 1]], axis=-1)
-            e = np.concatenate([target[..., :3, 3] - T_q[..., :3, 3], w], axis=-1)
-            J = geometric_jacobian(self.chain, q)
+            q_moving = np.where(moving, q, 0.0)
+            e = pose_error(target, fk(self.chain, q_moving))
+            J = geometric_jacobian(self.chain, q_moving)
             JJt = J @ np.swapaxes(J, -1, -2) + 1e-14 * np.eye(6)
             step = (np.swapaxes(J, -1, -2) @ np.linalg.solve(JJt, e[..., None]))[..., 0]
-            q = np.where(valid[..., None], q + step, q)
+            q = np.where(moving, q + step, q)
         return q
 
     def _reproduces(self, q: Array, T: Array) -> Mask:

@@ -138,13 +138,20 @@ def _residuals(solver: ClosedFormSolver, q: NDArray[np.float64],
                T_target: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """FK residuals of candidates ``q`` ``(N, k, n)`` of targets ``(N, 4, 4)``: [m], [rad].
 
-    The angle between two rotations is ``2 asin(|R - R_target|_F / sqrt(8))``: computed
-    from differences, accurate near zero.
+    The angle is ``atan2(|v|, trace(X) - 1)`` of ``X = R_target^T R`` (``v`` the vector of
+    its skew part, ``2 sin(angle) axis``), as in
+    :func:`~armkit.spatial.rotations.rotation_angle_between`: accurate to rounding from 0
+    to ``pi``. ``X - I = R_target^T (R - R_target)`` comes from the FK differences, so
+    small angles keep their digits; it is one batched product per target.
     """
     D = solver.pose_difference(q, T_target)  # (3, 4, k, N)
     position = np.sqrt(D[0, 3] ** 2 + D[1, 3] ** 2 + D[2, 3] ** 2)
-    chord = np.sqrt(np.einsum("ij...,ij...->...", D[:, :3], D[:, :3]))
-    return position.T, 2.0 * np.arcsin(np.minimum(chord * (1.0 / np.sqrt(8.0)), 1.0)).T
+    N = len(T_target)
+    E = np.moveaxis(D[:, :3], -1, 0).reshape(N, 3, -1)  # (N, 3, 3 k): R - R_target per target
+    X = np.matmul(np.swapaxes(T_target[:, :3, :3], -1, -2), E).reshape(N, 3, 3, -1)  # X - I
+    trace_minus_1 = 2.0 + (X[:, 0, 0] + X[:, 1, 1] + X[:, 2, 2])
+    v0, v1, v2 = X[:, 2, 1] - X[:, 1, 2], X[:, 0, 2] - X[:, 2, 0], X[:, 1, 0] - X[:, 0, 1]
+    return position.T, np.arctan2(np.sqrt(v0 * v0 + v1 * v1 + v2 * v2), trace_minus_1)
 
 
 def _refine(chain: Chain, q: NDArray[np.float64], T_target: NDArray[np.float64],
