@@ -15,7 +15,7 @@ from armkit.cli.app import ALLOW_NEGATIVE, app, console, err_console, load_robot
 from armkit.errors import ArmkitError, InputError
 from armkit.robot import Robot
 from armkit.spatial.rotations import rotation_angle_between
-from armkit.trajectory.export import read_trajectory
+from armkit.trajectory import read_trajectory
 
 if TYPE_CHECKING:  # armkit.sim needs MuJoCo, imported only when a command runs
     from armkit.sim.runner import SimResult

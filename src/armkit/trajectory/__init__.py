@@ -4,12 +4,13 @@ Modules: :mod:`~armkit.trajectory.polynomial` (quintic, cubic),
 :mod:`~armkit.trajectory.trapezoid` (LSPB), :mod:`~armkit.trajectory.min_jerk`
 (multi-waypoint minimum jerk), :mod:`~armkit.trajectory.joint_trajectory` (the result
 object), :mod:`~armkit.trajectory.timing` (fitting durations to limits),
-:mod:`~armkit.trajectory.export` (CSV, NPZ), :mod:`~armkit.trajectory.peaks`,
+:mod:`~armkit.trajectory.export` (CSV, NPZ: writing and reading back), :mod:`~armkit.trajectory.peaks`,
 :mod:`~armkit.trajectory.waypoints` (files, poses through IK), :mod:`~armkit.trajectory.plan`
 (a robot's trajectory within its limits).
 """
 
 from armkit.trajectory._checks import durations_from_times
+from armkit.trajectory.export import read_trajectory
 from armkit.trajectory.joint_trajectory import JointTrajectory, TrajectorySamples
 from armkit.trajectory.min_jerk import min_jerk
 from armkit.trajectory.plan import plan_trajectory
@@ -34,6 +35,7 @@ __all__ = [
     "min_jerk",
     "plan_trajectory",
     "quintic",
+    "read_trajectory",
     "read_waypoints",
     "stretch_to_limits",
 ]
