@@ -231,7 +231,13 @@ class NumericIK:
 
     def _project(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], list[tuple[int, float]]]:
         """``q`` moved into the limits (by whole turns if that fits, else to the bound nearest
-        in angle), and the joints at a bound as ``(index, -1.0 at the lower / +1.0 at the upper)``."""
+        in angle), and the joints at a bound as ``(index, -1.0 at the lower / +1.0 at the upper)``.
+
+        The same whole-turn rule as :func:`wrap_into_limits` (with the reference at the middle
+        of the limits, then clamped: equal to rounding on the built-ins), written in plain
+        Python because it runs on every step: about 1 us per call against 15 us for the
+        NumPy function on a 7-joint arm, which made Panda numeric IK 40-80 % slower.
+        """
         if not self.respect_limits:
             return q, []
         values, held, moved = q.tolist(), [], False
