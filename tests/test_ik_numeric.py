@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 import armkit
 from armkit.chain import DHRow
 from armkit.errors import InputError
-from armkit.ik.numeric import NumericIK, _TargetError, numeric_ik
+from armkit.ik.numeric import NumericIK, _TargetError, numeric_ik, wrap_into_limits
 from armkit.kinematics import pose_error
 from armkit.spatial import matrix_from_axis_angle, transform_from
 
@@ -157,3 +157,21 @@ def test_every_builtin_from_random_seeds(name):
     seeds = robot.random_q(60, rng=2)
     for i, T in enumerate(robot.fk(robot.random_q(60, rng=1))):
         _check_solution(robot, T, solver.solve(T, seeds[i], rng=i))
+
+
+@pytest.mark.parametrize("name", ["panda", "probot-anno", "stanford", "grb400-scara"])
+def test_projection_follows_wrap_into_limits(name):
+    """NumericIK._project's plain-Python rule equals wrap_into_limits toward the middle of the
+    limits, then clamping, for joints outside their limits; joints inside stay put."""
+    chain = armkit.load(name).chain
+    solver = NumericIK(chain)
+    rng = np.random.default_rng(4)
+    for q in rng.uniform(chain.lower - 8.0, chain.upper + 8.0, (300, chain.n)):
+        q = np.where(np.isfinite(q), q, rng.uniform(-1, 1, chain.n))
+        projected, held = solver._project(q)
+        outside = (q <= chain.lower) | (q >= chain.upper)
+        middle = np.where(np.isfinite(chain.lower + chain.upper), (chain.lower + chain.upper) / 2, 0.0)
+        expected = np.clip(wrap_into_limits(chain, q, np.where(outside, middle, q)), chain.lower, chain.upper)
+        np.testing.assert_allclose(projected, expected, rtol=0, atol=1e-14)
+        at_bound = [i for i in range(chain.n) if not chain.lower[i] < projected[i] < chain.upper[i]]
+        assert [i for i, _ in held] == at_bound
