@@ -169,7 +169,7 @@ class Robot:
         Examples
         --------
         >>> import armkit
-        >>> armkit.load("probot-anno").fk([0, 0, 0, 0, 0, 0])[:3, 3].round(4)
+        >>> armkit.load("probot-anno").fk([0, 0, 0, 0, 0, 0])[:3, 3].round(4) + 0.0
         array([0.2289, 0.    , 0.454 ])
         """
         return kinematics._fk(self.chain, self.check_q(q))  # checked once, here
