@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import assume, example, given, settings
@@ -188,3 +190,9 @@ def test_target_beyond_reach_is_called_out_of_reach():
     result = move_linear(PROBOT, np.zeros(6), [1.0, 0.0, 0.0], 2.0)
     assert not result.completed
     assert "singularity" in result.message and "probably out of reach" in result.message
+
+
+def test_an_arm_with_fewer_than_six_joints_is_told_why_it_missed():
+    arm = armkit.load(Path(__file__).parent.parent / "examples" / "data" / "my_arm.toml")
+    result = move_linear(arm, np.radians([10, 20, 30]), [0.05, 0.0, 0.0], 2.0)
+    assert not result.completed and "an arm with 3 joints cannot follow every pose path" in result.message

@@ -161,6 +161,10 @@ def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
     """Why a motion that ran to its end did not reach its target."""
     position, angle = result_errors
     text = f"the tool ended {position:.3g} m and {angle:.3g} rad from the target"
+    n = control.robot.n
+    if n < 6:
+        return (f"{text}: an arm with {n} joints cannot follow every pose path (the motion holds or "
+                f"turns the tool's orientation as well as moving its point)")
     if sigma[-1] < control.threshold:
         return (f"{text}: the arm ended at a singularity (smallest singular value {sigma[-1]:.3g}), "
                 f"e.g. fully stretched: the target is probably out of reach")
