@@ -38,7 +38,8 @@ def test_mjcf_structure_limits_and_servos(name):
     kinds = [mujoco.mjtJoint.mjJNT_SLIDE if p else mujoco.mjtJoint.mjJNT_HINGE for p in robot.chain.prismatic]
     assert model.jnt_type.tolist() == [int(k) for k in kinds]
     np.testing.assert_allclose(model.jnt_range, robot.limits, rtol=0, atol=1e-15)
-    assert np.all(model.body_mass[1:] > 0)
+    assert np.all(model.body_mass[1:-1] > 0) and model.body_mass[-1] == 0  # moving links; massless tool
+    assert mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.nbody - 1) == "tool"
     assert np.all(model.actuator_gainprm[0::2, 0] > 0) and np.all(model.actuator_gainprm[1::2, 0] > 0)
     assert mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, "tool") >= 0
     np.testing.assert_allclose(model.opt.timestep, 1e-3)

@@ -120,7 +120,5 @@ def test_random_arms_round_trip_through_urdf_and_mjcf(arm):
         pinocchio.framesForwardKinematics(model, data, q_k)
         poses.append(data.oMf[tool].homogeneous)
     assert_transform_close(np.array(poses), robot.fk(q), position_tol=1e-9, angle_tol=1e-9)
-    # MuJoCo treats a frame offset within about 1e-7 of the identity as the identity ("same
-    # frame"), so a tool turned by 3e-7 rad comes out unturned: the issue's 1e-6 bound holds.
     assert_transform_close(Simulation(robot, gravity=False).tool_pose(q), robot.fk(q),
-                           position_tol=1e-6, angle_tol=1e-6)
+                           position_tol=1e-9, angle_tol=1e-9)

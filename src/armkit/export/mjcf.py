@@ -2,7 +2,8 @@
 
 The model is written from the one internal chain (see :mod:`armkit.export.physical`):
 nested bodies at the joint frames, hinge or slide joints along each body's z axis, the
-robot's base frame at the world origin and a site named ``tool`` at the tool frame.
+robot's base frame at the world origin and a site named ``tool`` at the tool frame (in a
+fixed, massless body also named ``tool``).
 Angles are in radians (``<compiler angle="radian"/>``), numbers are written with full
 precision so MuJoCo's forward kinematics match armkit's to rounding error.
 
@@ -112,8 +113,10 @@ def mjcf_from_robot(robot: Robot, *, gravity: bool = True,
         ET.SubElement(actuators, "velocity", name=f"{joint.name}_velocity", joint=joint.name,
                       kv=repr(float(model.kv[i])))
         parent = body
-    ET.SubElement(parent, "site", name="tool", size=repr(model.radius), rgba="0.1 0.7 0.2 1",
-                  **_pose(model.T_last_tool))
+    # A fixed child body carries the tool frame: MuJoCo would treat a site offset within about
+    # 1e-6 of the identity as no offset at all ("same frame"), a body offset it never drops.
+    tool = ET.SubElement(parent, "body", name="tool", **_pose(model.T_last_tool))
+    ET.SubElement(tool, "site", name="tool", size=repr(model.radius), rgba="0.1 0.7 0.2 1")
     root.append(actuators)
     ET.indent(root)
     return ET.tostring(root, encoding="unicode") + "\n"
