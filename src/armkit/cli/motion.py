@@ -103,7 +103,7 @@ def move_command(
 ) -> None:
     """Move the tool along a straight line (closed-loop resolved-rate control).
 
-    Exits with code 1 if a joint limit stopped the motion.
+    Exits with code 1 if the motion stopped at a joint limit or ended off its target.
 
     Example: armkit move probot-anno --from 0 0 0 0 0 0 --by 0.15 0 -0.15 --duration 3
     """
