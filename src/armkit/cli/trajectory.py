@@ -12,7 +12,6 @@ from rich.table import Table
 from armkit._io import check_output_path
 from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, parse_floats, warn
 from armkit.errors import InputError
-from armkit.plots import plot_pva, plot_tool_path, save_figure
 from armkit.robot import Robot
 from armkit.trajectory import JointTrajectory, durations_from_times, plan_trajectory, read_waypoints
 from armkit.trajectory.export import write_csv, write_npz
@@ -131,6 +130,8 @@ def traj_command(
     if out is not None:
         (write_npz if out.suffix.lower() == ".npz" else write_csv)(samples, out, force)
         console.print(f"wrote {out} ({samples.t.size} samples at {rate:g} Hz)", markup=False)
+    if plot is not None or plot_path is not None:
+        from armkit.plots import plot_pva, plot_tool_path, save_figure  # matplotlib only when plotting
     if plot is not None:
         save_figure(plot_pva(traj, arm), plot, force)
         console.print(f"wrote {plot}", markup=False)
