@@ -11,7 +11,7 @@ from rich.console import Console
 from rich.measure import Measurement
 from rich.table import Table
 
-from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, parse_floats, print_json, to_si
+from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, print_json, to_si
 from armkit.errors import InputError
 from armkit.ik.solve import ik_solutions
 from armkit.ik.structure import analyze_structure
@@ -87,7 +87,7 @@ def ik_command(
     if near_values and not near:
         raise InputError(f"unexpected values {' '.join(near_values)}: joint values are given "
                          f"after --near")
-    q_near = to_si(arm, parse_floats(near_values, "--near"), deg) if near_values else np.zeros(arm.n)
+    q_near = to_si(arm, near_values, deg) if near_values else np.zeros(arm.n)
     convention = parse_convention(euler)
     T = _target(pose, matrix, position, convention, deg)
     structure = analyze_structure(arm.chain)

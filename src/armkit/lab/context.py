@@ -10,10 +10,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit.robot import Robot
 from armkit.sim.runner import Simulation
-from armkit.spatial.rotations import euler_from_matrix, matrix_from_euler
-from armkit.spatial.transforms import transform_from
 
-__all__ = ["LabContext", "fmt", "fmt_error", "fmt_q", "pose_from_transform", "transform_from_pose"]
+__all__ = ["LabContext", "fmt", "fmt_error", "fmt_q"]
 
 
 @dataclass
@@ -42,7 +40,7 @@ class LabContext:
     @property
     def home(self) -> NDArray[np.float64]:
         """Zero joint values, clipped into the limits: where simulated moves start."""
-        return np.clip(np.zeros(self.robot.n), self.robot.limits[:, 0], self.robot.limits[:, 1])
+        return self.robot.home
 
     @property
     def gif_frames(self) -> int:
@@ -57,18 +55,6 @@ class LabContext:
         """A file of the report (registered so a later run can replace it)."""
         self.files.append(name)
         return self.folder / name
-
-
-def pose_from_transform(T: ArrayLike, convention: str = "xyz-fixed", degrees: bool = False) -> NDArray:
-    """``(..., 6)``: position [m] then three angles in ``convention``."""
-    T = np.asarray(T, dtype=float)
-    return np.concatenate([T[..., :3, 3], euler_from_matrix(T, convention, degrees)], axis=-1)
-
-
-def transform_from_pose(pose: ArrayLike, convention: str = "xyz-fixed", degrees: bool = False) -> NDArray:
-    """``(..., 4, 4)`` from ``[x, y, z, a1, a2, a3]``."""
-    pose = np.asarray(pose, dtype=float)
-    return transform_from(matrix_from_euler(pose[..., 3:], convention, degrees), pose[..., :3])
 
 
 def fmt(value: float, digits: int = 6) -> str:

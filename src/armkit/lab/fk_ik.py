@@ -14,11 +14,12 @@ from numpy.typing import NDArray
 from armkit import animation
 from armkit.errors import NoClosedFormError
 from armkit.lab import published
-from armkit.lab.context import LabContext, fmt, fmt_error, fmt_q, pose_from_transform, transform_from_pose
+from armkit.lab.context import LabContext, fmt, fmt_error, fmt_q
 from armkit.lab.report import Section, Table
 from armkit.robot import Robot
 from armkit.sim.runner import Simulation
 from armkit.sim.verify import compare_poses
+from armkit.spatial.transforms import pose_from_transform, transform_from_pose
 
 __all__ = ["fk_check", "fk_table_scara", "fk_table_zju", "ik_check"]
 
@@ -179,7 +180,7 @@ def ik_check(ctx: LabContext) -> Section:
 
 def _fk_rows(robot: Robot, sim: Simulation, q: NDArray, published_rows: list, convention: str,
              degrees: bool, quick: bool) -> tuple[list[list[str]], set[int], float]:
-    start = np.clip(np.zeros(robot.n), robot.limits[:, 0], robot.limits[:, 1])
+    start = robot.home
     table = compare_poses(robot.fk(q), _servo_poses(sim, start, q, quick), convention=convention,
                           degrees=degrees)
     rows, groups = [], set()
@@ -229,10 +230,10 @@ def fk_table_scara(ctx: LabContext) -> Section:
 
     robot = load("grb400-scara")
     sim = Simulation(robot, gravity=True)
-    to_si = np.array([np.pi / 180, np.pi / 180, 1e-3, np.pi / 180])
-    q = np.array([row[0] for row in published.SCARA_FK]) * to_si
+    published_q = np.array([row[0] for row in published.SCARA_FK])  # deg and mm, as report 004
+    q = np.where(robot.chain.prismatic, published_q * 1e-3, np.radians(published_q))
     computed = robot.fk(q)[:, :3, 3] * 1000
-    start = np.clip(np.zeros(4), robot.limits[:, 0], robot.limits[:, 1])
+    start = robot.home
     simulated = _servo_poses(sim, start, q, ctx.quick)[:, :3, 3] * 1000
     rows, misses = [], []
     for k, (q_user, axis, value) in enumerate(published.SCARA_FK):

@@ -14,12 +14,13 @@ from numpy.typing import NDArray
 from armkit import animation
 from armkit.control import move_linear, rotate_about_tool_point
 from armkit.lab import published
-from armkit.lab.context import LabContext, fmt, fmt_error, fmt_q, pose_from_transform, transform_from_pose
+from armkit.lab.context import LabContext, fmt, fmt_error, fmt_q
 from armkit.lab.report import Section, Table
 from armkit.plots import plot_pva
 from armkit.robot import Robot
 from armkit.sim.runner import SimResult
 from armkit.spatial.rotations import rotation_angle_between
+from armkit.spatial.transforms import pose_from_transform, transform_from_pose
 from armkit.trajectory import plan_trajectory
 
 __all__ = ["fixed_point_rotation", "linear_motion", "ready_configuration", "trajectory_experiment"]
