@@ -5,14 +5,18 @@ a batch of one) and loop over the ``n`` joints only, never over the batch. Jacob
 are ``[v; w]``: linear velocity of the tool origin [m/s] over angular velocity [rad/s].
 
 Solver and control loops evaluate one configuration at a time, thousands of times; for
-them :class:`ChainKernel` gives the same tool pose and Jacobian with a fraction of the
-NumPy calls (about 10 us for a 6- or 7-joint arm, where :func:`fk` plus
-:func:`geometric_jacobian` of one configuration take over 100 us).
+them :class:`ChainKernel` gives the same tool pose and Jacobian from compiled code (numba:
+:func:`chain_frames` and :func:`chain_jacobian`, which compiled solvers call directly), about
+1 us for a 6- or 7-joint arm, where :func:`fk` plus :func:`geometric_jacobian` of one
+configuration take over 100 us.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.chain import Chain
@@ -242,34 +246,95 @@ def _half_turn_axis(R: NDArray[np.float64], trace: NDArray[np.float64],
     return axis
 
 
-def _cross_and_axis_map() -> NDArray[np.float64]:
-    """``G`` ``(12, 6)`` with ``(z outer [r, 1]).reshape(12) @ G = [z x r, z]``."""
-    G = np.zeros((12, 6))
-    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-        G[4 * i + j, k], G[4 * j + i, k] = 1.0, -1.0
-    for i in range(3):
-        G[4 * i + 3, 3 + i] = 1.0
-    G.setflags(write=False)
-    return G
+@njit(cache=True)
+def chain_frames(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q: NDArray[np.float64],
+                 T: NDArray[np.float64], axes: NDArray[np.float64], points: NDArray[np.float64]) -> None:
+    """Compiled FK of ONE configuration, written into work arrays (no checks, no allocation).
+
+    ``T`` ``(4, 4)`` receives the tool pose, ``axes`` ``(n, 3)`` the z axis of every joint
+    frame and ``points`` ``(n, 3)`` its origin before the joint's motion (the same point
+    for a revolute joint, the start of the travel for a prismatic one), all in the base
+    frame. ``T_between`` ``(n + 1, 4, 4)`` is :attr:`armkit.chain.Chain.T_between`,
+    ``prismatic`` ``(n,)`` the chain's prismatic mask and ``q`` ``(n,)`` float64 [rad or m].
+    """
+    T[:, :] = T_between[0]
+    for i in range(q.shape[0]):
+        for r in range(3):
+            axes[i, r] = T[r, 2]
+            points[i, r] = T[r, 3]
+        if prismatic[i]:  # right-multiply by Tz(q_i)
+            for r in range(4):
+                T[r, 3] += q[i] * T[r, 2]
+        else:  # right-multiply by Rz(q_i)
+            c, s = math.cos(q[i]), math.sin(q[i])
+            for r in range(4):
+                x, y = T[r, 0], T[r, 1]
+                T[r, 0] = c * x + s * y
+                T[r, 1] = c * y - s * x
+        L = T_between[i + 1]
+        for r in range(4):
+            a0, a1, a2, a3 = T[r, 0], T[r, 1], T[r, 2], T[r, 3]
+            for c in range(4):
+                T[r, c] = a0 * L[0, c] + a1 * L[1, c] + a2 * L[2, c] + a3 * L[3, c]
 
 
-_CROSS_AND_AXIS = _cross_and_axis_map()
-#: ``cos(q + _QUARTER_TURNS) = [[cos q, -sin q], [sin q, cos q]]``, the block of ``Rz(q)``.
-_QUARTER_TURNS = np.array([[0.0, np.pi / 2], [-np.pi / 2, 0.0]])
-_QUARTER_TURNS.setflags(write=False)
+@njit(cache=True)
+def chain_jacobian(T: NDArray[np.float64], axes: NDArray[np.float64], points: NDArray[np.float64],
+                   prismatic: NDArray[np.bool_], J: NDArray[np.float64]) -> None:
+    """Compiled base-frame geometric Jacobian ``(6, n)`` written into ``J``, rows ``[v; w]``.
+
+    From the tool pose, axes and points of :func:`chain_frames`: column ``i`` is
+    ``[z_i x (p - o_i); z_i]`` for a revolute joint, ``[z_i; 0]`` for a prismatic one.
+    """
+    px, py, pz = T[0, 3], T[1, 3], T[2, 3]
+    for i in range(axes.shape[0]):
+        zx, zy, zz = axes[i, 0], axes[i, 1], axes[i, 2]
+        if prismatic[i]:
+            J[0, i], J[1, i], J[2, i] = zx, zy, zz
+            J[3, i] = J[4, i] = J[5, i] = 0.0
+        else:
+            rx, ry, rz = px - points[i, 0], py - points[i, 1], pz - points[i, 2]
+            J[0, i], J[1, i], J[2, i] = zy * rz - zz * ry, zz * rx - zx * rz, zx * ry - zy * rx
+            J[3, i], J[4, i], J[5, i] = zx, zy, zz
+
+
+@njit(cache=True)
+def _pose(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_],
+          q: NDArray[np.float64]) -> NDArray[np.float64]:
+    n = q.shape[0]
+    T = np.empty((4, 4))
+    chain_frames(T_between, prismatic, q, T, np.empty((n, 3)), np.empty((n, 3)))
+    return T
+
+
+@njit(cache=True)
+def _pose_jacobian(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_],
+                   q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    n = q.shape[0]
+    T, J, axes, points = np.empty((4, 4)), np.empty((6, n)), np.empty((n, 3)), np.empty((n, 3))
+    chain_frames(T_between, prismatic, q, T, axes, points)
+    chain_jacobian(T, axes, points, prismatic, J)
+    return T, J
+
+
+@njit(cache=True)
+def _joint_axes(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_],
+                q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    n = q.shape[0]
+    axes, points = np.empty((n, 3)), np.empty((n, 3))
+    chain_frames(T_between, prismatic, q, np.empty((4, 4)), axes, points)
+    return axes, points
 
 
 class ChainKernel:
     """Tool pose and geometric Jacobian of ONE configuration, for solver and control loops.
 
     The same results as :func:`fk`, :func:`joint_frames` and :func:`geometric_jacobian`
-    (to rounding) with about a dozen NumPy calls per configuration: every joint's
-    rotation block comes from one ``cos`` call (``cos(q + pi/2) = -sin q``), the motions
-    times the fixed links from one batched product, the frames from ``n`` small products
-    into work buffers, and all Jacobian columns from one outer product and one product
-    with a constant matrix (``z x r`` and ``z`` are linear in ``z outer [r, 1]``).
-    Inputs are not checked: ``q`` must be a float64 array of shape ``(n,)``. The kernel
-    keeps work buffers, so use one kernel per thread; every returned array is new.
+    (to rounding) from one call of compiled code (numba, :func:`chain_frames` and
+    :func:`chain_jacobian`): about 1 us for a 6- or 7-joint arm, where :func:`fk` plus
+    :func:`geometric_jacobian` of one configuration take over 100 us. The first call in a
+    fresh environment compiles the kernels (cached on disk afterwards). Inputs are not
+    checked: ``q`` must be a float64 array of shape ``(n,)``. Every returned array is new.
 
     Parameters
     ----------
@@ -289,66 +354,22 @@ class ChainKernel:
     """
 
     def __init__(self, chain: Chain) -> None:
-        n = self.n = chain.n
-        prismatic = chain.prismatic
-        self._prismatic_joints = np.flatnonzero(prismatic)
-        self._revolute = (~prismatic).astype(float) if prismatic.any() else None
-        self._prismatic = prismatic.astype(float)
-        self._links = np.array(chain.T_between[1:])
-        self._motions = np.zeros((n, 4, 4))
-        self._motions[:, 2, 2] = self._motions[:, 3, 3] = 1.0
-        self._rotations = self._motions[:, :2, :2]
-        self._offsets = self._motions[:, 2, 3]
-        self._angles = np.empty((n, 2, 2))
-        self._moved = np.empty((n, 4, 4))
-        frames = self._frames = np.empty((n + 1, 4, 4))
-        frames[0] = chain.T_between[0]
-        self._products = [(frames[i], self._moved[i], frames[i + 1]) for i in range(n)]
-        # Views used by the Jacobian: axes z_i, origins o_i, tool position p, z outer [p - o, 1].
-        self._axes = frames[:-1, :3, 2]
-        self._origins = frames[:-1, :3, 3]
-        self._tool = frames[-1]
-        self._tool_position = frames[-1, :3, 3]
-        lever = np.ones((n, 4))
-        self._lever, self._lever_rows = lever[:, :3], lever[:, None, :]
-        self._axis_columns = self._axes[:, :, None]
-        self._outer = np.empty((n, 3, 4))
-        self._outer_rows = self._outer.reshape(n, 12)
-
-    def _compute_frames(self, q: NDArray[np.float64]) -> None:
-        if self._revolute is None:
-            np.add.outer(q, _QUARTER_TURNS, out=self._angles)
-        else:
-            np.add.outer(q * self._revolute, _QUARTER_TURNS, out=self._angles)
-            np.multiply(q, self._prismatic, out=self._offsets)
-        np.cos(self._angles, out=self._rotations)
-        np.matmul(self._motions, self._links, out=self._moved)
-        for before, moved, after in self._products:
-            before.dot(moved, out=after)
-
-    def _jacobian_from_frames(self) -> NDArray[np.float64]:
-        np.subtract(self._tool_position, self._origins, out=self._lever)
-        np.multiply(self._axis_columns, self._lever_rows, out=self._outer)
-        J_t = self._outer_rows.dot(_CROSS_AND_AXIS)  # (n, 6): row i is column i of J
-        if len(self._prismatic_joints):
-            J_t[self._prismatic_joints, :3] = self._axes[self._prismatic_joints]
-            J_t[self._prismatic_joints, 3:] = 0.0
-        return J_t.T
+        self.n = chain.n
+        #: The chain's fixed transforms ``(n + 1, 4, 4)`` and prismatic mask ``(n,)``, as the kernels take them.
+        self.T_between = np.ascontiguousarray(chain.T_between, dtype=np.float64)
+        self.prismatic = np.ascontiguousarray(chain.prismatic, dtype=np.bool_)
 
     def pose(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Tool pose ``T_base_tool`` ``(4, 4)`` at joint values ``q`` ``(n,)`` [rad or m]."""
-        self._compute_frames(q)
-        return self._tool.copy()
+        return _pose(self.T_between, self.prismatic, q)
 
     def pose_jacobian(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Tool pose ``(4, 4)`` and base-frame geometric Jacobian ``(6, n)``, rows ``[v; w]``."""
-        self._compute_frames(q)
-        return self._tool.copy(), self._jacobian_from_frames()
+        return _pose_jacobian(self.T_between, self.prismatic, q)
 
     def jacobian(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Base-frame geometric Jacobian ``(6, n)``, rows ``[v; w]`` [m/s, rad/s per joint rate]."""
-        self._compute_frames(q)
-        return self._jacobian_from_frames()
+        return _pose_jacobian(self.T_between, self.prismatic, q)[1]
 
     def joint_axes(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Joint axes ``(n, 3)`` (unit vectors) and points on them ``(n, 3)`` [m], base frame.
@@ -357,5 +378,4 @@ class ChainKernel:
         origin before the joint's motion: the same point for a revolute joint, the start
         of the travel (``q_i = 0``) for a prismatic one.
         """
-        self._compute_frames(q)
-        return self._axes.copy(), self._origins.copy()
+        return _joint_axes(self.T_between, self.prismatic, q)
