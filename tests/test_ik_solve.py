@@ -12,8 +12,7 @@ import armkit
 from armkit.chain import DHRow
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik import ik_solutions
-from armkit.ik.closed_form import CHUNK
-from armkit.ik.solve import IKSolutionsBatch, _refine, _residuals, _solver
+from armkit.ik.solve import IKSolutionsBatch, _Found, _refine, _residual
 from armkit.spatial import matrix_from_axis_angle, matrix_from_euler, rotation_angle_between, transform_from
 
 CLOSED_FORM = ["probot-anno", "zju-i", "puma560", "ur5", "stanford", "grb400-scara"]
@@ -244,18 +243,28 @@ def test_bad_near_and_weights():
         robot.ik(T, weights=[1, 1, 1, 1, 1, -1])
 
 
+def _residuals(robot, q, T):
+    """The compiled residuals of candidates ``q`` ``(N, k, n)`` of targets ``T`` ``(N, 4, 4)``."""
+    F = robot.fk(q)
+    errors = np.array([[_residual(T[i], F[i, s]) for s in range(q.shape[1])] for i in range(len(T))])
+    return errors[..., 0], errors[..., 1]
+
+
 def test_rough_candidates_are_refined_on_their_branch():
     robot = armkit.load("ur5")
     q_true = np.array([[0.3, -1.0, 1.2, 0.4, 0.9, -0.5], [2.0, -2.0, -1.0, 1.0, -1.0, 0.5]])
     T = robot.fk(q_true)
-    q = q_true[:, None, :] + 1e-7  # one candidate per target: (2, 1, 6)
-    position_error, orientation_error = _residuals(_solver(robot.chain), q, T)
+    found = _Found.empty(2, 1, 6)
+    found.q[...] = q_true[:, None, :] + 1e-7  # one candidate per target
+    found.valid[...] = [[True], [False]]
+    position_error, orientation_error = _residuals(robot, found.q, T)
     assert np.all(position_error > 1e-8)
-    _refine(robot.chain, q, T, position_error, orientation_error, np.array([[True], [False]]))
-    assert position_error[0, 0] < 1e-12 and orientation_error[0, 0] < 1e-12
-    np.testing.assert_allclose(robot.fk(q[0, 0]), T[0], atol=1e-12)
-    assert np.abs(q[0, 0] - q_true[0]).max() < 1e-6
-    np.testing.assert_array_equal(q[1, 0], q_true[1] + 1e-7)  # not a candidate: left alone
+    found.position_error[...], found.orientation_error[...] = position_error, orientation_error
+    assert _refine(robot.chain, found, T).tolist() == [0]  # the poses to rank again
+    assert found.position_error[0, 0] < 1e-12 and found.orientation_error[0, 0] < 1e-12
+    np.testing.assert_allclose(robot.fk(found.q[0, 0]), T[0], atol=1e-12)
+    assert np.abs(found.q[0, 0] - q_true[0]).max() < 1e-6
+    np.testing.assert_array_equal(found.q[1, 0], q_true[1] + 1e-7)  # not a candidate: left alone
 
 
 @pytest.mark.parametrize("name", ["probot-anno", "ur5", "grb400-scara"])
@@ -263,45 +272,45 @@ def test_residuals_agree_with_fk_and_rotation_angle(name):
     robot = armkit.load(name)
     q = robot.random_q((4, 3), rng=21)
     T = robot.fk(robot.random_q(4, rng=22))  # unrelated targets: errors up to pi
-    position_error, orientation_error = _residuals(_solver(robot.chain), q, T)
+    position_error, orientation_error = _residuals(robot, q, T)
     F = robot.fk(q)
     np.testing.assert_allclose(position_error, np.linalg.norm(F[..., :3, 3] - T[:, None, :3, 3], axis=-1),
                                rtol=1e-12, atol=1e-15)
     # Both are atan2(|2 sin(angle) axis|, trace - 1) of products of the same rotations: they
-    # differ by rounding only, about 1e-15 rad, also near pi (the arcsine of the chord that
-    # _residuals used before lost half the digits there and needed 1e-7).
+    # differ by rounding only, about 1e-15 rad, also near pi (the arcsine of the chord
+    # used before lost half the digits there and needed 1e-7).
     np.testing.assert_allclose(orientation_error, rotation_angle_between(F, T[:, None]), rtol=0, atol=1e-14)
     tiny = robot.fk(q[:, 0]) @ transform_from(matrix_from_euler([1e-11, 0, 0], "xyz-fixed"), [0, 0, 0])
-    _, small = _residuals(_solver(robot.chain), q[:, :1], tiny)
+    _, small = _residuals(robot, q[:, :1], tiny)
     np.testing.assert_allclose(small, 1e-11, rtol=1e-4)  # accurate near zero
     for distance in (0.0, 1e-9, 1e-6):  # and near a half turn, about a general axis
         turned = robot.fk(q[:, 0]) @ transform_from(
             matrix_from_axis_angle((np.pi - distance) * np.array([0.6, 0.8, 0.0])), [0, 0, 0])
-        _, large = _residuals(_solver(robot.chain), q[:, :1], turned)
+        _, large = _residuals(robot, q[:, :1], turned)
         np.testing.assert_allclose(large, np.pi - distance, rtol=0, atol=1e-13)
 
 
 @pytest.mark.parametrize("name", ["probot-anno", "ur5"])
-def test_batches_across_chunks_equal_one_at_a_time(name):
-    """Large batches take cos and sin from a tangent (see subproblems.cos_sin): equal to rounding."""
+def test_batches_equal_one_at_a_time(name):
+    """One pose goes through reused buffers, a batch through fresh ones: the same answers."""
     robot = armkit.load(name)
-    count = CHUNK + 3
+    count = 40
     T = robot.fk(robot.random_q(count, rng=31))
     near = robot.random_q(count, rng=32)
     picked = robot.ik(T, near=near)
     found = ik_solutions(robot.chain, T, near=near)
     assert isinstance(found, IKSolutionsBatch) and len(found) == count
-    for i in (0, CHUNK - 1, CHUNK, count - 1):
+    every = robot.ik(T, all=True, near=near)
+    singles = [robot.ik(T[i], all=True, near=near[i]) for i in range(count)]
+    for i in range(count):
         np.testing.assert_allclose(picked[i], robot.ik(T[i], near=near[i]), rtol=0, atol=1e-12)
         one = ik_solutions(robot.chain, T[i], near=near[i])
         for field in ("q", "position_error", "orientation_error"):
             np.testing.assert_allclose(getattr(found[i], field), getattr(one, field), rtol=0, atol=1e-12)
         for field in ("within_limits", "family"):
             np.testing.assert_array_equal(getattr(found[i], field), getattr(one, field))
+        np.testing.assert_allclose(every[i], singles[i], rtol=0, atol=1e-12)  # earlier results intact
     assert [len(s.q) for s in found[:3]] == found.counts[:3].tolist()
-    every = robot.ik(T, all=True, near=near)
-    np.testing.assert_allclose(every[CHUNK], robot.ik(T[CHUNK], all=True, near=near[CHUNK]),
-                               rtol=0, atol=1e-12)
 
 
 def test_a_pose_printed_with_six_decimals_is_solved():

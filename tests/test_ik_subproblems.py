@@ -4,44 +4,47 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from armkit.ik.subproblems import cos_sin, rotate, rotation_matrix, solve_trig_linear, sp1, sp2, sp3, sp4
+from armkit.ik.subproblems import planar_2r, rotate, solve_trig_linear, sp1, sp2, sp3, sp4
+from armkit.spatial.rotations import matrix_from_axis_angle
 
 seeds = st.integers(0, 2**32 - 1)
 
 
-def _unit(rng, shape=()):
-    v = rng.normal(size=(*shape, 3))
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+def _unit(rng):
+    v = rng.normal(size=3)
+    return tuple(v / np.linalg.norm(v))
+
+
+def _vector(rng):
+    return tuple(rng.normal(size=3))
 
 
 def _angle_diff(a, b):
-    return np.abs((a - b + np.pi) % (2 * np.pi) - np.pi)
+    return np.abs((np.asarray(a) - b + np.pi) % (2 * np.pi) - np.pi)
 
 
 @settings(max_examples=50, deadline=None)
 @given(seeds)
 def test_rotate_matches_rotation_matrix(seed):
     rng = np.random.default_rng(seed)
-    k, v, t = _unit(rng, (5,)), rng.normal(size=(5, 3)), rng.uniform(-4, 4, 5)
-    R = rotation_matrix(k, t)
-    np.testing.assert_allclose((R @ v[..., None])[..., 0], rotate(k, t, v), atol=1e-14)
-    np.testing.assert_allclose(np.swapaxes(R, -1, -2) @ R, np.broadcast_to(np.eye(3), R.shape),
-                               atol=1e-14)
+    k, v, t = _unit(rng), _vector(rng), rng.uniform(-4, 4)
+    R = matrix_from_axis_angle(t * np.array(k))
+    np.testing.assert_allclose(R @ v, rotate(k, t, v), atol=1e-14)
 
 
 @settings(max_examples=50, deadline=None)
 @given(seeds)
 def test_sp1_recovers_angle(seed):
     rng = np.random.default_rng(seed)
-    k, p, t = _unit(rng, (20,)), rng.normal(size=(20, 3)), rng.uniform(-np.pi, np.pi, 20)
+    k, p, t = _unit(rng), _vector(rng), rng.uniform(-np.pi, np.pi)
     theta, free = sp1(p, rotate(k, t, p), k)
-    assert not free.any()
-    assert _angle_diff(theta, t).max() < 1e-9
+    assert not free
+    assert _angle_diff(theta, t) < 1e-9
 
 
 def test_sp1_point_on_axis_is_free():
-    k = np.array([0.0, 0.0, 1.0])
-    theta, free = sp1(2.0 * k, 2.0 * k, k)
+    k = (0.0, 0.0, 1.0)
+    theta, free = sp1((0.0, 0.0, 2.0), (0.0, 0.0, 2.0), k)
     assert free and theta == 0.0
 
 
@@ -49,28 +52,29 @@ def test_sp1_point_on_axis_is_free():
 @given(seeds)
 def test_sp2_contains_constructed_solution(seed):
     rng = np.random.default_rng(seed)
-    n = 20
-    k1, k2, p2 = _unit(rng, (n,)), _unit(rng, (n,)), rng.normal(size=(n, 3))
-    t1, t2 = rng.uniform(-np.pi, np.pi, n), rng.uniform(-np.pi, np.pi, n)
+    k1, k2, p2 = _unit(rng), _unit(rng), _vector(rng)
+    t1, t2 = rng.uniform(-np.pi, np.pi, 2)
     p1 = rotate(k1, -t1, rotate(k2, t2, p2))
     theta1, theta2, valid, free1, free2 = sp2(p1, p2, k1, k2)
-    assert valid[:, 0].all() and not free1.any() and not free2.any()
-    found = (_angle_diff(theta1, t1[:, None]) < 1e-8) & (_angle_diff(theta2, t2[:, None]) < 1e-8)
-    assert (found & valid).any(axis=1).all()
-    residual = rotate(k1[:, None], theta1, p1[:, None]) - rotate(k2[:, None], theta2, p2[:, None])
-    assert np.abs(residual[valid]).max() < 1e-12 * (1 + np.abs(p2).max())
+    assert valid[0] and not free1 and not free2
+    found = (_angle_diff(theta1, t1) < 1e-8) & (_angle_diff(theta2, t2) < 1e-8) & np.array(valid)
+    assert found.any()
+    for b in range(2):
+        if valid[b]:
+            residual = np.subtract(rotate(k1, theta1[b], p1), rotate(k2, theta2[b], p2))
+            assert np.abs(residual).max() < 1e-12 * (1 + np.abs(p2).max())
 
 
 def test_sp2_tangent_and_impossible():
-    x, y, z = np.eye(3)
+    x, y, z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
     # circles touch at one point: (s, s, 0) about x meets (s, 0, s) about z only at (s, 0, s)
     s = np.sqrt(0.5)
-    theta1, theta2, valid, _, _ = sp2(np.array([s, s, 0]), np.array([s, 0, s]), x, z)
-    assert valid.tolist() == [True, False]
+    theta1, theta2, valid, _, _ = sp2((s, s, 0.0), (s, 0.0, s), x, z)
+    assert valid == (True, False)
     np.testing.assert_allclose([theta1[0], theta2[0]], [np.pi / 2, 0.0], atol=1e-7)
     # |p1| != |p2|: no solution
-    _, _, valid, _, _ = sp2(z, 2 * z, x, y)
-    assert not valid.any()
+    _, _, valid, _, _ = sp2(z, (0.0, 0.0, 2.0), x, y)
+    assert valid == (False, False)
     # p1 on k1: theta1 free, theta2 brings p2 onto p1
     theta1, theta2, valid, free1, _ = sp2(x, z, x, y)
     assert free1 and valid[0] and theta1[0] == 0.0
@@ -81,55 +85,66 @@ def test_sp2_tangent_and_impossible():
 @given(seeds)
 def test_sp3_contains_constructed_solution(seed):
     rng = np.random.default_rng(seed)
-    n = 20
-    k, p1, p2 = _unit(rng, (n,)), rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
-    t = rng.uniform(-np.pi, np.pi, n)
-    d = np.linalg.norm(rotate(k, t, p1) - p2, axis=-1)
+    k, p1, p2 = _unit(rng), _vector(rng), _vector(rng)
+    t = rng.uniform(-np.pi, np.pi)
+    d = float(np.linalg.norm(np.subtract(rotate(k, t, p1), p2)))
     theta, valid, free = sp3(p1, p2, k, d)
-    assert valid[:, 0].all() and not free.any()
-    assert ((_angle_diff(theta, t[:, None]) < 1e-6) & valid).any(axis=1).all()
-    residual = np.linalg.norm(rotate(k[:, None], theta, p1[:, None]) - p2[:, None], axis=-1) - d[:, None]
-    assert np.abs(residual[valid]).max() < 1e-12
+    assert valid[0] and not free
+    assert ((_angle_diff(theta, t) < 1e-6) & np.array(valid)).any()
+    for b in range(2):
+        if valid[b]:
+            assert abs(np.linalg.norm(np.subtract(rotate(k, theta[b], p1), p2)) - d) < 1e-12
 
 
 def test_sp3_tangent_and_out_of_reach():
-    z = np.array([0.0, 0.0, 1.0])
-    p1, p2 = np.array([1.0, 0, 0]), np.array([3.0, 0, 0])
-    theta, valid, _ = sp3(p1, p2, z, np.array(2.0))  # nearest point: one solution, t = 0
-    assert valid.tolist() == [True, False] and abs(theta[0]) < 1e-12
-    _, valid, _ = sp3(p1, p2, z, np.array(4.0 + 1e-12))  # farthest point, rounding: tangent
-    assert valid.tolist() == [True, False]
-    _, valid, _ = sp3(p1, p2, z, np.array(4.1))
-    assert not valid.any()
+    z = (0.0, 0.0, 1.0)
+    p1, p2 = (1.0, 0.0, 0.0), (3.0, 0.0, 0.0)
+    theta, valid, _ = sp3(p1, p2, z, 2.0)  # nearest point: one solution, t = 0
+    assert valid == (True, False) and abs(theta[0]) < 1e-12
+    _, valid, _ = sp3(p1, p2, z, 4.0 + 1e-12)  # farthest point, rounding: tangent
+    assert valid == (True, False)
+    _, valid, _ = sp3(p1, p2, z, 4.1)
+    assert valid == (False, False)
 
 
 @settings(max_examples=50, deadline=None)
 @given(seeds)
 def test_sp4_contains_constructed_solution(seed):
     rng = np.random.default_rng(seed)
-    n = 20
-    h, k, p = rng.normal(size=(n, 3)), _unit(rng, (n,)), rng.normal(size=(n, 3))
-    t = rng.uniform(-np.pi, np.pi, n)
-    d = np.sum(h * rotate(k, t, p), axis=-1)
+    h, k, p = _vector(rng), _unit(rng), _vector(rng)
+    t = rng.uniform(-np.pi, np.pi)
+    d = float(np.dot(h, rotate(k, t, p)))
     theta, valid, _ = sp4(h, p, k, d)
-    assert ((_angle_diff(theta, t[:, None]) < 1e-6) & valid).any(axis=1).all()
-    residual = np.sum(h[:, None] * rotate(k[:, None], theta, p[:, None]), axis=-1) - d[:, None]
-    assert np.abs(residual[valid]).max() < 1e-12 * (1 + np.abs(h).max() * np.abs(p).max())
+    assert ((_angle_diff(theta, t) < 1e-6) & np.array(valid)).any()
+    for b in range(2):
+        if valid[b]:
+            residual = np.dot(h, rotate(k, theta[b], p)) - d
+            assert abs(residual) < 1e-12 * (1 + np.abs(h).max() * np.abs(p).max())
 
 
 def test_trig_linear_free_and_impossible():
-    theta, valid, free = solve_trig_linear(np.array(0.0), np.array(0.0), np.array(0.0), np.array(1.0))
-    assert free and valid.tolist() == [True, False] and theta[0] == 0.0
-    _, valid, free = solve_trig_linear(np.array(0.0), np.array(0.0), np.array(1.0), np.array(1.0))
-    assert not free and not valid.any()
-    theta, valid, _ = solve_trig_linear(np.array(1.0), np.array(0.0), np.array(0.5), np.array(1.0))
+    theta, valid, free = solve_trig_linear(0.0, 0.0, 0.0, 1.0)
+    assert free and valid == (True, False) and theta[0] == 0.0
+    _, valid, free = solve_trig_linear(0.0, 0.0, 1.0, 1.0)
+    assert not free and valid == (False, False)
+    theta, valid, _ = solve_trig_linear(1.0, 0.0, 0.5, 1.0)
     np.testing.assert_allclose(np.sort(theta), [-np.pi / 3, np.pi / 3], atol=1e-15)
-    assert valid.all()
+    assert valid == (True, True)
 
 
-def test_cos_sin_from_the_tangent_matches_numpy():
-    theta = np.concatenate([np.linspace(-7.0, 7.0, 4001), [np.pi, -np.pi, np.pi / 2, 0.0, 2 * np.pi]])
-    cos, sin = cos_sin(theta)  # large: from tan(theta / 2)
-    np.testing.assert_allclose(cos, np.cos(theta), rtol=0, atol=1e-15)
-    np.testing.assert_allclose(sin, np.sin(theta), rtol=0, atol=1e-15)
-    assert cos_sin(np.zeros(1000))[1].max() == 0.0 and cos_sin(np.zeros(1000))[0].min() == 1.0
+@settings(max_examples=50, deadline=None)
+@given(seeds)
+def test_planar_2r_contains_constructed_solution(seed):
+    rng = np.random.default_rng(seed)
+    h, a, b = _unit(rng), _vector(rng), _vector(rng)
+    ta, tb = rng.uniform(-np.pi, np.pi, 2)
+    v = rotate(h, ta, np.add(a, rotate(h, tb, b)))
+    angles_a, angles_b, valid, free = planar_2r(h, a, b, v)
+    assert valid[0] and not free
+    hits = (_angle_diff(angles_a, ta) < 1e-6) & (_angle_diff(angles_b, tb) < 1e-6) & np.array(valid)
+    assert hits.any()
+    for s in range(2):
+        if valid[s]:  # the in-plane part of the equation holds
+            residual = np.subtract(rotate(h, angles_a[s], np.add(a, rotate(h, angles_b[s], b))), v)
+            assert abs(np.linalg.norm(residual - np.dot(residual, h) * np.array(h))) < 1e-12 * (
+                1 + np.abs(a).max() + np.abs(b).max())

@@ -11,9 +11,10 @@ of :func:`armkit.ik.closed_form.closed_form_ik` is
 3. flagged inside or outside the limits and sorted by distance to ``near``
    (``closed_form_ik`` has already merged duplicates, modulo ``2 pi``).
 
-When only the solution nearest to ``near`` is asked for, the nearest candidate is
-verified alone (and the pose gets the full treatment above if it is not accurate to
-``1e-10``). Batches are solved ``CHUNK`` poses at a time, all in array operations.
+When only the solution nearest to ``near`` is asked for, it is the first of that list.
+Steps 1-3 run in one compiled loop over the poses (numba), which also calls the case
+solver (:func:`armkit.ik.closed_form.pose_candidates`): a few microseconds per pose,
+one pose or a million; only the rare refinement runs in Python.
 
 Chains without a closed form, and targets with a task ``mask``, go to the numeric
 solver (:func:`armkit.ik.numeric.numeric_ik`) seeded from ``near``.
@@ -24,17 +25,23 @@ differences in radians and metres (weights ``w`` default 1), after the ``2 pi`` 
 
 from __future__ import annotations
 
+import math
+import threading
 import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
+from numba import njit, vectorize
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.chain import LIMIT_TOLERANCE, Chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
-from armkit.ik.closed_form import CHUNK, ClosedFormSolver, closed_form_solver
+from armkit.ik.closed_form import ClosedFormSolver, closed_form_solver, pose_candidates
 from armkit.ik.numeric import numeric_ik, wrap_into_limits
+from armkit._jit import entry_point
+from armkit.kinematics import chain_frames
 from armkit.spatial.transforms import check_transform
 
 __all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
@@ -47,6 +54,7 @@ _REFINE_ABOVE = 1e-10
 _REFINE_MAX_MOVE = 1e-6
 #: Budget of the search for the closest pose when a target is out of reach.
 _CLOSEST_POSE_RESTARTS = 20
+_TWO_PI = 2.0 * math.pi
 
 
 _solvers: dict[int, tuple[weakref.ref, ClosedFormSolver | NoClosedFormError]] = {}
@@ -62,7 +70,7 @@ def _solver(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
     except NoClosedFormError as exc:
         solver = exc
     key = id(chain)
-    _solvers[key] = (weakref.ref(chain, lambda _ref, key=key: _solvers.pop(key, None)), solver)
+    _solvers[key] = (weakref.ref(chain, lambda _ref, key=key, memo=_solvers: memo.pop(key, None)), solver)
     return solver
 
 
@@ -134,117 +142,184 @@ class IKSolutionsBatch(Sequence[IKSolutions]):
                            self.position_error[i, :k], self.orientation_error[i, :k])
 
 
-def _residuals(solver: ClosedFormSolver, q: NDArray[np.float64],
-               T_target: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """FK residuals of candidates ``q`` ``(N, k, n)`` of targets ``(N, 4, 4)``: [m], [rad].
+@vectorize(["float64(float64, float64, float64, float64)"], cache=True)
+def wrap_angle_into_limits(q: float, lower: float, upper: float, reference: float) -> float:
+    """A revolute angle shifted by whole turns into ``[lower, upper]`` (a NumPy ufunc).
+
+    Among several fitting shifts (limits wider than ``2 pi``) the one closest to
+    ``reference``; an angle that fits no shift is moved as close to ``reference`` as
+    whole turns allow. Every argument broadcasts; all in radians.
+
+    >>> float(wrap_angle_into_limits(-3.0, -0.0175, 3.7525, 0.0).round(4))
+    3.2832
+    """
+    turns_low = np.ceil((lower - LIMIT_TOLERANCE - q) / _TWO_PI)
+    turns_high = np.floor((upper + LIMIT_TOLERANCE - q) / _TWO_PI)
+    turns = np.rint((reference - q) / _TWO_PI)
+    if turns_low <= turns_high:
+        turns = min(max(turns, turns_low), turns_high)
+    return q + _TWO_PI * turns
+
+
+@njit(cache=True)
+def _residual(T_target, F):
+    """FK residual of a candidate's pose ``F`` to ``T_target``: position [m], angle [rad].
 
     The angle is ``atan2(|v|, trace(X) - 1)`` of ``X = R_target^T R`` (``v`` the vector of
     its skew part, ``2 sin(angle) axis``), as in
     :func:`~armkit.spatial.rotations.rotation_angle_between`: accurate to rounding from 0
-    to ``pi``. ``X - I = R_target^T (R - R_target)`` comes from the FK differences, so
-    small angles keep their digits; it is one batched product per target.
+    to ``pi``. ``X - I = R_target^T (R - R_target)`` keeps the digits of small angles.
     """
-    D = solver.pose_difference(q, T_target)  # (3, 4, k, N)
-    position = np.sqrt(D[0, 3] ** 2 + D[1, 3] ** 2 + D[2, 3] ** 2)
-    N = len(T_target)
-    E = np.moveaxis(D[:, :3], -1, 0).reshape(N, 3, -1)  # (N, 3, 3 k): R - R_target per target
-    X = np.matmul(np.swapaxes(T_target[:, :3, :3], -1, -2), E).reshape(N, 3, 3, -1)  # X - I
-    trace_minus_1 = 2.0 + (X[:, 0, 0] + X[:, 1, 1] + X[:, 2, 2])
-    v0, v1, v2 = X[:, 2, 1] - X[:, 1, 2], X[:, 0, 2] - X[:, 2, 0], X[:, 1, 0] - X[:, 0, 1]
-    return position.T, np.arctan2(np.sqrt(v0 * v0 + v1 * v1 + v2 * v2), trace_minus_1)
+    position = math.sqrt((F[0, 3] - T_target[0, 3]) ** 2 + (F[1, 3] - T_target[1, 3]) ** 2
+                         + (F[2, 3] - T_target[2, 3]) ** 2)
+    x = np.zeros(9)  # X - I, row-major
+    for c in range(3):
+        for a in range(3):
+            for b in range(3):
+                x[3 * a + b] += T_target[c, a] * (F[c, b] - T_target[c, b])
+    v0, v1, v2 = x[7] - x[5], x[2] - x[6], x[3] - x[1]
+    return position, math.atan2(math.sqrt(v0 * v0 + v1 * v1 + v2 * v2), 2.0 + x[0] + x[4] + x[8])
 
 
-def _refine(chain: Chain, q: NDArray[np.float64], T_target: NDArray[np.float64],
-            position_error: NDArray[np.float64], orientation_error: NDArray[np.float64],
-            candidates: NDArray[np.bool_]) -> None:
-    """Newton-refine (in place) the candidates whose residual is above ``_REFINE_ABOVE``.
+class _Found(NamedTuple):
+    """Per pose ``(N, k)`` candidates, sorted by :func:`_rank_pose`: ``q`` ``(N, k, n)``,
+    ``valid`` (a solution of the closed form), ``keep`` (also reproduces the pose to
+    ``VERIFY_TOLERANCE``), ``inside`` (the limits), ``family``, the FK residuals, and
+    ``count`` ``(N,)``: how many are usable (kept, and inside if asked), sorted first."""
 
-    ``q`` ``(N, k, n)`` and the residuals and ``candidates`` ``(N, k)`` belong to the
-    targets ``T_target`` ``(N, 4, 4)``.
-    """
-    rough = candidates & ((position_error > _REFINE_ABOVE) | (orientation_error > _REFINE_ABOVE))
+    q: NDArray[np.float64]
+    valid: NDArray[np.bool_]
+    keep: NDArray[np.bool_]
+    inside: NDArray[np.bool_]
+    family: NDArray[np.bool_]
+    position_error: NDArray[np.float64]
+    orientation_error: NDArray[np.float64]
+    count: NDArray[np.int64]
+
+    @classmethod
+    def empty(cls, N: int, k: int, n: int) -> _Found:
+        return cls(np.empty((N, k, n)), *(np.empty((N, k), dtype=bool) for _ in range(4)),
+                   np.empty((N, k)), np.empty((N, k)), np.empty(N, dtype=np.int64))
+
+
+@njit(cache=True)
+def _rank_pose(found, i, near, weights, lower, upper, within_limits):
+    """Flag pose ``i``'s candidates (``keep``, ``inside``), count the usable ones (``keep``,
+    and ``inside`` if ``within_limits``) and sort them first, nearest to ``near`` first."""
+    k, n = found.q.shape[1:]
+    distance = np.empty(k)
+    count = 0
+    for s in range(k):
+        q = found.q[i, s]
+        found.keep[i, s] = found.valid[i, s] and found.position_error[i, s] <= VERIFY_TOLERANCE \
+            and found.orientation_error[i, s] <= VERIFY_TOLERANCE
+        inside, total = True, 0.0
+        for j in range(n):
+            inside = inside and lower[j] - LIMIT_TOLERANCE <= q[j] <= upper[j] + LIMIT_TOLERANCE
+            total += (weights[j] * (q[j] - near[j])) ** 2
+        found.inside[i, s] = inside
+        found.family[i, s] = found.family[i, s] and found.keep[i, s]
+        usable = found.keep[i, s] and (inside or not within_limits)
+        distance[s] = math.sqrt(total) if usable else np.inf
+        count += usable
+    found.count[i] = count
+    order = np.argsort(distance, kind="mergesort")  # stable: equal distances keep their order
+    _permute(found.valid[i], order)
+    _permute(found.keep[i], order)
+    _permute(found.inside[i], order)
+    _permute(found.family[i], order)
+    _permute(found.position_error[i], order)
+    _permute(found.orientation_error[i], order)
+    _permute(found.q[i], order)
+
+
+@njit(cache=True)
+def _permute(values, order):
+    """``values[:] = values[order]`` (rows), through one small copy."""
+    copy = values.copy()
+    for s in range(order.size):
+        values[s] = copy[order[s]]
+
+
+@njit(cache=True)
+def _solve_batch(g, d, T, near, weights, lower, upper, within_limits, found):
+    """Candidates of every pose, wrapped into the limits (reference ``near``), with their
+    FK residuals, ranked: into ``found`` (see :class:`_Found`). Returns the number of
+    valid candidates whose residual is above ``_REFINE_ABOVE`` and the number of poses
+    without a usable candidate."""
+    k, n = found.q.shape[1:]
+    F = np.empty((4, 4))
+    axes, points = np.empty((n, 3)), np.empty((n, 3))
+    rough = empty = 0
+    for i in range(T.shape[0]):
+        pose_candidates(g, d, T[i], found.q[i], found.valid[i], found.family[i], True)
+        for s in range(k):
+            q = found.q[i, s]
+            if not found.valid[i, s]:
+                q[:] = 0.0
+                found.position_error[i, s] = found.orientation_error[i, s] = np.inf
+                continue
+            for j in range(n):
+                if not d.prismatic[j]:
+                    q[j] = wrap_angle_into_limits(q[j], lower[j], upper[j], near[i, j])
+            chain_frames(d.T_between, d.prismatic, q, F, axes, points)
+            position, angle = _residual(T[i], F)
+            found.position_error[i, s], found.orientation_error[i, s] = position, angle
+            rough += position > _REFINE_ABOVE or angle > _REFINE_ABOVE
+        _rank_pose(found, i, near[i], weights, lower, upper, within_limits)
+        empty += found.count[i] == 0
+    return rough, empty
+
+
+def _refine(chain: Chain, found: _Found, T_target: NDArray[np.float64]) -> NDArray[np.int_]:
+    """Newton-refine (in place) the candidates whose residual is above ``_REFINE_ABOVE``;
+    the poses touched (to be ranked again)."""
+    rough = found.valid & ((found.position_error > _REFINE_ABOVE) | (found.orientation_error > _REFINE_ABOVE))
     for index in zip(*np.nonzero(rough), strict=True):
-        result = numeric_ik(chain, T_target[index[0]], q0=q[index], max_iterations=8, max_restarts=0,
+        q = found.q[index]
+        result = numeric_ik(chain, T_target[index[0]], q0=q, max_iterations=8, max_restarts=0,
                             position_tolerance=1e-13, orientation_tolerance=1e-13,
                             respect_limits=False)
-        moved = np.abs(result.q - q[index]).max()
         better = (result.position_error + result.orientation_error
-                  < position_error[index] + orientation_error[index])
-        if better and moved < _REFINE_MAX_MOVE:
-            q[index] = result.q
-            position_error[index] = result.position_error
-            orientation_error[index] = result.orientation_error
+                  < found.position_error[index] + found.orientation_error[index])
+        if better and np.abs(result.q - q).max() < _REFINE_MAX_MOVE:
+            found.q[index] = result.q
+            found.position_error[index] = result.position_error
+            found.orientation_error[index] = result.orientation_error
+    return np.flatnonzero(rough.any(axis=1))
+
+
+_one_pose = threading.local()  # per thread: _Found buffers for one pose, by (k, n)
 
 
 def _candidates(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64],
-                weights: NDArray[np.float64], within_limits: bool = False) -> dict[str, NDArray]:
+                weights: NDArray[np.float64], within_limits: bool = False, reuse: bool = False
+                ) -> tuple[_Found, int]:
     """The verified closed-form solutions of the targets ``T`` ``(N, 4, 4)``, nearest first.
 
-    Returns arrays over ``(N, k)`` candidates, sorted per pose so that the verified ones
-    (``keep``; with ``within_limits`` only those also ``inside``) come first, nearest to
-    ``near`` first: ``q`` ``(N, k, n)``, ``keep``, ``inside``, ``family``,
-    ``position_error``, ``orientation_error``. The poses are solved ``CHUNK`` at a time
-    (the temporaries stay in the CPU cache).
+    Per pose, the usable candidates (``keep``; with ``within_limits`` only those also
+    ``inside``) come first, nearest to ``near`` first (see :class:`_Found`); ``count``
+    is zero for a pose without any; the second value is the number of such poses.
+    ``reuse``: for one pose, fill this thread's buffers (the caller copies what it
+    returns) instead of allocating eight arrays.
     """
-    parts = [_candidates_chunk(solver, T[i:i + CHUNK], near[i:i + CHUNK], weights, within_limits)
-             for i in range(0, len(T), CHUNK)]
-    if len(parts) == 1:
-        return parts[0]
-    return {key: np.concatenate([part[key] for part in parts]) for key in parts[0]}
-
-
-def _candidates_chunk(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64],
-                      weights: NDArray[np.float64], within_limits: bool) -> dict[str, NDArray]:
     chain = solver.chain
-    q, valid, family = solver.candidates(T)
-    q = wrap_into_limits(chain, q, near[:, None, :])
-    valid &= np.isfinite(q).all(axis=-1)
-    q[~valid] = 0.0
-    position_error, orientation_error = _residuals(solver, q, T)
-    _refine(chain, q, T, position_error, orientation_error, valid)
-    keep = valid & (position_error <= VERIFY_TOLERANCE) & (orientation_error <= VERIFY_TOLERANCE)
-    inside = chain.within_limits(q)
-    first = keep & inside if within_limits else keep
-    order = np.argsort(np.where(first, _distance(q, near, weights), np.inf), axis=1, kind="stable")
-    out = {"q": q, "keep": keep, "inside": inside, "family": family & keep,
-           "position_error": position_error, "orientation_error": orientation_error}
-    rows = np.arange(len(order))[:, None]
-    return {key: value[rows, order] for key, value in out.items()}
-
-
-def _distance(q: NDArray[np.float64], near: NDArray[np.float64],
-              weights: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``|w * (q - near)|`` for candidates ``(N, k, n)`` and references ``(N, n)``: ``(N, k)``."""
-    d = weights * (q - near[:, None, :])
-    return np.sqrt(np.einsum("...i,...i->...", d, d))
-
-
-def _nearest(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64],
-             weights: NDArray[np.float64], within_limits: bool
-             ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """For each target, the candidate nearest to ``near``, verified by FK: ``(N, n)``, ``ok``.
-
-    Only the chosen candidate is put through FK. ``ok`` is False where no candidate is
-    usable or the chosen one is not accurate to ``_REFINE_ABOVE``; the caller hands those
-    poses to the full treatment (:func:`_candidates`: refinement, errors).
-    """
-    if len(T) > CHUNK:
-        parts = [_nearest(solver, T[i:i + CHUNK], near[i:i + CHUNK], weights, within_limits)
-                 for i in range(0, len(T), CHUNK)]
-        return np.concatenate([q for q, _ in parts]), np.concatenate([ok for _, ok in parts])
-    q, valid, _ = solver.candidates(T, merge=False)
-    q = wrap_into_limits(solver.chain, q, near[:, None, :])
-    usable = valid & np.isfinite(q).all(axis=-1)
-    if within_limits:
-        usable &= solver.chain.within_limits(q)
-    distance = np.where(usable, _distance(q, near, weights), np.inf)
-    best = np.argmin(distance, axis=1)
-    q = np.take_along_axis(q, best[:, None, None], axis=1)
-    found = usable.any(axis=1)
-    q[~found] = 0.0
-    position_error, orientation_error = _residuals(solver, q, T)
-    ok = found & (position_error[:, 0] <= _REFINE_ABOVE) & (orientation_error[:, 0] <= _REFINE_ABOVE)
-    return q[:, 0], ok
+    shape = (len(T), solver.data.k, chain.n)
+    if reuse and len(T) == 1:
+        buffers = _one_pose.__dict__
+        found = buffers.get(shape) or buffers.setdefault(shape, _Found.empty(*shape))
+    else:
+        found = _Found.empty(*shape)
+    lower, upper = chain.lower, chain.upper
+    args = (solver.geometry, solver.data, T, near, weights, lower, upper, within_limits, found)
+    if solver.solve_entry is None:  # compiled once per chain: later calls skip numba's dispatch
+        solver.solve_entry = entry_point(_solve_batch, *args)
+    rough, empty = solver.solve_entry(*args)
+    if rough:
+        for i in _refine(chain, found, T):
+            _rank_pose(found, i, near[i], weights, lower, upper, within_limits)
+        empty = int((found.count == 0).sum())
+    return found, empty
 
 
 def _angle_text(angle: float) -> str:
@@ -274,23 +349,29 @@ def _outside_limits(chain: Chain, q: NDArray[np.float64], label: str) -> JointLi
 
 def _check_inputs(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
                   weights: ArrayLike | None) -> tuple[NDArray, NDArray, NDArray, tuple[int, ...]]:
+    """Targets ``(N, 4, 4)``, references ``(N, n)`` and weights ``(n,)``, all C-contiguous
+    float64 (as the compiled loop takes them), and the batch shape."""
     T = check_transform(T_base_tool, "target pose")
     batch = T.shape[:-2]
-    T = T.reshape(-1, 4, 4)
+    T = np.ascontiguousarray(T.reshape(-1, 4, 4))
+    n = chain.n
     if near is None:
-        near = np.zeros(chain.n)
-    near = np.asarray(near, dtype=float)
-    if near.ndim == 0 or near.shape[-1] != chain.n or not np.all(np.isfinite(near)):
-        raise InputError(f"near: expected {chain.n} finite joint values (shape (..., {chain.n})), "
-                         f"got {near.tolist()}")
-    try:
-        near = np.broadcast_to(near, (*batch, chain.n)).reshape(-1, chain.n)
-    except ValueError as exc:
-        raise InputError(f"near: shape {near.shape} does not match {len(T)} target poses") from exc
-    weights = np.ones(chain.n) if weights is None else np.asarray(weights, dtype=float)
-    if weights.shape != (chain.n,) or not np.all(np.isfinite(weights) & (weights > 0)):
-        raise InputError(f"weights: expected {chain.n} positive numbers, got {weights.tolist()}")
-    return T, near, weights, batch
+        near = np.zeros((len(T), n))
+    else:
+        near = np.asarray(near, dtype=float)
+        if near.ndim == 0 or near.shape[-1] != n or not np.isfinite(near).all():
+            raise InputError(f"near: expected {n} finite joint values (shape (..., {n})), "
+                             f"got {near.tolist()}")
+        try:
+            near = np.ascontiguousarray(np.broadcast_to(near, (*batch, n)).reshape(-1, n))
+        except ValueError as exc:
+            raise InputError(f"near: shape {near.shape} does not match {len(T)} target poses") from exc
+    if weights is None:
+        return T, near, np.ones(n), batch
+    weights = np.asarray(weights, dtype=float)
+    if weights.shape != (n,) or not np.all(np.isfinite(weights) & (weights > 0)):
+        raise InputError(f"weights: expected {n} positive numbers, got {weights.tolist()}")
+    return T, near, np.ascontiguousarray(weights), batch
 
 
 def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
@@ -333,9 +414,9 @@ def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None
     solver = _solver(chain)
     if isinstance(solver, NoClosedFormError):
         raise solver
-    c = _candidates(solver, T, near, weights)
-    found = IKSolutionsBatch(c["q"], c["keep"].sum(axis=1), c["inside"], c["family"],
-                             c["position_error"], c["orientation_error"])
+    c, _ = _candidates(solver, T, near, weights)
+    found = IKSolutionsBatch(c.q, c.keep.sum(axis=1), c.inside, c.family, c.position_error,
+                             c.orientation_error)
     return found if batch else found[0]
 
 
@@ -425,19 +506,14 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
         q = np.stack([_numeric_one(chain, T[i], near[i], within_limits, labels[i], numeric_options)
                       for i in range(len(T))])
         return q.reshape(*batch, chain.n)
+    c, empty = _candidates(solver, T, near, weights, within_limits, reuse=True)
+    if empty:
+        _raise_if_unusable(chain, c, T, near, labels)
+    if not batch:  # c holds this thread's buffers: copy
+        return c.q[0, :c.count[0]].copy() if all else c.q[0, 0].copy()
     if not all:
-        q, ok = _nearest(solver, T, near, weights, within_limits)
-        if ok.all():
-            return q.reshape(*batch, chain.n)
-        rest = np.flatnonzero(~ok)
-        c = _candidates(solver, T[rest], near[rest], weights, within_limits)
-        _raise_if_unusable(chain, c, T[rest], near[rest], labels.of(rest), within_limits)
-        q[rest] = c["q"][:, 0]
-        return q.reshape(*batch, chain.n)
-    c = _candidates(solver, T, near, weights, within_limits)
-    count = _raise_if_unusable(chain, c, T, near, labels, within_limits)
-    found = [q[:k] for q, k in zip(c["q"], count.tolist(), strict=True)]
-    return found if batch else found[0]
+        return c.q[:, 0].reshape(*batch, chain.n)
+    return [q[:k] for q, k in zip(c.q, c.count.tolist(), strict=True)]
 
 
 class _Labels:
@@ -455,15 +531,11 @@ class _Labels:
         return _Labels(self.size, index)
 
 
-def _raise_if_unusable(chain: Chain, c: dict[str, NDArray], T: NDArray[np.float64],
-                       near: NDArray[np.float64], labels: _Labels, within_limits: bool
-                       ) -> NDArray[np.int_]:
-    """Number of usable (sorted-first) candidates per pose; raise for a pose without any."""
-    usable = c["keep"] & c["inside"] if within_limits else c["keep"]
-    count = usable.sum(axis=1)
-    for i in np.flatnonzero(count == 0):
-        if c["keep"][i].any():
-            first = np.flatnonzero(c["keep"][i])[0]
-            raise _outside_limits(chain, c["q"][i, first], labels[i])
+def _raise_if_unusable(chain: Chain, c: _Found, T: NDArray[np.float64],
+                       near: NDArray[np.float64], labels: _Labels) -> None:
+    """Raise for the first pose without a usable candidate."""
+    for i in np.flatnonzero(c.count == 0):
+        if c.keep[i].any():
+            first = np.flatnonzero(c.keep[i])[0]
+            raise _outside_limits(chain, c.q[i, first], labels[i])
         raise _unreachable(chain, T[i], near[i], labels[i])
-    return count

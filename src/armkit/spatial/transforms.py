@@ -6,7 +6,10 @@ Lengths in metres, angles in radians.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError
@@ -105,26 +108,56 @@ def check_transform(T: ArrayLike, name: str = "pose") -> NDArray[np.float64]:
         raise InputError(f"{name}: expected a 4x4 numeric matrix, got {T!r}") from exc
     if T.ndim < 2 or T.shape[-2:] != (4, 4):
         raise InputError(f"{name}: expected shape (..., 4, 4), got {T.shape}")
-    if not np.all(np.isfinite(T)):
+    flat = np.ascontiguousarray(T.reshape(-1, 4, 4))
+    finite, last_row, orthonormal, rough = _rigidity(flat) if flat.size else (True, 0.0, 0.0, 0)
+    if not finite:
         raise InputError(f"{name}: contains NaN or infinite values")
-    if not np.allclose(T[..., 3, :], [0.0, 0.0, 0.0, 1.0], atol=RIGID_TOLERANCE):
+    if last_row > RIGID_TOLERANCE:
         raise InputError(f"{name}: last row must be [0, 0, 0, 1], got {T[..., 3, :].tolist()}")
-    R = T[..., :3, :3]
-    orth = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(axis=(-1, -2))
-    det = np.linalg.det(R)
-    bad = (orth > RIGID_TOLERANCE) | (np.abs(det - 1.0) > RIGID_TOLERANCE)
-    if np.any(bad):
+    if orthonormal > RIGID_TOLERANCE:
+        R = flat[:, :3, :3]
+        orth = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(axis=(-1, -2))
+        det = np.linalg.det(R)
+        worst = np.argmax(np.maximum(orth, np.abs(det - 1.0)))
         raise InputError(
             f"{name}: rotation part is not a rotation matrix (max |R^T R - I| = "
-            f"{orth.max():.3g}, det R = {np.ravel(det)[np.argmax(np.ravel(bad))]:.6g}); "
+            f"{orth.max():.3g}, det R = {det[worst]:.6g}); "
             f"expected an orthonormal matrix with determinant +1"
         )
-    rough = orth > 1e-14
-    if np.any(rough):
-        T = T.copy()
-        U, _, Vt = np.linalg.svd(T[rough][..., :3, :3])
-        T[rough, :3, :3] = U @ Vt
+    if rough:  # orthonormal only to within RIGID_TOLERANCE: the nearest rotation matrix
+        flat = flat.copy()
+        R = flat[:, :3, :3]
+        off = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(axis=(-1, -2)) > 1e-14
+        U, _, Vt = np.linalg.svd(R[off])
+        flat[off, :3, :3] = U @ Vt
+        return flat.reshape(T.shape)
     return T
+
+
+@njit(cache=True)
+def _rigidity(T: NDArray[np.float64]) -> tuple[bool, float, float, int]:
+    """For transforms ``(N, 4, 4)``: all finite, the largest deviation of a last row from
+    ``[0, 0, 0, 1]``, the largest of ``|R^T R - I|`` and ``|det R - 1|``, and how many
+    rotations are off by more than ``1e-14`` (one pass, no temporaries)."""
+    last_row = orthonormal = 0.0
+    rough = 0
+    for i in range(T.shape[0]):
+        for a in range(4):
+            for b in range(4):
+                if not math.isfinite(T[i, a, b]):
+                    return False, 0.0, 0.0, 0
+        last_row = max(last_row, abs(T[i, 3, 0]), abs(T[i, 3, 1]), abs(T[i, 3, 2]), abs(T[i, 3, 3] - 1.0))
+        worst = 0.0
+        for a in range(3):
+            for b in range(3):
+                dot = T[i, 0, a] * T[i, 0, b] + T[i, 1, a] * T[i, 1, b] + T[i, 2, a] * T[i, 2, b]
+                worst = max(worst, abs(dot - (1.0 if a == b else 0.0)))
+        det = (T[i, 0, 0] * (T[i, 1, 1] * T[i, 2, 2] - T[i, 1, 2] * T[i, 2, 1])
+               - T[i, 0, 1] * (T[i, 1, 0] * T[i, 2, 2] - T[i, 1, 2] * T[i, 2, 0])
+               + T[i, 0, 2] * (T[i, 1, 0] * T[i, 2, 1] - T[i, 1, 1] * T[i, 2, 0]))
+        rough += worst > 1e-14
+        orthonormal = max(orthonormal, worst, abs(det - 1.0))
+    return True, last_row, orthonormal, rough
 
 
 def pose_from_transform(T: ArrayLike, convention: str | AngleConvention = "xyz-fixed",
