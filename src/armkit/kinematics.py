@@ -247,6 +247,40 @@ def _half_turn_axis(R: NDArray[np.float64], trace: NDArray[np.float64],
 
 
 @njit(cache=True)
+def pose_error_into(T_target: NDArray[np.float64], T: NDArray[np.float64], e: NDArray[np.float64]) -> None:
+    """Compiled :func:`pose_error` of ONE pose ``T`` ``(4, 4)`` to ``T_target``, written into ``e`` ``(6,)``.
+
+    The same formulas, the half-turn case included (axis from ``R + R^T`` when
+    ``2 sin(angle) <= HALF_TURN_NORM`` and the trace is not positive).
+    """
+    X = np.empty((3, 3))  # R_target R^T
+    for a in range(3):
+        e[a] = T_target[a, 3] - T[a, 3]
+        for b in range(3):
+            X[a, b] = T_target[a, 0] * T[b, 0] + T_target[a, 1] * T[b, 1] + T_target[a, 2] * T[b, 2]
+    vx, vy, vz = X[2, 1] - X[1, 2], X[0, 2] - X[2, 0], X[1, 0] - X[0, 1]  # 2 sin(angle) * axis
+    norm = math.sqrt(vx * vx + vy * vy + vz * vz)
+    trace = X[0, 0] + X[1, 1] + X[2, 2]
+    angle = math.atan2(norm, trace - 1.0)
+    if norm <= HALF_TURN_NORM and trace <= 0.0:  # axis from the symmetric part, as _half_turn_axis
+        cosine = (trace - 1.0) / 2.0
+        k = 0
+        for j in (1, 2):
+            if X[j, j] - cosine > X[k, k] - cosine:
+                k = j
+        ax = 0.5 * (X[0, k] + X[k, 0]) - (cosine if k == 0 else 0.0)
+        ay = 0.5 * (X[1, k] + X[k, 1]) - (cosine if k == 1 else 0.0)
+        az = 0.5 * (X[2, k] + X[k, 2]) - (cosine if k == 2 else 0.0)
+        scale = angle / math.sqrt(ax * ax + ay * ay + az * az)
+        if ax * vx + ay * vy + az * vz < 0.0:
+            scale = -scale
+        e[3], e[4], e[5] = scale * ax, scale * ay, scale * az
+        return
+    scale = angle / norm if norm > 1e-300 else 0.5  # angle / (2 sin angle) -> 1/2 for small angles
+    e[3], e[4], e[5] = scale * vx, scale * vy, scale * vz
+
+
+@njit(cache=True)
 def chain_frames(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q: NDArray[np.float64],
                  T: NDArray[np.float64], axes: NDArray[np.float64], points: NDArray[np.float64]) -> None:
     """Compiled FK of ONE configuration, written into work arrays (no checks, no allocation).
@@ -257,7 +291,9 @@ def chain_frames(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q
     frame. ``T_between`` ``(n + 1, 4, 4)`` is :attr:`armkit.chain.Chain.T_between`,
     ``prismatic`` ``(n,)`` the chain's prismatic mask and ``q`` ``(n,)`` float64 [rad or m].
     """
-    T[:, :] = T_between[0]
+    for r in range(4):  # loops, not slice assignments: those cost seconds of compile time
+        for k in range(4):
+            T[r, k] = T_between[0, r, k]
     for i in range(q.shape[0]):
         for r in range(3):
             axes[i, r] = T[r, 2]
@@ -274,8 +310,8 @@ def chain_frames(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q
         L = T_between[i + 1]
         for r in range(4):
             a0, a1, a2, a3 = T[r, 0], T[r, 1], T[r, 2], T[r, 3]
-            for c in range(4):
-                T[r, c] = a0 * L[0, c] + a1 * L[1, c] + a2 * L[2, c] + a3 * L[3, c]
+            for k in range(4):
+                T[r, k] = a0 * L[0, k] + a1 * L[1, k] + a2 * L[2, k] + a3 * L[3, k]
 
 
 @njit(cache=True)
@@ -355,7 +391,7 @@ class ChainKernel:
 
     def __init__(self, chain: Chain) -> None:
         self.n = chain.n
-        #: The chain's fixed transforms ``(n + 1, 4, 4)`` and prismatic mask ``(n,)``, as the kernels take them.
+        #: The chain's fixed transforms ``(n + 1, 4, 4)`` and prismatic mask ``(n,)`` for the kernels.
         self.T_between = np.ascontiguousarray(chain.T_between, dtype=np.float64)
         self.prismatic = np.ascontiguousarray(chain.prismatic, dtype=np.bool_)
 
