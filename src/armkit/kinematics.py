@@ -26,12 +26,15 @@ from armkit.spatial.rotations import angular_velocity_matrix, euler_from_matrix
 __all__ = [
     "ChainKernel",
     "analytic_jacobian",
+    "chain_frames",
+    "chain_jacobian",
     "fk",
     "geometric_jacobian",
     "joint_frames",
     "link_frames",
     "manipulability",
     "pose_error",
+    "pose_error_into",
     "singular_values",
 ]
 
@@ -290,6 +293,17 @@ def chain_frames(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q
     for a revolute joint, the start of the travel for a prismatic one), all in the base
     frame. ``T_between`` ``(n + 1, 4, 4)`` is :attr:`armkit.chain.Chain.T_between`,
     ``prismatic`` ``(n,)`` the chain's prismatic mask and ``q`` ``(n,)`` float64 [rad or m].
+
+    Examples
+    --------
+    >>> import armkit
+    >>> chain = armkit.load("ur5").chain
+    >>> q = np.array([0.1, -1.2, 1.5, -0.3, 1.6, 0.2])
+    >>> T, axes, points, J = np.empty((4, 4)), np.empty((6, 3)), np.empty((6, 3)), np.empty((6, 6))
+    >>> chain_frames(chain.T_between, chain.prismatic, q, T, axes, points)
+    >>> chain_jacobian(T, axes, points, chain.prismatic, J)
+    >>> bool(np.allclose(T, fk(chain, q), atol=1e-14)), bool(np.allclose(J, geometric_jacobian(chain, q)))
+    (True, True)
     """
     for r in range(4):  # loops, not slice assignments: those cost seconds of compile time
         for k in range(4):
