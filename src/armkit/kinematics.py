@@ -405,9 +405,10 @@ class ChainKernel:
 
     def __init__(self, chain: Chain) -> None:
         self.n = chain.n
-        #: The chain's fixed transforms ``(n + 1, 4, 4)`` and prismatic mask ``(n,)`` for the kernels.
-        self.T_between = np.ascontiguousarray(chain.T_between, dtype=np.float64)
-        self.prismatic = np.ascontiguousarray(chain.prismatic, dtype=np.bool_)
+        #: The chain's fixed transforms ``(n + 1, 4, 4)`` and prismatic mask ``(n,)`` for the kernels
+        #: (writable C-ordered copies, so every chain uses the same compiled specialisation).
+        self.T_between = np.array(chain.T_between, dtype=np.float64, order="C")
+        self.prismatic = np.array(chain.prismatic, dtype=np.bool_, order="C")
 
     def pose(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Tool pose ``T_base_tool`` ``(4, 4)`` at joint values ``q`` ``(n,)`` [rad or m]."""

@@ -110,7 +110,7 @@ def _check_mask(mask: ArrayLike | None) -> NDArray[np.bool_]:
 
 def _check_target(T_base_tool: ArrayLike) -> NDArray[np.float64]:
     try:
-        T = np.ascontiguousarray(T_base_tool, dtype=np.float64)
+        T = np.array(T_base_tool, dtype=np.float64, order="C")  # writable: the compiled type
     except (TypeError, ValueError) as exc:
         raise InputError(f"T_base_tool: expected a 4x4 transform, got {T_base_tool!r}") from exc
     if T.shape != (4, 4) or not math.isfinite(T.sum()):
@@ -377,8 +377,10 @@ class NumericIK:
                                  dtype=np.float64)
         self.max_iterations, self.max_restarts = int(max_iterations), int(max_restarts)
         self.time_budget, self.respect_limits = float(time_budget), bool(respect_limits)
-        self.lower = np.ascontiguousarray(chain.lower, dtype=np.float64)
-        self.upper = np.ascontiguousarray(chain.upper, dtype=np.float64)
+        # writable copies, like every array _attempt gets: a read-only array is another numba
+        # type, which would compile another specialisation inside a solve's time budget
+        self.lower = np.array(chain.lower, dtype=np.float64)
+        self.upper = np.array(chain.upper, dtype=np.float64)
         self.seed_low = np.where(np.isfinite(self.lower), self.lower, -_UNBOUNDED_SEED_RANGE)
         self.seed_high = np.where(np.isfinite(self.upper), self.upper, _UNBOUNDED_SEED_RANGE)
         if not _attempt.signatures:  # compile (or load from numba's cache) outside any time budget
