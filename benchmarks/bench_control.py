@@ -68,7 +68,7 @@ def main() -> None:
     q = np.array([0.3, -0.5, 0.4, 0.2, 1.2, -0.3])
     twist = np.array([0.05, -0.02, 0.03, 0.1, -0.2, 0.15])
 
-    # Same work, same answer: check before timing.
+    # Same work, same answer: check before timing (this also compiles armkit's numba kernels).
     expected = dls_numpy(ets.jacob0(q), twist, inverse_max_velocity)
     assert np.allclose(control.step(q, twist).qd, expected, atol=1e-12), "the two steps disagree"
     q_near = np.array([0.3, -0.5, 0.4, 0.2, np.pi / 2 - 1e-3, -0.3])  # near the wrist singularity

@@ -11,7 +11,14 @@ from hypothesis import strategies as st
 import armkit
 from armkit.chain import DHRow
 from armkit.errors import InputError
-from armkit.ik.numeric import NumericIK, _TargetError, numeric_ik, wrap_into_limits
+from armkit.ik.numeric import (
+    NumericIK,
+    _cholesky_solve,
+    _damped_step,
+    _TargetError,
+    numeric_ik,
+    wrap_into_limits,
+)
 from armkit.kinematics import pose_error
 from armkit.spatial import matrix_from_axis_angle, transform_from
 
@@ -175,3 +182,87 @@ def test_projection_follows_wrap_into_limits(name):
         np.testing.assert_allclose(projected, expected, rtol=0, atol=1e-14)
         at_bound = [i for i in range(chain.n) if not chain.lower[i] < projected[i] < chain.upper[i]]
         assert [i for i, _ in held] == at_bound
+
+
+def test_panda_success_rate_counted_by_forward_kinematics():
+    """The benchmark's setting (bench_ik.py part b), smaller: random reachable poses, one random
+    seed each; a pose counts as solved only if FK of the answer is within 1e-6 m and 1e-6 rad
+    and the answer is inside the limits, whatever the solver's flag says."""
+    panda = armkit.load("panda")
+    solver = NumericIK(panda.chain)
+    targets, seeds = panda.fk(panda.random_q(500, rng=20)), panda.random_q(500, rng=21)
+    solved = 0
+    for i, T in enumerate(targets):
+        q = solver.solve(T, seeds[i], rng=i).q
+        e = pose_error(T, panda.fk(q))
+        solved += bool(np.linalg.norm(e[:3]) <= 1e-6 and np.linalg.norm(e[3:]) <= 1e-6
+                       and panda.within_limits(q))
+    assert solved / len(targets) >= 0.998
+
+
+def test_non_finite_or_misshaped_target_is_an_input_error():
+    panda = armkit.load("panda")
+    T = panda.fk(np.zeros(7))
+    for bad in (np.nan, np.inf):
+        T_bad = T.copy()
+        T_bad[1, 3] = bad
+        with pytest.raises(InputError, match="T_base_tool: expected a finite 4x4 transform"):
+            numeric_ik(panda.chain, T_bad)
+    with pytest.raises(InputError, match="T_base_tool: expected a finite 4x4 transform"):
+        numeric_ik(panda.chain, T[:3])
+    with pytest.raises(InputError, match="q0: expected 7 finite joint values"):
+        numeric_ik(panda.chain, T, q0=[0.0, np.inf, 0, 0, 0, 0, 0])
+
+
+def _step_by_numpy(J, e, rows, sides, damping):
+    """The documented damped step, written with NumPy: frozen columns, masked rows, normal equations."""
+    J = J.copy()
+    frozen = (e * np.isin(np.arange(6), rows)) @ J * sides > 0.0
+    J[:, frozen] = 0.0
+    J, e = J[rows], e[rows]
+    if len(rows) <= J.shape[1]:
+        return J.T @ np.linalg.solve(J @ J.T + damping * np.eye(len(rows)), e)
+    return np.linalg.solve(J.T @ J + damping * np.eye(J.shape[1]), J.T @ e)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(4, 8),
+       st.sampled_from([(0, 1, 2, 3, 4, 5), (0, 1, 2), (0, 2, 4, 5)]))
+def test_compiled_step_equals_the_numpy_formula(seed, n, rows):
+    rng = np.random.default_rng(seed)
+    J, e = rng.normal(size=(6, n)), rng.normal(size=6)
+    rows = np.array(rows, dtype=np.int64)
+    sides = rng.choice([-1.0, 0.0, 1.0], n)
+    # frozen columns can leave J J^T singular, so the system's condition is about |J|^2 / damping:
+    # from 1e-4 on the two solutions agree to 1e-9 whatever the rounding
+    damping = 10.0 ** rng.uniform(-4, 0)
+    dq = np.empty(n)
+    _damped_step(J, e, rows, sides, damping, dq)
+    expected = _step_by_numpy(J, e, rows, sides, damping)
+    np.testing.assert_allclose(dq, expected, rtol=1e-9, atol=1e-12)
+
+
+def test_compiled_step_without_damping_on_a_singular_jacobian():
+    """Not positive definite: close to the minimum-norm least-squares step (damping 1e-10
+    trace(J^T J): about 1e-7 away on these rank-3 Jacobians); all zeros: no step."""
+    rng = np.random.default_rng(3)
+    rows, sides, dq = np.arange(6), np.zeros(7), np.empty(7)
+    for _ in range(20):
+        J = rng.normal(size=(6, 3)) @ rng.normal(size=(3, 7))  # rank 3
+        e = rng.normal(size=6)
+        _damped_step(J, e, rows, sides, 0.0, dq)
+        np.testing.assert_allclose(dq, np.linalg.lstsq(J, e, rcond=None)[0], rtol=0, atol=1e-6)
+    _damped_step(np.zeros((6, 7)), e, rows, sides, 0.0, dq)
+    np.testing.assert_array_equal(dq, np.zeros(7))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 8))
+def test_compiled_cholesky_solve_equals_numpy(seed, k):
+    rng = np.random.default_rng(seed)
+    M = rng.normal(size=(k, k))
+    A, b = M @ M.T + 1e-3 * np.eye(k), rng.normal(size=k)
+    x = b.copy()
+    assert _cholesky_solve(A.copy(), x)
+    np.testing.assert_allclose(A @ x, b, rtol=0, atol=1e-9 * np.linalg.cond(A))
+    assert not _cholesky_solve(-A, b.copy())

@@ -9,7 +9,17 @@ from hypothesis import strategies as st
 import armkit
 from armkit import DHRow, Robot
 from armkit.errors import InputError
-from armkit.kinematics import ChainKernel, fk, geometric_jacobian, joint_frames, link_frames, pose_error
+from armkit.kinematics import (
+    ChainKernel,
+    chain_frames,
+    chain_jacobian,
+    fk,
+    geometric_jacobian,
+    joint_frames,
+    link_frames,
+    pose_error,
+    pose_error_into,
+)
 from armkit.spatial import matrix_from_axis_angle, rotation_angle_between, transform_from
 
 RTB_MODELS = {"puma560": "Puma560", "stanford": "Stanford", "ur5": "UR5", "panda": "Panda"}
@@ -274,3 +284,61 @@ def test_chain_limits_are_read_only_arrays_and_within_limits_uses_them():
     q[2, 0] = chain.lower[0] - 0.5e-9  # within the slack
     np.testing.assert_array_equal(chain.within_limits(q), [True, False, True, True])
     np.testing.assert_array_equal(robot.within_limits(q), chain.within_limits(q))
+
+
+def _prismatic_arm():
+    """A 5-joint arm with two prismatic joints (one first, one in the middle), base and tool rows."""
+    rows = [DHRow(0.0, 0.0, 0.3, 0.2, "prismatic"), DHRow(np.pi / 2, 0.1, 0.0, 0.0),
+            DHRow(-0.7, 0.25, 0.05, 0.4, "prismatic"), DHRow(np.pi / 2, 0.0, 0.2, 0.0),
+            DHRow(-np.pi / 2, 0.05, 0.0, -0.3)]
+    return Robot.from_dh(rows, "modified", base_rows=[DHRow(0.1, 0.2, 0.3, 0.4, joint=None)],
+                         tool_rows=[DHRow(-0.2, 0.0, 0.1, 0.5, joint=None)], name="PRPRR")
+
+
+_KERNEL_ROBOTS = {name: armkit.load(name) for name in armkit.builtin_robots()} | {"PRPRR": _prismatic_arm()}
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(sorted(_KERNEL_ROBOTS)), st.lists(st.floats(-7.0, 7.0), min_size=7, max_size=7))
+def test_compiled_frames_and_jacobian_equal_fk_and_geometric_jacobian(name, values):
+    """The numba kernels themselves (chain_frames, chain_jacobian), as NumericIK calls them."""
+    robot = _KERNEL_ROBOTS[name]
+    chain = robot.chain
+    q = np.array(values[:chain.n])
+    T, J = np.empty((4, 4)), np.empty((6, chain.n))
+    axes, points = np.empty((chain.n, 3)), np.empty((chain.n, 3))
+    kernel = ChainKernel(chain)
+    chain_frames(kernel.T_between, kernel.prismatic, q, T, axes, points)
+    chain_jacobian(T, axes, points, kernel.prismatic, J)
+    np.testing.assert_allclose(T, fk(chain, q), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(J, geometric_jacobian(chain, q), rtol=0, atol=1e-14)
+    frames, _ = joint_frames(chain, q)
+    np.testing.assert_allclose(axes, frames[:, :3, 2], rtol=0, atol=1e-14)
+    travel = np.where(chain.prismatic, q, 0.0)[:, None] * axes
+    np.testing.assert_allclose(points + travel, frames[:, :3, 3], rtol=0, atol=1e-14)
+
+
+def test_the_prismatic_test_arm_has_prismatic_joints_and_matches_finite_differences():
+    robot = _prismatic_arm()
+    assert robot.chain.prismatic.tolist() == [True, False, True, False, False]
+    q, h = np.array([0.1, 0.4, -0.2, 1.0, -0.5]), 1e-6
+    _, J = ChainKernel(robot.chain).pose_jacobian(q)
+    for i in range(robot.n):
+        dq = np.zeros(robot.n)
+        dq[i] = h
+        e = pose_error(robot.fk(q + dq), robot.fk(q - dq)) / (2 * h)
+        np.testing.assert_allclose(J[:, i], e, atol=1e-8)
+
+
+@pytest.mark.parametrize("distance", [0.0, 1e-12, 1e-9, 1e-6, 4e-3, 6e-3, 1e-2, 0.5, 3.0])
+def test_compiled_pose_error_equals_pose_error_near_and_away_from_a_half_turn(distance):
+    rng = np.random.default_rng(8)
+    T = transform_from(matrix_from_axis_angle([0.3, -0.2, 0.5]), [0.1, 0.2, 0.3])
+    e = np.empty(6)
+    for axis in rng.normal(size=(100, 3)):
+        w = (np.pi - distance) * axis / np.linalg.norm(axis)
+        T_target = transform_from(matrix_from_axis_angle(w) @ T[:3, :3], rng.uniform(-1, 1, 3))
+        pose_error_into(T_target, T, e)
+        # the same bound as above: past 5e-3 rad from pi the axis v / |v| magnifies rounding
+        np.testing.assert_allclose(e, pose_error(T_target, T), rtol=0,
+                                   atol=1e-14 if distance < 5e-3 or distance > 0.1 else 1e-13)

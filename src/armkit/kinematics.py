@@ -26,12 +26,15 @@ from armkit.spatial.rotations import angular_velocity_matrix, euler_from_matrix
 __all__ = [
     "ChainKernel",
     "analytic_jacobian",
+    "chain_frames",
+    "chain_jacobian",
     "fk",
     "geometric_jacobian",
     "joint_frames",
     "link_frames",
     "manipulability",
     "pose_error",
+    "pose_error_into",
     "singular_values",
 ]
 
@@ -247,6 +250,40 @@ def _half_turn_axis(R: NDArray[np.float64], trace: NDArray[np.float64],
 
 
 @njit(cache=True)
+def pose_error_into(T_target: NDArray[np.float64], T: NDArray[np.float64], e: NDArray[np.float64]) -> None:
+    """Compiled :func:`pose_error` of ONE pose ``T`` ``(4, 4)`` to ``T_target``, written into ``e`` ``(6,)``.
+
+    The same formulas, the half-turn case included (axis from ``R + R^T`` when
+    ``2 sin(angle) <= HALF_TURN_NORM`` and the trace is not positive).
+    """
+    X = np.empty((3, 3))  # R_target R^T
+    for a in range(3):
+        e[a] = T_target[a, 3] - T[a, 3]
+        for b in range(3):
+            X[a, b] = T_target[a, 0] * T[b, 0] + T_target[a, 1] * T[b, 1] + T_target[a, 2] * T[b, 2]
+    vx, vy, vz = X[2, 1] - X[1, 2], X[0, 2] - X[2, 0], X[1, 0] - X[0, 1]  # 2 sin(angle) * axis
+    norm = math.sqrt(vx * vx + vy * vy + vz * vz)
+    trace = X[0, 0] + X[1, 1] + X[2, 2]
+    angle = math.atan2(norm, trace - 1.0)
+    if norm <= HALF_TURN_NORM and trace <= 0.0:  # axis from the symmetric part, as _half_turn_axis
+        cosine = (trace - 1.0) / 2.0
+        k = 0
+        for j in (1, 2):
+            if X[j, j] - cosine > X[k, k] - cosine:
+                k = j
+        ax = 0.5 * (X[0, k] + X[k, 0]) - (cosine if k == 0 else 0.0)
+        ay = 0.5 * (X[1, k] + X[k, 1]) - (cosine if k == 1 else 0.0)
+        az = 0.5 * (X[2, k] + X[k, 2]) - (cosine if k == 2 else 0.0)
+        scale = angle / math.sqrt(ax * ax + ay * ay + az * az)
+        if ax * vx + ay * vy + az * vz < 0.0:
+            scale = -scale
+        e[3], e[4], e[5] = scale * ax, scale * ay, scale * az
+        return
+    scale = angle / norm if norm > 1e-300 else 0.5  # angle / (2 sin angle) -> 1/2 for small angles
+    e[3], e[4], e[5] = scale * vx, scale * vy, scale * vz
+
+
+@njit(cache=True)
 def chain_frames(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q: NDArray[np.float64],
                  T: NDArray[np.float64], axes: NDArray[np.float64], points: NDArray[np.float64]) -> None:
     """Compiled FK of ONE configuration, written into work arrays (no checks, no allocation).
@@ -256,8 +293,21 @@ def chain_frames(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q
     for a revolute joint, the start of the travel for a prismatic one), all in the base
     frame. ``T_between`` ``(n + 1, 4, 4)`` is :attr:`armkit.chain.Chain.T_between`,
     ``prismatic`` ``(n,)`` the chain's prismatic mask and ``q`` ``(n,)`` float64 [rad or m].
+
+    Examples
+    --------
+    >>> import armkit
+    >>> chain = armkit.load("ur5").chain
+    >>> q = np.array([0.1, -1.2, 1.5, -0.3, 1.6, 0.2])
+    >>> T, axes, points, J = np.empty((4, 4)), np.empty((6, 3)), np.empty((6, 3)), np.empty((6, 6))
+    >>> chain_frames(chain.T_between, chain.prismatic, q, T, axes, points)
+    >>> chain_jacobian(T, axes, points, chain.prismatic, J)
+    >>> bool(np.allclose(T, fk(chain, q), atol=1e-14)), bool(np.allclose(J, geometric_jacobian(chain, q)))
+    (True, True)
     """
-    T[:, :] = T_between[0]
+    for r in range(4):  # loops, not slice assignments: those cost seconds of compile time
+        for k in range(4):
+            T[r, k] = T_between[0, r, k]
     for i in range(q.shape[0]):
         for r in range(3):
             axes[i, r] = T[r, 2]
@@ -274,8 +324,8 @@ def chain_frames(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q
         L = T_between[i + 1]
         for r in range(4):
             a0, a1, a2, a3 = T[r, 0], T[r, 1], T[r, 2], T[r, 3]
-            for c in range(4):
-                T[r, c] = a0 * L[0, c] + a1 * L[1, c] + a2 * L[2, c] + a3 * L[3, c]
+            for k in range(4):
+                T[r, k] = a0 * L[0, k] + a1 * L[1, k] + a2 * L[2, k] + a3 * L[3, k]
 
 
 @njit(cache=True)
@@ -355,9 +405,10 @@ class ChainKernel:
 
     def __init__(self, chain: Chain) -> None:
         self.n = chain.n
-        #: The chain's fixed transforms ``(n + 1, 4, 4)`` and prismatic mask ``(n,)``, as the kernels take them.
-        self.T_between = np.ascontiguousarray(chain.T_between, dtype=np.float64)
-        self.prismatic = np.ascontiguousarray(chain.prismatic, dtype=np.bool_)
+        #: The chain's fixed transforms ``(n + 1, 4, 4)`` and prismatic mask ``(n,)`` for the kernels
+        #: (writable C-ordered copies, so every chain uses the same compiled specialisation).
+        self.T_between = np.array(chain.T_between, dtype=np.float64, order="C")
+        self.prismatic = np.array(chain.prismatic, dtype=np.bool_, order="C")
 
     def pose(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Tool pose ``T_base_tool`` ``(4, 4)`` at joint values ``q`` ``(n,)`` [rad or m]."""

@@ -14,9 +14,10 @@ the last steps converge quadratically (Sugihara uses ``g = 1``; ``g = 0.1`` need
 fewest iterations on random Panda poses here). The floor ``damping = 1e-9`` is small on
 purpose: with ``1e-6``, configurations whose Jacobian has a singular value near ``1e-3``
 converged only linearly below ``1e-8`` and 0.3-1.7 % of random poses of the 6-joint built-ins
-failed the ``1e-9`` tolerance; with ``1e-9`` none did. For a
-6-row task and ``n >= 6`` joints the same step is ``dq = J^T y`` with the 6x6 system
-``(J J^T + lambda I) y = e``, solved by Cholesky (LAPACK ``dposv``).
+failed the ``1e-9`` tolerance; with ``1e-9`` none did. For ``m`` task rows and ``n >= m``
+joints the same step is ``dq = J^T y`` with the ``m x m`` system ``(J J^T + lambda I) y = e``,
+else the ``n x n`` one; either is solved by a Cholesky factorisation written out in the
+compiled kernel.
 
 Joint limits are kept during the iterations, as bounds: after each step a revolute angle
 outside its range is moved into it by whole turns if that fits, else to the bound nearer
@@ -26,9 +27,17 @@ is zeroed), so the other joints take over instead of the step stalling against t
 bound: an active set, so every answer is inside the limits. One seed iterates at a time, first
 the caller's ``q0``: an attempt that has not halved its error in ``3`` steps, or has
 used ``max_iterations`` steps, is abandoned for a new uniform random seed inside the
-limits, until the restart or time budget runs out. One step costs about 20 us (the
-tool pose and Jacobian come from :class:`armkit.kinematics.ChainKernel`, the pose error
-from one product with a matrix built once per target).
+limits, until the restart or time budget runs out.
+
+Each attempt runs as one call of compiled code (numba, :func:`_attempt`): the tool pose
+and Jacobian from :func:`armkit.kinematics.chain_frames` / :func:`~armkit.kinematics.chain_jacobian`
+(the kernels behind :class:`armkit.kinematics.ChainKernel`), the pose error from
+:func:`armkit.kinematics.pose_error_into`, the projection, the active set and the solve,
+about 1 us per step on a 7-joint arm (a Panda solve from a random seed: 20-30 us median).
+Restarts, their random seeds (drawn from ``rng`` in Python, so results are reproducible)
+and the time budget stay in Python between attempts. The first :class:`NumericIK` of a
+process compiles the kernels, or loads them from numba's on-disk cache, before any time
+budget starts (about 5 s the first time after installing, 0.2 s afterwards).
 """
 
 from __future__ import annotations
@@ -38,12 +47,12 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike, NDArray
-from scipy.linalg import lapack
 
 from armkit.chain import LIMIT_TOLERANCE, Chain
 from armkit.errors import InputError
-from armkit.kinematics import HALF_TURN_NORM, ChainKernel, pose_error
+from armkit.kinematics import ChainKernel, chain_frames, chain_jacobian, pose_error_into
 
 __all__ = ["IKResult", "NumericIK", "numeric_ik", "wrap_into_limits"]
 
@@ -53,25 +62,11 @@ _UNBOUNDED_SEED_RANGE = 1.0
 #: _STALL_STEPS steps is abandoned for a new seed.
 _STALL_STEPS = 3
 _STALL_FACTOR = 0.5
-
-
-def _error_coefficients() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Constants of :class:`_TargetError`: ``C[b, c, a]``, the coefficient of ``X[a, b]`` in
-    output ``c`` of ``(X[2,1] - X[1,2], X[0,2] - X[2,0], X[1,0] - X[0,1], trace X)``, and the
-    map's fixed part (``-1`` from each tool position entry to its error)."""
-    C = np.zeros((4, 3, 3))  # [c, a, b]
-    for c, (a, b) in enumerate(((2, 1), (0, 2), (1, 0))):
-        C[c, a, b], C[c, b, a] = 1.0, -1.0
-    C[3] = np.eye(3)
-    base = np.zeros((16, 7))
-    base[[3, 7, 11], [0, 1, 2]] = -1.0
-    C = np.ascontiguousarray(C.transpose(2, 0, 1))
-    C.setflags(write=False)
-    base.setflags(write=False)
-    return C, base
-
-
-_ROTATION_COEFFICIENTS, _ERROR_MAP_BASE = _error_coefficients()
+#: Damping, relative to trace(J^T J), of a step whose damped normal equations were not
+#: positive definite (a singular Jacobian and ``damping = 0``). 1e-10 came closest to the
+#: minimum-norm least-squares step on rank-deficient random Jacobians (about 1e-7 from it;
+#: 1e-12 and 1e-8 were 1e-5 and 1e-6 away).
+_SINGULAR_DAMPING = 1e-10
 
 
 @dataclass(frozen=True)
@@ -113,6 +108,16 @@ def _check_mask(mask: ArrayLike | None) -> NDArray[np.bool_]:
     return m == 1
 
 
+def _check_target(T_base_tool: ArrayLike) -> NDArray[np.float64]:
+    try:
+        T = np.array(T_base_tool, dtype=np.float64, order="C")  # writable: the compiled type
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"T_base_tool: expected a 4x4 transform, got {T_base_tool!r}") from exc
+    if T.shape != (4, 4) or not math.isfinite(T.sum()):
+        raise InputError(f"T_base_tool: expected a finite 4x4 transform, got {T.tolist()}")
+    return T
+
+
 def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArray[np.float64]:
     """Shift revolute angles ``(..., n)`` by multiples of ``2 pi`` into the joint limits.
 
@@ -136,39 +141,217 @@ def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArra
     return np.where(chain.prismatic, q, q + 2 * np.pi * turns)
 
 
-class _TargetError:
-    """Pose errors (see :func:`armkit.kinematics.pose_error`) to one target, one product each.
+# ------------------------------------------------------------------ compiled kernels (numba)
+@njit(cache=True)
+def _project(q: NDArray[np.float64], lower: NDArray[np.float64], upper: NDArray[np.float64],
+             revolute: NDArray[np.bool_], sides: NDArray[np.float64]) -> None:
+    """Move ``q`` ``(n,)`` into the limits in place and mark the joints left at a bound.
 
-    ``[p_target - p, 2 sin(angle) axis, trace(R_target R^T)]`` is affine in the entries of
-    ``T`` (whose last entry is 1): with ``X = R_target R^T``, ``X[a, b] = sum_k
-    R_target[a, k] T[b, k]``. So a ``(16, 7)`` matrix built once per target maps
-    ``T.reshape(16)`` to it, and the rotation vector then needs only its angle.
+    A revolute angle outside its range moves by whole turns if that fits, else to the
+    bound nearer in angle; a prismatic value to the nearer bound. ``sides[i]`` becomes
+    ``-1`` at the lower bound, ``+1`` at the upper one, ``0`` inside. The same whole-turn
+    rule as :func:`wrap_into_limits` with the reference at the middle of the limits, then
+    clamped.
     """
+    for i in range(q.shape[0]):
+        value, low, high = q[i], lower[i], upper[i]
+        sides[i] = 0.0
+        if low < value < high:
+            continue
+        if revolute[i] and not low <= value <= high:
+            turned = low + (value - low) % (2 * math.pi)  # in [low, low + 2 pi)
+            # inside, or else at the bound nearer in angle
+            value = turned if turned <= high or turned - high < low + 2 * math.pi - turned else low
+        if value <= low:
+            value, sides[i] = low, -1.0
+        elif value >= high:
+            value, sides[i] = high, 1.0
+        q[i] = value
+
+
+@njit(cache=True)
+def _cholesky_solve(A: NDArray[np.float64], b: NDArray[np.float64]) -> bool:
+    """Solve ``A x = b`` for a symmetric positive definite ``A`` ``(k, k)`` in place.
+
+    Reads the lower triangle of ``A`` and overwrites it with the Cholesky factor, ``b``
+    ``(k,)`` with ``x``. ``False`` (and ``b`` unusable) if ``A`` is not positive definite.
+    Written out because for ``k <= 7`` a LAPACK call costs more than the arithmetic.
+    """
+    k = b.shape[0]
+    for j in range(k):
+        d = A[j, j]
+        for p in range(j):
+            d -= A[j, p] * A[j, p]
+        if not d > 0.0:
+            return False
+        d = math.sqrt(d)
+        A[j, j] = d
+        for i in range(j + 1, k):
+            s = A[i, j]
+            for p in range(j):
+                s -= A[i, p] * A[j, p]
+            A[i, j] = s / d
+    for i in range(k):  # L y = b
+        s = b[i]
+        for p in range(i):
+            s -= A[i, p] * b[p]
+        b[i] = s / A[i, i]
+    for i in range(k - 1, -1, -1):  # L^T x = y
+        s = b[i]
+        for p in range(i + 1, k):
+            s -= A[p, i] * b[p]
+        b[i] = s / A[i, i]
+    return True
+
+
+@njit(cache=True)
+def _solve_normal_equations(Jm: NDArray[np.float64], em: NDArray[np.float64], damping: float,
+                            x: NDArray[np.float64]) -> bool:
+    """``x`` ``(k,)`` from ``(Jm Jm^T + damping I) x = em`` if ``Jm`` ``(m, n)`` has ``m <= n``
+    rows (``k = m``), else from ``(Jm^T Jm + damping I) x = Jm^T em`` (``k = n``), by Cholesky;
+    ``False`` if the matrix is not positive definite."""
+    m, n = Jm.shape
+    wide = m <= n
+    size = x.shape[0]
+    A = np.empty((size, size))
+    for a in range(size):
+        for b in range(a + 1):
+            s = 0.0
+            if wide:
+                for i in range(n):
+                    s += Jm[a, i] * Jm[b, i]
+            else:
+                for k in range(m):
+                    s += Jm[k, a] * Jm[k, b]
+            A[a, b] = s
+        A[a, a] += damping
+        if wide:
+            x[a] = em[a]
+        else:
+            s = 0.0
+            for k in range(m):
+                s += Jm[k, a] * em[k]
+            x[a] = s
+    return _cholesky_solve(A, x)
+
+
+@njit(cache=True)
+def _damped_step(J: NDArray[np.float64], e: NDArray[np.float64], rows: NDArray[np.int64],
+                 sides: NDArray[np.float64], damping: float, dq: NDArray[np.float64]) -> None:
+    """The Levenberg-Marquardt step ``dq`` ``(n,)`` for the masked ``rows`` of ``J`` and ``e``.
+
+    Joints held at a bound (``sides``) by the gradient ``J^T e`` get a zero column.
+    Solves ``(J J^T + damping I) y = e``, ``dq = J^T y`` when ``m <= n`` rows, else
+    ``(J^T J + damping I) dq = J^T e``. If that matrix is not positive definite (a singular
+    ``J`` and no damping asked), the damping becomes ``_SINGULAR_DAMPING`` times the trace
+    of ``J^T J``: within about 1e-7 of the minimum-norm least-squares step
+    (``np.linalg.lstsq`` would cost seconds of compile time for a case the default damping
+    never reaches).
+    """
+    m, n = rows.shape[0], J.shape[1]
+    Jm, em = np.empty((m, n)), np.empty(m)
+    for k in range(m):
+        em[k] = e[rows[k]]
+    trace = 0.0
+    for i in range(n):
+        frozen = False
+        if sides[i] != 0.0:
+            gradient = 0.0
+            for k in range(m):
+                gradient += em[k] * J[rows[k], i]
+            frozen = gradient * sides[i] > 0.0
+        for k in range(m):
+            Jm[k, i] = 0.0 if frozen else J[rows[k], i]
+            trace += Jm[k, i] * Jm[k, i]
+    wide = m <= n
+    x = np.empty(m if wide else n)
+    if not _solve_normal_equations(Jm, em, damping, x) and not _solve_normal_equations(
+            Jm, em, damping + _SINGULAR_DAMPING * trace, x):
+        for k in range(x.shape[0]):  # J is all zeros: no direction lowers the error
+            x[k] = 0.0
+    for i in range(n):
+        if wide:
+            s = 0.0
+            for k in range(m):
+                s += Jm[k, i] * x[k]
+            dq[i] = s
+        else:
+            dq[i] = x[i]
+
+
+@njit(cache=True)
+def _attempt(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], lower: NDArray[np.float64],
+             upper: NDArray[np.float64], respect_limits: bool, T_target: NDArray[np.float64],
+             rows: NDArray[np.int64], settings: NDArray[np.float64], max_iterations: int,
+             q: NDArray[np.float64], best_q: NDArray[np.float64],
+             best: NDArray[np.float64]) -> tuple[bool, int, float, float]:
+    """One Levenberg-Marquardt attempt from ``q`` ``(n,)`` (updated in place to the last
+    configuration evaluated): ``(solved, steps, position error, orientation error)``.
+
+    ``settings`` is ``(position_tolerance**2, orientation_tolerance**2, damping_gain,
+    damping)``; ``best`` ``(cost, position error, orientation error)`` and ``best_q`` keep
+    the lowest-cost configuration over all attempts.
+    """
+    n = q.shape[0]
+    T, J, e = np.empty((4, 4)), np.empty((6, n)), np.empty(6)
+    axes, points, sides, dq = np.empty((n, 3)), np.empty((n, 3)), np.zeros(n), np.empty(n)
+    revolute = ~prismatic
+    if respect_limits:
+        _project(q, lower, upper, revolute, sides)
+    reference, since, steps = math.inf, 0, 0
+    position = orientation = math.inf
+    while steps < max_iterations:
+        steps += 1
+        chain_frames(T_between, prismatic, q, T, axes, points)
+        pose_error_into(T_target, T, e)
+        position = orientation = 0.0
+        for r in rows:
+            if r < 3:
+                position += e[r] * e[r]
+            else:
+                orientation += e[r] * e[r]
+        cost = 0.5 * (position + orientation)
+        if cost < best[0]:
+            best[0], best[1], best[2] = cost, math.sqrt(position), math.sqrt(orientation)
+            for i in range(n):
+                best_q[i] = q[i]
+        if position <= settings[0] and orientation <= settings[1]:
+            return True, steps, math.sqrt(position), math.sqrt(orientation)
+        if cost < _STALL_FACTOR * reference:
+            reference, since = cost, 0
+        else:
+            since += 1
+            if since >= _STALL_STEPS or not math.isfinite(cost):
+                break
+        if steps == max_iterations:  # the step would never be evaluated
+            break
+        chain_jacobian(T, axes, points, prismatic, J)
+        _damped_step(J, e, rows, sides, settings[2] * cost + settings[3], dq)
+        q += dq
+        if respect_limits:
+            _project(q, lower, upper, revolute, sides)
+    return False, steps, math.sqrt(position), math.sqrt(orientation)
+
+
+class _TargetError:
+    """The pose error (:func:`armkit.kinematics.pose_error`) to one target, one compiled call
+    (:func:`armkit.kinematics.pose_error_into`, the one :func:`_attempt` uses) per pose."""
 
     def __init__(self, T_target: NDArray[np.float64]) -> None:
-        self.T_target = T_target
-        M = _ERROR_MAP_BASE.copy()
-        M[15, :3] = T_target[:3, 3]
-        # rows 4 b + k, columns 3..6: sum_a C[b, c, a] R_target[a, k]
-        M.reshape(4, 4, 7)[:3, :3, 3:] = (_ROTATION_COEFFICIENTS @ T_target[:3, :3]).transpose(0, 2, 1)
-        self._map = M
+        self.T_target = np.ascontiguousarray(T_target, dtype=np.float64)
 
     def __call__(self, T: NDArray[np.float64]) -> NDArray[np.float64]:
         """The pose error ``(6,)`` [m, rad] of the tool pose ``T`` ``(4, 4)``."""
-        x, y, z, u, v, w, trace = T.reshape(16).dot(self._map).tolist()
-        norm = math.sqrt(u * u + v * v + w * w)  # 2 sin(angle)
-        if norm <= HALF_TURN_NORM and trace <= 0.0:  # near a half turn: the axis needs R + R^T
-            return pose_error(self.T_target, T)
-        scale = math.atan2(norm, trace - 1.0) / norm if norm > 1e-300 else 0.5
-        return np.array((x, y, z, scale * u, scale * v, scale * w))
+        e = np.empty(6)
+        pose_error_into(self.T_target, np.ascontiguousarray(T, dtype=np.float64), e)
+        return e
 
 
 class NumericIK:
     """Numeric IK of one chain, reusable for many targets (see :func:`numeric_ik`).
 
-    Holds the chain's :class:`~armkit.kinematics.ChainKernel`, its limits and work buffers,
-    so that a loop over targets pays for them once (about 30 us per construction).
-    Parameters are those of :func:`numeric_ik`. Use one solver per thread.
+    Holds the chain's arrays in the form the compiled attempt takes, so that a loop over
+    targets pays for them once. Parameters are those of :func:`numeric_ik`.
 
     Examples
     --------
@@ -189,130 +372,71 @@ class NumericIK:
             raise InputError(f"max_iterations: expected at least 1 step per attempt, got {max_iterations}")
         self.chain = chain
         self.kernel = ChainKernel(chain)
-        self.rows = _check_mask(mask)
-        self.all_rows, self.weights = bool(self.rows.all()), self.rows.astype(float)
-        self.squared_tolerances = (position_tolerance**2, orientation_tolerance**2)
-        self.damping_gain, self.damping = damping_gain, damping
-        self.max_iterations, self.max_restarts, self.time_budget = max_iterations, max_restarts, time_budget
-        self.respect_limits = respect_limits
-        lower, upper = chain.lower, chain.upper
-        self.seed_low = np.where(np.isfinite(lower), lower, -_UNBOUNDED_SEED_RANGE)
-        self.seed_high = np.where(np.isfinite(upper), upper, _UNBOUNDED_SEED_RANGE)
-        self.bounds = list(zip(lower.tolist(), upper.tolist(), (~chain.prismatic).tolist(), strict=True))
-        m = int(self.rows.sum())
-        self.wide = m <= chain.n  # solve the m x m system (J J^T) rather than the n x n one
-        size = m if self.wide else chain.n
-        self.normal = np.empty((size, size))  # work buffer of the damped normal equations
-        self.diagonal = self.normal.reshape(-1)[::size + 1]  # a view of its diagonal
+        self.rows = np.flatnonzero(_check_mask(mask)).astype(np.int64)
+        self.settings = np.array([position_tolerance**2, orientation_tolerance**2, damping_gain, damping],
+                                 dtype=np.float64)
+        self.max_iterations, self.max_restarts = int(max_iterations), int(max_restarts)
+        self.time_budget, self.respect_limits = float(time_budget), bool(respect_limits)
+        # writable copies, like every array _attempt gets: a read-only array is another numba
+        # type, which would compile another specialisation inside a solve's time budget
+        self.lower = np.array(chain.lower, dtype=np.float64)
+        self.upper = np.array(chain.upper, dtype=np.float64)
+        self.seed_low = np.where(np.isfinite(self.lower), self.lower, -_UNBOUNDED_SEED_RANGE)
+        self.seed_high = np.where(np.isfinite(self.upper), self.upper, _UNBOUNDED_SEED_RANGE)
+        if not _attempt.signatures:  # compile (or load from numba's cache) outside any time budget
+            self._run_attempt(np.eye(4), (self.seed_low + self.seed_high) / 2.0, self.seed_low.copy(),
+                              np.full(3, math.inf), max_iterations=1)
+
+    def _run_attempt(self, T_target: NDArray[np.float64], q: NDArray[np.float64], best_q: NDArray[np.float64],
+                     best: NDArray[np.float64], max_iterations: int) -> tuple[bool, int, float, float]:
+        """The compiled :func:`_attempt` on this solver's chain and settings."""
+        return _attempt(self.kernel.T_between, self.kernel.prismatic, self.lower, self.upper,
+                        self.respect_limits, T_target, self.rows, self.settings, max_iterations,
+                        q, best_q, best)
 
     def solve(self, T_base_tool: NDArray[np.float64], q0: ArrayLike | None = None,
               rng: np.random.Generator | int | None = None) -> IKResult:
-        """Solve ``fk(q) = T_base_tool`` ``(4, 4)`` from ``q0`` ``(n,)``; see :func:`numeric_ik`."""
+        """Solve ``fk(q) = T_base_tool`` ``(4, 4)`` from ``q0`` ``(n,)``; see :func:`numeric_ik`.
+
+        Raises
+        ------
+        InputError
+            If ``T_base_tool`` is not a finite 4x4 array or ``q0`` not ``n`` finite values.
+        """
         n = self.chain.n
-        q = (self.seed_low + self.seed_high) / 2.0 if q0 is None else np.asarray(q0, dtype=float)
-        if q.shape != (n,) or not math.isfinite(q.sum()):
-            raise InputError(f"q0: expected {n} finite joint values, got {q.tolist()}")
-        error = _TargetError(np.asarray(T_base_tool, dtype=float))
-        best: list = [math.inf, q, math.inf, math.inf]  # cost, q, position and orientation error
+        T_target = _check_target(T_base_tool)
+        if q0 is None:
+            q = (self.seed_low + self.seed_high) / 2.0
+        else:
+            q = np.array(q0, dtype=np.float64)  # a copy: the attempt moves it in place
+            if q.shape != (n,) or not math.isfinite(q.sum()):
+                raise InputError(f"q0: expected {n} finite joint values, got {q.tolist()}")
+        best_q, best = q.copy(), np.array([math.inf, math.inf, math.inf])
         deadline = time.perf_counter() + self.time_budget
         iterations = restarts = 0
         while True:
-            q, solved, steps, errors = self._descend(error, q, best)
+            solved, steps, position, orientation = self._run_attempt(T_target, q, best_q, best,
+                                                                     self.max_iterations)
             iterations += steps
             if solved:
-                return IKResult(q.copy(), True, iterations, restarts, *errors)
+                return IKResult(q, True, iterations, restarts, position, orientation)
             if restarts >= self.max_restarts or time.perf_counter() > deadline:
                 break
             if restarts == 0:
                 rng = np.random.default_rng(rng)
             q = rng.uniform(self.seed_low, self.seed_high)
             restarts += 1
-        return IKResult(best[1].copy(), False, iterations, restarts, best[2], best[3])
+        return IKResult(best_q, False, iterations, restarts, float(best[1]), float(best[2]))
 
     def _project(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], list[tuple[int, float]]]:
-        """``q`` moved into the limits (by whole turns if that fits, else to the bound nearest
-        in angle), and the joints at a bound as ``(index, -1.0 at the lower / +1.0 at the upper)``.
-
-        The same whole-turn rule as :func:`wrap_into_limits` (with the reference at the middle
-        of the limits, then clamped: equal to rounding on the built-ins), written in plain
-        Python because it runs on every step: about 1 us per call against 15 us for the
-        NumPy function on a 7-joint arm, which made Panda numeric IK 40-80 % slower.
-        """
+        """``q`` moved into the limits (a copy, see the compiled ``_project``) and the joints at
+        a bound as ``(index, -1.0 at the lower / +1.0 at the upper)``: the projection of
+        every step, callable from Python."""
         if not self.respect_limits:
             return q, []
-        values, held, moved = q.tolist(), [], False
-        for i, (lower, upper, revolute) in enumerate(self.bounds):
-            value = values[i]
-            if lower < value < upper:
-                continue
-            if revolute and not lower <= value <= upper:
-                turned = lower + (value - lower) % (2 * math.pi)  # in [lower, lower + 2 pi)
-                # inside, or else at the bound nearer in angle
-                value = turned if turned <= upper or turned - upper < lower + 2 * math.pi - turned else lower
-            if value <= lower:
-                value, side = lower, -1.0
-            elif value >= upper:
-                value, side = upper, 1.0
-            else:
-                side = 0.0
-            if side:
-                held.append((i, side))
-            if value != values[i]:
-                values[i], moved = value, True
-        return (np.array(values) if moved else q), held
-
-    def _descend(self, error: _TargetError, q: NDArray[np.float64],
-                 best: list) -> tuple[NDArray[np.float64], bool, int, tuple[float, float]]:
-        """One attempt from ``q``: ``(q, solved, steps, (position, orientation error))``;
-        updates ``best`` with the lowest-cost configuration seen."""
-        q, held = self._project(q)
-        reference, since = math.inf, 0
-        position_tolerance, orientation_tolerance = self.squared_tolerances
-        for step in range(1, self.max_iterations + 1):
-            T, J = self.kernel.pose_jacobian(q)
-            e = error(T)
-            if not self.all_rows:
-                e *= self.weights
-            e0, e1, e2, e3, e4, e5 = e.tolist()
-            position, orientation = e0 * e0 + e1 * e1 + e2 * e2, e3 * e3 + e4 * e4 + e5 * e5
-            cost = 0.5 * (position + orientation)
-            errors = (math.sqrt(position), math.sqrt(orientation))
-            if cost < best[0]:
-                best[:] = cost, q, *errors
-            if position <= position_tolerance and orientation <= orientation_tolerance:
-                return q, True, step, errors
-            if cost < _STALL_FACTOR * reference:
-                reference, since = cost, 0
-            else:
-                since += 1
-                if since >= _STALL_STEPS or not math.isfinite(cost):
-                    break
-            q, held = self._project(q + self._step(J, e, cost, held))
-        return q, False, step, errors
-
-    def _step(self, J: NDArray[np.float64], e: NDArray[np.float64], cost: float,
-              held: list[tuple[int, float]]) -> NDArray[np.float64]:
-        """The damped step ``dq`` ``(n,)``; joints held at a bound by the gradient stay put."""
-        if held:
-            gradient = e.dot(J).tolist()  # J^T e: the direction that lowers the error
-            frozen = [i for i, side in held if gradient[i] * side > 0.0]
-            if frozen:
-                J = J.copy()
-                J[:, frozen] = 0.0
-        if not self.all_rows:
-            J, e = J[self.rows], e[self.rows]
-        if self.wide:
-            np.dot(J, J.T, out=self.normal)
-            rhs = e
-        else:
-            np.dot(J.T, J, out=self.normal)
-            rhs = e.dot(J)
-        self.diagonal += self.damping_gain * cost + self.damping
-        # symmetric, so its transpose is the Fortran-ordered matrix LAPACK solves in place
-        x, info = lapack.dposv(self.normal.T, rhs, overwrite_a=1)[1:]
-        if info != 0:  # singular and no damping asked: the minimum-norm least-squares step
-            return np.linalg.lstsq(J, e, rcond=None)[0]
-        return J.T.dot(x) if self.wide else x
+        q, sides = np.array(q, dtype=np.float64), np.zeros(self.chain.n)
+        _project(q, self.lower, self.upper, ~self.kernel.prismatic, sides)
+        return q, [(i, float(sides[i])) for i in np.flatnonzero(sides).tolist()]
 
 
 def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike | None = None,
