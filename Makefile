@@ -29,4 +29,5 @@ bench: $(VENV)/.installed-test
 	$(BIN)/python benchmarks/run_all.py
 
 clean:
-	rm -rf $(VENV) armkit-report .pytest_cache .hypothesis
+	rm -rf $(VENV) armkit-report .pytest_cache .hypothesis .numba-cache
+	find src -name "*.nbi" -delete -o -name "*.nbc" -delete

@@ -392,7 +392,8 @@ def test_skew_wrist_three_parallel_arm_aligned_wrist_family():
     assert not closed_form_solver(chain).geometry.rank1  # the quartic path
     poe = poe_from_chain(chain)
     h2, h6, h5 = (tuple(poe.axes[j]) for j in (1, 5, 4))
-    aligned = [angle for side in (1.0, -1.0) for angle, ok in zip(*sp4(h2, h6, h5, side)[:2], strict=True) if ok]
+    aligned = [angle for side in (1.0, -1.0)
+               for angle, ok in zip(*sp4(h2, h6, h5, side)[:2], strict=True) if ok]
     q = _random_q(rng, chain, 20)
     q[:, 4] = np.array(aligned)[rng.integers(len(aligned), size=20)]
     T = fk(chain, q)

@@ -576,7 +576,8 @@ def _planar(g, R, t, q, valid, family):
     p_a, p_b = vec3(g.p[rev[0]]), vec3(g.p[rev[1]])
     qa, qb, ok, free = planar_2r(h, sub(p_b, p_a), sub(y, p_b), sub(sub(Gy, scale(slide, h)), p_a))
     for b in range(2):
-        q[b, :] = 0.0
+        for j in range(q.shape[1]):  # (a loop: a slice assignment costs seconds of compile time)
+            q[b, j] = 0.0
         q[b, rev[0]], q[b, rev[1]] = qa[b], qb[b]
         if rev.size == 3:
             q[b, rev[2]] = theta - qa[b] - qb[b]

@@ -30,6 +30,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
+from armkit._jit import entry_point
 from armkit.chain import Chain
 from armkit.errors import NoClosedFormError
 from armkit.ik.cases import (
@@ -41,6 +42,7 @@ from armkit.ik.cases import (
     CaseGeometry,
     solve_pose,
 )
+from armkit.ik.numeric import _damped_step
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
 from armkit.ik.subproblems import sp4
 from armkit.kinematics import chain_frames, chain_jacobian, pose_error_into
@@ -132,13 +134,15 @@ def _newton(d, T, q, steps):
     """
     n = q.shape[0]
     F, axes, points = np.empty((4, 4)), np.empty((n, 3)), np.empty((n, 3))
-    J, e = np.empty((6, n)), np.empty(6)
+    J, e, dq = np.empty((6, n)), np.empty(6), np.empty(n)
+    rows, free = np.arange(6), np.zeros(n)  # every task row; no joint held at a bound
     for _ in range(steps):
         chain_frames(d.T_between, d.prismatic, q, F, axes, points)
         chain_jacobian(F, axes, points, d.prismatic, J)
         pose_error_into(T, F, e)
-        JJt = J @ J.T + 1e-14 * np.eye(6)
-        q += J.T @ np.linalg.solve(JJt, e)
+        _damped_step(J, e, rows, free, 1e-14, dq)
+        for j in range(n):
+            q[j] += dq[j]
 
 
 @njit(cache=True)
@@ -158,7 +162,8 @@ def _fk_difference(d, T, q):
 def _duplicates(q, valid, prismatic, duplicate):
     """Mark in ``duplicate`` ``(k,)`` the candidates equal (modulo 2 pi) to an earlier valid one."""
     k, n = q.shape
-    duplicate[:] = False
+    for a in range(k):
+        duplicate[a] = False
     for a in range(k):
         if not valid[a]:
             continue
@@ -288,6 +293,7 @@ class ClosedFormSolver:
         M_inv[:3, 3] = -poe.M[:3, :3].T @ poe.M[:3, 3]
         #: :func:`armkit.ik.solve`'s compiled loop for this chain, set on first use.
         self.solve_entry = None
+        self._candidates_entry = None
         self.data = ChainData(np.ascontiguousarray(chain.T_between), np.ascontiguousarray(chain.prismatic),
                               poe.index.astype(np.int64), poe.sign.astype(float), M_inv, poe.inverted,
                               8 if fields["kind"] != PLANAR else 2, verify or polish, polish,
@@ -300,7 +306,8 @@ class ClosedFormSolver:
         batch = T.shape[:-2]
         q, valid, family = self.candidates(T.reshape(-1, 4, 4))
         k, n = q.shape[-2:]
-        return ClosedFormSolutions(q.reshape(*batch, k, n), valid.reshape(*batch, k), family.reshape(*batch, k))
+        return ClosedFormSolutions(q.reshape(*batch, k, n), valid.reshape(*batch, k),
+                                   family.reshape(*batch, k))
 
     def candidates(self, T: Array, merge: bool = True) -> tuple[Array, Mask, Mask]:
         """``(q, valid, family)`` ``(N, k, n)``, ``(N, k)`` for checked poses ``T`` ``(N, 4, 4)``.
@@ -310,8 +317,10 @@ class ClosedFormSolver:
         N, k = len(T), self.data.k
         q = np.empty((N, k, self.chain.n))
         valid, family = np.empty((N, k), dtype=bool), np.empty((N, k), dtype=bool)
-        _candidates_batch(self.geometry, self.data, np.ascontiguousarray(T, dtype=float), q, valid, family,
-                          merge)
+        args = (self.geometry, self.data, np.ascontiguousarray(T, dtype=float), q, valid, family, merge)
+        if self._candidates_entry is None:  # compiled once per chain: later calls skip numba's dispatch
+            self._candidates_entry = entry_point(_candidates_batch, *args)
+        self._candidates_entry(*args)
         return q, valid, family
 
     # ------------------------------------------------------------ per case
@@ -348,7 +357,8 @@ class ClosedFormSolver:
         for side in (1.0, -1.0):
             angles, ok, _ = sp4(_vector(h), _vector(h_all[5]), _vector(h_all[4]), side)
             q5_aligned += [angles[i] for i in range(2) if ok[i]]
-        b_aligned = float(np.linalg.norm(np.cross(h_all[4], h)) * np.linalg.norm(np.cross(h_all[4], h_all[5])))
+        b_aligned = float(np.linalg.norm(np.cross(h_all[4], h))
+                          * np.linalg.norm(np.cross(h_all[4], h_all[5])))
         # q5 near an aligned wrist is refined from sines, so its cosine equation must not snap
         return {"hp": _vector(h), "u": _vector(_unit_normal(h)), "a1": _vector(p5), "a2": _vector(p6),
                 "f": f, "q5_aligned": np.array(q5_aligned, dtype=float), "b_aligned": b_aligned,

@@ -47,17 +47,18 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from numba import njit, vectorize
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.chain import LIMIT_TOLERANCE, Chain
 from armkit.errors import InputError
 from armkit.kinematics import ChainKernel, chain_frames, chain_jacobian, pose_error_into
 
-__all__ = ["IKResult", "NumericIK", "numeric_ik", "wrap_into_limits"]
+__all__ = ["IKResult", "NumericIK", "numeric_ik", "wrap_angle_into_limits", "wrap_into_limits"]
 
 #: Range [m] used for random seeds of prismatic joints without limits.
 _UNBOUNDED_SEED_RANGE = 1.0
+_TWO_PI = 2.0 * math.pi
 #: An attempt whose error has not fallen below _STALL_FACTOR times its best in
 #: _STALL_STEPS steps is abandoned for a new seed.
 _STALL_STEPS = 3
@@ -133,12 +134,26 @@ def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArra
     3.2832
     """
     q = np.asarray(q, dtype=float)
-    lower, upper = chain.lower, chain.upper
-    turns_low = np.ceil((lower - LIMIT_TOLERANCE - q) / (2 * np.pi))
-    turns_high = np.floor((upper + LIMIT_TOLERANCE - q) / (2 * np.pi))
-    turns = np.round((np.asarray(reference, dtype=float) - q) / (2 * np.pi))
-    turns = np.where(turns_low <= turns_high, np.clip(turns, turns_low, turns_high), turns)
-    return np.where(chain.prismatic, q, q + 2 * np.pi * turns)
+    return np.where(chain.prismatic, q, wrap_angle_into_limits(q, chain.lower, chain.upper, reference))
+
+
+@vectorize(["float64(float64, float64, float64, float64)"], cache=True)
+def wrap_angle_into_limits(q: float, lower: float, upper: float, reference: float) -> float:
+    """A revolute angle shifted by whole turns into ``[lower, upper]`` (a NumPy ufunc).
+
+    Among several fitting shifts (limits wider than ``2 pi``) the one closest to
+    ``reference``; an angle that fits no shift is moved as close to ``reference`` as
+    whole turns allow. Every argument broadcasts; all in radians.
+
+    >>> float(wrap_angle_into_limits(-3.0, -0.0175, 3.7525, 0.0).round(4))
+    3.2832
+    """
+    turns_low = np.ceil((lower - LIMIT_TOLERANCE - q) / _TWO_PI)
+    turns_high = np.floor((upper + LIMIT_TOLERANCE - q) / _TWO_PI)
+    turns = np.rint((reference - q) / _TWO_PI)
+    if turns_low <= turns_high:
+        turns = min(max(turns, turns_low), turns_high)
+    return q + _TWO_PI * turns
 
 
 # ------------------------------------------------------------------ compiled kernels (numba)
