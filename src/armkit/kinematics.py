@@ -28,6 +28,7 @@ __all__ = [
     "analytic_jacobian",
     "chain_frames",
     "chain_jacobian",
+    "chain_pose",
     "fk",
     "geometric_jacobian",
     "joint_frames",
@@ -305,27 +306,51 @@ def chain_frames(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q
     >>> bool(np.allclose(T, fk(chain, q), atol=1e-14)), bool(np.allclose(J, geometric_jacobian(chain, q)))
     (True, True)
     """
-    for r in range(4):  # loops, not slice assignments: those cost seconds of compile time
-        for k in range(4):
-            T[r, k] = T_between[0, r, k]
+    _copy_transform(T_between[0], T)
     for i in range(q.shape[0]):
         for r in range(3):
             axes[i, r] = T[r, 2]
             points[i, r] = T[r, 3]
-        if prismatic[i]:  # right-multiply by Tz(q_i)
-            for r in range(4):
-                T[r, 3] += q[i] * T[r, 2]
-        else:  # right-multiply by Rz(q_i)
-            c, s = math.cos(q[i]), math.sin(q[i])
-            for r in range(4):
-                x, y = T[r, 0], T[r, 1]
-                T[r, 0] = c * x + s * y
-                T[r, 1] = c * y - s * x
-        L = T_between[i + 1]
-        for r in range(4):
-            a0, a1, a2, a3 = T[r, 0], T[r, 1], T[r, 2], T[r, 3]
-            for k in range(4):
-                T[r, k] = a0 * L[0, k] + a1 * L[1, k] + a2 * L[2, k] + a3 * L[3, k]
+        _advance(T, q[i], prismatic[i], T_between[i + 1])
+
+
+@njit(cache=True)
+def chain_pose(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q: NDArray[np.float64],
+               T: NDArray[np.float64]) -> None:
+    """Compiled FK of ONE configuration: the tool pose written into ``T`` ``(4, 4)``.
+
+    :func:`chain_frames` without the joint axes and points (verification loops).
+    """
+    _copy_transform(T_between[0], T)
+    for i in range(q.shape[0]):
+        _advance(T, q[i], prismatic[i], T_between[i + 1])
+
+
+@njit(cache=True)
+def _copy_transform(source: NDArray[np.float64], T: NDArray[np.float64]) -> None:
+    for r in range(4):  # loops, not slice assignments: those cost seconds of compile time
+        for k in range(4):
+            T[r, k] = source[r, k]
+
+
+@njit(cache=True)
+def _advance(T: NDArray[np.float64], q_i: float, prismatic_i: bool, L: NDArray[np.float64]) -> None:
+    """``T <- T Rz(q_i) L`` (or ``T Tz(q_i) L``) for rigid transforms: only the top three
+    rows change (the last stays ``[0, 0, 0, 1]``, as does ``L``'s)."""
+    if prismatic_i:
+        for r in range(3):
+            T[r, 3] += q_i * T[r, 2]
+    else:
+        c, s = math.cos(q_i), math.sin(q_i)
+        for r in range(3):
+            x, y = T[r, 0], T[r, 1]
+            T[r, 0] = c * x + s * y
+            T[r, 1] = c * y - s * x
+    for r in range(3):
+        a0, a1, a2, a3 = T[r, 0], T[r, 1], T[r, 2], T[r, 3]
+        for k in range(3):
+            T[r, k] = a0 * L[0, k] + a1 * L[1, k] + a2 * L[2, k]
+        T[r, 3] = a0 * L[0, 3] + a1 * L[1, 3] + a2 * L[2, 3] + a3
 
 
 @njit(cache=True)
@@ -351,9 +376,8 @@ def chain_jacobian(T: NDArray[np.float64], axes: NDArray[np.float64], points: ND
 @njit(cache=True)
 def _pose(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_],
           q: NDArray[np.float64]) -> NDArray[np.float64]:
-    n = q.shape[0]
     T = np.empty((4, 4))
-    chain_frames(T_between, prismatic, q, T, np.empty((n, 3)), np.empty((n, 3)))
+    chain_pose(T_between, prismatic, q, T)
     return T
 
 

@@ -45,7 +45,7 @@ from armkit.ik.cases import (
 from armkit.ik.numeric import _damped_step
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
 from armkit.ik.subproblems import sp4
-from armkit.kinematics import chain_frames, chain_jacobian, pose_error_into
+from armkit.kinematics import chain_frames, chain_jacobian, chain_pose, pose_error_into
 from armkit.spatial.transforms import check_transform
 
 __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
@@ -148,9 +148,8 @@ def _newton(d, T, q, steps):
 @njit(cache=True)
 def _fk_difference(d, T, q):
     """``max |fk(q) - T|`` over the top three rows."""
-    n = q.shape[0]
     F = np.empty((4, 4))
-    chain_frames(d.T_between, d.prismatic, q, F, np.empty((n, 3)), np.empty((n, 3)))
+    chain_pose(d.T_between, d.prismatic, q, F)
     worst = 0.0
     for a in range(3):
         for b in range(4):

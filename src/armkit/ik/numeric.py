@@ -148,8 +148,11 @@ def wrap_angle_into_limits(q: float, lower: float, upper: float, reference: floa
     >>> float(wrap_angle_into_limits(-3.0, -0.0175, 3.7525, 0.0).round(4))
     3.2832
     """
-    turns_low = np.ceil((lower - LIMIT_TOLERANCE - q) / _TWO_PI)
-    turns_high = np.floor((upper + LIMIT_TOLERANCE - q) / _TWO_PI)
+    low, high = lower - LIMIT_TOLERANCE, upper + LIMIT_TOLERANCE
+    if low <= q <= high and high - low < _TWO_PI:  # fits, and no other shift can: the usual case
+        return q
+    turns_low = np.ceil((low - q) / _TWO_PI)
+    turns_high = np.floor((high - q) / _TWO_PI)
     turns = np.rint((reference - q) / _TWO_PI)
     if turns_low <= turns_high:
         turns = min(max(turns, turns_low), turns_high)

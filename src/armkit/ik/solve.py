@@ -41,7 +41,7 @@ from armkit.chain import LIMIT_TOLERANCE, Chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik.closed_form import ClosedFormSolver, closed_form_solver, pose_candidates
 from armkit.ik.numeric import numeric_ik, wrap_angle_into_limits, wrap_into_limits
-from armkit.kinematics import chain_frames
+from armkit.kinematics import chain_pose
 from armkit.spatial.transforms import check_transform
 
 __all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
@@ -152,13 +152,15 @@ def _residual(T_target, F):
     """
     position = math.sqrt((F[0, 3] - T_target[0, 3]) ** 2 + (F[1, 3] - T_target[1, 3]) ** 2
                          + (F[2, 3] - T_target[2, 3]) ** 2)
-    x = np.zeros(9)  # X - I, row-major
+    trace = v0 = v1 = v2 = 0.0  # of X - I, and the vector of its skew part
     for c in range(3):
-        for a in range(3):
-            for b in range(3):
-                x[3 * a + b] += T_target[c, a] * (F[c, b] - T_target[c, b])
-    v0, v1, v2 = x[7] - x[5], x[2] - x[6], x[3] - x[1]
-    return position, math.atan2(math.sqrt(v0 * v0 + v1 * v1 + v2 * v2), 2.0 + x[0] + x[4] + x[8])
+        D0, D1, D2 = F[c, 0] - T_target[c, 0], F[c, 1] - T_target[c, 1], F[c, 2] - T_target[c, 2]
+        R0, R1, R2 = T_target[c, 0], T_target[c, 1], T_target[c, 2]
+        trace += R0 * D0 + R1 * D1 + R2 * D2
+        v0 += R2 * D1 - R1 * D2
+        v1 += R0 * D2 - R2 * D0
+        v2 += R1 * D0 - R0 * D1
+    return position, math.atan2(math.sqrt(v0 * v0 + v1 * v1 + v2 * v2), 2.0 + trace)
 
 
 class _Found(NamedTuple):
@@ -183,6 +185,16 @@ class _Found(NamedTuple):
 
 
 @njit(cache=True)
+def _inside_and_distance(q, near, weights, lower, upper):
+    """Whether ``q`` is inside the limits (to ``LIMIT_TOLERANCE``), and ``|w * (q - near)|``."""
+    inside, total = True, 0.0
+    for j in range(q.shape[0]):
+        inside = inside and lower[j] - LIMIT_TOLERANCE <= q[j] <= upper[j] + LIMIT_TOLERANCE
+        total += (weights[j] * (q[j] - near[j])) ** 2
+    return inside, math.sqrt(total)
+
+
+@njit(cache=True)
 def _rank_pose(found, i, near, weights, lower, upper, within_limits):
     """Flag pose ``i``'s candidates (``keep``, ``inside``), count the usable ones (``keep``,
     and ``inside`` if ``within_limits``) and sort them first, nearest to ``near`` first."""
@@ -190,17 +202,14 @@ def _rank_pose(found, i, near, weights, lower, upper, within_limits):
     distance = np.empty(k)
     count = 0
     for s in range(k):
-        q = found.q[i, s]
         found.keep[i, s] = found.valid[i, s] and found.position_error[i, s] <= VERIFY_TOLERANCE \
             and found.orientation_error[i, s] <= VERIFY_TOLERANCE
-        inside, total = True, 0.0
-        for j in range(n):
-            inside = inside and lower[j] - LIMIT_TOLERANCE <= q[j] <= upper[j] + LIMIT_TOLERANCE
-            total += (weights[j] * (q[j] - near[j])) ** 2
+        inside, distance[s] = _inside_and_distance(found.q[i, s], near, weights, lower, upper)
         found.inside[i, s] = inside
         found.family[i, s] = found.family[i, s] and found.keep[i, s]
         usable = found.keep[i, s] and (inside or not within_limits)
-        distance[s] = math.sqrt(total) if usable else np.inf
+        if not usable:
+            distance[s] = np.inf
         count += usable
     found.count[i] = count
     order = _stable_order(distance)
@@ -240,31 +249,59 @@ def _stable_order(values):
 
 
 @njit(cache=True)
-def _solve_batch(g, d, T, near, weights, lower, upper, within_limits, found):
+def _verify(d, T, q, found, i, s):
+    """FK residuals of candidate ``s`` of pose ``i`` into ``found``; whether it is rough
+    (above ``_REFINE_ABOVE``, to be refined) and whether it is kept."""
+    F = np.empty((4, 4))
+    chain_pose(d.T_between, d.prismatic, q, F)
+    position, angle = _residual(T, F)
+    found.position_error[i, s], found.orientation_error[i, s] = position, angle
+    rough = position > _REFINE_ABOVE or angle > _REFINE_ABOVE
+    return rough, position <= VERIFY_TOLERANCE and angle <= VERIFY_TOLERANCE
+
+
+@njit(cache=True)
+def _solve_batch(g, d, T, near, weights, lower, upper, within_limits, nearest, found):
     """Candidates of every pose, wrapped into the limits (reference ``near``), with their
     FK residuals, ranked: into ``found`` (see :class:`_Found`). Returns the number of
     valid candidates whose residual is above ``_REFINE_ABOVE`` and the number of poses
-    without a usable candidate."""
+    without a usable candidate.
+
+    ``nearest``: only the nearest candidate that reproduces the pose is wanted, so the
+    candidates are put through FK nearest first until one does (the others' residuals
+    are NaN: not kept); if none does, all are (the caller's error message needs them).
+    """
     k, n = found.q.shape[1:]
-    F = np.empty((4, 4))
-    axes, points = np.empty((n, 3)), np.empty((n, 3))
     rough = empty = 0
+    distance = np.empty(k)
     for i in range(T.shape[0]):
         pose_candidates(g, d, T[i], found.q[i], found.valid[i], found.family[i], True)
         for s in range(k):
             q = found.q[i, s]
+            found.position_error[i, s] = found.orientation_error[i, s] = np.nan
+            distance[s] = np.inf
             if not found.valid[i, s]:
                 for j in range(n):
                     q[j] = 0.0
-                found.position_error[i, s] = found.orientation_error[i, s] = np.inf
                 continue
             for j in range(n):
                 if not d.prismatic[j]:
                     q[j] = wrap_angle_into_limits(q[j], lower[j], upper[j], near[i, j])
-            chain_frames(d.T_between, d.prismatic, q, F, axes, points)
-            position, angle = _residual(T[i], F)
-            found.position_error[i, s], found.orientation_error[i, s] = position, angle
-            rough += position > _REFINE_ABOVE or angle > _REFINE_ABOVE
+            if nearest:
+                inside, gap = _inside_and_distance(q, near[i], weights, lower, upper)
+                distance[s] = gap if inside or not within_limits else np.inf
+            else:
+                rough += _verify(d, T[i], q, found, i, s)[0]
+        if nearest:
+            kept = False
+            for s in _stable_order(distance):
+                if kept or distance[s] == np.inf:
+                    break
+                is_rough, kept = _verify(d, T[i], found.q[i, s], found, i, s)
+                rough += is_rough
+            for s in range(k):  # none usable: verify the rest, to tell out of reach from out of limits
+                if not kept and found.valid[i, s] and np.isnan(found.position_error[i, s]):
+                    rough += _verify(d, T[i], found.q[i, s], found, i, s)[0]
         _rank_pose(found, i, near[i], weights, lower, upper, within_limits)
         empty += found.count[i] == 0
     return rough, empty
@@ -288,19 +325,20 @@ def _refine(chain: Chain, found: _Found, T_target: NDArray[np.float64]) -> NDArr
     return np.flatnonzero(rough.any(axis=1))
 
 
-_one_pose = threading.local()  # per thread: _Found buffers for one pose, by (k, n)
+_one_pose = threading.local()  # per thread: _Found buffers for one pose, constant inputs
 
 
 def _candidates(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64],
-                weights: NDArray[np.float64], within_limits: bool = False, reuse: bool = False
-                ) -> tuple[_Found, int]:
+                weights: NDArray[np.float64], within_limits: bool = False, nearest: bool = False,
+                reuse: bool = False) -> tuple[_Found, int]:
     """The verified closed-form solutions of the targets ``T`` ``(N, 4, 4)``, nearest first.
 
     Per pose, the usable candidates (``keep``; with ``within_limits`` only those also
     ``inside``) come first, nearest to ``near`` first (see :class:`_Found`); ``count``
     is zero for a pose without any; the second value is the number of such poses.
-    ``reuse``: for one pose, fill this thread's buffers (the caller copies what it
-    returns) instead of allocating eight arrays.
+    ``nearest``: only the first is wanted (see :func:`_solve_batch`). ``reuse``: for one
+    pose, fill this thread's buffers (the caller copies what it returns) instead of
+    allocating eight arrays.
     """
     chain = solver.chain
     shape = (len(T), solver.data.k, chain.n)
@@ -310,7 +348,7 @@ def _candidates(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[
     else:
         found = _Found.empty(*shape)
     lower, upper = chain.lower, chain.upper
-    args = (solver.geometry, solver.data, T, near, weights, lower, upper, within_limits, found)
+    args = (solver.geometry, solver.data, T, near, weights, lower, upper, within_limits, nearest, found)
     if solver.solve_entry is None:  # compiled once per chain: later calls skip numba's dispatch
         solver.solve_entry = entry_point(_solve_batch, *args)
     rough, empty = solver.solve_entry(*args)
@@ -346,6 +384,13 @@ def _outside_limits(chain: Chain, q: NDArray[np.float64], label: str) -> JointLi
         f"'armkit ik --outside'")
 
 
+def _constant(make, shape):
+    """``make(shape)``, made once per thread and shape (the kernels only read it)."""
+    cache = _one_pose.__dict__
+    key = (make, shape)
+    return cache.get(key) if key in cache else cache.setdefault(key, make(shape))
+
+
 def _check_inputs(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
                   weights: ArrayLike | None) -> tuple[NDArray, NDArray, NDArray, tuple[int, ...]]:
     """Targets ``(N, 4, 4)``, references ``(N, n)`` and weights ``(n,)``, all C-contiguous
@@ -355,7 +400,7 @@ def _check_inputs(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
     T = np.ascontiguousarray(T.reshape(-1, 4, 4))
     n = chain.n
     if near is None:
-        near = np.zeros((len(T), n))
+        near = np.zeros((len(T), n)) if len(T) > 1 else _constant(np.zeros, (1, n))
     else:
         near = np.asarray(near, dtype=float)
         if near.ndim == 0 or near.shape[-1] != n or not np.isfinite(near).all():
@@ -366,7 +411,7 @@ def _check_inputs(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
         except ValueError as exc:
             raise InputError(f"near: shape {near.shape} does not match {len(T)} target poses") from exc
     if weights is None:
-        return T, near, np.ones(n), batch
+        return T, near, _constant(np.ones, n), batch
     weights = np.asarray(weights, dtype=float)
     if weights.shape != (n,) or not np.all(np.isfinite(weights) & (weights > 0)):
         raise InputError(f"weights: expected {n} positive numbers, got {weights.tolist()}")
@@ -505,7 +550,7 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
         q = np.stack([_numeric_one(chain, T[i], near[i], within_limits, labels[i], numeric_options)
                       for i in range(len(T))])
         return q.reshape(*batch, chain.n)
-    c, empty = _candidates(solver, T, near, weights, within_limits, reuse=True)
+    c, empty = _candidates(solver, T, near, weights, within_limits, nearest=not all, reuse=True)
     if empty:
         _raise_if_unusable(chain, c, T, near, labels)
     if not batch:  # c holds this thread's buffers: copy
