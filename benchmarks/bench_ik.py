@@ -137,6 +137,8 @@ def bench_closed_form(name: str, one: int, batch: int) -> None:
     solvers = {**mine, **closed_form_peers(robot, name)}
     results = {}
     for label, (solve_one, solve_batch) in solvers.items():
+        for T in T_one[:20]:  # warm-up (armkit: loads its compiled kernels from numba's cache)
+            solve_one(T)
         times, counts = [], []
         for T in T_one:
             dt, q = timed(solve_one, T)
