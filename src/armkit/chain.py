@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
@@ -152,6 +153,16 @@ class Chain:
     def prismatic(self) -> NDArray[np.bool_]:
         """``(n,)`` mask of prismatic joints."""
         return np.array([j.kind == "prismatic" for j in self.joints])
+
+    @cached_property
+    def kernel_arrays(self) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """``T_between`` and the prismatic mask as the compiled kernels take them.
+
+        Writable C-ordered copies (made once): a read-only array is another numba type, so
+        passing ``T_between`` itself would compile every kernel a second time. The kernels
+        only read them; do not modify them.
+        """
+        return np.array(self.T_between, dtype=np.float64, order="C"), np.array(self.prismatic, order="C")
 
     def within_limits(self, q: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Whether each configuration ``q`` ``(..., n)`` (float, not checked) is inside all

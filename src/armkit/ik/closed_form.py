@@ -293,7 +293,7 @@ class ClosedFormSolver:
         #: :func:`armkit.ik.solve`'s compiled loop for this chain, set on first use.
         self.solve_entry = None
         self._candidates_entry = None
-        self.data = ChainData(np.ascontiguousarray(chain.T_between), np.ascontiguousarray(chain.prismatic),
+        self.data = ChainData(*chain.kernel_arrays,
                               poe.index.astype(np.int64), poe.sign.astype(float), M_inv, poe.inverted,
                               8 if fields["kind"] != PLANAR else 2, verify or polish, polish,
                               VERIFY_TOLERANCE * size)
