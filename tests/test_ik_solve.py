@@ -12,7 +12,7 @@ import armkit
 from armkit.chain import DHRow
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik import ik_solutions
-from armkit.ik.solve import IKSolutionsBatch, _Found, _refine, _residual
+from armkit.ik.solve import IKSolutionsBatch, _Found, _rank_pose, _refine, _residual
 from armkit.spatial import matrix_from_axis_angle, matrix_from_euler, rotation_angle_between, transform_from
 
 CLOSED_FORM = ["probot-anno", "zju-i", "puma560", "ur5", "stanford", "grb400-scara"]
@@ -311,6 +311,28 @@ def test_batches_equal_one_at_a_time(name):
             np.testing.assert_array_equal(getattr(found[i], field), getattr(one, field))
         np.testing.assert_allclose(every[i], singles[i], rtol=0, atol=1e-12)  # earlier results intact
     assert [len(s.q) for s in found[:3]] == found.counts[:3].tolist()
+    # a batch of one pose is a batch: its answers are not overwritten by later calls either
+    first, first_all = robot.ik(T[:1], near=near[:1]), robot.ik(T[:1], all=True, near=near[:1])
+    kept, kept_all = first.copy(), [q.copy() for q in first_all]
+    robot.ik(T[1:2], near=near[1:2]), robot.ik(T[1:2], all=True, near=near[1:2]), robot.ik(T[1], all=True)
+    np.testing.assert_array_equal(first, kept)
+    np.testing.assert_array_equal(first_all[0], kept_all[0])
+
+
+def test_family_flag_survives_refinement():
+    """A singular representative first found rough, then refined, is still flagged a family."""
+    robot = armkit.load("puma560")
+    q_true = np.array([0.2, -0.4, 0.3, 0.0, 0.0, 0.5])  # q5 = 0: wrist singularity
+    T = robot.fk(q_true)[None]
+    found = _Found.empty(1, 1, 6)
+    found.q[...] = q_true + 1e-7
+    found.valid[...], found.family[...] = True, True
+    found.position_error[...], found.orientation_error[...] = _residuals(robot, found.q, T)
+    _rank_pose(found, 0, np.zeros(6), np.ones(6), robot.chain.lower, robot.chain.upper, True)
+    assert not found.keep[0, 0]  # 1e-7 away: not kept yet
+    assert _refine(robot.chain, found, T).tolist() == [0]
+    _rank_pose(found, 0, np.zeros(6), np.ones(6), robot.chain.lower, robot.chain.upper, True)
+    assert found.keep[0, 0] and found.family[0, 0]
 
 
 def test_a_pose_printed_with_six_decimals_is_solved():

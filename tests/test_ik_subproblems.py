@@ -8,6 +8,7 @@ from armkit.ik.subproblems import planar_2r, rotate, solve_trig_linear, sp1, sp2
 from armkit.spatial.rotations import matrix_from_axis_angle
 
 seeds = st.integers(0, 2**32 - 1)
+INSTANCES = 20  # random instances per hypothesis example
 
 
 def _unit(rng):
@@ -27,19 +28,21 @@ def _angle_diff(a, b):
 @given(seeds)
 def test_rotate_matches_rotation_matrix(seed):
     rng = np.random.default_rng(seed)
-    k, v, t = _unit(rng), _vector(rng), rng.uniform(-4, 4)
-    R = matrix_from_axis_angle(t * np.array(k))
-    np.testing.assert_allclose(R @ v, rotate(k, t, v), atol=1e-14)
+    for _ in range(INSTANCES):
+        k, v, t = _unit(rng), _vector(rng), rng.uniform(-4, 4)
+        R = matrix_from_axis_angle(t * np.array(k))
+        np.testing.assert_allclose(R @ v, rotate(k, t, v), atol=1e-14)
 
 
 @settings(max_examples=50, deadline=None)
 @given(seeds)
 def test_sp1_recovers_angle(seed):
     rng = np.random.default_rng(seed)
-    k, p, t = _unit(rng), _vector(rng), rng.uniform(-np.pi, np.pi)
-    theta, free = sp1(p, rotate(k, t, p), k)
-    assert not free
-    assert _angle_diff(theta, t) < 1e-9
+    for _ in range(INSTANCES):
+        k, p, t = _unit(rng), _vector(rng), rng.uniform(-np.pi, np.pi)
+        theta, free = sp1(p, rotate(k, t, p), k)
+        assert not free
+        assert _angle_diff(theta, t) < 1e-9
 
 
 def test_sp1_point_on_axis_is_free():
@@ -52,17 +55,18 @@ def test_sp1_point_on_axis_is_free():
 @given(seeds)
 def test_sp2_contains_constructed_solution(seed):
     rng = np.random.default_rng(seed)
-    k1, k2, p2 = _unit(rng), _unit(rng), _vector(rng)
-    t1, t2 = rng.uniform(-np.pi, np.pi, 2)
-    p1 = rotate(k1, -t1, rotate(k2, t2, p2))
-    theta1, theta2, valid, free1, free2 = sp2(p1, p2, k1, k2)
-    assert valid[0] and not free1 and not free2
-    found = (_angle_diff(theta1, t1) < 1e-8) & (_angle_diff(theta2, t2) < 1e-8) & np.array(valid)
-    assert found.any()
-    for b in range(2):
-        if valid[b]:
-            residual = np.subtract(rotate(k1, theta1[b], p1), rotate(k2, theta2[b], p2))
-            assert np.abs(residual).max() < 1e-12 * (1 + np.abs(p2).max())
+    for _ in range(INSTANCES):
+        k1, k2, p2 = _unit(rng), _unit(rng), _vector(rng)
+        t1, t2 = rng.uniform(-np.pi, np.pi, 2)
+        p1 = rotate(k1, -t1, rotate(k2, t2, p2))
+        theta1, theta2, valid, free1, free2 = sp2(p1, p2, k1, k2)
+        assert valid[0] and not free1 and not free2
+        found = (_angle_diff(theta1, t1) < 1e-8) & (_angle_diff(theta2, t2) < 1e-8) & np.array(valid)
+        assert found.any()
+        for b in range(2):
+            if valid[b]:
+                residual = np.subtract(rotate(k1, theta1[b], p1), rotate(k2, theta2[b], p2))
+                assert np.abs(residual).max() < 1e-12 * (1 + np.abs(p2).max())
 
 
 def test_sp2_tangent_and_impossible():
@@ -85,15 +89,16 @@ def test_sp2_tangent_and_impossible():
 @given(seeds)
 def test_sp3_contains_constructed_solution(seed):
     rng = np.random.default_rng(seed)
-    k, p1, p2 = _unit(rng), _vector(rng), _vector(rng)
-    t = rng.uniform(-np.pi, np.pi)
-    d = float(np.linalg.norm(np.subtract(rotate(k, t, p1), p2)))
-    theta, valid, free = sp3(p1, p2, k, d)
-    assert valid[0] and not free
-    assert ((_angle_diff(theta, t) < 1e-6) & np.array(valid)).any()
-    for b in range(2):
-        if valid[b]:
-            assert abs(np.linalg.norm(np.subtract(rotate(k, theta[b], p1), p2)) - d) < 1e-12
+    for _ in range(INSTANCES):
+        k, p1, p2 = _unit(rng), _vector(rng), _vector(rng)
+        t = rng.uniform(-np.pi, np.pi)
+        d = float(np.linalg.norm(np.subtract(rotate(k, t, p1), p2)))
+        theta, valid, free = sp3(p1, p2, k, d)
+        assert valid[0] and not free
+        assert ((_angle_diff(theta, t) < 1e-6) & np.array(valid)).any()
+        for b in range(2):
+            if valid[b]:
+                assert abs(np.linalg.norm(np.subtract(rotate(k, theta[b], p1), p2)) - d) < 1e-12
 
 
 def test_sp3_tangent_and_out_of_reach():
@@ -111,15 +116,16 @@ def test_sp3_tangent_and_out_of_reach():
 @given(seeds)
 def test_sp4_contains_constructed_solution(seed):
     rng = np.random.default_rng(seed)
-    h, k, p = _vector(rng), _unit(rng), _vector(rng)
-    t = rng.uniform(-np.pi, np.pi)
-    d = float(np.dot(h, rotate(k, t, p)))
-    theta, valid, _ = sp4(h, p, k, d)
-    assert ((_angle_diff(theta, t) < 1e-6) & np.array(valid)).any()
-    for b in range(2):
-        if valid[b]:
-            residual = np.dot(h, rotate(k, theta[b], p)) - d
-            assert abs(residual) < 1e-12 * (1 + np.abs(h).max() * np.abs(p).max())
+    for _ in range(INSTANCES):
+        h, k, p = _vector(rng), _unit(rng), _vector(rng)
+        t = rng.uniform(-np.pi, np.pi)
+        d = float(np.dot(h, rotate(k, t, p)))
+        theta, valid, _ = sp4(h, p, k, d)
+        assert ((_angle_diff(theta, t) < 1e-6) & np.array(valid)).any()
+        for b in range(2):
+            if valid[b]:
+                residual = np.dot(h, rotate(k, theta[b], p)) - d
+                assert abs(residual) < 1e-12 * (1 + np.abs(h).max() * np.abs(p).max())
 
 
 def test_trig_linear_free_and_impossible():
@@ -136,15 +142,16 @@ def test_trig_linear_free_and_impossible():
 @given(seeds)
 def test_planar_2r_contains_constructed_solution(seed):
     rng = np.random.default_rng(seed)
-    h, a, b = _unit(rng), _vector(rng), _vector(rng)
-    ta, tb = rng.uniform(-np.pi, np.pi, 2)
-    v = rotate(h, ta, np.add(a, rotate(h, tb, b)))
-    angles_a, angles_b, valid, free = planar_2r(h, a, b, v)
-    assert valid[0] and not free
-    hits = (_angle_diff(angles_a, ta) < 1e-6) & (_angle_diff(angles_b, tb) < 1e-6) & np.array(valid)
-    assert hits.any()
-    for s in range(2):
-        if valid[s]:  # the in-plane part of the equation holds
-            residual = np.subtract(rotate(h, angles_a[s], np.add(a, rotate(h, angles_b[s], b))), v)
-            assert abs(np.linalg.norm(residual - np.dot(residual, h) * np.array(h))) < 1e-12 * (
-                1 + np.abs(a).max() + np.abs(b).max())
+    for _ in range(INSTANCES):
+        h, a, b = _unit(rng), _vector(rng), _vector(rng)
+        ta, tb = rng.uniform(-np.pi, np.pi, 2)
+        v = rotate(h, ta, np.add(a, rotate(h, tb, b)))
+        angles_a, angles_b, valid, free = planar_2r(h, a, b, v)
+        assert valid[0] and not free
+        hits = (_angle_diff(angles_a, ta) < 1e-6) & (_angle_diff(angles_b, tb) < 1e-6) & np.array(valid)
+        assert hits.any()
+        for s in range(2):
+            if valid[s]:  # the in-plane part of the equation holds
+                residual = np.subtract(rotate(h, angles_a[s], np.add(a, rotate(h, angles_b[s], b))), v)
+                assert abs(np.linalg.norm(residual - np.dot(residual, h) * np.array(h))) < 1e-12 * (
+                    1 + np.abs(a).max() + np.abs(b).max())

@@ -14,10 +14,10 @@ never ask which convention it came from.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Literal
+from typing import Literal, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -29,6 +29,7 @@ __all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERA
 
 #: Slack [rad or m] allowed beyond a joint limit before a value counts as outside it.
 LIMIT_TOLERANCE = 1e-9
+_Derived = TypeVar("_Derived")
 
 JointKind = Literal["revolute", "prismatic"]
 DHConvention = Literal["standard", "modified"]
@@ -155,14 +156,23 @@ class Chain:
         return np.array([j.kind == "prismatic" for j in self.joints])
 
     @cached_property
-    def kernel_arrays(self) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-        """``T_between`` and the prismatic mask as the compiled kernels take them.
+    def _kernel_arrays(self) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """``T_between`` and the prismatic mask as armkit's compiled kernels take them.
 
-        Writable C-ordered copies (made once): a read-only array is another numba type, so
-        passing ``T_between`` itself would compile every kernel a second time. The kernels
-        only read them; do not modify them.
+        Writable C-ordered copies (made once; private because they are writable): a
+        read-only array is another numba type, so passing ``T_between`` itself would
+        compile every kernel a second time. The kernels only read them.
         """
         return np.array(self.T_between, dtype=np.float64, order="C"), np.array(self.prismatic, order="C")
+
+    def derived(self, key: str, make: Callable[[], _Derived]) -> _Derived:
+        """``make()``, computed once per chain and kept with it (solvers and the like).
+
+        The value lives as long as the chain does: no global cache keeps chains alive.
+        """
+        if key not in self.__dict__:
+            self.__dict__[key] = make()
+        return self.__dict__[key]
 
     def within_limits(self, q: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Whether each configuration ``q`` ``(..., n)`` (float, not checked) is inside all

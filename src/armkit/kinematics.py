@@ -88,7 +88,7 @@ def fk(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
 # The unchecked forms below are for callers that have checked q already (Robot.check_q).
 def _fk(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     if q.ndim == 1:  # one configuration: the compiled kernel (~2 us against ~60 us for the loop)
-        return _pose(*chain.kernel_arrays, np.ascontiguousarray(q))
+        return _pose(*chain._kernel_arrays, np.ascontiguousarray(q))
     T = _start(chain, q)
     for i, joint in enumerate(chain.joints):
         _apply_motion(T, q[..., i], joint.kind == "prismatic")
@@ -147,7 +147,7 @@ def _geometric_jacobian(chain: Chain, q: NDArray[np.float64], frame: str = "base
     if frame not in ("base", "tool"):
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
     if q.ndim == 1:  # one configuration: the compiled kernels (~5 us against ~100 us below)
-        T_tool, J = _pose_jacobian(*chain.kernel_arrays, np.ascontiguousarray(q))
+        T_tool, J = _pose_jacobian(*chain._kernel_arrays, np.ascontiguousarray(q))
     else:
         frames, T_tool = _joint_frames(chain, q)
         z = frames[..., :3, 2]
@@ -434,21 +434,20 @@ class ChainKernel:
 
     def __init__(self, chain: Chain) -> None:
         self.n = chain.n
-        #: The chain's fixed transforms ``(n + 1, 4, 4)`` and prismatic mask ``(n,)`` for the kernels
-        #: (writable C-ordered copies, so every chain uses the same compiled specialisation).
-        self.T_between, self.prismatic = chain.kernel_arrays
+        # the chain's fixed transforms (n + 1, 4, 4) and prismatic mask (n,) as the kernels take them
+        self._arrays = chain._kernel_arrays
 
     def pose(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Tool pose ``T_base_tool`` ``(4, 4)`` at joint values ``q`` ``(n,)`` [rad or m]."""
-        return _pose(self.T_between, self.prismatic, q)
+        return _pose(*self._arrays, q)
 
     def pose_jacobian(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Tool pose ``(4, 4)`` and base-frame geometric Jacobian ``(6, n)``, rows ``[v; w]``."""
-        return _pose_jacobian(self.T_between, self.prismatic, q)
+        return _pose_jacobian(*self._arrays, q)
 
     def jacobian(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Base-frame geometric Jacobian ``(6, n)``, rows ``[v; w]`` [m/s, rad/s per joint rate]."""
-        return _pose_jacobian(self.T_between, self.prismatic, q)[1]
+        return _pose_jacobian(*self._arrays, q)[1]
 
     def joint_axes(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Joint axes ``(n, 3)`` (unit vectors) and points on them ``(n, 3)`` [m], base frame.
@@ -457,4 +456,4 @@ class ChainKernel:
         origin before the joint's motion: the same point for a revolute joint, the start
         of the travel (``q_i = 0``) for a prismatic one.
         """
-        return _joint_axes(self.T_between, self.prismatic, q)
+        return _joint_axes(*self._arrays, q)

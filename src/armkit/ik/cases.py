@@ -52,14 +52,14 @@ from armkit.ik.subproblems import (
 )
 
 __all__ = ["CaseGeometry", "solve_pose", "SPHERICAL", "THREE_PARALLEL", "PARALLEL_BASE", "PLANAR",
-           "POSITION_CASES"]
+           "POSITION_CASES", "TWO_PI", "trig_coeffs", "two_angle_system", "wrap_angle"]
 
 #: Solver kinds (``CaseGeometry.kind``).
 SPHERICAL, THREE_PARALLEL, PARALLEL_BASE, PLANAR = range(4)
 #: How joints 1-3 of a spherical-wrist arm place the wrist centre (``CaseGeometry.position_case``).
 POSITION_CASES = ("parallel-23", "parallel-12", "intersect-23", "intersect-12-revolute",
                   "intersect-12-prismatic", "general-123")
-_TWO_PI = 2.0 * math.pi
+TWO_PI = 2.0 * math.pi
 
 Vector = tuple[float, float, float]
 
@@ -117,7 +117,7 @@ def _neg(v):
 
 
 @njit(cache=True)
-def _trig_coeffs(h, k, v):
+def trig_coeffs(h, k, v):
     """``h . R(k, t) v = const + cos_coeff cos t + sin_coeff sin t``."""
     hk = dot(h, k)
     kv = dot(k, v)
@@ -125,9 +125,9 @@ def _trig_coeffs(h, k, v):
 
 
 @njit(cache=True)
-def _wrap(angle):
+def wrap_angle(angle):
     """``angle`` shifted by whole turns into ``[-pi, pi]``."""
-    return angle - _TWO_PI * np.rint(angle / _TWO_PI)
+    return angle - TWO_PI * np.rint(angle / TWO_PI)
 
 
 # --------------------------------------------------------- two-angle system
@@ -291,8 +291,8 @@ def _general_position(g, w, q, valid, free):
     p0 = vec3(g.p[0])
     o2, o3, c = g.a1, g.a2, g.c
     u = sub(w, p0)
-    e_h, a_h, b_h = _trig_coeffs(h1, _neg(h0), u)
-    e_d, a_d, b_d = _trig_coeffs(scale(2.0, sub(p0, o2)), _neg(h0), u)
+    e_h, a_h, b_h = trig_coeffs(h1, _neg(h0), u)
+    e_d, a_d, b_d = trig_coeffs(scale(2.0, sub(p0, o2)), _neg(h0), u)
     e_h += dot(h1, sub(p0, o2))
     e_d += dot(sub(p0, o2), sub(p0, o2)) + dot(u, u)
     t1, t3, pair_valid, pair_free = np.empty(4), np.empty(4), np.empty(4, np.bool_), np.empty(4, np.bool_)
@@ -404,7 +404,7 @@ def _q5_near_aligned_wrist(g, R, q1, q5, s):
         return q5
     nearest, gap = 0, math.inf
     for a in range(g.q5_aligned.size):
-        d = _wrap(q5 - g.q5_aligned[a])
+        d = wrap_angle(q5 - g.q5_aligned[a])
         if abs(d) < abs(gap):
             nearest, gap = a, d
     if abs(gap) > 1e-3:
@@ -439,7 +439,7 @@ def _snap_to_aligned_wrist(g, P, r, t1, t5):
     for i in range(4):
         nearest, gap = 0, math.inf
         for a in range(g.q5_aligned.size):
-            d = abs(_wrap(t5[i] - g.q5_aligned[a]))
+            d = abs(wrap_angle(t5[i] - g.q5_aligned[a]))
             if d < gap:
                 nearest, gap = a, d
         if gap > 1e-6:
@@ -484,8 +484,8 @@ def _three_parallel(g, R, t, q, valid, family):
     p0, p1, p2, p3 = vec3(g.p[0]), vec3(g.p[1]), vec3(g.p[2]), vec3(g.p[3])
     p5, p6 = g.a1, g.a2
     G_p6 = add(_mul(R, p6), t)
-    e1, a1, b1 = _trig_coeffs(h, _neg(h0), _mul(R, h5))
-    e2, a2, b2 = _trig_coeffs(h, _neg(h0), sub(G_p6, p0))
+    e1, a1, b1 = trig_coeffs(h, _neg(h0), _mul(R, h5))
+    e2, a2, b2 = trig_coeffs(h, _neg(h0), sub(G_p6, p0))
     P, r = ((a1, b1), (a2, b2)), (g.f[0] - e1, g.f[1] - e2)  # P x1 - Q x5 = r
     q1s, q5s, pair_valid, pair_free = np.empty(4), np.empty(4), np.empty(4, np.bool_), np.empty(4, np.bool_)
     two_angle_system(g, P, r, q1s, q5s, pair_valid, pair_free)
@@ -533,8 +533,8 @@ def _parallel_base(g, R, t, q, valid, family):
     p0, p1, p2 = vec3(g.p[0]), vec3(g.p[1]), vec3(g.p[2])
     o4, o5, o6 = g.a1, g.a2, g.a3
     gh = _mul_transposed(R, h)  # R_G^T h
-    e1, a1, b1 = _trig_coeffs(gh, _neg(h5), h4)
-    e2, a2, b2 = _trig_coeffs(gh, _neg(h5), sub(o5, o6))
+    e1, a1, b1 = trig_coeffs(gh, _neg(h5), h4)
+    e2, a2, b2 = trig_coeffs(gh, _neg(h5), sub(o5, o6))
     e2 += dot(add(_mul(R, o6), t), h)
     q6s, q4s, pair_valid, pair_free = np.empty(4), np.empty(4), np.empty(4, np.bool_), np.empty(4, np.bool_)
     two_angle_system(g, ((a1, b1), (a2, b2)), (g.f[0] - e1, g.f[1] - e2), q6s, q4s, pair_valid,

@@ -22,7 +22,6 @@ Example
 from __future__ import annotations
 
 import math
-import weakref
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -32,15 +31,18 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit._jit import entry_point
 from armkit.chain import Chain
-from armkit.errors import NoClosedFormError
+from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.cases import (
     PARALLEL_BASE,
     PLANAR,
     POSITION_CASES,
     SPHERICAL,
     THREE_PARALLEL,
+    TWO_PI,
     CaseGeometry,
     solve_pose,
+    trig_coeffs,
+    wrap_angle,
 )
 from armkit.ik.numeric import _damped_step
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
@@ -49,7 +51,7 @@ from armkit.kinematics import chain_frames, chain_jacobian, chain_pose, pose_err
 from armkit.spatial.transforms import check_transform
 
 __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
-           "VERIFY_TOLERANCE", "DUPLICATE_TOLERANCE"]
+           "solver_or_reason", "VERIFY_TOLERANCE", "DUPLICATE_TOLERANCE"]
 
 #: A candidate counts only if its FK matches the target to this, times ``1 + arm size``
 #: (entries of the 4x4 matrix, metres / dimensionless). It only rejects non-solutions:
@@ -57,8 +59,6 @@ __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_
 VERIFY_TOLERANCE = 1e-8
 #: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution.
 DUPLICATE_TOLERANCE = 1e-9
-
-_TWO_PI = 2.0 * math.pi
 
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
@@ -171,7 +171,7 @@ def _duplicates(q, valid, prismatic, duplicate):
             for j in range(n):
                 diff = abs(q[a, j] - q[b, j])
                 if not prismatic[j]:
-                    diff = min(diff, _TWO_PI - diff)
+                    diff = min(diff, TWO_PI - diff)
                 if not diff <= DUPLICATE_TOLERANCE:
                     same = False
                     break
@@ -180,9 +180,9 @@ def _duplicates(q, valid, prismatic, duplicate):
 
 
 @njit(cache=True)
-def pose_candidates(g, d, T, q, valid, family, merge):
+def pose_candidates(g, d, T, q, valid, family):
     """Every candidate of one target ``T`` ``(4, 4)`` into ``q`` ``(k, n)`` (user's joints),
-    ``valid`` and ``family`` ``(k,)``; ``merge``: duplicates become invalid."""
+    ``valid`` and ``family`` ``(k,)``; duplicates are invalid."""
     k, n = q.shape
     q_int = np.empty((k, n))
     R, t = _joint_motion(d, T)
@@ -198,22 +198,21 @@ def pose_candidates(g, d, T, q, valid, family, merge):
             _newton(d, T, q[s], 2)
         for j in range(n):
             if not d.prismatic[j]:
-                q[s, j] -= _TWO_PI * np.rint(q[s, j] / _TWO_PI)
+                q[s, j] = wrap_angle(q[s, j])
         if d.verify and valid[s]:
             valid[s] = _fk_difference(d, T, q[s]) <= d.verify_tolerance
-    if merge:
-        duplicate = np.empty(k, dtype=np.bool_)
-        _duplicates(q, valid, d.prismatic, duplicate)
-        for s in range(k):
-            valid[s] = valid[s] and not duplicate[s]
+    duplicate = np.empty(k, dtype=np.bool_)
+    _duplicates(q, valid, d.prismatic, duplicate)
+    for s in range(k):
+        valid[s] = valid[s] and not duplicate[s]
     for s in range(k):
         family[s] = family[s] and valid[s]
 
 
 @njit(cache=True)
-def _candidates_batch(g, d, T, q, valid, family, merge):
+def _candidates_batch(g, d, T, q, valid, family):
     for i in range(T.shape[0]):
-        pose_candidates(g, d, T[i], q[i], valid[i], family[i], merge)
+        pose_candidates(g, d, T[i], q[i], valid[i], family[i])
 
 
 # ------------------------------------------------------------- preparation
@@ -222,12 +221,6 @@ def _unit_normal(h: Array) -> Array:
     e = np.eye(3)[np.argmin(np.abs(h))]
     u = np.cross(h, e)
     return u / np.linalg.norm(u)
-
-
-def _trig_coeffs(h: Array, k: Array, v: Array) -> tuple[float, float, float]:
-    """``h . R(k, t) v = const + cos_coeff cos t + sin_coeff sin t``."""
-    hk, kv = h @ k, k @ v
-    return float(hk * kv), float(h @ v - hk * kv), float(h @ np.cross(k, v))
 
 
 def _closest_points(p_a: Array, h_a: Array, p_b: Array, h_b: Array) -> tuple[Array, Array]:
@@ -290,10 +283,8 @@ class ClosedFormSolver:
         M_inv = np.eye(4)
         M_inv[:3, :3] = poe.M[:3, :3].T
         M_inv[:3, 3] = -poe.M[:3, :3].T @ poe.M[:3, 3]
-        #: :func:`armkit.ik.solve`'s compiled loop for this chain, set on first use.
-        self.solve_entry = None
-        self._candidates_entry = None
-        self.data = ChainData(*chain.kernel_arrays,
+        self._candidates_entry = None  # the compiled loop for this chain, set on first use
+        self.data = ChainData(*chain._kernel_arrays,
                               poe.index.astype(np.int64), poe.sign.astype(float), M_inv, poe.inverted,
                               8 if fields["kind"] != PLANAR else 2, verify or polish, polish,
                               VERIFY_TOLERANCE * size)
@@ -308,15 +299,16 @@ class ClosedFormSolver:
         return ClosedFormSolutions(q.reshape(*batch, k, n), valid.reshape(*batch, k),
                                    family.reshape(*batch, k))
 
-    def candidates(self, T: Array, merge: bool = True) -> tuple[Array, Mask, Mask]:
-        """``(q, valid, family)`` ``(N, k, n)``, ``(N, k)`` for checked poses ``T`` ``(N, 4, 4)``.
-
-        ``merge=False`` keeps duplicate candidates valid.
-        """
+    def candidates(self, T: Array) -> tuple[Array, Mask, Mask]:
+        """``(q, valid, family)`` ``(N, k, n)``, ``(N, k)`` for rigid poses ``T`` ``(N, 4, 4)``
+        (checked by :func:`armkit.spatial.check_transform`)."""
+        T = np.require(T, dtype=np.float64, requirements="CW")  # the types the compiled loop takes
+        if T.ndim != 3 or T.shape[1:] != (4, 4):
+            raise InputError(f"T: expected shape (N, 4, 4), got {T.shape}")
         N, k = len(T), self.data.k
         q = np.empty((N, k, self.chain.n))
         valid, family = np.empty((N, k), dtype=bool), np.empty((N, k), dtype=bool)
-        args = (self.geometry, self.data, np.ascontiguousarray(T, dtype=float), q, valid, family, merge)
+        args = (self.geometry, self.data, T, q, valid, family)
         if self._candidates_entry is None:  # compiled once per chain: later calls skip numba's dispatch
             self._candidates_entry = entry_point(_candidates_batch, *args)
         self._candidates_entry(*args)
@@ -333,8 +325,8 @@ class ClosedFormSolver:
         """
         h, p = poe.axes, poe.points
         o2, o3 = _closest_points(p[1], h[1], p[2], h[2])
-        height = _trig_coeffs(h[1], h[2], c - o3)
-        distance = _trig_coeffs(2.0 * (o3 - o2), h[2], c - o3)
+        height = trig_coeffs(_vector(h[1]), _vector(h[2]), _vector(c - o3))
+        distance = trig_coeffs(_vector(2.0 * (o3 - o2)), _vector(h[2]), _vector(c - o3))
         Q = np.array([[height[1], height[2]], [distance[1], distance[2]]])
         f = (height[0] + float(h[1] @ (o3 - o2)),
              distance[0] + float((o3 - o2) @ (o3 - o2) + (c - o3) @ (c - o3)))
@@ -348,7 +340,7 @@ class ClosedFormSolver:
         h = h_all[1]
         p5, p6 = _closest_points(p[4], h_all[4], p[5], h_all[5])
         # right-hand sides h . R(h5, q5) v = const + c cos q5 + d sin q5, for v = h6, p6 - p5
-        rows = [_trig_coeffs(h, h_all[4], v) for v in (h_all[5], p6 - p5)]
+        rows = [trig_coeffs(_vector(h), _vector(h_all[4]), _vector(v)) for v in (h_all[5], p6 - p5)]
         Q = np.array([[r[1], r[2]] for r in rows])
         f = (rows[0][0], rows[1][0] + float(h @ (p5 - p[0])))
         # values of q5 that turn axis 6 parallel to h (a UR-like wrist singularity)
@@ -371,7 +363,7 @@ class ClosedFormSolver:
         h = h_all[0]
         o4, o5 = _closest_points(p[3], h_all[3], p[4], h_all[4])
         o6 = _closest_points(p[4], h_all[4], p[5], h_all[5])[1]
-        rows = [_trig_coeffs(h, h_all[3], v) for v in (h_all[4], o5 - o4)]
+        rows = [trig_coeffs(_vector(h), _vector(h_all[3]), _vector(v)) for v in (h_all[4], o5 - o4)]
         Q = np.array([[r[1], r[2]] for r in rows])
         f = (rows[0][0], rows[1][0] + float(h @ o4))
         return {"hp": _vector(h), "u": _vector(_unit_normal(h)), "a1": _vector(o4), "a2": _vector(o5),
@@ -389,27 +381,30 @@ class ClosedFormSolver:
                 "revolute_joints": np.array(rev, dtype=np.int64), "prismatic_joint": pri[0] if pri else -1}
 
 
-_solvers: dict[int, tuple[weakref.ref, ClosedFormSolver]] = {}
-
-
 def closed_form_solver(chain: Chain) -> ClosedFormSolver:
-    """The (memoised) closed-form solver of ``chain``.
+    """The closed-form solver of ``chain`` (made once per chain and kept with it).
 
     Raises
     ------
     NoClosedFormError
         If the chain's geometry has no closed form here (the message says why).
     """
-    entry = _solvers.get(id(chain))
-    if entry is not None and entry[0]() is chain:
-        return entry[1]
+    solver = solver_or_reason(chain)
+    if isinstance(solver, NoClosedFormError):
+        raise solver
+    return solver
+
+
+def solver_or_reason(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
+    """The chain's closed-form solver, or the error saying why it has none (made once)."""
+    return chain.derived("closed_form_solver", lambda: _make_solver(chain))
+
+
+def _make_solver(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
     plan = plan_closed_form(chain)
     if not plan.structure.closed_form:
-        raise NoClosedFormError(f"no closed-form IK for this chain: {plan.structure.description}")
-    solver = ClosedFormSolver(chain, plan)
-    key = id(chain)
-    _solvers[key] = (weakref.ref(chain, lambda _ref, key=key, memo=_solvers: memo.pop(key, None)), solver)
-    return solver
+        return NoClosedFormError(f"no closed-form IK for this chain: {plan.structure.description}")
+    return ClosedFormSolver(chain, plan)
 
 
 def closed_form_ik(chain: Chain, T_base_tool: ArrayLike) -> ClosedFormSolutions:

@@ -408,7 +408,7 @@ class NumericIK:
     def _run_attempt(self, T_target: NDArray[np.float64], q: NDArray[np.float64], best_q: NDArray[np.float64],
                      best: NDArray[np.float64], max_iterations: int) -> tuple[bool, int, float, float]:
         """The compiled :func:`_attempt` on this solver's chain and settings."""
-        return _attempt(self.kernel.T_between, self.kernel.prismatic, self.lower, self.upper,
+        return _attempt(*self.chain._kernel_arrays, self.lower, self.upper,
                         self.respect_limits, T_target, self.rows, self.settings, max_iterations,
                         q, best_q, best)
 
@@ -453,7 +453,7 @@ class NumericIK:
         if not self.respect_limits:
             return q, []
         q, sides = np.array(q, dtype=np.float64), np.zeros(self.chain.n)
-        _project(q, self.lower, self.upper, ~self.kernel.prismatic, sides)
+        _project(q, self.lower, self.upper, ~self.chain._kernel_arrays[1], sides)
         return q, [(i, float(sides[i])) for i in np.flatnonzero(sides).tolist()]
 
 

@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 import threading
-import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -39,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 from armkit._jit import entry_point
 from armkit.chain import LIMIT_TOLERANCE, Chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
-from armkit.ik.closed_form import ClosedFormSolver, closed_form_solver, pose_candidates
+from armkit.ik.closed_form import ClosedFormSolver, pose_candidates, solver_or_reason
 from armkit.ik.numeric import numeric_ik, wrap_angle_into_limits, wrap_into_limits
 from armkit.kinematics import chain_pose
 from armkit.spatial.transforms import check_transform
@@ -54,23 +53,6 @@ _REFINE_ABOVE = 1e-10
 _REFINE_MAX_MOVE = 1e-6
 #: Budget of the search for the closest pose when a target is out of reach.
 _CLOSEST_POSE_RESTARTS = 20
-
-
-_solvers: dict[int, tuple[weakref.ref, ClosedFormSolver | NoClosedFormError]] = {}
-
-
-def _solver(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
-    """The chain's closed-form solver, or the error saying why it has none (memoised)."""
-    entry = _solvers.get(id(chain))
-    if entry is not None and entry[0]() is chain:
-        return entry[1]
-    try:
-        solver = closed_form_solver(chain)
-    except NoClosedFormError as exc:
-        solver = exc
-    key = id(chain)
-    _solvers[key] = (weakref.ref(chain, lambda _ref, key=key, memo=_solvers: memo.pop(key, None)), solver)
-    return solver
 
 
 @dataclass(frozen=True)
@@ -166,8 +148,9 @@ def _residual(T_target, F):
 class _Found(NamedTuple):
     """Per pose ``(N, k)`` candidates, sorted by :func:`_rank_pose`: ``q`` ``(N, k, n)``,
     ``valid`` (a solution of the closed form), ``keep`` (also reproduces the pose to
-    ``VERIFY_TOLERANCE``), ``inside`` (the limits), ``family``, the FK residuals, and
-    ``count`` ``(N,)``: how many are usable (kept, and inside if asked), sorted first."""
+    ``VERIFY_TOLERANCE``), ``inside`` (the limits), ``family`` (as the closed form flags
+    it: report ``family & keep``), the FK residuals, and ``count`` ``(N,)``: how many are
+    usable (kept, and inside if asked), sorted first."""
 
     q: NDArray[np.float64]
     valid: NDArray[np.bool_]
@@ -206,7 +189,6 @@ def _rank_pose(found, i, near, weights, lower, upper, within_limits):
             and found.orientation_error[i, s] <= VERIFY_TOLERANCE
         inside, distance[s] = _inside_and_distance(found.q[i, s], near, weights, lower, upper)
         found.inside[i, s] = inside
-        found.family[i, s] = found.family[i, s] and found.keep[i, s]
         usable = found.keep[i, s] and (inside or not within_limits)
         if not usable:
             distance[s] = np.inf
@@ -275,7 +257,7 @@ def _solve_batch(g, d, T, near, weights, lower, upper, within_limits, nearest, f
     rough = empty = 0
     distance = np.empty(k)
     for i in range(T.shape[0]):
-        pose_candidates(g, d, T[i], found.q[i], found.valid[i], found.family[i], True)
+        pose_candidates(g, d, T[i], found.q[i], found.valid[i], found.family[i])
         for s in range(k):
             q = found.q[i, s]
             found.position_error[i, s] = found.orientation_error[i, s] = np.nan
@@ -349,9 +331,8 @@ def _candidates(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[
         found = _Found.empty(*shape)
     lower, upper = chain.lower, chain.upper
     args = (solver.geometry, solver.data, T, near, weights, lower, upper, within_limits, nearest, found)
-    if solver.solve_entry is None:  # compiled once per chain: later calls skip numba's dispatch
-        solver.solve_entry = entry_point(_solve_batch, *args)
-    rough, empty = solver.solve_entry(*args)
+    # compiled once per chain (kept with it): later calls skip numba's per-call dispatch
+    rough, empty = chain.derived("ik_solve_loop", lambda: entry_point(_solve_batch, *args))(*args)
     if rough:
         for i in _refine(chain, found, T):
             _rank_pose(found, i, near[i], weights, lower, upper, within_limits)
@@ -393,11 +374,12 @@ def _constant(make, shape):
 
 def _check_inputs(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
                   weights: ArrayLike | None) -> tuple[NDArray, NDArray, NDArray, tuple[int, ...]]:
-    """Targets ``(N, 4, 4)``, references ``(N, n)`` and weights ``(n,)``, all C-contiguous
-    float64 (as the compiled loop takes them), and the batch shape."""
+    """Targets ``(N, 4, 4)``, references ``(N, n)`` and weights ``(n,)``, all writable
+    C-contiguous float64 (the one set of types the compiled loop is compiled for), and the
+    batch shape."""
     T = check_transform(T_base_tool, "target pose")
     batch = T.shape[:-2]
-    T = np.ascontiguousarray(T.reshape(-1, 4, 4))
+    T = np.require(T.reshape(-1, 4, 4), requirements="CW")
     n = chain.n
     if near is None:
         near = np.zeros((len(T), n)) if len(T) > 1 else _constant(np.zeros, (1, n))
@@ -407,7 +389,7 @@ def _check_inputs(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
             raise InputError(f"near: expected {n} finite joint values (shape (..., {n})), "
                              f"got {near.tolist()}")
         try:
-            near = np.ascontiguousarray(np.broadcast_to(near, (*batch, n)).reshape(-1, n))
+            near = np.require(np.broadcast_to(near, (*batch, n)).reshape(-1, n), requirements="CW")
         except ValueError as exc:
             raise InputError(f"near: shape {near.shape} does not match {len(T)} target poses") from exc
     if weights is None:
@@ -415,7 +397,7 @@ def _check_inputs(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
     weights = np.asarray(weights, dtype=float)
     if weights.shape != (n,) or not np.all(np.isfinite(weights) & (weights > 0)):
         raise InputError(f"weights: expected {n} positive numbers, got {weights.tolist()}")
-    return T, near, np.ascontiguousarray(weights), batch
+    return T, near, np.require(weights, requirements="CW"), batch
 
 
 def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
@@ -455,11 +437,11 @@ def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None
     (8, 4, True)
     """
     T, near, weights, batch = _check_inputs(chain, T_base_tool, near, weights)
-    solver = _solver(chain)
+    solver = solver_or_reason(chain)
     if isinstance(solver, NoClosedFormError):
         raise solver
     c, _ = _candidates(solver, T, near, weights)
-    found = IKSolutionsBatch(c.q, c.keep.sum(axis=1), c.inside, c.family, c.position_error,
+    found = IKSolutionsBatch(c.q, c.keep.sum(axis=1), c.inside, c.family & c.keep, c.position_error,
                              c.orientation_error)
     return found if batch else found[0]
 
@@ -536,7 +518,7 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
     True
     """
     T, near, weights, batch = _check_inputs(chain, T_base_tool, near, weights)
-    solver = _solver(chain)
+    solver = solver_or_reason(chain)
     closed = "mask" not in numeric_options and not isinstance(solver, NoClosedFormError)
     if all and not closed:
         reason = ("a task mask needs the numeric solver" if "mask" in numeric_options
@@ -550,7 +532,7 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
         q = np.stack([_numeric_one(chain, T[i], near[i], within_limits, labels[i], numeric_options)
                       for i in range(len(T))])
         return q.reshape(*batch, chain.n)
-    c, empty = _candidates(solver, T, near, weights, within_limits, nearest=not all, reuse=True)
+    c, empty = _candidates(solver, T, near, weights, within_limits, nearest=not all, reuse=not batch)
     if empty:
         _raise_if_unusable(chain, c, T, near, labels)
     if not batch:  # c holds this thread's buffers: copy

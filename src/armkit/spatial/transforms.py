@@ -108,7 +108,7 @@ def check_transform(T: ArrayLike, name: str = "pose") -> NDArray[np.float64]:
         raise InputError(f"{name}: expected a 4x4 numeric matrix, got {T!r}") from exc
     if T.ndim < 2 or T.shape[-2:] != (4, 4):
         raise InputError(f"{name}: expected shape (..., 4, 4), got {T.shape}")
-    flat = np.ascontiguousarray(T.reshape(-1, 4, 4))
+    flat = np.require(T.reshape(-1, 4, 4), requirements="CW")  # the types _rigidity is compiled for
     finite, last_row, orthonormal, rough = _rigidity(flat) if flat.size else (True, 0.0, 0.0, 0)
     if not finite:
         raise InputError(f"{name}: contains NaN or infinite values")
