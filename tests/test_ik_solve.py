@@ -342,3 +342,25 @@ def test_a_pose_printed_with_six_decimals_is_solved():
     T = np.round(robot.fk(q), 6)
     found = robot.ik(T, near=q)
     np.testing.assert_allclose(found, q, atol=1e-5)
+
+
+@pytest.mark.parametrize(("name", "q"), [
+    ("puma560", [0.3, -0.5, 0.2, 0.7, 0.0, 0.4]),  # aligned wrist: only q4 + q6 defined
+    ("probot-anno", [0.3, -0.5, 0.2, 0.7, np.pi / 2, 0.4]),  # its wrist aligns at q5 = pi/2
+    ("ur5", [0.3, -0.5, 0.2, 0.7, 0.0, 0.4]),  # axis 6 parallel to 2-4: a curved family
+    ("ur5", [1.3, -1.5, 1.2, -0.7, 0.0, 2.4]),
+])
+def test_near_picks_the_member_of_a_singular_family_nearest_to_it(name, q):
+    """At a singular pose the answer for near=q is q itself, not the family's representative."""
+    robot = armkit.load(name)
+    q = np.array(q)
+    T = robot.fk(q)
+    np.testing.assert_allclose(robot.ik(T, near=q), q, rtol=0, atol=1e-9)
+    found = ik_solutions(robot.chain, T, near=q)
+    assert found.family[0]
+    np.testing.assert_allclose(found.q[0], q, rtol=0, atol=1e-9)
+    assert found.position_error[0] < 1e-12 and found.orientation_error[0] < 1e-12
+    # another reference picks another member, still an exact solution
+    other = robot.ik(T, near=q + np.array([0, 0, 0, 0.5, 0, -0.5]))
+    np.testing.assert_allclose(robot.fk(other), T, rtol=0, atol=1e-12)
+    assert np.abs(other - q).max() > 0.1

@@ -40,7 +40,7 @@ from armkit.chain import LIMIT_TOLERANCE, Chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik.closed_form import ClosedFormSolver, pose_candidates, solver_or_reason
 from armkit.ik.numeric import numeric_ik, wrap_angle_into_limits, wrap_into_limits
-from armkit.kinematics import chain_pose
+from armkit.kinematics import chain_pose, fk, geometric_jacobian
 from armkit.spatial.transforms import check_transform
 
 __all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
@@ -53,6 +53,10 @@ _REFINE_ABOVE = 1e-10
 _REFINE_MAX_MOVE = 1e-6
 #: Budget of the search for the closest pose when a target is out of reach.
 _CLOSEST_POSE_RESTARTS = 20
+#: Steps along a singular family towards ``near`` (one where the family is a line in joint space).
+_FAMILY_STEPS = 10
+#: Singular values below this fraction of the largest span a family's directions.
+_NULL_SPACE = 1e-8
 
 
 @dataclass(frozen=True)
@@ -333,11 +337,51 @@ def _candidates(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[
     args = (solver.geometry, solver.data, T, near, weights, lower, upper, within_limits, nearest, found)
     # compiled once per chain (kept with it): later calls skip numba's per-call dispatch
     rough, empty = chain.derived("ik_solve_loop", lambda: entry_point(_solve_batch, *args))(*args)
-    if rough:
-        for i in _refine(chain, found, T):
-            _rank_pose(found, i, near[i], weights, lower, upper, within_limits)
+    touched = set(_refine(chain, found, T).tolist()) if rough else set()
+    if found.family.any():  # singular poses: the members of each family nearest to near
+        touched.update(_nearest_family_members(chain, found, T, near, weights))
+    for i in sorted(touched):
+        _rank_pose(found, i, near[i], weights, lower, upper, within_limits)
+    if touched:
         empty = int((found.count == 0).sum())
     return found, empty
+
+
+def _nearest_family_members(chain: Chain, found: _Found, T: NDArray[np.float64], near: NDArray[np.float64],
+                            weights: NDArray[np.float64]) -> set[int]:
+    """Move each kept family representative (in place) to the member of its family nearest
+    to ``near``; the poses touched (to be ranked again).
+
+    At a singular pose the closed form returns one member of a one-parameter family (e.g.
+    ``q4 = 0`` for an aligned wrist, where only ``q4 + q6`` is defined). Steps along the
+    null space of the Jacobian (weighted by ``weights``), each put back exactly on the
+    solution set by Newton steps, move it towards ``near`` while the distance falls; a
+    move that would leave the limits a representative was inside is not taken.
+    """
+    poses = set()
+    for i, s in zip(*np.nonzero(found.family & found.keep), strict=True):
+        q = found.q[i, s].copy()
+        inside = bool(chain.within_limits(q))
+        w2 = weights**2
+        for _ in range(_FAMILY_STEPS):
+            _, S, Vt = np.linalg.svd(geometric_jacobian(chain, q))
+            N = Vt[len(S) - np.count_nonzero(S <= _NULL_SPACE * S[0]):].T  # (n, k) null-space basis
+            if N.shape[1] == 0:
+                break
+            gap = w2 * (near[i] - q)
+            step = N @ np.linalg.solve(N.T @ (w2[:, None] * N), N.T @ gap)
+            result = numeric_ik(chain, T[i], q0=q + step, respect_limits=False, max_restarts=0,
+                                max_iterations=10, position_tolerance=1e-13, orientation_tolerance=1e-13)
+            moved = wrap_into_limits(chain, result.q, near[i])
+            closer = np.sum(w2 * (moved - near[i]) ** 2) < np.sum(w2 * (q - near[i]) ** 2) - 1e-24
+            if not (result.success and closer and (chain.within_limits(moved) or not inside)):
+                break
+            q = moved
+        if not np.array_equal(q, found.q[i, s]):
+            found.q[i, s] = q
+            found.position_error[i, s], found.orientation_error[i, s] = _residual(T[i], fk(chain, q))
+            poses.add(int(i))
+    return poses
 
 
 def _angle_text(angle: float) -> str:
