@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench clean
+.PHONY: demo test bench clean clean-cache
 
 $(BIN)/activate:
 	$(PYTHON) -m venv $(VENV)
@@ -28,6 +28,9 @@ bench: $(VENV)/.installed-test
 	$(BIN)/python -m pip install --quiet -e ".[bench]"
 	$(BIN)/python benchmarks/run_all.py
 
-clean:
-	rm -rf $(VENV) armkit-report .pytest_cache .hypothesis .numba-cache
+clean: clean-cache
+	rm -rf $(VENV) armkit-report .pytest_cache .hypothesis
+
+clean-cache:  # numba's compiled kernels (after editing one: see docs/architecture.md)
+	rm -rf .numba-cache
 	find src -name "*.nbi" -delete -o -name "*.nbc" -delete

@@ -95,6 +95,8 @@ def test_errors_are_one_line(capsys):
     assert code == 1 and "--matrix" in err
     code, _, err = run(capsys, "ik", "ur5", *SEED_POSE, "--near", "0", "0")
     assert code == 1 and "UR5 has 6 joints" in err
+    code, _, err = run(capsys, "ik", "ur5", "--pose", "0.2", "0.2", "0.2", "0", "inf", "0")
+    assert code == 1 and "expected six finite numbers" in err
 
 
 def test_position_only_target(capsys):

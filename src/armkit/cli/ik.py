@@ -37,6 +37,8 @@ def _target(pose: tuple[float, ...] | None, matrix: tuple[float, ...] | None,
     if position is not None:
         return transform_from(np.eye(3), position)
     angles = np.asarray(pose[3:])
+    if not np.all(np.isfinite(pose)):
+        raise InputError(f"--pose {list(pose)}: expected six finite numbers (X Y Z A B C)")
     if not degrees and np.any(np.abs(angles) > 2 * np.pi):
         raise InputError(f"pose angles {angles.tolist()} rad: larger than 2 pi in magnitude; add --deg "
                          f"if they are degrees")

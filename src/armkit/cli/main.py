@@ -32,8 +32,9 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _compiling() -> None:
-    err_console.print("[dim]compiling armkit's kernels for this machine: once, up to a minute; "
-                      "later runs load them from the cache[/dim]", highlight=False)
+    err_console.print("[dim]compiling armkit's kernels for this machine (each kernel once; the IK ones "
+                      "take up to a minute), later runs load them from the cache ...[/dim]",
+                      highlight=False, soft_wrap=True)
 
 
 if __name__ == "__main__":
