@@ -138,3 +138,15 @@ def test_sim_random_count_and_export_suffix_are_checked(capsys, tmp_path):
     assert main(["export", "ur5", "--urdf", str(tmp_path / "arm.txt")]) == 1
     assert "expected a name ending in .urdf" in capsys.readouterr().err
     assert not (tmp_path / "arm.txt").exists()
+
+
+def test_sim_warns_about_values_outside_the_limits(capsys, tmp_path):
+    code, _, err = run(capsys, "sim", "probot-anno", "0", "0", "0", "0", "4.5", "0", "--json")
+    assert code == 0 and "is outside its limits" in err
+    csv = tmp_path / "traj.csv"
+    t = np.linspace(0, 1, 11)
+    q = np.outer(t, [0.5, 0.4, 0.01, 0.2])
+    q[5:, 1] = 3.0  # joint 2 beyond its limits from t = 0.5 s
+    np.savetxt(csv, np.column_stack([t, q]), delimiter=",", header="t,q1,q2,q3,q4", comments="")
+    code, _, err = run(capsys, "sim", "grb400-scara", "--trajectory", csv, "--json")
+    assert code == 0 and "the trajectory leaves the joint limits (6 of 11 samples, first at t = 0.5 s" in err

@@ -56,8 +56,8 @@ def to_si(robot: Robot, q: Sequence[float | str], degrees: bool) -> np.ndarray:
 
 
 def warn(message: str) -> None:
-    """A yellow warning line on stderr."""
-    err_console.print(f"[yellow]warning:[/yellow] {escape(message)}", highlight=False)
+    """A yellow warning line on stderr (one line, however long: it may be grepped)."""
+    err_console.print(f"[yellow]warning:[/yellow] {escape(message)}", highlight=False, soft_wrap=True)
 
 
 def check_limits_or_warn(robot: Robot, q: np.ndarray, strict: bool, degrees: bool = False) -> None:

@@ -11,7 +11,17 @@ from rich.markup import escape
 from rich.table import Table
 
 from armkit._io import check_output_path
-from armkit.cli.app import ALLOW_NEGATIVE, app, console, err_console, load_robot, print_json, to_si
+from armkit.cli.app import (
+    ALLOW_NEGATIVE,
+    app,
+    check_limits_or_warn,
+    console,
+    err_console,
+    load_robot,
+    print_json,
+    to_si,
+    warn,
+)
 from armkit.errors import ArmkitError, InputError
 from armkit.robot import Robot
 from armkit.spatial.rotations import rotation_angle_between
@@ -122,6 +132,11 @@ def sim_command(
     sim = Simulation(arm, gravity=gravity, gravity_compensation=compensation)
     if trajectory is not None:
         t, q_traj, qd = read_trajectory(trajectory, arm)
+        outside = ~arm.within_limits(q_traj)
+        if outside.any():  # the servos stop at the limits: say so before the table shows it
+            first = int(np.argmax(outside))
+            warn(f"the trajectory leaves the joint limits ({outside.sum()} of {len(t)} samples, first at "
+                 f"t = {t[first]:.3g} s: " + "; ".join(arm.limit_violations(q_traj[first], deg)) + ")")
         result = sim.run(t, q_traj, qd)
         summary = _tracking_summary(arm, result)
         if json_output:
@@ -140,6 +155,8 @@ def sim_command(
             err_console.print(f"wrote {png}", highlight=False)
         return
     configurations = (to_si(arm, q, deg)[None] if q else arm.random_q(random, rng=seed))
+    if q:
+        check_limits_or_warn(arm, configurations[0], strict=False, degrees=deg)
     settled = np.array([sim.move(arm.home, q_k, 1.0, 0.5).T_tool[-1] for q_k in configurations])
     computed = arm.fk(configurations)
     rows = {"mj_kinematics (qpos set)": compare_poses(computed, sim.tool_pose(configurations),
