@@ -250,15 +250,15 @@ def _verify(d, T, q, found, i, s):
 def _solve_batch(g, d, T, near, weights, lower, upper, within_limits, nearest, found):
     """Candidates of every pose, wrapped into the limits (reference ``near``), with their
     FK residuals, ranked: into ``found`` (see :class:`_Found`). Returns the number of
-    valid candidates whose residual is above ``_REFINE_ABOVE`` and the number of poses
-    without a usable candidate.
+    valid candidates whose residual is above ``_REFINE_ABOVE``, the number of kept
+    family representatives and the number of poses without a usable candidate.
 
     ``nearest``: only the nearest candidate that reproduces the pose is wanted, so the
     candidates are put through FK nearest first until one does (the others' residuals
     are NaN: not kept); if none does, all are (the caller's error message needs them).
     """
     k, n = found.q.shape[1:]
-    rough = empty = 0
+    rough = families = empty = 0
     distance = np.empty(k)
     for i in range(T.shape[0]):
         pose_candidates(g, d, T[i], found.q[i], found.valid[i], found.family[i])
@@ -290,7 +290,9 @@ def _solve_batch(g, d, T, near, weights, lower, upper, within_limits, nearest, f
                     rough += _verify(d, T[i], found.q[i, s], found, i, s)[0]
         _rank_pose(found, i, near[i], weights, lower, upper, within_limits)
         empty += found.count[i] == 0
-    return rough, empty
+        for s in range(k):
+            families += found.family[i, s] and found.keep[i, s]
+    return rough, families, empty
 
 
 def _refine(chain: Chain, found: _Found, T_target: NDArray[np.float64]) -> NDArray[np.int_]:
@@ -336,9 +338,10 @@ def _candidates(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[
     lower, upper = chain.lower, chain.upper
     args = (solver.geometry, solver.data, T, near, weights, lower, upper, within_limits, nearest, found)
     # compiled once per chain (kept with it): later calls skip numba's per-call dispatch
-    rough, empty = chain.derived("ik_solve_loop", lambda: entry_point(_solve_batch, *args))(*args)
+    loop = chain.derived("ik_solve_loop", lambda: entry_point(_solve_batch, *args))
+    rough, families, empty = loop(*args)
     touched = set(_refine(chain, found, T).tolist()) if rough else set()
-    if found.family.any():  # singular poses: the members of each family nearest to near
+    if families or rough:  # singular poses: the members of each family nearest to near
         touched.update(_nearest_family_members(chain, found, T, near, weights))
     for i in sorted(touched):
         _rank_pose(found, i, near[i], weights, lower, upper, within_limits)
