@@ -8,13 +8,16 @@ of :func:`armkit.ik.closed_form.closed_form_ik` is
 2. verified by forward kinematics: it must reproduce the target within
    :data:`VERIFY_TOLERANCE` (candidates above ``1e-10`` are first refined by a few
    Newton steps of the numeric solver, without leaving the solution's branch);
-3. flagged inside or outside the limits and sorted by distance to ``near``
+3. at a singular pose, moved from the closed form's representative of its family of
+   solutions to the member nearest to ``near`` (:func:`_nearest_family_members`);
+4. flagged inside or outside the limits and sorted by distance to ``near``
    (``closed_form_ik`` has already merged duplicates, modulo ``2 pi``).
 
-When only the solution nearest to ``near`` is asked for, it is the first of that list.
-Steps 1-3 run in one compiled loop over the poses (numba), which also calls the case
-solver (:func:`armkit.ik.closed_form.pose_candidates`): a few microseconds per pose,
-one pose or a million; only the rare refinement runs in Python.
+When only the solution nearest to ``near`` is asked for, the candidates go through FK
+nearest first and the first that reproduces the target is the answer. Steps 1, 2 and 4
+run in one compiled loop over the poses (numba), which also calls the case solver
+(:func:`armkit.ik.closed_form.pose_candidates`): a few microseconds per pose, one pose
+or a million; only the rare refinement and singular poses go through Python.
 
 Chains without a closed form, and targets with a task ``mask``, go to the numeric
 solver (:func:`armkit.ik.numeric.numeric_ik`) seeded from ``near``.
