@@ -102,8 +102,7 @@ def test_hypothesis_round_trip_returns_the_configuration_itself(name, seed):
     T = robot.fk(q)
     nearest = robot.ik(T, near=q)
     assert_transform_close(robot.fk(nearest), T, 1e-9, 1e-9)
-    if not ik_solutions(robot.chain, T, near=q).family.any():
-        assert np.abs(joint_difference(robot, nearest, q)).max() < 1e-7
+    assert np.abs(joint_difference(robot, nearest, q)).max() < 1e-7  # at singular poses too
 
 
 @settings(max_examples=20, deadline=None)
@@ -116,10 +115,11 @@ def test_hypothesis_wrist_singularity_is_answered_with_a_family(q1, q2, q3, q4, 
     found = ik_solutions(robot.chain, T, near=q)
     assert found.family.any()
     assert_transform_close(robot.fk(found.q), np.broadcast_to(T, (len(found.q), 4, 4)), 1e-9, 1e-9)
-    # the family member with q5 = 0 has the same q4 + q6
+    # the family member with q5 = 0 has the same q4 + q6, and the one nearest to q is q
     singular = found.family & (np.abs(found.q[:, 4]) < 1e-7)
     assert np.any(np.abs(joint_difference(robot, found.q[singular, 3] + found.q[singular, 5],
                                           q4 + q6)) < 1e-7)
+    assert np.abs(joint_difference(robot, found.q[0], q)).max() < 1e-7
 
 
 # ------------------------------------------------------------------ batches
@@ -364,3 +364,19 @@ def test_near_picks_the_member_of_a_singular_family_nearest_to_it(name, q):
     other = robot.ik(T, near=q + np.array([0, 0, 0, 0.5, 0, -0.5]))
     np.testing.assert_allclose(robot.fk(other), T, rtol=0, atol=1e-12)
     assert np.abs(other - q).max() > 0.1
+
+
+@pytest.mark.parametrize(("name", "joint", "singular"), [
+    ("probot-anno", 4, np.pi / 2), ("puma560", 4, 0.0), ("ur5", 4, 0.0), ("zju-i", 4, 0.0), ("stanford", 4, 0.0),
+])
+def test_near_returns_the_configuration_itself_at_singular_poses(name, joint, singular):
+    """A family reaches q only modulo whole turns (e.g. q4 + pi, q6 + pi on an aligned wrist):
+    the nearest member is still q itself, one pose at a time and as all solutions."""
+    robot = armkit.load(name)
+    q = robot.random_q(60, rng=7)
+    q[:, joint] = singular
+    T = robot.fk(q)
+    nearest = robot.ik(T, near=q)
+    assert np.abs(joint_difference(robot, nearest, q)).max() < 1e-7
+    for i in range(0, 60, 12):
+        assert np.abs(joint_difference(robot, robot.ik(T[i], all=True, near=q[i])[0], q[i])).max() < 1e-7

@@ -60,6 +60,8 @@ _CLOSEST_POSE_RESTARTS = 20
 _FAMILY_STEPS = 10
 #: Singular values below this fraction of the largest span a family's directions.
 _NULL_SPACE = 1e-8
+#: Points sampled along a family's line (two whole turns of its fastest joint).
+_FAMILY_SAMPLES = 257
 
 
 @dataclass(frozen=True)
@@ -258,7 +260,9 @@ def _solve_batch(g, d, T, near, weights, lower, upper, within_limits, nearest, f
 
     ``nearest``: only the nearest candidate that reproduces the pose is wanted, so the
     candidates are put through FK nearest first until one does (the others' residuals
-    are NaN: not kept); if none does, all are (the caller's error message needs them).
+    are NaN: not kept); family representatives always are (the caller moves them along
+    their family towards ``near``), and if none does, all are (the caller's error message
+    needs them).
     """
     k, n = found.q.shape[1:]
     rough = families = empty = 0
@@ -288,8 +292,11 @@ def _solve_batch(g, d, T, near, weights, lower, upper, within_limits, nearest, f
                     break
                 is_rough, kept = _verify(d, T[i], found.q[i, s], found, i, s)
                 rough += is_rough
-            for s in range(k):  # none usable: verify the rest, to tell out of reach from out of limits
-                if not kept and found.valid[i, s] and np.isnan(found.position_error[i, s]):
+            for s in range(k):
+                # a family's representative may be far from near while a member of it is not,
+                # and none usable: verify the rest, to tell out of reach from out of limits
+                if (found.family[i, s] or not kept) and found.valid[i, s] \
+                        and np.isnan(found.position_error[i, s]):
                     rough += _verify(d, T[i], found.q[i, s], found, i, s)[0]
         _rank_pose(found, i, near[i], weights, lower, upper, within_limits)
         empty += found.count[i] == 0
@@ -359,35 +366,55 @@ def _nearest_family_members(chain: Chain, found: _Found, T: NDArray[np.float64],
     to ``near``; the poses touched (to be ranked again).
 
     At a singular pose the closed form returns one member of a one-parameter family (e.g.
-    ``q4 = 0`` for an aligned wrist, where only ``q4 + q6`` is defined). Steps along the
-    null space of the Jacobian (weighted by ``weights``), each put back exactly on the
-    solution set by Newton steps, move it towards ``near`` while the distance falls; a
-    move that would leave the limits a representative was inside is not taken.
+    ``q4 = 0`` for an aligned wrist, where only ``q4 + q6`` is defined). The family runs
+    along the null space of the Jacobian: first the point of that line (a whole turn
+    either way) nearest to ``near`` after the ``2 pi`` wrap into the limits, then steps
+    along the null space (weighted by ``weights``), each put back exactly on the solution
+    set by Newton steps, while the distance falls. A move that would leave the limits a
+    representative was inside is not taken.
     """
     poses = set()
     for i, s in zip(*np.nonzero(found.family & found.keep), strict=True):
-        q = found.q[i, s].copy()
-        inside = bool(chain.within_limits(q))
-        w2 = weights**2
-        for _ in range(_FAMILY_STEPS):
-            _, S, Vt = np.linalg.svd(geometric_jacobian(chain, q))
-            N = Vt[len(S) - np.count_nonzero(S <= _NULL_SPACE * S[0]):].T  # (n, k) null-space basis
-            if N.shape[1] == 0:
-                break
-            gap = w2 * (near[i] - q)
-            step = N @ np.linalg.solve(N.T @ (w2[:, None] * N), N.T @ gap)
-            result = numeric_ik(chain, T[i], q0=q + step, respect_limits=False, max_restarts=0,
-                                max_iterations=10, position_tolerance=1e-13, orientation_tolerance=1e-13)
-            moved = wrap_into_limits(chain, result.q, near[i])
-            closer = np.sum(w2 * (moved - near[i]) ** 2) < np.sum(w2 * (q - near[i]) ** 2) - 1e-24
-            if not (result.success and closer and (chain.within_limits(moved) or not inside)):
-                break
-            q = moved
+        q = _walk_family(chain, T[i], found.q[i, s], near[i], weights)
         if not np.array_equal(q, found.q[i, s]):
             found.q[i, s] = q
             found.position_error[i, s], found.orientation_error[i, s] = _residual(T[i], fk(chain, q))
             poses.add(int(i))
     return poses
+
+
+def _walk_family(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64], near: NDArray[np.float64],
+                 weights: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The member of ``q``'s family of solutions nearest to ``near`` (see above)."""
+    w2 = weights**2
+    inside = bool(chain.within_limits(q))
+
+    def distance(candidates: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Weighted squared distance to near after the wrap, infinite where the limits are left."""
+        moved = wrap_into_limits(chain, candidates, near)
+        far = np.sum(w2 * (moved - near) ** 2, axis=-1)
+        return np.where(chain.within_limits(moved) | (not inside), far, np.inf)
+
+    for step in range(_FAMILY_STEPS):
+        _, S, Vt = np.linalg.svd(geometric_jacobian(chain, q))
+        N = Vt[len(S) - np.count_nonzero(S <= _NULL_SPACE * S[0]):].T  # (n, k) null-space basis
+        if N.shape[1] == 0:
+            break
+        if step == 0 and N.shape[1] == 1:  # the line through q, up to a whole turn of any joint
+            v = N[:, 0] / np.abs(N[:, 0]).max()
+            line = q + np.linspace(-2 * np.pi, 2 * np.pi, _FAMILY_SAMPLES)[:, None] * v
+            target = line[np.argmin(distance(line))]
+        else:
+            step_to_near = N @ np.linalg.solve(N.T @ (w2[:, None] * N), N.T @ (w2 * (near - q)))
+            target = q + step_to_near
+        result = numeric_ik(chain, T, q0=target, respect_limits=False, max_restarts=0,
+                            max_iterations=10, position_tolerance=1e-13, orientation_tolerance=1e-13)
+        if not (result.success and distance(result.q) < distance(q) - 1e-24):
+            if step == 0 and N.shape[1] == 1:
+                continue  # the sampled point did not help: go on with local steps
+            break
+        q = wrap_into_limits(chain, result.q, near)
+    return q
 
 
 def _angle_text(angle: float) -> str:
