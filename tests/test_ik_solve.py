@@ -367,7 +367,8 @@ def test_near_picks_the_member_of_a_singular_family_nearest_to_it(name, q):
 
 
 @pytest.mark.parametrize(("name", "joint", "singular"), [
-    ("probot-anno", 4, np.pi / 2), ("puma560", 4, 0.0), ("ur5", 4, 0.0), ("zju-i", 4, 0.0), ("stanford", 4, 0.0),
+    ("probot-anno", 4, np.pi / 2), ("puma560", 4, 0.0), ("ur5", 4, 0.0), ("zju-i", 4, 0.0),
+    ("stanford", 4, 0.0),
 ])
 def test_near_returns_the_configuration_itself_at_singular_poses(name, joint, singular):
     """A family reaches q only modulo whole turns (e.g. q4 + pi, q6 + pi on an aligned wrist):
