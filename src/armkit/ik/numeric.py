@@ -52,7 +52,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit.chain import LIMIT_TOLERANCE, Chain
 from armkit.errors import InputError
-from armkit.kinematics import ChainKernel, chain_frames, chain_jacobian, pose_error_into
+from armkit.kinematics import chain_frames, chain_jacobian, pose_error_into
 
 __all__ = ["IKResult", "NumericIK", "numeric_ik", "wrap_angle_into_limits", "wrap_into_limits"]
 
@@ -389,7 +389,6 @@ class NumericIK:
         if max_iterations < 1:
             raise InputError(f"max_iterations: expected at least 1 step per attempt, got {max_iterations}")
         self.chain = chain
-        self.kernel = ChainKernel(chain)
         self.rows = np.flatnonzero(_check_mask(mask)).astype(np.int64)
         self.settings = np.array([position_tolerance**2, orientation_tolerance**2, damping_gain, damping],
                                  dtype=np.float64)
