@@ -1,0 +1,71 @@
+// Forward kinematics and the geometric Jacobian of one configuration, and the pose error.
+#pragma once
+
+#include "armkit/chain.hpp"
+
+namespace armkit {
+
+// T <- T · Rz(q) (or T · Tz(q)): the joint's motion.
+inline void move(Pose& T, double q, bool prismatic) {
+    if (prismatic) {
+        for (int r = 0; r < 3; ++r) T(r, 3) += q * T(r, 2);
+    } else {
+        const double c = std::cos(q), s = std::sin(q);
+        for (int r = 0; r < 3; ++r) {
+            const double x = T(r, 0), y = T(r, 1);
+            T(r, 0) = c * x + s * y;
+            T(r, 1) = c * y - s * x;
+        }
+    }
+}
+
+// T <- T · Rz(q) · L (or T · Tz(q) · L).
+inline void advance(Pose& T, double q, bool prismatic, const Pose& L) {
+    move(T, q, prismatic);
+    T = compose(T, L);
+}
+
+// The tool pose at q (n values).
+inline Pose tool_pose(const Chain& chain, const double* q) {
+    Pose T = chain.between[0];
+    for (int i = 0; i < chain.n; ++i) advance(T, q[i], chain.prismatic[i], chain.between[i + 1]);
+    return T;
+}
+
+// The tool pose, and per joint the z axis of its joint frame and its origin before the
+// joint's motion (the start of the travel for a prismatic joint), base frame.
+inline Pose joint_axes(const Chain& chain, const double* q, Vec3* axes, Vec3* points) {
+    Pose T = chain.between[0];
+    for (int i = 0; i < chain.n; ++i) {
+        axes[i] = T.column(2);
+        points[i] = T.column(3);
+        advance(T, q[i], chain.prismatic[i], chain.between[i + 1]);
+    }
+    return T;
+}
+
+// Base-frame geometric Jacobian (6 x n, row-major, rows [v; w]) from joint_axes' results.
+inline void jacobian_from_axes(const Pose& T, const Vec3* axes, const Vec3* points,
+                               const std::uint8_t* prismatic, int n, double* J) {
+    const Vec3 p = T.position();
+    for (int i = 0; i < n; ++i) {
+        const Vec3 z = axes[i];
+        const Vec3 v = prismatic[i] ? z : cross(z, p - points[i]);
+        const Vec3 w = prismatic[i] ? Vec3{} : z;
+        J[0 * n + i] = v.x; J[1 * n + i] = v.y; J[2 * n + i] = v.z;
+        J[3 * n + i] = w.x; J[4 * n + i] = w.y; J[5 * n + i] = w.z;
+    }
+}
+
+//: Below this |2 sin(angle)| (and a non-positive trace) the rotation vector's axis comes
+//: from the symmetric part of the rotation, since v / |v| loses digits near a half turn.
+constexpr double kHalfTurnNorm = 1e-2;
+
+// e = [p_target - p; rotation vector of R_target R^T] (base frame), exact up to and at pi.
+void pose_error(const Pose& target, const Pose& T, double* e);
+
+// FK residual of pose F to the target: position distance [m] and rotation angle [rad],
+// accurate to rounding from 0 to pi (X - I = R_target^T (R - R_target) keeps small angles).
+void pose_residual(const Pose& target, const Pose& F, double& position, double& angle);
+
+}  // namespace armkit

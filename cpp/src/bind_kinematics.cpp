@@ -1,0 +1,166 @@
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+
+#include <nanobind/stl/tuple.h>
+
+#include "armkit/batch.hpp"
+#include "armkit/fk.hpp"
+#include "armkit/linalg.hpp"
+#include "armkit/transform.hpp"
+#include "bindings.hpp"
+
+namespace armkit::bindings {
+
+namespace {
+
+Chain make_chain(In T_between, InBool prismatic, In lower, In upper) {
+    const std::size_t n = prismatic.shape(0);
+    if (n == 0 || n > std::size_t(kMaxJoints) || T_between.size() != 16 * (n + 1) || lower.size() != n ||
+        upper.size() != n)
+        throw std::invalid_argument("Chain: expected T_between (n + 1, 4, 4), prismatic, lower, upper (n,), "
+                                    "1 <= n <= 16");
+    Chain chain;
+    chain.n = int(n);
+    for (std::size_t i = 0; i <= n; ++i) chain.between.push_back(pose_from_matrix(T_between.data() + 16 * i));
+    chain.prismatic.assign(prismatic.data(), prismatic.data() + n);
+    chain.lower.assign(lower.data(), lower.data() + n);
+    chain.upper.assign(upper.data(), upper.data() + n);
+    return chain;
+}
+
+// Runs item(i) for every configuration of q (N x n) whose values are all finite, in
+// parallel; returns the flat index of the first non-finite value, or -1 (then the
+// outputs of the configurations after it may be unset).
+template <class Item>
+long long for_each_configuration(const Chain& chain, const double* q, std::size_t N, int threads, Item&& item) {
+    const std::size_t n = std::size_t(chain.n);
+    std::atomic<long long> first_bad{-1};
+    parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            const double* qi = q + n * i;
+            for (std::size_t j = 0; j < n; ++j) {
+                if (!std::isfinite(qi[j])) {
+                    long long bad = (long long)(n * i + j), seen = first_bad.load();
+                    while ((seen < 0 || bad < seen) && !first_bad.compare_exchange_weak(seen, bad)) {
+                    }
+                    return;
+                }
+            }
+            item(i, qi);
+        }
+    });
+    return first_bad.load();
+}
+
+std::size_t configurations(const Chain& chain, const In& q) {
+    if (q.size() % std::size_t(chain.n) != 0)
+        throw std::invalid_argument("q: expected (N, n) joint values");
+    return q.size() / std::size_t(chain.n);
+}
+
+long long fk(const Chain& chain, In q, Out T, int threads) {
+    const std::size_t N = configurations(chain, q);
+    if (T.size() != 16 * N) throw std::invalid_argument("fk: expected an output of shape (N, 4, 4)");
+    double* out = T.data();
+    return for_each_configuration(chain, q.data(), N, threads, [&](std::size_t i, const double* qi) {
+        pose_to_matrix(tool_pose(chain, qi), out + 16 * i);
+    });
+}
+
+long long joint_frames(const Chain& chain, In q, Out frames, Out tool, int threads) {
+    const std::size_t N = configurations(chain, q), n = std::size_t(chain.n);
+    if (frames.size() != 16 * n * N || tool.size() != 16 * N)
+        throw std::invalid_argument("joint_frames: expected outputs (N, n, 4, 4) and (N, 4, 4)");
+    double *F = frames.data(), *P = tool.data();
+    return for_each_configuration(chain, q.data(), N, threads, [&](std::size_t i, const double* qi) {
+        Pose T = chain.between[0];
+        for (std::size_t j = 0; j < n; ++j) {
+            move(T, qi[j], chain.prismatic[j]);
+            pose_to_matrix(T, F + 16 * (n * i + j));
+            T = compose(T, chain.between[j + 1]);
+        }
+        pose_to_matrix(T, P + 16 * i);
+    });
+}
+
+long long jacobian(const Chain& chain, In q, Out J, Out tool, int threads) {
+    const std::size_t N = configurations(chain, q), n = std::size_t(chain.n);
+    if (J.size() != 6 * n * N || tool.size() != 16 * N)
+        throw std::invalid_argument("jacobian: expected outputs (N, 6, n) and (N, 4, 4)");
+    double *out = J.data(), *P = tool.data();
+    return for_each_configuration(chain, q.data(), N, threads, [&](std::size_t i, const double* qi) {
+        Vec3 axes[kMaxJoints], points[kMaxJoints];
+        const Pose T = joint_axes(chain, qi, axes, points);
+        jacobian_from_axes(T, axes, points, chain.prismatic.data(), chain.n, out + 6 * n * i);
+        pose_to_matrix(T, P + 16 * i);
+    });
+}
+
+void joint_axes_points(const Chain& chain, In q, Out axes, Out points) {
+    if (q.size() != std::size_t(chain.n) || axes.size() != 3 * q.size() || points.size() != 3 * q.size())
+        throw std::invalid_argument("joint_axes: expected q (n,), outputs (n, 3)");
+    Vec3 a[kMaxJoints], p[kMaxJoints];
+    joint_axes(chain, q.data(), a, p);
+    for (int j = 0; j < chain.n; ++j) {
+        axes.data()[3 * j] = a[j].x, axes.data()[3 * j + 1] = a[j].y, axes.data()[3 * j + 2] = a[j].z;
+        points.data()[3 * j] = p[j].x, points.data()[3 * j + 1] = p[j].y, points.data()[3 * j + 2] = p[j].z;
+    }
+}
+
+void pose_errors(In T_target, In T, Out e, int threads) {
+    const std::size_t N = T.size() / 16;
+    if (T_target.size() != 16 * N || e.size() != 6 * N)
+        throw std::invalid_argument("pose_error: expected (N, 4, 4), (N, 4, 4) and an output (N, 6)");
+    const double *A = T_target.data(), *B = T.data();
+    double* out = e.data();
+    parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i)
+            pose_error(pose_from_matrix(A + 16 * i), pose_from_matrix(B + 16 * i), out + 6 * i);
+    });
+}
+
+void wrap_into_limits(const Chain& chain, In q, In reference, Out out) {
+    const std::size_t n = std::size_t(chain.n), N = configurations(chain, q);
+    if (reference.size() != n * N || out.size() != n * N)
+        throw std::invalid_argument("wrap_into_limits: expected q, reference and the output (N, n)");
+    for (std::size_t i = 0; i < N; ++i)
+        for (std::size_t j = 0; j < n; ++j) {
+            const double v = q.data()[n * i + j];
+            out.data()[n * i + j] = chain.prismatic[j] ? v
+                : wrap_angle_into_limits(v, chain.lower[j], chain.upper[j], reference.data()[n * i + j]);
+        }
+}
+
+}  // namespace
+
+void bind_kinematics(nb::module_& m) {
+    nb::class_<Chain>(m, "Chain", "A chain's fixed transforms between joint motions, joint kinds and limits.")
+        .def(nb::new_(&make_chain), nb::arg("T_between"), nb::arg("prismatic"), nb::arg("lower"),
+             nb::arg("upper"))
+        .def_ro("n", &Chain::n);
+    const auto release = nb::call_guard<nb::gil_scoped_release>();
+    m.def("fk", &fk, nb::arg("chain"), nb::arg("q"), nb::arg("T"), nb::arg("threads"), release,
+          "Tool poses of q (N, n) into T (N, 4, 4); the flat index of the first non-finite q, or -1.");
+    m.def("joint_frames", &joint_frames, nb::arg("chain"), nb::arg("q"), nb::arg("frames"), nb::arg("tool"),
+          nb::arg("threads"), release,
+          "Joint frames after each motion (N, n, 4, 4) and tool poses (N, 4, 4); as fk for bad q.");
+    m.def("jacobian", &jacobian, nb::arg("chain"), nb::arg("q"), nb::arg("J"), nb::arg("tool"),
+          nb::arg("threads"), release,
+          "Base-frame geometric Jacobians (N, 6, n), rows [v; w], and tool poses; as fk for bad q.");
+    m.def("joint_axes", &joint_axes_points, nb::arg("chain"), nb::arg("q"), nb::arg("axes"), nb::arg("points"),
+          "Joint axes and points on them (n, 3), base frame, of one configuration.");
+    m.def("pose_error", &pose_errors, nb::arg("T_target"), nb::arg("T"), nb::arg("e"), nb::arg("threads"),
+          release, "Pose errors (N, 6): p_target - p and the rotation vector of R_target R^T.");
+    m.def("wrap_into_limits", &wrap_into_limits, nb::arg("chain"), nb::arg("q"), nb::arg("reference"),
+          nb::arg("out"), "Revolute angles of q (N, n) shifted by whole turns into the limits.");
+    m.def("rigidity", [](In T) {
+        const Rigidity r = rigidity(T.data(), T.size() / 16);
+        return nb::make_tuple(r.finite, r.last_row, r.orthonormal, r.rough);
+    }, nb::arg("T"), "For transforms (N, 4, 4): all finite, worst last row, worst |R^T R - I| or |det - 1|, "
+                     "how many are off by more than 1e-14.");
+}
+
+}  // namespace armkit::bindings

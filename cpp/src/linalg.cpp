@@ -1,0 +1,97 @@
+#include "armkit/linalg.hpp"
+
+#include <cmath>
+
+namespace armkit {
+
+bool cholesky_solve(double* A, double* b, int k) {
+    for (int j = 0; j < k; ++j) {
+        double d = A[j * k + j];
+        for (int p = 0; p < j; ++p) d -= A[j * k + p] * A[j * k + p];
+        if (!(d > 0.0)) return false;
+        d = std::sqrt(d);
+        A[j * k + j] = d;
+        for (int i = j + 1; i < k; ++i) {
+            double s = A[i * k + j];
+            for (int p = 0; p < j; ++p) s -= A[i * k + p] * A[j * k + p];
+            A[i * k + j] = s / d;
+        }
+    }
+    for (int i = 0; i < k; ++i) {  // L y = b
+        double s = b[i];
+        for (int p = 0; p < i; ++p) s -= A[i * k + p] * b[p];
+        b[i] = s / A[i * k + i];
+    }
+    for (int i = k - 1; i >= 0; --i) {  // L^T x = y
+        double s = b[i];
+        for (int p = i + 1; p < k; ++p) s -= A[p * k + i] * b[p];
+        b[i] = s / A[i * k + i];
+    }
+    return true;
+}
+
+namespace {
+
+// x (k) from (Jm Jm^T + damping I) x = em if m <= n (k = m), else from
+// (Jm^T Jm + damping I) x = Jm^T em (k = n); Jm is m x n row-major.
+bool solve_normal_equations(const double* Jm, int m, int n, const double* em, double damping, double* x) {
+    const bool wide = m <= n;
+    const int size = wide ? m : n;
+    double A[kMaxJoints * kMaxJoints];
+    for (int a = 0; a < size; ++a) {
+        for (int b = 0; b <= a; ++b) {
+            double s = 0.0;
+            if (wide)
+                for (int i = 0; i < n; ++i) s += Jm[a * n + i] * Jm[b * n + i];
+            else
+                for (int k = 0; k < m; ++k) s += Jm[k * n + a] * Jm[k * n + b];
+            A[a * size + b] = s;
+        }
+        A[a * size + a] += damping;
+        if (wide) {
+            x[a] = em[a];
+        } else {
+            double s = 0.0;
+            for (int k = 0; k < m; ++k) s += Jm[k * n + a] * em[k];
+            x[a] = s;
+        }
+    }
+    return cholesky_solve(A, x, size);
+}
+
+}  // namespace
+
+void damped_step(const double* J, int n, const double* e, const int* rows, int m, const double* sides,
+                 double damping, double* dq) {
+    double Jm[6 * kMaxJoints], em[6], x[kMaxJoints];
+    for (int k = 0; k < m; ++k) em[k] = e[rows[k]];
+    double trace = 0.0;
+    for (int i = 0; i < n; ++i) {
+        bool frozen = false;
+        if (sides[i] != 0.0) {
+            double gradient = 0.0;
+            for (int k = 0; k < m; ++k) gradient += em[k] * J[rows[k] * n + i];
+            frozen = gradient * sides[i] > 0.0;
+        }
+        for (int k = 0; k < m; ++k) {
+            Jm[k * n + i] = frozen ? 0.0 : J[rows[k] * n + i];
+            trace += Jm[k * n + i] * Jm[k * n + i];
+        }
+    }
+    const bool wide = m <= n;
+    const int size = wide ? m : n;
+    if (!solve_normal_equations(Jm, m, n, em, damping, x) &&
+        !solve_normal_equations(Jm, m, n, em, damping + kSingularDamping * trace, x))
+        for (int k = 0; k < size; ++k) x[k] = 0.0;  // J is all zeros: no direction lowers the error
+    for (int i = 0; i < n; ++i) {
+        if (wide) {
+            double s = 0.0;
+            for (int k = 0; k < m; ++k) s += Jm[k * n + i] * x[k];
+            dq[i] = s;
+        } else {
+            dq[i] = x[i];
+        }
+    }
+}
+
+}  // namespace armkit
