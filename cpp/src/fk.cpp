@@ -13,7 +13,7 @@ void pose_error(const Pose& target, const Pose& T, double* e) {
     const double length = norm(v);
     const double trace = X[0][0] + X[1][1] + X[2][2];
     const double angle = std::atan2(length, trace - 1.0);
-    if (length <= kHalfTurnNorm && trace <= 0.0) {
+    if (trace <= 0.0) {
         // (R + R^T) / 2 - cos(angle) I = (1 - cos(angle)) axis axis^T: its column with the
         // largest diagonal entry is the axis times a factor; the sign is that of v.
         const double cosine = (trace - 1.0) / 2.0;

@@ -22,6 +22,7 @@ from typing import Literal, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
+from armkit import _core
 from armkit.errors import RobotDefinitionError
 from armkit.spatial.transforms import rot_x, rot_z, trans_x, trans_z
 
@@ -156,14 +157,10 @@ class Chain:
         return np.array([j.kind == "prismatic" for j in self.joints])
 
     @cached_property
-    def _kernel_arrays(self) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-        """``T_between`` and the prismatic mask as armkit's compiled kernels take them.
-
-        Writable C-ordered copies (made once; private because they are writable): a
-        read-only array is another numba type, so passing ``T_between`` itself would
-        compile every kernel a second time. The kernels only read them.
-        """
-        return np.array(self.T_between, dtype=np.float64, order="C"), np.array(self.prismatic, order="C")
+    def _core(self) -> _core.Chain:
+        """The chain as armkit's compiled core takes it (made once)."""
+        return _core.Chain(np.ascontiguousarray(self.T_between), np.ascontiguousarray(self.prismatic),
+                           np.ascontiguousarray(self.lower), np.ascontiguousarray(self.upper))
 
     def derived(self, key: str, make: Callable[[], _Derived]) -> _Derived:
         """``make()``, computed once per chain and kept with it (solvers and the like).

@@ -1,24 +1,22 @@
 """Forward kinematics, Jacobians and manipulability of a :class:`~armkit.chain.Chain`.
 
 All functions take joint values ``q`` of shape ``(..., n)`` (a single configuration is
-a batch of one) and loop over the ``n`` joints only, never over the batch. Jacobian rows
-are ``[v; w]``: linear velocity of the tool origin [m/s] over angular velocity [rad/s].
+a batch of one) and return batch-first arrays. Jacobian rows are ``[v; w]``: linear
+velocity of the tool origin [m/s] over angular velocity [rad/s].
 
-Solver and control loops evaluate one configuration at a time, thousands of times; for
-them :class:`ChainKernel` gives the same tool pose and Jacobian from compiled code (numba:
-:func:`chain_frames` and :func:`chain_jacobian`, which compiled solvers call directly), about
-1 us for a 6- or 7-joint arm, where :func:`fk` plus :func:`geometric_jacobian` of one
-configuration take over 100 us.
+The formulas live in armkit's compiled core (``armkit._core``, C++): FK, joint frames,
+the geometric Jacobian and the pose error of one configuration cost about a microsecond,
+and batches are split over ``threads`` (default: every core) with the same result
+whatever the thread count. This module checks the inputs once (arrays that are already
+float64 and C-ordered go straight through) and shapes the outputs.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
+from armkit import _core
 from armkit.chain import Chain
 from armkit.errors import InputError
 from armkit.spatial.rotations import angular_velocity_matrix, euler_from_matrix
@@ -26,91 +24,97 @@ from armkit.spatial.rotations import angular_velocity_matrix, euler_from_matrix
 __all__ = [
     "ChainKernel",
     "analytic_jacobian",
-    "chain_frames",
-    "chain_jacobian",
-    "chain_pose",
     "fk",
     "geometric_jacobian",
     "joint_frames",
     "link_frames",
     "manipulability",
     "pose_error",
-    "pose_error_into",
     "singular_values",
 ]
 
 
-def _apply_motion(T: NDArray[np.float64], q_i: NDArray[np.float64], prismatic: bool) -> None:
-    """Right-multiply ``T`` in place by ``Tz(q_i)`` or ``Rz(q_i)``."""
-    if prismatic:
-        T[..., :, 3] += q_i[..., None] * T[..., :, 2]
-        return
-    c, s = np.cos(q_i)[..., None], np.sin(q_i)[..., None]
-    x, y = T[..., :, 0].copy(), T[..., :, 1]
-    T[..., :, 0] = c * x + s * y
-    T[..., :, 1] = c * y - s * x
-
-
 def _joint_values(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
-    """``q`` as float64 ``(..., n)``, or :class:`InputError` naming the expected and actual shape."""
+    """``q`` as C-ordered float64 ``(..., n)``, or :class:`InputError` naming the expected and
+    actual shape. Finiteness is checked by the core, in its loop (see :func:`_raise_if_bad`)."""
+    n = chain.n
+    if type(q) is np.ndarray and q.dtype == np.float64 and q.flags.c_contiguous and q.shape[-1:] == (n,):
+        return q
     try:
-        q = np.asarray(q, dtype=float)
+        q = np.asarray(q, dtype=np.float64, order="C")
     except (TypeError, ValueError) as exc:
-        raise InputError(f"q: expected {chain.n} joint values (shape (..., {chain.n})), "
-                         f"got {q!r}") from exc
-    if q.shape[-1:] != (chain.n,):
+        raise InputError(f"q: expected {n} joint values (shape (..., {n})), got {q!r}") from exc
+    if q.shape[-1:] != (n,):
         got = "a scalar" if q.ndim == 0 else f"shape {q.shape}"
-        raise InputError(f"q: the chain has {chain.n} joints, so expected joint values of shape "
-                         f"(..., {chain.n}), got {got}")
-    if not np.isfinite(q).all():
-        first = np.argwhere(~np.isfinite(q))[0]
-        raise InputError(f"q: expected finite joint values, got {q[tuple(first)]} at index "
-                         f"{tuple(first.tolist()) if q.ndim > 1 else int(first[0])}")
+        raise InputError(f"q: the chain has {n} joints, so expected joint values of shape "
+                         f"(..., {n}), got {got}")
     return q
 
 
-def _start(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
-    return np.broadcast_to(chain.T_between[0], (*q.shape[:-1], 4, 4)).copy()
+def _raise_if_bad(q: NDArray[np.float64], bad: int) -> None:
+    """Raise :class:`InputError` if the core found a non-finite value at flat index ``bad``."""
+    if bad >= 0:
+        index = np.unravel_index(bad, q.shape)
+        where = tuple(int(i) for i in index) if q.ndim > 1 else int(index[0])
+        raise InputError(f"q: expected finite joint values, got {q.reshape(-1)[bad]} at index {where}")
 
 
-def fk(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
+def _threads(threads: int | None) -> int:
+    if threads is None:
+        return 0
+    if not isinstance(threads, int | np.integer) or threads < 1:
+        raise InputError(f"threads: expected a positive whole number (or None: every core), got {threads!r}")
+    return int(threads)
+
+
+def fk(chain: Chain, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.float64]:
     """Tool poses ``T_base_tool`` [m], shape ``(..., 4, 4)``, for joint values ``(..., n)``.
+
+    Parameters
+    ----------
+    chain : Chain
+    q : array_like, shape (..., n)
+        Joint values [rad or m].
+    threads : int, optional
+        Threads for a batch (default: every core); the result does not depend on it.
 
     Raises
     ------
     InputError
         If ``q`` is not numbers of shape ``(..., n)`` or holds NaN or infinity (also in
         :func:`joint_frames`, :func:`link_frames` and :func:`geometric_jacobian`).
+
+    Examples
+    --------
+    >>> import armkit
+    >>> chain = armkit.load("ur5").chain
+    >>> fk(chain, np.zeros((1000, 6))).shape
+    (1000, 4, 4)
     """
-    return _fk(chain, _joint_values(chain, q))
+    q = _joint_values(chain, q)
+    return _fk(chain, q, _threads(threads))
 
 
 # The unchecked forms below are for callers that have checked q already (Robot.check_q).
-def _fk(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
-    if q.ndim == 1:  # one configuration: the compiled kernel (~2 us against ~60 us for the loop)
-        return _pose(*chain._kernel_arrays, np.ascontiguousarray(q))
-    T = _start(chain, q)
-    for i, joint in enumerate(chain.joints):
-        _apply_motion(T, q[..., i], joint.kind == "prismatic")
-        T = T @ chain.T_between[i + 1]
+def _fk(chain: Chain, q: NDArray[np.float64], threads: int = 0) -> NDArray[np.float64]:
+    T = np.empty((*q.shape[:-1], 4, 4))
+    _raise_if_bad(q, _core.fk(chain._core, q, T, threads))
     return T
 
 
-def joint_frames(chain: Chain, q: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def joint_frames(chain: Chain, q: ArrayLike, *,
+                 threads: int | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Joint frames (after each motion) ``(..., n, 4, 4)`` and the tool pose ``(..., 4, 4)``.
 
     Joint ``i`` moves about or along the z axis of frame ``i`` of the first result.
     """
-    return _joint_frames(chain, _joint_values(chain, q))
+    return _joint_frames(chain, _joint_values(chain, q), _threads(threads))
 
 
-def _joint_frames(chain: Chain, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    T = _start(chain, q)
-    frames = np.empty((*q.shape[:-1], chain.n, 4, 4))
-    for i, joint in enumerate(chain.joints):
-        _apply_motion(T, q[..., i], joint.kind == "prismatic")
-        frames[..., i, :, :] = T
-        T = T @ chain.T_between[i + 1]
+def _joint_frames(chain: Chain, q: NDArray[np.float64],
+                  threads: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    frames, T = np.empty((*q.shape[:-1], chain.n, 4, 4)), np.empty((*q.shape[:-1], 4, 4))
+    _raise_if_bad(q, _core.joint_frames(chain._core, q, frames, T, threads))
     return frames, T
 
 
@@ -130,8 +134,8 @@ def _link_frames(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.concatenate([base, links, T_tool[..., None, :, :]], axis=-3)
 
 
-def geometric_jacobian(chain: Chain, q: ArrayLike,
-                       frame: str = "base") -> NDArray[np.float64]:
+def geometric_jacobian(chain: Chain, q: ArrayLike, frame: str = "base", *,
+                       threads: int | None = None) -> NDArray[np.float64]:
     """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``.
 
     Parameters
@@ -139,23 +143,25 @@ def geometric_jacobian(chain: Chain, q: ArrayLike,
     frame : {"base", "tool"}
         Frame the twist is expressed in. ``"base"``: ``[v; w]`` of the tool origin in base
         coordinates; ``"tool"``: the same twist in tool coordinates.
+    threads : int, optional
+        Threads for a batch (default: every core); the result does not depend on it.
     """
-    return _geometric_jacobian(chain, _joint_values(chain, q), frame)
+    return _geometric_jacobian(chain, _joint_values(chain, q), frame, _threads(threads))
 
 
-def _geometric_jacobian(chain: Chain, q: NDArray[np.float64], frame: str = "base") -> NDArray[np.float64]:
+def _pose_jacobian(chain: Chain, q: NDArray[np.float64],
+                   threads: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Tool poses ``(..., 4, 4)`` and base-frame Jacobians ``(..., 6, n)`` of checked ``q``."""
+    T, J = np.empty((*q.shape[:-1], 4, 4)), np.empty((*q.shape[:-1], 6, chain.n))
+    _raise_if_bad(q, _core.jacobian(chain._core, q, J, T, threads))
+    return T, J
+
+
+def _geometric_jacobian(chain: Chain, q: NDArray[np.float64], frame: str = "base",
+                        threads: int = 0) -> NDArray[np.float64]:
     if frame not in ("base", "tool"):
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
-    if q.ndim == 1:  # one configuration: the compiled kernels (~5 us against ~100 us below)
-        T_tool, J = _pose_jacobian(*chain._kernel_arrays, np.ascontiguousarray(q))
-    else:
-        frames, T_tool = _joint_frames(chain, q)
-        z = frames[..., :3, 2]
-        r = T_tool[..., None, :3, 3] - frames[..., :3, 3]
-        prismatic = chain.prismatic
-        v = np.where(prismatic[:, None], z, np.cross(z, r))
-        w = np.where(prismatic[:, None], 0.0, z)
-        J = np.concatenate([np.swapaxes(v, -1, -2), np.swapaxes(w, -1, -2)], axis=-2)
+    T_tool, J = _pose_jacobian(chain, q, threads)
     if frame == "base":
         return J
     R_t = np.swapaxes(T_tool[..., :3, :3], -1, -2)
@@ -199,16 +205,12 @@ def manipulability(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.prod(singular_values(chain, q), axis=-1)
 
 
-#: Below this ``|2 sin(angle)|`` (angle within 5e-3 rad of ``pi``) :func:`pose_error` takes the
-#: axis from the symmetric part of the rotation: ``v / |v|`` would lose ``eps / |v|`` there.
-HALF_TURN_NORM = 1e-2
-
-
 def pose_error(T_target: ArrayLike, T: ArrayLike) -> NDArray[np.float64]:
     """Pose errors ``(..., 6)``: ``p_target - p`` [m] and the rotation vector of ``R_target R^T`` [rad].
 
     Both parts are in the base frame; the rotation vector's norm is the angle between
-    the two orientations, exact (to rounding) up to and at ``pi``. Inputs ``(..., 4, 4)`` broadcast.
+    the two orientations, exact (to rounding) up to and at ``pi`` (near a half turn the
+    axis comes from the symmetric part of the rotation). Inputs ``(..., 4, 4)`` broadcast.
 
     Examples
     --------
@@ -218,202 +220,20 @@ def pose_error(T_target: ArrayLike, T: ArrayLike) -> NDArray[np.float64]:
     >>> pose_error(T_target, T).round(12) + 0.0
     array([0. , 0.2, 0. , 0. , 0. , 0.3])
     """
-    T_target, T = np.asarray(T_target, dtype=float), np.asarray(T, dtype=float)
-    R = T_target[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2)
-    flat = R.reshape(*R.shape[:-2], 9)
-    e = np.empty((*R.shape[:-2], 6))
-    e[..., :3] = T_target[..., :3, 3] - T[..., :3, 3]
-    v = flat[..., [7, 2, 3]] - flat[..., [5, 6, 1]]  # 2 sin(angle) * axis
-    norm = np.sqrt(np.einsum("...i,...i->...", v, v))
-    trace = flat[..., 0] + flat[..., 4] + flat[..., 8]
-    angle = np.arctan2(norm, trace - 1.0)
-    # angle / (2 sin angle) -> 1/2 for small angles
-    scale = np.divide(angle, norm, out=np.full_like(angle, 0.5), where=norm > 1e-300)
-    e[..., 3:] = v * scale[..., None]
-    half_turn = (norm <= HALF_TURN_NORM) & (trace <= 0.0)
-    if np.any(half_turn):  # near pi v / |v| loses digits: axis from R + R^T, same angle
-        e[half_turn, 3:] = angle[half_turn, None] * _half_turn_axis(R[half_turn], trace[half_turn],
-                                                                      v[half_turn])
+    T_target, T = np.broadcast_arrays(np.asarray(T_target, dtype=float), np.asarray(T, dtype=float))
+    if T.shape[-2:] != (4, 4):
+        raise InputError(f"pose_error: expected transforms of shape (..., 4, 4), got {T.shape}")
+    e = np.empty((*T.shape[:-2], 6))
+    _core.pose_error(np.ascontiguousarray(T_target), np.ascontiguousarray(T), e, 0)
     return e
-
-
-def _half_turn_axis(R: NDArray[np.float64], trace: NDArray[np.float64],
-                    v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Unit axes ``(k, 3)`` of rotations ``R`` ``(k, 3, 3)`` near a half turn.
-
-    ``(R + R^T) / 2 - cos(angle) I = (1 - cos(angle)) axis axis^T``: its column with the
-    largest diagonal entry is the axis times a factor. The sign is that of ``v`` (``2
-    sin(angle) axis``), which decides it whenever the angle is not exactly ``pi``.
-    """
-    S = 0.5 * (R + np.swapaxes(R, -1, -2))
-    S -= ((trace - 1.0) / 2.0)[:, None, None] * np.eye(3)
-    k = np.argmax(np.diagonal(S, axis1=-2, axis2=-1), axis=-1)
-    axis = np.take_along_axis(S, k[:, None, None], axis=-1)[..., 0]
-    axis /= np.linalg.norm(axis, axis=-1, keepdims=True)
-    flip = np.einsum("...i,...i->...", axis, v) < 0.0
-    axis[flip] *= -1.0
-    return axis
-
-
-@njit(cache=True)
-def pose_error_into(T_target: NDArray[np.float64], T: NDArray[np.float64], e: NDArray[np.float64]) -> None:
-    """Compiled :func:`pose_error` of ONE pose ``T`` ``(4, 4)`` to ``T_target``, written into ``e`` ``(6,)``.
-
-    The same formulas, the half-turn case included (axis from ``R + R^T`` when
-    ``2 sin(angle) <= HALF_TURN_NORM`` and the trace is not positive).
-    """
-    X = np.empty((3, 3))  # R_target R^T
-    for a in range(3):
-        e[a] = T_target[a, 3] - T[a, 3]
-        for b in range(3):
-            X[a, b] = T_target[a, 0] * T[b, 0] + T_target[a, 1] * T[b, 1] + T_target[a, 2] * T[b, 2]
-    vx, vy, vz = X[2, 1] - X[1, 2], X[0, 2] - X[2, 0], X[1, 0] - X[0, 1]  # 2 sin(angle) * axis
-    norm = math.sqrt(vx * vx + vy * vy + vz * vz)
-    trace = X[0, 0] + X[1, 1] + X[2, 2]
-    angle = math.atan2(norm, trace - 1.0)
-    if norm <= HALF_TURN_NORM and trace <= 0.0:  # axis from the symmetric part, as _half_turn_axis
-        cosine = (trace - 1.0) / 2.0
-        k = 0
-        for j in (1, 2):
-            if X[j, j] - cosine > X[k, k] - cosine:
-                k = j
-        ax = 0.5 * (X[0, k] + X[k, 0]) - (cosine if k == 0 else 0.0)
-        ay = 0.5 * (X[1, k] + X[k, 1]) - (cosine if k == 1 else 0.0)
-        az = 0.5 * (X[2, k] + X[k, 2]) - (cosine if k == 2 else 0.0)
-        scale = angle / math.sqrt(ax * ax + ay * ay + az * az)
-        if ax * vx + ay * vy + az * vz < 0.0:
-            scale = -scale
-        e[3], e[4], e[5] = scale * ax, scale * ay, scale * az
-        return
-    scale = angle / norm if norm > 1e-300 else 0.5  # angle / (2 sin angle) -> 1/2 for small angles
-    e[3], e[4], e[5] = scale * vx, scale * vy, scale * vz
-
-
-@njit(cache=True)
-def chain_frames(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q: NDArray[np.float64],
-                 T: NDArray[np.float64], axes: NDArray[np.float64], points: NDArray[np.float64]) -> None:
-    """Compiled FK of ONE configuration, written into work arrays (no checks, no allocation).
-
-    ``T`` ``(4, 4)`` receives the tool pose, ``axes`` ``(n, 3)`` the z axis of every joint
-    frame and ``points`` ``(n, 3)`` its origin before the joint's motion (the same point
-    for a revolute joint, the start of the travel for a prismatic one), all in the base
-    frame. ``T_between`` ``(n + 1, 4, 4)`` is :attr:`armkit.chain.Chain.T_between`,
-    ``prismatic`` ``(n,)`` the chain's prismatic mask and ``q`` ``(n,)`` float64 [rad or m].
-
-    Examples
-    --------
-    >>> import armkit
-    >>> chain = armkit.load("ur5").chain
-    >>> q = np.array([0.1, -1.2, 1.5, -0.3, 1.6, 0.2])
-    >>> T, axes, points, J = np.empty((4, 4)), np.empty((6, 3)), np.empty((6, 3)), np.empty((6, 6))
-    >>> chain_frames(chain.T_between, chain.prismatic, q, T, axes, points)
-    >>> chain_jacobian(T, axes, points, chain.prismatic, J)
-    >>> bool(np.allclose(T, fk(chain, q), atol=1e-14)), bool(np.allclose(J, geometric_jacobian(chain, q)))
-    (True, True)
-    """
-    _copy_transform(T_between[0], T)
-    for i in range(q.shape[0]):
-        for r in range(3):
-            axes[i, r] = T[r, 2]
-            points[i, r] = T[r, 3]
-        _advance(T, q[i], prismatic[i], T_between[i + 1])
-
-
-@njit(cache=True)
-def chain_pose(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], q: NDArray[np.float64],
-               T: NDArray[np.float64]) -> None:
-    """Compiled FK of ONE configuration: the tool pose written into ``T`` ``(4, 4)``.
-
-    :func:`chain_frames` without the joint axes and points (verification loops).
-    """
-    _copy_transform(T_between[0], T)
-    for i in range(q.shape[0]):
-        _advance(T, q[i], prismatic[i], T_between[i + 1])
-
-
-@njit(cache=True)
-def _copy_transform(source: NDArray[np.float64], T: NDArray[np.float64]) -> None:
-    for r in range(4):  # loops, not slice assignments: those cost seconds of compile time
-        for k in range(4):
-            T[r, k] = source[r, k]
-
-
-@njit(cache=True)
-def _advance(T: NDArray[np.float64], q_i: float, prismatic_i: bool, L: NDArray[np.float64]) -> None:
-    """``T <- T Rz(q_i) L`` (or ``T Tz(q_i) L``) for rigid transforms: only the top three
-    rows change (the last stays ``[0, 0, 0, 1]``, as does ``L``'s)."""
-    if prismatic_i:
-        for r in range(3):
-            T[r, 3] += q_i * T[r, 2]
-    else:
-        c, s = math.cos(q_i), math.sin(q_i)
-        for r in range(3):
-            x, y = T[r, 0], T[r, 1]
-            T[r, 0] = c * x + s * y
-            T[r, 1] = c * y - s * x
-    for r in range(3):
-        a0, a1, a2, a3 = T[r, 0], T[r, 1], T[r, 2], T[r, 3]
-        for k in range(3):
-            T[r, k] = a0 * L[0, k] + a1 * L[1, k] + a2 * L[2, k]
-        T[r, 3] = a0 * L[0, 3] + a1 * L[1, 3] + a2 * L[2, 3] + a3
-
-
-@njit(cache=True)
-def chain_jacobian(T: NDArray[np.float64], axes: NDArray[np.float64], points: NDArray[np.float64],
-                   prismatic: NDArray[np.bool_], J: NDArray[np.float64]) -> None:
-    """Compiled base-frame geometric Jacobian ``(6, n)`` written into ``J``, rows ``[v; w]``.
-
-    From the tool pose, axes and points of :func:`chain_frames`: column ``i`` is
-    ``[z_i x (p - o_i); z_i]`` for a revolute joint, ``[z_i; 0]`` for a prismatic one.
-    """
-    px, py, pz = T[0, 3], T[1, 3], T[2, 3]
-    for i in range(axes.shape[0]):
-        zx, zy, zz = axes[i, 0], axes[i, 1], axes[i, 2]
-        if prismatic[i]:
-            J[0, i], J[1, i], J[2, i] = zx, zy, zz
-            J[3, i] = J[4, i] = J[5, i] = 0.0
-        else:
-            rx, ry, rz = px - points[i, 0], py - points[i, 1], pz - points[i, 2]
-            J[0, i], J[1, i], J[2, i] = zy * rz - zz * ry, zz * rx - zx * rz, zx * ry - zy * rx
-            J[3, i], J[4, i], J[5, i] = zx, zy, zz
-
-
-@njit(cache=True)
-def _pose(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_],
-          q: NDArray[np.float64]) -> NDArray[np.float64]:
-    T = np.empty((4, 4))
-    chain_pose(T_between, prismatic, q, T)
-    return T
-
-
-@njit(cache=True)
-def _pose_jacobian(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_],
-                   q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    n = q.shape[0]
-    T, J, axes, points = np.empty((4, 4)), np.empty((6, n)), np.empty((n, 3)), np.empty((n, 3))
-    chain_frames(T_between, prismatic, q, T, axes, points)
-    chain_jacobian(T, axes, points, prismatic, J)
-    return T, J
-
-
-@njit(cache=True)
-def _joint_axes(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_],
-                q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    n = q.shape[0]
-    axes, points = np.empty((n, 3)), np.empty((n, 3))
-    chain_frames(T_between, prismatic, q, np.empty((4, 4)), axes, points)
-    return axes, points
 
 
 class ChainKernel:
     """Tool pose and geometric Jacobian of ONE configuration, for solver and control loops.
 
-    The same results as :func:`fk`, :func:`joint_frames` and :func:`geometric_jacobian`
-    (to rounding) from one call of compiled code (numba, :func:`chain_frames` and
-    :func:`chain_jacobian`): about 1 us for a 6- or 7-joint arm, where :func:`fk` plus
-    :func:`geometric_jacobian` of one configuration take over 100 us. The first call in a
-    fresh environment compiles the kernels (cached on disk afterwards). Inputs are not
-    checked: ``q`` must be a float64 array of shape ``(n,)``. Every returned array is new.
+    The same results as :func:`fk` and :func:`geometric_jacobian`, without their input
+    checks: ``q`` must be a float64 array of shape ``(n,)``, finite. Every returned array
+    is new.
 
     Parameters
     ----------
@@ -428,26 +248,29 @@ class ChainKernel:
     >>> T, J = kernel.pose_jacobian(q)
     >>> bool(np.allclose(T, fk(robot.chain, q), atol=1e-14))
     True
-    >>> bool(np.allclose(J, geometric_jacobian(robot.chain, q), atol=1e-14))
-    True
+    >>> J.shape
+    (6, 7)
     """
 
     def __init__(self, chain: Chain) -> None:
         self.n = chain.n
-        # the chain's fixed transforms (n + 1, 4, 4) and prismatic mask (n,) as the kernels take them
-        self._arrays = chain._kernel_arrays
+        self._chain = chain._core
 
     def pose(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Tool pose ``T_base_tool`` ``(4, 4)`` at joint values ``q`` ``(n,)`` [rad or m]."""
-        return _pose(*self._arrays, q)
+        T = np.empty((4, 4))
+        _core.fk(self._chain, q, T, 1)
+        return T
 
     def pose_jacobian(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Tool pose ``(4, 4)`` and base-frame geometric Jacobian ``(6, n)``, rows ``[v; w]``."""
-        return _pose_jacobian(*self._arrays, q)
+        T, J = np.empty((4, 4)), np.empty((6, self.n))
+        _core.jacobian(self._chain, q, J, T, 1)
+        return T, J
 
     def jacobian(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Base-frame geometric Jacobian ``(6, n)``, rows ``[v; w]`` [m/s, rad/s per joint rate]."""
-        return _pose_jacobian(*self._arrays, q)[1]
+        return self.pose_jacobian(q)[1]
 
     def joint_axes(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Joint axes ``(n, 3)`` (unit vectors) and points on them ``(n, 3)`` [m], base frame.
@@ -456,4 +279,6 @@ class ChainKernel:
         origin before the joint's motion: the same point for a revolute joint, the start
         of the travel (``q_i = 0``) for a prismatic one.
         """
-        return _joint_axes(*self._arrays, q)
+        axes, points = np.empty((self.n, 3)), np.empty((self.n, 3))
+        _core.joint_axes(self._chain, q, axes, points)
+        return axes, points

@@ -57,11 +57,10 @@ inline void jacobian_from_axes(const Pose& T, const Vec3* axes, const Vec3* poin
     }
 }
 
-//: Below this |2 sin(angle)| (and a non-positive trace) the rotation vector's axis comes
-//: from the symmetric part of the rotation, since v / |v| loses digits near a half turn.
-constexpr double kHalfTurnNorm = 1e-2;
-
-// e = [p_target - p; rotation vector of R_target R^T] (base frame), exact up to and at pi.
+// e = [p_target - p; rotation vector of R_target R^T] (base frame), exact up to and at pi:
+// from 120 degrees on (trace <= 0) the axis comes from the symmetric part of the rotation,
+// (R + R^T) / 2 - cos(angle) I = (1 - cos(angle)) axis axis^T, with 1 - cos(angle) >= 3/2,
+// where v / |v| (v = 2 sin(angle) axis) would lose digits as the angle nears pi.
 void pose_error(const Pose& target, const Pose& T, double* e);
 
 // FK residual of pose F to the target: position distance [m] and rotation angle [rad],

@@ -6,12 +6,10 @@ Lengths in metres, angles in radians.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
+from armkit import _core
 from armkit.errors import InputError
 from armkit.spatial.rotations import AngleConvention, euler_from_matrix, matrix_from_euler
 
@@ -108,8 +106,8 @@ def check_transform(T: ArrayLike, name: str = "pose") -> NDArray[np.float64]:
         raise InputError(f"{name}: expected a 4x4 numeric matrix, got {T!r}") from exc
     if T.ndim < 2 or T.shape[-2:] != (4, 4):
         raise InputError(f"{name}: expected shape (..., 4, 4), got {T.shape}")
-    flat = np.require(T.reshape(-1, 4, 4), requirements="CW")  # the types _rigidity is compiled for
-    finite, last_row, orthonormal, rough = _rigidity(flat) if flat.size else (True, 0.0, 0.0, 0)
+    flat = np.ascontiguousarray(T.reshape(-1, 4, 4))
+    finite, last_row, orthonormal, rough = _core.rigidity(flat)  # one pass in the core
     if not finite:
         raise InputError(f"{name}: contains NaN or infinite values")
     if last_row > RIGID_TOLERANCE:
@@ -132,32 +130,6 @@ def check_transform(T: ArrayLike, name: str = "pose") -> NDArray[np.float64]:
         flat[off, :3, :3] = U @ Vt
         return flat.reshape(T.shape)
     return T
-
-
-@njit(cache=True)
-def _rigidity(T: NDArray[np.float64]) -> tuple[bool, float, float, int]:
-    """For transforms ``(N, 4, 4)``: all finite, the largest deviation of a last row from
-    ``[0, 0, 0, 1]``, the largest of ``|R^T R - I|`` and ``|det R - 1|``, and how many
-    rotations are off by more than ``1e-14`` (one pass, no temporaries)."""
-    last_row = orthonormal = 0.0
-    rough = 0
-    for i in range(T.shape[0]):
-        for a in range(4):
-            for b in range(4):
-                if not math.isfinite(T[i, a, b]):
-                    return False, 0.0, 0.0, 0
-        last_row = max(last_row, abs(T[i, 3, 0]), abs(T[i, 3, 1]), abs(T[i, 3, 2]), abs(T[i, 3, 3] - 1.0))
-        worst = 0.0
-        for a in range(3):
-            for b in range(3):
-                dot = T[i, 0, a] * T[i, 0, b] + T[i, 1, a] * T[i, 1, b] + T[i, 2, a] * T[i, 2, b]
-                worst = max(worst, abs(dot - (1.0 if a == b else 0.0)))
-        det = (T[i, 0, 0] * (T[i, 1, 1] * T[i, 2, 2] - T[i, 1, 2] * T[i, 2, 1])
-               - T[i, 0, 1] * (T[i, 1, 0] * T[i, 2, 2] - T[i, 1, 2] * T[i, 2, 0])
-               + T[i, 0, 2] * (T[i, 1, 0] * T[i, 2, 1] - T[i, 1, 1] * T[i, 2, 0]))
-        rough += worst > 1e-14
-        orthonormal = max(orthonormal, worst, abs(det - 1.0))
-    return True, last_row, orthonormal, rough
 
 
 def pose_from_transform(T: ArrayLike, convention: str | AngleConvention = "xyz-fixed",
