@@ -17,7 +17,8 @@ def test_fk_shapes_and_types():
 @pytest.mark.parametrize(("q", "message"), [
     ([0, 0, 0], r"expected 6 joint values, got 3 \(PROBOT Anno has 6 joints\)"),
     (1.0, "got a scalar"),
-    ([0, 0, 0, 0, 0, np.nan], "NaN or infinite"),
+    ([0, 0, 0, 0, 0, np.nan], "expected finite joint values, got nan at index 5"),
+    (np.array([0, 0, 0, 0, np.inf, 0]), "expected finite joint values, got inf at index 4"),
     (["a", 0, 0, 0, 0, 0], "expected 6 numbers"),
 ])
 def test_bad_joint_values(q, message):

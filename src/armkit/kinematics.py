@@ -38,7 +38,7 @@ def _joint_values(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
     """``q`` as C-ordered float64 ``(..., n)``, or :class:`InputError` naming the expected and
     actual shape. Finiteness is checked by the core, in its loop (see :func:`_raise_if_bad`)."""
     n = chain.n
-    if type(q) is np.ndarray and q.dtype == np.float64 and q.flags.c_contiguous and q.shape[-1:] == (n,):
+    if is_ready(q, n):
         return q
     try:
         q = np.asarray(q, dtype=np.float64, order="C")
@@ -51,12 +51,25 @@ def _joint_values(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
     return q
 
 
+def is_ready(q: object, n: int) -> bool:
+    """Whether ``q`` is already what the core takes: a C-ordered float64 array ``(..., n)``
+    (finiteness aside, which the core checks in its loop)."""
+    return type(q) is np.ndarray and q.dtype == np.float64 and q.flags.c_contiguous and q.shape[-1:] == (n,)
+
+
+def non_finite_error(q: NDArray[np.float64], name: str = "q", bad: int | None = None) -> InputError:
+    """The error for the first non-finite value of ``q`` (at flat index ``bad``, if known)."""
+    if bad is None:
+        bad = int(np.flatnonzero(~np.isfinite(q))[0])
+    index = np.unravel_index(bad, q.shape)
+    where = tuple(int(i) for i in index) if q.ndim > 1 else int(index[0])
+    return InputError(f"{name}: expected finite joint values, got {q.reshape(-1)[bad]} at index {where}")
+
+
 def _raise_if_bad(q: NDArray[np.float64], bad: int) -> None:
     """Raise :class:`InputError` if the core found a non-finite value at flat index ``bad``."""
     if bad >= 0:
-        index = np.unravel_index(bad, q.shape)
-        where = tuple(int(i) for i in index) if q.ndim > 1 else int(index[0])
-        raise InputError(f"q: expected finite joint values, got {q.reshape(-1)[bad]} at index {where}")
+        raise non_finite_error(q, bad=bad)
 
 
 def _threads(threads: int | None) -> int:

@@ -131,8 +131,13 @@ class Robot:
             raise InputError(f"{name}: expected {self.n} joint values, got {got} "
                              f"({self.name} has {self.n} joints)")
         if not np.all(np.isfinite(q)):
-            raise InputError(f"{name}: contains NaN or infinite values: {q.tolist()}")
+            raise kinematics.non_finite_error(q, name)
         return q
+
+    def _checked(self, q: ArrayLike) -> NDArray[np.float64]:
+        """``q`` for the kinematic kernels: as it is when it is already a C-ordered float64
+        array ``(..., n)`` (the core checks finiteness in its loop), else :meth:`check_q`."""
+        return q if kinematics.is_ready(q, self.n) else np.ascontiguousarray(self.check_q(q))
 
     def within_limits(self, q: ArrayLike) -> NDArray[np.bool_]:
         """Whether each configuration ``(..., n)`` lies inside all position limits, ``(...)``."""
@@ -163,8 +168,10 @@ class Robot:
         return self.check_q(q)
 
     # ----------------------------------------------------------------- kinematics
-    def fk(self, q: ArrayLike) -> NDArray[np.float64]:
+    def fk(self, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.float64]:
         """Tool pose ``T_base_tool`` [m], ``(4, 4)`` for ``q`` ``(n,)``, ``(N, 4, 4)`` for ``(N, n)``.
+
+        A batch is split over ``threads`` (default: every core); the result does not depend on it.
 
         Examples
         --------
@@ -172,7 +179,7 @@ class Robot:
         >>> armkit.load("probot-anno").fk([0, 0, 0, 0, 0, 0])[:3, 3].round(4) + 0.0
         array([0.2289, 0.    , 0.454 ])
         """
-        return kinematics._fk(self.chain, self.check_q(q))  # checked once, here
+        return kinematics._fk(self.chain, self._checked(q), kinematics._threads(threads))
 
     def pose(self, q: ArrayLike, convention: str = "xyz-fixed",
              degrees: bool = False) -> NDArray[np.float64]:
@@ -181,11 +188,13 @@ class Robot:
 
     def link_frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """Base, every DH link frame and tool: ``(..., n + 2, 4, 4)``."""
-        return kinematics._link_frames(self.chain, self.check_q(q))
+        return kinematics._link_frames(self.chain, self._checked(q))
 
-    def jacobian(self, q: ArrayLike, frame: str = "base") -> NDArray[np.float64]:
+    def jacobian(self, q: ArrayLike, frame: str = "base", *,
+                 threads: int | None = None) -> NDArray[np.float64]:
         """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``, in the ``"base"`` or ``"tool"`` frame."""
-        return kinematics._geometric_jacobian(self.chain, self.check_q(q), frame)
+        threads = kinematics._threads(threads)
+        return kinematics._geometric_jacobian(self.chain, self._checked(q), frame, threads)
 
     def analytic_jacobian(self, q: ArrayLike, convention: str = "xyz-fixed") -> NDArray[np.float64]:
         """Analytic Jacobian ``(..., 6, n)``: position rates over angle rates in ``convention``."""

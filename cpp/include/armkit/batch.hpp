@@ -13,10 +13,20 @@ namespace armkit {
 //: Items below which one thread does the whole batch (starting a thread costs ~20-50 us).
 constexpr std::size_t kItemsPerThread = 2048;
 
+// The machine's cores, asked once (glibc reads /sys for it: ~10 us a call).
+inline std::size_t all_cores() {
+    static const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
+    return cores;
+}
+
 // Calls body(begin, end) on blocks of [0, N) in up to `threads` threads (0: all cores).
 template <class Body>
 void parallel_for(std::size_t N, int threads, Body&& body) {
-    std::size_t T = threads > 0 ? std::size_t(threads) : std::max(1u, std::thread::hardware_concurrency());
+    if (N < 2 * kItemsPerThread) {  // the usual one-pose call: no thread, no core count
+        body(std::size_t(0), N);
+        return;
+    }
+    std::size_t T = threads > 0 ? std::size_t(threads) : all_cores();
     T = std::max<std::size_t>(1, std::min(T, N / kItemsPerThread));
     if (T == 1) {
         body(std::size_t(0), N);
