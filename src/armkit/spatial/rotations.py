@@ -24,9 +24,14 @@ When the middle angle makes the first and third axes coincide (±90° for Tait-B
 orders, 0°/180° for proper Euler orders), only their sum or difference is defined.
 armkit then sets the **third angle as written to zero** and puts the whole rotation in
 the first; the returned angles still reproduce the matrix exactly. The conversion itself
-goes through SciPy's quaternion (``scipy.spatial.transform.Rotation``) and keeps full
-precision arbitrarily close to the lock (SciPy's own ``as_euler`` snaps to the lock
-within 1e-7 rad, which costs up to 1e-7 rad of accuracy).
+goes through the quaternion (Bernardes & Viollet, 2022) and keeps full precision
+arbitrarily close to the lock (SciPy's ``as_euler`` snaps to the lock within 1e-7 rad,
+which costs up to 1e-7 rad of accuracy).
+
+The quaternion of a matrix is Shepperd's method (the largest of ``w, x, y, z`` computed
+from the diagonal, the others from off-diagonal sums), written here in NumPy rather than
+imported from ``scipy.spatial.transform``: importing that module costs half a second,
+more than every command that converts one pose.
 """
 
 from __future__ import annotations
@@ -36,7 +41,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial.transform import Rotation
 
 from armkit.errors import InputError
 
@@ -82,11 +86,6 @@ class AngleConvention:
         """Canonical name, e.g. ``"xyz-fixed"``."""
         return f"{self.axes}-{'fixed' if self.extrinsic else 'euler'}"
 
-    @property
-    def scipy_sequence(self) -> str:
-        """SciPy's spelling: lower case extrinsic, upper case intrinsic."""
-        return self.axes if self.extrinsic else self.axes.upper()
-
     def formula(self) -> str:
         """The matrix product this convention stands for, e.g. ``Rz(a3) Ry(a2) Rx(a1)``."""
         factors = [f"R{axis}(a{i + 1})" for i, axis in enumerate(self.axes)]
@@ -120,6 +119,45 @@ def parse_convention(convention: str | AngleConvention) -> AngleConvention:
             f"{', '.join(CONVENTIONS)} (or 'rpy' = 'xyz-fixed')"
         )
     return AngleConvention(axes=match[1] + match[2] + match[3], extrinsic=match[4] == "fixed")
+
+
+def _elementary(axis: str, angle: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Rotations ``(..., 3, 3)`` by ``angle`` ``(...)`` [rad] about the base axis ``axis``."""
+    c, s = np.cos(angle), np.sin(angle)
+    i = _AXES[axis]
+    j, k = (i + 1) % 3, (i + 2) % 3
+    R = np.zeros((*np.shape(angle), 3, 3))
+    R[..., i, i] = 1.0
+    R[..., j, j] = R[..., k, k] = c
+    R[..., k, j], R[..., j, k] = s, -s
+    return R
+
+
+def _quaternion_wxyz(R: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Unit quaternions ``(..., 4)``, ``w >= 0``, of rotation matrices ``(..., 3, 3)`` (Shepperd).
+
+    Of ``4 w^2 = 1 + trace``, ``4 x^2 = 1 + 2 R00 - trace`` (and y, z alike) the largest
+    is taken from the diagonal, the other three from sums and differences of the
+    off-diagonal pairs divided by it: never a division by less than 1/2.
+    """
+    R00, R11, R22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
+    trace = R00 + R11 + R22
+    squares = np.stack([1 + trace, 1 + 2 * R00 - trace, 1 + 2 * R11 - trace, 1 + 2 * R22 - trace], axis=-1)
+    largest = np.argmax(squares, axis=-1)
+    d = 0.5 * np.sqrt(np.take_along_axis(squares, largest[..., None], axis=-1)[..., 0])  # |c|
+    sxy, dxy = R[..., 1, 0] + R[..., 0, 1], R[..., 1, 0] - R[..., 0, 1]
+    sxz, dxz = R[..., 0, 2] + R[..., 2, 0], R[..., 0, 2] - R[..., 2, 0]
+    syz, dyz = R[..., 2, 1] + R[..., 1, 2], R[..., 2, 1] - R[..., 1, 2]
+    # row c: 2 c (w, x, y, z), for each choice of the largest component c
+    candidates = np.stack([
+        np.stack([2 * d * d, dyz / 2, dxz / 2, dxy / 2], axis=-1),
+        np.stack([dyz / 2, 2 * d * d, sxy / 2, sxz / 2], axis=-1),
+        np.stack([dxz / 2, sxy / 2, 2 * d * d, syz / 2], axis=-1),
+        np.stack([dxy / 2, sxz / 2, syz / 2, 2 * d * d], axis=-1),
+    ], axis=-2)
+    q = np.take_along_axis(candidates, largest[..., None, None], axis=-2)[..., 0, :] / d[..., None]
+    q /= np.linalg.norm(q, axis=-1, keepdims=True)
+    return np.where(q[..., :1] < 0, -q, q)
 
 
 def _finite(values: ArrayLike, name: str, last: tuple[int, ...]) -> NDArray[np.float64]:
@@ -160,7 +198,11 @@ def matrix_from_euler(angles: ArrayLike, convention: str | AngleConvention = "xy
     """
     conv = parse_convention(convention)
     angles = _finite(angles, "angles", (3,))
-    return Rotation.from_euler(conv.scipy_sequence, angles, degrees=degrees).as_matrix()
+    if degrees:
+        angles = np.radians(angles)
+    factors = [_elementary(axis, angles[..., i]) for i, axis in enumerate(conv.axes)]
+    a, b, c = reversed(factors) if conv.extrinsic else factors
+    return a @ b @ c
 
 
 def euler_from_matrix(R: ArrayLike, convention: str | AngleConvention = "xyz-fixed",
@@ -195,7 +237,7 @@ def euler_from_matrix(R: ArrayLike, convention: str | AngleConvention = "xyz-fix
     if R.shape[-2:] == (4, 4):
         R = R[..., :3, :3]
     R = _finite(R, "rotation matrix", (3, 3))
-    quat = Rotation.from_matrix(R).as_quat(scalar_first=True)
+    quat = _quaternion_wxyz(R)
     # Work with the extrinsic sequence; an intrinsic sequence is the extrinsic one reversed.
     axes = conv.axes if conv.extrinsic else conv.axes[::-1]
     i, j, k = (_AXES[a] for a in axes)
@@ -235,8 +277,7 @@ def euler_from_matrix(R: ArrayLike, convention: str | AngleConvention = "xyz-fix
 
 def quaternion_wxyz_from_matrix(R: ArrayLike) -> NDArray[np.float64]:
     """Unit quaternions ``(..., 4)`` in ``w, x, y, z`` order with ``w >= 0``."""
-    q = Rotation.from_matrix(_finite(R, "rotation matrix", (3, 3))).as_quat(scalar_first=True)
-    return np.where(q[..., :1] < 0, -q, q)
+    return _quaternion_wxyz(_finite(R, "rotation matrix", (3, 3)))
 
 
 def matrix_from_quaternion_wxyz(q_wxyz: ArrayLike) -> NDArray[np.float64]:
@@ -248,19 +289,33 @@ def matrix_from_quaternion_wxyz(q_wxyz: ArrayLike) -> NDArray[np.float64]:
         If a quaternion has zero norm (it is normalised otherwise).
     """
     q = _finite(q_wxyz, "quaternion", (4,))
-    if np.any(np.linalg.norm(q, axis=-1) < 1e-12):
+    size = np.linalg.norm(q, axis=-1, keepdims=True)
+    if np.any(size < 1e-12):
         raise InputError("quaternion: expected a non-zero quaternion, got norm 0")
-    return Rotation.from_quat(q, scalar_first=True).as_matrix()
+    w, x, y, z = np.moveaxis(q / size, -1, 0)
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
+        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
+        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
+    ], axis=-2)
 
 
 def axis_angle_from_matrix(R: ArrayLike) -> NDArray[np.float64]:
     """Rotation vectors ``(..., 3)``: unit axis times angle [rad], angle in ``[0, pi]``."""
-    return Rotation.from_matrix(_finite(R, "rotation matrix", (3, 3))).as_rotvec()
+    q = _quaternion_wxyz(_finite(R, "rotation matrix", (3, 3)))
+    sine = np.linalg.norm(q[..., 1:], axis=-1)  # sin(angle / 2), with w = cos(angle / 2) >= 0
+    angle = 2.0 * np.arctan2(sine, q[..., 0])
+    # angle / sin(angle / 2) -> 2 for small angles
+    scale = np.divide(angle, sine, out=np.full_like(angle, 2.0), where=sine > 1e-300)
+    return q[..., 1:] * scale[..., None]
 
 
 def matrix_from_axis_angle(rotation_vector: ArrayLike) -> NDArray[np.float64]:
     """Rotation matrices ``(..., 3, 3)`` from rotation vectors (axis times angle [rad])."""
-    return Rotation.from_rotvec(_finite(rotation_vector, "rotation vector", (3,))).as_matrix()
+    v = _finite(rotation_vector, "rotation vector", (3,))
+    angle = np.linalg.norm(v, axis=-1, keepdims=True)
+    half_sinc = 0.5 * np.sinc(angle / (2 * np.pi))  # sin(angle / 2) / angle, 1/2 at 0
+    return matrix_from_quaternion_wxyz(np.concatenate([np.cos(angle / 2), half_sinc * v], axis=-1))
 
 
 def rotation_angle_between(R_a: ArrayLike, R_b: ArrayLike) -> NDArray[np.float64]:
@@ -298,5 +353,5 @@ def angular_velocity_matrix(angles: ArrayLike,
     R = np.broadcast_to(np.eye(3), (*angles.shape[:-1], 3, 3))
     for k, axis in enumerate(axes):
         E[..., :, order[k]] = R[..., :, _AXES[axis]]
-        R = R @ Rotation.from_euler(axis, theta[..., k]).as_matrix()
+        R = R @ _elementary(axis, theta[..., k])
     return E
