@@ -313,7 +313,7 @@ def test_jacobian_columns_are_finite_differences_of_fk(name, values):
 @pytest.mark.parametrize("function", [fk, joint_frames, geometric_jacobian])
 def test_batches_are_identical_whatever_the_thread_count(function):
     chain = _prismatic_arm().chain
-    q = np.random.default_rng(5).uniform(-3, 3, (10_007, chain.n))
+    q = np.random.default_rng(5).uniform(-3, 3, (50_003, chain.n))  # enough for two threads
     one, two = function(chain, q, threads=1), function(chain, q, threads=2)
     for a, b in zip(*(r if isinstance(r, tuple) else (r,) for r in (one, two)), strict=True):
         np.testing.assert_array_equal(a, b)
@@ -324,16 +324,21 @@ def test_batches_are_identical_whatever_the_thread_count(function):
 
 def test_batch_fk_equals_fk_of_each_configuration_and_keeps_the_batch_shape():
     chain = armkit.load("ur5").chain
-    q = np.random.default_rng(6).uniform(-3, 3, (4, 3, 6))
+    q = np.random.default_rng(6).uniform(-3, 3, (4, 5, 6))  # blocks of 8 and a tail of 4
     T = fk(chain, q)
-    assert T.shape == (4, 3, 4, 4)
-    for index in np.ndindex(4, 3):
+    assert T.shape == (4, 5, 4, 4)
+    for index in np.ndindex(4, 5):
         np.testing.assert_array_equal(T[index], fk(chain, q[index]))
     assert fk(chain, np.zeros((0, 6))).shape == (0, 4, 4)
     frames, tool = joint_frames(chain, q)
-    assert frames.shape == (4, 3, 6, 4, 4) and tool.shape == (4, 3, 4, 4)
+    assert frames.shape == (4, 5, 6, 4, 4) and tool.shape == (4, 5, 4, 4)
     np.testing.assert_array_equal(tool, T)
-    assert geometric_jacobian(chain, q).shape == (4, 3, 6, 6)
+    assert geometric_jacobian(chain, q).shape == (4, 5, 6, 6)
+    many = np.zeros((100_000, 6))
+    many[77_777, 2] = np.inf
+    many[88_888, 1] = np.nan
+    with pytest.raises(InputError, match=r"got inf at index \(77777, 2\)"):
+        fk(chain, many)
 
 
 def test_the_prismatic_test_arm_has_prismatic_joints_and_matches_finite_differences():

@@ -31,6 +31,13 @@ Chain make_chain(In T_between, InBool prismatic, In lower, In upper) {
     return chain;
 }
 
+// first <- bad if it is the first bad index seen so far (-1: none yet), across threads.
+void keep_first(std::atomic<long long>& first, long long bad) {
+    long long seen = first.load();
+    while ((seen < 0 || bad < seen) && !first.compare_exchange_weak(seen, bad)) {
+    }
+}
+
 // Runs item(i) for every configuration of q (N x n) whose values are all finite, in
 // parallel; returns the flat index of the first non-finite value, or -1 (then the
 // outputs of the configurations after it may be unset).
@@ -43,9 +50,7 @@ long long for_each_configuration(const Chain& chain, const double* q, std::size_
             const double* qi = q + n * i;
             for (std::size_t j = 0; j < n; ++j) {
                 if (!std::isfinite(qi[j])) {
-                    long long bad = (long long)(n * i + j), seen = first_bad.load();
-                    while ((seen < 0 || bad < seen) && !first_bad.compare_exchange_weak(seen, bad)) {
-                    }
+                    keep_first(first_bad, (long long)(n * i + j));
                     return;
                 }
             }
@@ -61,13 +66,45 @@ std::size_t configurations(const Chain& chain, const In& q) {
     return q.size() / std::size_t(chain.n);
 }
 
+bool all_finite(const double* values, std::size_t count) {
+    bool finite = true;
+    for (std::size_t k = 0; k < count; ++k) finite &= std::isfinite(values[k]);
+    return finite;
+}
+
 long long fk(const Chain& chain, In q, Out T, int threads) {
-    const std::size_t N = configurations(chain, q);
+    const std::size_t N = configurations(chain, q), n = std::size_t(chain.n);
     if (T.size() != 16 * N) throw std::invalid_argument("fk: expected an output of shape (N, 4, 4)");
+    const double* qs = q.data();
     double* out = T.data();
-    return for_each_configuration(chain, q.data(), N, threads, [&](std::size_t i, const double* qi) {
-        pose_to_matrix(tool_pose(chain, qi), out + 16 * i);
+    if (N < std::size_t(kFkBlock))  // one configuration (or a few): no block
+        return for_each_configuration(chain, qs, N, threads, [&](std::size_t i, const double* qi) {
+            pose_to_matrix(tool_pose(chain, qi), out + 16 * i);
+        });
+    // Blocks of kFkBlock configurations; a block holding a non-finite value (and the tail)
+    // goes one configuration at a time, which finds the first bad value.
+    std::atomic<long long> first_bad{-1};
+    const std::size_t blocks = N / kFkBlock;
+    parallel_for(blocks + 1, threads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) {
+            const std::size_t start = k * kFkBlock, count = std::min<std::size_t>(kFkBlock, N - start);
+            if (count == std::size_t(kFkBlock) && all_finite(qs + n * start, n * count)) {
+                tool_poses_block(chain, qs + n * start, out + 16 * start);
+                continue;
+            }
+            for (std::size_t i = start; i < start + count; ++i) {
+                const double* qi = qs + n * i;
+                if (!all_finite(qi, n)) {
+                    std::size_t j = 0;
+                    while (std::isfinite(qi[j])) ++j;
+                    keep_first(first_bad, (long long)(n * i + j));
+                    return;
+                }
+                pose_to_matrix(tool_pose(chain, qi), out + 16 * i);
+            }
+        }
     });
+    return first_bad.load();
 }
 
 long long joint_frames(const Chain& chain, In q, Out frames, Out tool, int threads) {

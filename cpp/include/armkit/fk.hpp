@@ -32,6 +32,53 @@ inline Pose tool_pose(const Chain& chain, const double* q) {
     return T;
 }
 
+//: Configurations a batch FK step handles together: the arithmetic runs across them, laid
+//: out structure-of-arrays so the compiler vectorises it.
+constexpr int kFkBlock = 8;
+
+// Tool poses of kFkBlock configurations q (kFkBlock x n, row-major) into T (kFkBlock x 4 x 4),
+// the same numbers as tool_pose of each (the same operations in the same order).
+inline void tool_poses_block(const Chain& chain, const double* q, double* out) {
+    constexpr int B = kFkBlock;
+    const int n = chain.n;
+    double T[12][B];
+    for (int k = 0; k < 12; ++k)
+        for (int b = 0; b < B; ++b) T[k][b] = chain.between[0].m[k];
+    for (int j = 0; j < n; ++j) {
+        if (chain.prismatic[j]) {
+            for (int r = 0; r < 3; ++r)
+                for (int b = 0; b < B; ++b) T[4 * r + 3][b] += q[b * n + j] * T[4 * r + 2][b];
+        } else {
+            double c[B], s[B];
+            for (int b = 0; b < B; ++b) {
+                c[b] = std::cos(q[b * n + j]);
+                s[b] = std::sin(q[b * n + j]);
+            }
+            for (int r = 0; r < 3; ++r)
+                for (int b = 0; b < B; ++b) {
+                    const double x = T[4 * r][b], y = T[4 * r + 1][b];
+                    T[4 * r][b] = c[b] * x + s[b] * y;
+                    T[4 * r + 1][b] = c[b] * y - s[b] * x;
+                }
+        }
+        const Pose& L = chain.between[j + 1];
+        for (int r = 0; r < 3; ++r)
+            for (int b = 0; b < B; ++b) {
+                const double a0 = T[4 * r][b], a1 = T[4 * r + 1][b], a2 = T[4 * r + 2][b], a3 = T[4 * r + 3][b];
+                T[4 * r][b] = a0 * L(0, 0) + a1 * L(1, 0) + a2 * L(2, 0);
+                T[4 * r + 1][b] = a0 * L(0, 1) + a1 * L(1, 1) + a2 * L(2, 1);
+                T[4 * r + 2][b] = a0 * L(0, 2) + a1 * L(1, 2) + a2 * L(2, 2);
+                T[4 * r + 3][b] = a0 * L(0, 3) + a1 * L(1, 3) + a2 * L(2, 3) + a3;
+            }
+    }
+    for (int b = 0; b < B; ++b) {
+        double* M = out + 16 * b;
+        for (int k = 0; k < 12; ++k) M[k] = T[k][b];
+        M[12] = M[13] = M[14] = 0.0;
+        M[15] = 1.0;
+    }
+}
+
 // The tool pose, and per joint the z axis of its joint frame and its origin before the
 // joint's motion (the start of the travel for a prismatic joint), base frame.
 inline Pose joint_axes(const Chain& chain, const double* q, Vec3* axes, Vec3* points) {
