@@ -3,17 +3,20 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench clean clean-cache
+.PHONY: demo test bench clean
 
 $(BIN)/activate:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
-$(VENV)/.installed-demo: pyproject.toml | $(BIN)/activate
+# the compiled core is rebuilt (incrementally, in build/) when its sources change
+CORE := CMakeLists.txt $(wildcard cpp/src/*.cpp cpp/src/*.hpp cpp/include/armkit/*.hpp)
+
+$(VENV)/.installed-demo: pyproject.toml $(CORE) | $(BIN)/activate
 	$(BIN)/python -m pip install --quiet -e ".[sim]"
 	touch $@
 
-$(VENV)/.installed-test: pyproject.toml | $(BIN)/activate
+$(VENV)/.installed-test: pyproject.toml $(CORE) | $(BIN)/activate
 	$(BIN)/python -m pip install --quiet -e ".[test]"
 	touch $@
 
@@ -28,9 +31,5 @@ bench: $(VENV)/.installed-test
 	$(BIN)/python -m pip install --quiet -e ".[bench]"
 	$(BIN)/python benchmarks/run_all.py
 
-clean: clean-cache
-	rm -rf $(VENV) armkit-report .pytest_cache .hypothesis
-
-clean-cache:  # numba's compiled kernels (after editing one: see docs/architecture.md)
-	rm -rf .numba-cache
-	find src -name "*.nbi" -delete -o -name "*.nbc" -delete
+clean:
+	rm -rf $(VENV) build armkit-report .pytest_cache .hypothesis

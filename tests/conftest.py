@@ -2,30 +2,12 @@
 
 from __future__ import annotations
 
-import hashlib
 import os
-import pathlib
 
+import numpy as np
+from hypothesis import settings
 
-def _numba_cache_per_source_version() -> None:
-    """Keep numba's cache in a directory per version of ``src/armkit`` (a hash of its sources).
-
-    numba invalidates a cached kernel when the kernel's own file changes, not when a kernel
-    it calls in another module does; tests must never run such a stale mix. This file is
-    loaded before anything imports numba (pytest loads it first, and armkit below).
-    """
-    root = pathlib.Path(__file__).parent.parent
-    sources = sorted((root / "src" / "armkit").rglob("*.py"))
-    digest = hashlib.sha1(b"".join(path.read_bytes() for path in sources)).hexdigest()[:12]
-    os.environ.setdefault("NUMBA_CACHE_DIR", str(root / ".numba-cache" / digest))
-
-
-_numba_cache_per_source_version()
-
-import numpy as np  # noqa: E402  (after the cache directory is set)
-from hypothesis import settings  # noqa: E402
-
-from armkit.spatial.rotations import rotation_angle_between  # noqa: E402
+from armkit.spatial.rotations import rotation_angle_between
 
 # CI runs the same examples every time (a failure there is reproducible from its log);
 # locally hypothesis explores new ones on every run.
