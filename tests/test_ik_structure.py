@@ -9,8 +9,9 @@ from hypothesis import strategies as st
 from test_ik_closed_form import random_arm
 
 import armkit
+from armkit import Robot
 from armkit.chain import DHRow, chain_from_dh
-from armkit.ik.structure import analyze_structure
+from armkit.ik.structure import analyze_structure, generic_rank
 
 EXPECTED = {
     "probot-anno": ("spherical-wrist", "axes 4, 5, 6 meet at one point and axes 2, 3 are parallel"),
@@ -97,3 +98,25 @@ def test_coincident_axes_have_no_closed_form():
     rows = [DHRow(0.0, 0.0, 0.3, 0.0), DHRow(0.0, 0.0, 0.2, 0.0), DHRow(np.pi / 2, 0.3, 0.0, 0.0)]
     structure = analyze_structure(chain_from_dh(rows + rows, "modified"))
     assert structure.kind == "none" and "axes 1 and 2 are the same line" in structure.description
+
+
+def test_an_arm_whose_jacobian_has_rank_5_everywhere_is_rank_deficient_not_closed_form():
+    """Issue 10 item 2: axes 1-3 meet (a 'spherical base'), but joints 1 and 3 are collinear
+    at q2 = 0 and the six axes only ever span 5 directions; it was taken for a closed form."""
+    pi = np.pi
+    rows = [DHRow(pi / 2, 0, 0, pi / 2), DHRow(-pi / 2, 0, 0, 0), DHRow(pi / 2, 0, 0, -pi / 2),
+            DHRow(0, 0.3762423913389587, 0, -pi / 2), DHRow(-pi / 2, 0, -0.281496170865194, -pi / 2),
+            DHRow(-pi / 2, 0.25802533647400533, 0.2584880059274837, pi)]
+    robot = Robot.from_dh(rows, "standard")
+    structure = analyze_structure(robot.chain)
+    assert structure.kind == "rank-deficient" and not structure.closed_form
+    assert "rank 5" in structure.description and "numeric IK" in structure.description
+    assert generic_rank(robot.chain) == 5
+    q = np.array([0.45515208321601186, 1.7461037288237051, 0, -1.5165356859581156, 2.864868490142241,
+                  -1.3463117256447188])
+    np.testing.assert_allclose(robot.fk(robot.ik(robot.fk(q), near=q)), robot.fk(q), atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["probot-anno", "puma560", "stanford", "ur5", "zju-i", "panda"])
+def test_six_joint_and_redundant_builtins_have_full_generic_rank(name):
+    assert generic_rank(armkit.load(name).chain) == 6

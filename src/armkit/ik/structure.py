@@ -16,6 +16,8 @@ three-parallel      6 revolute joints, three consecutive axes parallel (UR5,   8
                     ZJU-I: axes 2-4)
 scara               3 parallel revolute axes and a prismatic joint along them  2
 planar-2r/3r        2 or 3 parallel revolute axes (optionally one prismatic)   2
+rank-deficient      the Jacobian has rank < min(6, n) everywhere (collinear    0
+                    axes, or axes that only ever span 5 directions)
 none                anything else (redundant arms, general 6R, ...)            0
 ==================  =========================================================  ========
 
@@ -34,9 +36,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit.chain import Chain
-from armkit.kinematics import joint_frames
+from armkit.kinematics import geometric_jacobian, joint_frames
 
-__all__ = ["ArmStructure", "PoeChain", "SolverPlan", "analyze_structure", "plan_closed_form",
+__all__ = ["ArmStructure", "PoeChain", "SolverPlan", "analyze_structure", "generic_rank", "plan_closed_form",
            "poe_from_chain"]
 
 
@@ -48,7 +50,8 @@ class ArmStructure:
     ----------
     kind : str
         ``"spherical-wrist"``, ``"spherical-base"``, ``"three-parallel"``, ``"scara"``,
-        ``"planar-2r"``, ``"planar-3r"`` or ``"none"``.
+        ``"planar-2r"``, ``"planar-3r"``, ``"rank-deficient"`` (fewer independent
+        directions of motion than joints, up to 6) or ``"none"``.
     closed_form : bool
         Whether :func:`armkit.ik.closed_form_ik` solves this chain.
     max_solutions : int
@@ -266,6 +269,30 @@ def _no_closed_form(chain: Chain, poe: PoeChain, tol: float) -> ArmStructure:
     return ArmStructure("none", False, 0, why)
 
 
+#: Random configurations at which :func:`generic_rank` evaluates the Jacobian.
+_RANK_SAMPLES = 8
+
+
+def generic_rank(chain: Chain, tol: float = 1e-9) -> int:
+    """The rank of the chain's Jacobian at a generic configuration: the number of
+    independent directions [v; w] its joints can move the tool in, at most ``min(6, n)``.
+
+    The largest rank over a few seeded random configurations inside the limits (a rank
+    reached anywhere is reached almost everywhere); singular values below ``tol`` times
+    the largest count as zero.
+
+    >>> import armkit
+    >>> generic_rank(armkit.load("ur5").chain), generic_rank(armkit.load("grb400-scara").chain)
+    (6, 4)
+    """
+    rng = np.random.default_rng(0)
+    low = np.where(np.isfinite(chain.lower), chain.lower, -1.0)
+    high = np.where(np.isfinite(chain.upper), chain.upper, 1.0)
+    S = np.linalg.svd(geometric_jacobian(chain, rng.uniform(low, high, (_RANK_SAMPLES, chain.n))),
+                      compute_uv=False)
+    return int((S > tol * S[:, :1]).sum(axis=1).max())
+
+
 def plan_closed_form(chain: Chain, tol: float = 1e-9) -> SolverPlan:
     """Classify ``chain`` and prepare the chain a closed-form solver works on.
 
@@ -277,6 +304,13 @@ def plan_closed_form(chain: Chain, tol: float = 1e-9) -> SolverPlan:
         the distance below which axes count as meeting.
     """
     poe = poe_from_chain(chain)
+    rank = generic_rank(chain)
+    if rank < min(6, chain.n):
+        why = (f"the Jacobian has rank {rank} at every configuration tried (not {min(6, chain.n)}): "
+               f"the {chain.n} joints move the tool in only {rank} independent directions, so the "
+               f"arm reaches a {rank}-dimensional set of poses and has no closed form here; use "
+               f"numeric IK")
+        return SolverPlan(ArmStructure("rank-deficient", False, 0, why), poe)
     g = _Geometry(poe, tol)
     for i in range(chain.n - 1):
         if not poe.prismatic[i] and not poe.prismatic[i + 1] and g.parallel(i, i + 1) \
