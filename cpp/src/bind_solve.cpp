@@ -88,7 +88,7 @@ nb::tuple solve_batch(const ClosedForm& cf, In T, In near, In weights, bool with
     const Found f = found_of(cf, N, q, errors, flags, count);
     if (f.k != cf.k) throw std::invalid_argument("solve_batch: expected k = closed_form.k candidates per pose");
     const References ref(cf, N, near, weights);
-    long long rough = 0, families = 0, empty = 0;
+    long long rough = 0, empty = 0;
     {
         nb::gil_scoped_release release;
         bool solve = true;
@@ -97,20 +97,19 @@ nb::tuple solve_batch(const ClosedForm& cf, In T, In near, In weights, bool with
             solve = r.finite && r.last_row <= rigid_tolerance && r.orthonormal <= rigid_tolerance && r.rough == 0;
         }
         if (solve) {
-            std::atomic<long long> total_rough{0}, total_families{0}, total_empty{0};
+            std::atomic<long long> total_rough{0}, total_empty{0};
             parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
                 const SolveCounts c = solve_poses(cf, T.data(), ref.near, ref.stride, ref.weights, within_limits,
                                                   nearest, f, begin, end);
                 total_rough += c.rough;
-                total_families += c.families;
                 total_empty += c.empty;
             });
-            rough = total_rough, families = total_families, empty = total_empty;
+            rough = total_rough, empty = total_empty;
         } else {
             rough = -1;
         }
     }
-    return nb::make_tuple(rough, families, empty);
+    return nb::make_tuple(rough, empty);
 }
 
 void rank(const ClosedForm& cf, InIndex which, In near, In weights, bool within_limits, Out q, Out errors,
@@ -172,11 +171,12 @@ void bind_solve(nb::module_& m) {
           nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("nearest"), nb::arg("rigid_tolerance"),
           nb::arg("q"), nb::arg("errors"), nb::arg("flags"), nb::arg("count"), nb::arg("threads"),
           "Candidates of poses T (N, 4, 4) wrapped into the limits (reference near (N, n), (n,) or None: "
-          "zeros), FK-verified and ranked by |weights * (q - near)| (None: ones) into q (N, k, n), errors "
-          "(N, k, 2) [m, rad], flags (N, k, 4) (valid, keep, inside, family) and count (N,). nearest: "
-          "verify nearest first, up to the first kept. rigid_tolerance >= 0: first check that every T is "
-          "exactly rigid (as check_transform would return it unchanged); if not, solve nothing and return "
-          "rough = -1. Returns (rough, families, empty).");
+          "zeros), FK-verified, family representatives moved to the member nearest to near, ranked by "
+          "|weights * (q - near)| (None: ones) into q (N, k, n), errors (N, k, 2) [m, rad], flags (N, k, 4) "
+          "(valid, keep, inside, family) and count (N,). nearest: verify nearest first, up to the first kept. "
+          "rigid_tolerance >= 0: first check that every T is exactly rigid (as check_transform would return "
+          "it unchanged); if not, solve nothing and return rough = -1. Returns (rough: valid candidates "
+          "above 1e-10 to refine, empty: poses without a usable candidate).");
     m.def("rank", &rank, nb::arg("closed_form"), nb::arg("poses"), nb::arg("near").none(),
           nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("q"), nb::arg("errors"), nb::arg("flags"),
           nb::arg("count"), "Flag, count and sort again the candidates of the given poses (in place).");

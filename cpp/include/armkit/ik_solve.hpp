@@ -10,6 +10,7 @@
 
 #include "armkit/closed_form.hpp"
 #include "armkit/fk.hpp"
+#include "armkit/ik_family.hpp"
 #include "armkit/transform.hpp"
 
 namespace armkit {
@@ -40,10 +41,10 @@ struct Found {
     bool* flags_of(std::size_t i, int s) const { return flags + (i * k + s) * kFlags; }
 };
 
-// What one pass over poses counted: valid candidates with a residual above kRefineAbove,
-// kept family representatives, poses without a usable candidate.
+// What one pass over poses counted: valid candidates with a residual above kRefineAbove
+// (to be refined by the caller), poses without a usable candidate.
 struct SolveCounts {
-    long long rough = 0, families = 0, empty = 0;
+    long long rough = 0, empty = 0;
 };
 
 // Whether q (n) is inside the limits (to kLimitTolerance); its distance |w * (q - near)|.
@@ -108,13 +109,30 @@ inline void rank_pose(const Chain& chain, const Found& f, std::size_t i, const d
     }
 }
 
-// FK residuals of candidate s of pose i (target T) into f; returns whether it is rough
-// (above kRefineAbove, to be refined) and sets kept: whether it reproduces the pose.
-inline bool verify(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s, bool& kept) {
+// FK residuals of candidate s of pose i (target T) into f; whether it reproduces the pose.
+inline bool verify(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s) {
     double* errors = f.errors_of(i, s);
     pose_residual(T, tool_pose(chain, f.q_of(i, s)), errors[0], errors[1]);
-    kept = errors[0] <= kSolutionTolerance && errors[1] <= kSolutionTolerance;
-    return errors[0] > kRefineAbove || errors[1] > kRefineAbove;
+    return errors[0] <= kSolutionTolerance && errors[1] <= kSolutionTolerance;
+}
+
+// At a singular pose: each kept family representative of pose i moved to the member of its
+// family nearest to near (ik_family.hpp), with its new residuals; ranked again if one moved.
+inline void nearest_family_members(const Chain& chain, const Pose& T, const Found& f, std::size_t i,
+                                   const double* near, const double* weights, bool within_limits) {
+    bool moved = false;
+    for (int s = 0; s < f.k; ++s) {
+        if (!(f.flags_of(i, s)[kFamily] && f.flags_of(i, s)[kKeep])) continue;
+        double* q = f.q_of(i, s);
+        double before[kMaxJoints];
+        for (int j = 0; j < f.n; ++j) before[j] = q[j];
+        walk_family(chain, T, q, near, weights);
+        bool changed = false;
+        for (int j = 0; j < f.n; ++j) changed = changed || q[j] != before[j];
+        if (changed) verify(chain, T, f, i, s);
+        moved = moved || changed;
+    }
+    if (moved) rank_pose(chain, f, i, near, weights, within_limits);
 }
 
 // Candidates of poses [begin, end) of T (N x 4 x 4), wrapped into the limits (reference
@@ -123,8 +141,8 @@ inline bool verify(const Chain& chain, const Pose& T, const Found& f, std::size_
 //
 // nearest: only the nearest candidate that reproduces the pose is wanted, so the
 // candidates are put through FK nearest first until one does (the others' residuals stay
-// NaN: not kept); family representatives always are (the caller moves them along their
-// family towards near), and if none does, all are (the caller's error message needs them).
+// NaN: not kept); family representatives always are (they are moved along their family
+// towards near), and if none does, all are (the caller's error message needs them).
 inline SolveCounts solve_poses(const ClosedForm& cf, const double* T, const double* near, std::size_t near_stride,
                                const double* weights, bool within_limits, bool nearest, const Found& f,
                                std::size_t begin, std::size_t end) {
@@ -134,7 +152,7 @@ inline SolveCounts solve_poses(const ClosedForm& cf, const double* T, const doub
     const double nan = std::numeric_limits<double>::quiet_NaN();
     SolveCounts counts;
     double distance[kMaxCandidates];
-    bool valid[kMaxCandidates], family[kMaxCandidates], kept = false;
+    bool valid[kMaxCandidates], family[kMaxCandidates];
     for (std::size_t i = begin; i < end; ++i) {
         const Pose target = pose_from_matrix(T + 16 * i);
         const double* reference = near + near_stride * i;
@@ -159,29 +177,31 @@ inline SolveCounts solve_poses(const ClosedForm& cf, const double* T, const doub
                 const bool inside = inside_and_distance(chain, q, reference, weights, gap);
                 distance[s] = inside || !within_limits ? gap : inf;
             } else {
-                counts.rough += verify(chain, target, f, i, s, kept);
+                verify(chain, target, f, i, s);
             }
         }
         if (nearest) {
             int order[kMaxCandidates];
             stable_order(distance, k, order);
-            kept = false;
+            bool kept = false;
             for (int a = 0; a < k; ++a) {
                 const int s = order[a];
                 if (kept || distance[s] == inf) break;
-                counts.rough += verify(chain, target, f, i, s, kept);
+                kept = verify(chain, target, f, i, s);
             }
             for (int s = 0; s < k; ++s) {
                 // a family's representative may be far from near while a member of it is not,
                 // and none usable: verify the rest, to tell out of reach from out of limits
-                bool ignored;
-                if ((family[s] || !kept) && valid[s] && std::isnan(f.errors_of(i, s)[0]))
-                    counts.rough += verify(chain, target, f, i, s, ignored);
+                if ((family[s] || !kept) && valid[s] && std::isnan(f.errors_of(i, s)[0])) verify(chain, target, f, i, s);
             }
         }
         rank_pose(chain, f, i, reference, weights, within_limits);
+        nearest_family_members(chain, target, f, i, reference, weights, within_limits);
         counts.empty += f.count[i] == 0;
-        for (int s = 0; s < k; ++s) counts.families += f.flags_of(i, s)[kFamily] && f.flags_of(i, s)[kKeep];
+        for (int s = 0; s < k; ++s) {
+            const double* errors = f.errors_of(i, s);
+            counts.rough += f.flags_of(i, s)[kValid] && (errors[0] > kRefineAbove || errors[1] > kRefineAbove);
+        }
     }
     return counts;
 }

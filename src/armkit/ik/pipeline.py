@@ -8,14 +8,19 @@ takes every candidate of the closed form (:mod:`armkit.ik.closed_form`) and
 2. verifies it by forward kinematics: it must reproduce the target within
    :data:`~armkit.ik.results.VERIFY_TOLERANCE`;
 3. flags it inside or outside the limits and sorts the usable ones first, by distance to
-   ``near`` (``|w * (q - near)|``, weights ``w``).
+   ``near`` (``|w * (q - near)|``, weights ``w``);
+4. at a singular pose, moves each family representative to the member of its family
+   nearest to ``near`` (``cpp/include/armkit/ik_family.hpp``): first the point of the
+   family's line (a whole turn either way) nearest to ``near`` after the ``2 pi`` wrap,
+   then steps along the Jacobian's null space, each put back exactly on the solution set
+   by Levenberg-Marquardt steps, while the distance falls; a move that would leave the
+   limits a representative was inside is not taken.
 
 When only the solution nearest to ``near`` is asked for, the candidates go through FK
 nearest first and the first that reproduces the target is the answer. Then, in Python
 and only where needed: candidates above ``1e-10`` are refined by a few Newton steps of
-the numeric solver without leaving their branch (:func:`refine`), and at a singular pose
-each family representative is moved to the member of its family nearest to ``near``
-(:func:`armkit.ik.family.nearest_family_members`); the poses touched are ranked again.
+the numeric solver without leaving their branch (:func:`refine`), and the poses touched
+are ranked again.
 """
 
 from __future__ import annotations
@@ -28,7 +33,6 @@ from numpy.typing import NDArray
 from armkit import _core
 from armkit.chain import Chain
 from armkit.ik.closed_form import ClosedFormSolver
-from armkit.ik.family import nearest_family_members
 from armkit.ik.numeric import numeric_ik
 
 __all__ = ["Found", "rank", "refine", "verified_solutions"]
@@ -123,18 +127,11 @@ def verified_solutions(solver: ClosedFormSolver, T: NDArray[np.float64], near: N
     """
     chain = solver.chain
     found = Found.empty(len(T), solver.k, chain.n)
-    rough, families, empty = _core.solve_batch(solver.core, T, near, weights, within_limits, nearest,
-                                               rigid_tolerance, *found, threads)
+    rough, empty = _core.solve_batch(solver.core, T, near, weights, within_limits, nearest, rigid_tolerance,
+                                     *found, threads)
     if rough < 0:
         return None
-    if not (rough or families):
-        return found, empty
-    touched = set(refine(chain, found, T).tolist()) if rough else set()
-    # singular poses: the members of each family nearest to near
-    rows = np.broadcast_to(np.zeros(chain.n) if near is None else near, (len(T), chain.n))
-    touched.update(nearest_family_members(chain, found, T, rows,
-                                          np.ones(chain.n) if weights is None else weights))
-    if touched:
-        rank(solver, found, np.array(sorted(touched)), near, weights, within_limits)
+    if rough:
+        rank(solver, found, refine(chain, found, T), near, weights, within_limits)
         empty = int((found.count == 0).sum())
     return found, empty
