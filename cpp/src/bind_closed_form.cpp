@@ -8,11 +8,13 @@
 #include <utility>
 
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/complex.h>
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
 
 #include "armkit/ik_cases.hpp"
+#include "armkit/quartic.hpp"
 #include "armkit/subproblems.hpp"
 #include "bindings.hpp"
 
@@ -210,6 +212,13 @@ void bind_closed_form(nb::module_& m) {
         }, nb::arg("h"), nb::arg("a"), nb::arg("b"), nb::arg("v"),
         "(ta pair, tb pair, valid pair, free): all (ta, tb) with R(h, ta) (a + R(h, tb) b) = v in the plane "
         "normal to h.");
+
+    m.def("quartic_roots", [](std::array<Complex, 5> c) {
+            if (c[0] == 0.0) throw nb::value_error("quartic_roots: the leading coefficient must not be 0");
+            std::array<Complex, 4> z;
+            quartic_roots(c.data(), z.data());
+            return z;
+        }, nb::arg("coeffs"), "The 4 roots of coeffs[0] z^4 + ... + coeffs[4] (complex).");
 
     nb::class_<CaseGeometry>(m, "CaseGeometry",
                              "Everything a closed-form case solver needs from a chain (built once per chain).")

@@ -10,16 +10,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <limits>
 
+#include "armkit/quartic.hpp"
 #include "armkit/subproblems.hpp"
 
 namespace armkit {
 
 namespace {
-
-using Complex = std::complex<double>;
 
 // The 2x2 matrix of a two-angle system P x(t1) - Q x(t2) = r, x(t) = [cos t, sin t].
 struct Mat2 {
@@ -72,60 +70,6 @@ void rank1(const CaseGeometry& g, const Mat2& P, const double* r, double size, A
             out.valid[2 * i + j] = first.ok[i] && second.ok[j];
             out.free[2 * i + j] = first.free || second.free;
         }
-    }
-}
-
-// p(z) and p'(z) for p(z) = c[0] z^4 + ... + c[4] (Horner).
-void quartic_value(const Complex* c, Complex z, Complex& p, Complex& dp) {
-    p = c[0];
-    dp = 0.0;
-    for (int i = 1; i < 5; ++i) {
-        dp = dp * z + p;
-        p = p * z + c[i];
-    }
-}
-
-// The four roots of c[0] z^4 + ... + c[4] (c[0] != 0) by Aberth-Ehrlich iterations: the
-// simultaneous Newton iteration with repulsion between the approximations, which converges
-// to all roots, cubically for simple ones (double roots to about sqrt(eps), as for any
-// method). A root stops moving once its value is at the rounding level of the polynomial.
-void quartic_roots(const Complex* c, Complex* z) {
-    // The polynomials here are self-inversive (c[4 - i] = conj(c[i])): their roots lie on
-    // the unit circle or in pairs z, 1 / conj(z), so start on the unit circle (at angles
-    // that no symmetry of the problem maps onto each other).
-    for (int i = 0; i < 4; ++i) z[i] = std::polar(1.0, 0.4 + 1.5707963267948966 * i + 0.1 * i);
-    double abs_c[5];
-    for (int i = 0; i < 5; ++i) abs_c[i] = std::abs(c[i]);
-    bool done[4] = {false, false, false, false};
-    constexpr double eps = std::numeric_limits<double>::epsilon();
-    for (int iteration = 0; iteration < 100; ++iteration) {
-        bool all_done = true;
-        for (int i = 0; i < 4; ++i) {
-            if (done[i]) continue;
-            Complex p, dp;
-            quartic_value(c, z[i], p, dp);
-            // rounding level of p(z): eps sum |c_k| |z|^k (Horner's error bound)
-            const double az = std::abs(z[i]);
-            double bound = abs_c[0];
-            for (int k = 1; k < 5; ++k) bound = bound * az + abs_c[k];
-            if (std::abs(p) <= 8.0 * eps * bound) {
-                done[i] = true;
-                continue;
-            }
-            const Complex newton = p / dp;
-            Complex repulsion = 0.0;
-            for (int j = 0; j < 4; ++j)
-                if (j != i) repulsion += 1.0 / (z[i] - z[j]);
-            const Complex step = newton / (1.0 - newton * repulsion);
-            if (!std::isfinite(step.real()) || !std::isfinite(step.imag())) {
-                done[i] = true;  // NaN input, or an exact multiple root: nothing to improve
-                continue;
-            }
-            z[i] -= step;
-            done[i] = std::abs(step) <= eps * std::abs(z[i]);
-            all_done = all_done && done[i];
-        }
-        if (all_done) break;
     }
 }
 

@@ -41,12 +41,10 @@ from armkit.ik.cases import (
     TWO_PI,
     CaseGeometry,
     solve_pose,
-    trig_coeffs,
-    wrap_angle,
 )
 from armkit.ik.numeric import _damped_step
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
-from armkit.ik.subproblems import sp4
+from armkit.ik.subproblems import sp4, trig_coeffs
 from armkit.kinematics import chain_frames, chain_jacobian, chain_pose, pose_error_into
 from armkit.spatial.transforms import check_transform
 
@@ -198,7 +196,7 @@ def pose_candidates(g, d, T, q, valid, family):
             _newton(d, T, q[s], 2)
         for j in range(n):
             if not d.prismatic[j]:
-                q[s, j] = wrap_angle(q[s, j])
+                q[s, j] -= TWO_PI * np.rint(q[s, j] / TWO_PI)
         if d.verify and valid[s]:
             valid[s] = _fk_difference(d, T, q[s]) <= d.verify_tolerance
     duplicate = np.empty(k, dtype=np.bool_)
