@@ -37,10 +37,9 @@ from armkit.ik.cases import (
     SPHERICAL,
     THREE_PARALLEL,
     CaseGeometry,
-    trig_coeffs,
 )
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
-from armkit.ik.subproblems import sp4
+from armkit.ik.subproblems import sp4, trig_coeffs
 from armkit.spatial.transforms import check_transform
 
 __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
