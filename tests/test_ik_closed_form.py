@@ -6,10 +6,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import armkit
+from armkit import _core
 from armkit.chain import DHRow, chain_from_dh
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik import numeric_ik
-from armkit.ik.closed_form import _duplicates, closed_form_ik, closed_form_solver
+from armkit.ik.closed_form import closed_form_ik, closed_form_solver
 from armkit.ik.structure import analyze_structure, poe_from_chain
 from armkit.ik.subproblems import sp1, sp4
 from armkit.kinematics import fk, singular_values
@@ -378,7 +379,7 @@ def test_duplicates_are_merged_modulo_two_pi():
     q[5, 0] += 2e-10  # within the duplicate tolerance
     valid = np.array([False, True, True, True, True, True, True, True])
     duplicate = np.empty(8, dtype=bool)
-    _duplicates(q, valid, chain.prismatic, duplicate)
+    _core.duplicates(q, valid, np.ascontiguousarray(chain.prismatic), duplicate)
     # candidate 0 is invalid, so 1 is the first kept; 4-7 repeat it, 2 and 3 differ
     assert duplicate.tolist() == [False, False, False, False, True, True, True, True]
 

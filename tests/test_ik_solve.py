@@ -11,8 +11,9 @@ from hypothesis import strategies as st
 import armkit
 from armkit.chain import DHRow
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
-from armkit.ik import ik_solutions
-from armkit.ik.solve import IKSolutionsBatch, _Found, _rank_pose, _refine, _residual
+from armkit.ik import IKSolutionsBatch, closed_form_solver, ik_solutions
+from armkit.ik.pipeline import Found, rank, refine
+from armkit.ik.results import residuals
 from armkit.spatial import matrix_from_axis_angle, matrix_from_euler, rotation_angle_between, transform_from
 
 CLOSED_FORM = ["probot-anno", "zju-i", "puma560", "ur5", "stanford", "grb400-scara"]
@@ -248,8 +249,7 @@ def test_bad_near_and_weights():
 
 def _residuals(robot, q, T):
     """The compiled residuals of candidates ``q`` ``(N, k, n)`` of targets ``T`` ``(N, 4, 4)``."""
-    F = robot.fk(q)
-    errors = np.array([[_residual(T[i], F[i, s]) for s in range(q.shape[1])] for i in range(len(T))])
+    errors = residuals(T[:, None], robot.fk(q))
     return errors[..., 0], errors[..., 1]
 
 
@@ -257,13 +257,13 @@ def test_rough_candidates_are_refined_on_their_branch():
     robot = armkit.load("ur5")
     q_true = np.array([[0.3, -1.0, 1.2, 0.4, 0.9, -0.5], [2.0, -2.0, -1.0, 1.0, -1.0, 0.5]])
     T = robot.fk(q_true)
-    found = _Found.empty(2, 1, 6)
+    found = Found.empty(2, 1, 6)
     found.q[...] = q_true[:, None, :] + 1e-7  # one candidate per target
     found.valid[...] = [[True], [False]]
     position_error, orientation_error = _residuals(robot, found.q, T)
     assert np.all(position_error > 1e-8)
     found.position_error[...], found.orientation_error[...] = position_error, orientation_error
-    assert _refine(robot.chain, found, T).tolist() == [0]  # the poses to rank again
+    assert refine(robot.chain, found, T).tolist() == [0]  # the poses to rank again
     assert found.position_error[0, 0] < 1e-12 and found.orientation_error[0, 0] < 1e-12
     np.testing.assert_allclose(robot.fk(found.q[0, 0]), T[0], atol=1e-12)
     assert np.abs(found.q[0, 0] - q_true[0]).max() < 1e-6
@@ -327,15 +327,60 @@ def test_family_flag_survives_refinement():
     robot = armkit.load("puma560")
     q_true = np.array([0.2, -0.4, 0.3, 0.0, 0.0, 0.5])  # q5 = 0: wrist singularity
     T = robot.fk(q_true)[None]
-    found = _Found.empty(1, 1, 6)
+    found = Found.empty(1, 1, 6)
     found.q[...] = q_true + 1e-7
     found.valid[...], found.family[...] = True, True
     found.position_error[...], found.orientation_error[...] = _residuals(robot, found.q, T)
-    _rank_pose(found, 0, np.zeros(6), np.ones(6), robot.chain.lower, robot.chain.upper, True)
+    solver = closed_form_solver(robot.chain)
+    rank(solver, found, np.array([0]), np.zeros(6), np.ones(6), True)
     assert not found.keep[0, 0]  # 1e-7 away: not kept yet
-    assert _refine(robot.chain, found, T).tolist() == [0]
-    _rank_pose(found, 0, np.zeros(6), np.ones(6), robot.chain.lower, robot.chain.upper, True)
+    assert refine(robot.chain, found, T).tolist() == [0]
+    rank(solver, found, np.array([0]), None, None, True)  # None: zeros and ones
     assert found.keep[0, 0] and found.family[0, 0]
+
+
+def test_ranking_sorts_usable_candidates_first_nearest_first():
+    """The core's ranking: kept (residual <= 1e-9) and inside the limits first, by weighted distance."""
+    robot = armkit.load("puma560")
+    solver = closed_form_solver(robot.chain)
+    q = robot.random_q(4, rng=5)
+    found = Found.empty(1, 4, 6)
+    found.q[0] = q
+    found.q[0, 3, 1] = robot.chain.upper[1] + 0.1  # outside the limits
+    found.valid[...], found.family[...] = True, False
+    found.errors[...] = 0.0
+    found.errors[0, 2] = 2e-9, 0.0  # not kept
+    near, weights = q[1] + 0.01, np.array([1.0, 2.0, 1.0, 1.0, 1.0, 0.5])
+    rank(solver, found, np.array([0]), near, weights, True)
+    kept = [q[0], q[1]]
+    distance = [np.linalg.norm(weights * (v - near)) for v in kept]
+    assert found.count[0] == 2
+    np.testing.assert_array_equal(found.q[0, :2], np.array(kept)[np.argsort(distance)])
+    # then the others in their order: the rough one (not kept), the one outside the limits
+    assert found.keep[0].tolist() == [True, True, False, True]
+    assert found.inside[0].tolist() == [True, True, True, False]
+    rank(solver, found, np.array([0]), near, weights, False)  # outside the limits counts too
+    assert found.count[0] == 3
+
+
+@pytest.mark.parametrize("name", ["ur5", "grb400-scara"])
+def test_batch_answers_do_not_depend_on_the_thread_count(name):
+    """Enough poses for two threads to take half each: the same bits with one or two."""
+    robot = armkit.load(name)
+    count = 5000
+    q = robot.random_q(count, rng=41)
+    if robot.chain.n == 6:
+        q[::7, 4] = 0.0  # some singular poses (family walk and refinement on the way)
+    T = robot.fk(q)
+    near = robot.random_q(count, rng=42)
+    one, two = (ik_solutions(robot.chain, T, near=near, threads=t) for t in (1, 2))
+    for field in ("q", "counts", "within_limits", "family", "position_error", "orientation_error"):
+        np.testing.assert_array_equal(getattr(one, field), getattr(two, field))
+    np.testing.assert_array_equal(robot.ik(T, near=near, threads=1, within_limits=False),
+                                  robot.ik(T, near=near, threads=2, within_limits=False))
+    solver = closed_form_solver(robot.chain)
+    for a, b in zip(solver.candidates(T, threads=1), solver.candidates(T, threads=2), strict=True):
+        np.testing.assert_array_equal(a, b)
 
 
 def test_a_pose_printed_with_six_decimals_is_solved():

@@ -1,7 +1,192 @@
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+
+#include <nanobind/stl/tuple.h>
+
+#include "armkit/batch.hpp"
+#include "armkit/closed_form.hpp"
+#include "armkit/ik_solve.hpp"
 #include "bindings.hpp"
 
 namespace armkit::bindings {
 
-void bind_solve(nb::module_&) {}
+namespace {
+
+using InIndex = nb::ndarray<const std::int64_t, nb::c_contig, nb::device::cpu>;
+using OutIndex = nb::ndarray<std::int64_t, nb::c_contig, nb::device::cpu>;
+
+ClosedForm make_closed_form(const Chain& chain, const CaseGeometry& geometry, InIndex index, In sign, In M_inv,
+                            bool inverted, int k, bool verify, bool polish, double verify_tolerance) {
+    const std::size_t n = std::size_t(chain.n);
+    if (geometry.n != chain.n || index.size() != n || sign.size() != n || M_inv.size() != 16 || k < 1 ||
+        k > kMaxCandidates)
+        throw std::invalid_argument("ClosedForm: expected a geometry of the chain's n joints, index and sign "
+                                    "(n,), M_inv (4, 4), 1 <= k <= 8");
+    ClosedForm cf;
+    cf.chain = chain;
+    cf.geometry = geometry;
+    bool seen[kMaxJoints] = {};
+    for (std::size_t j = 0; j < n; ++j) {
+        const std::int64_t user = index.data()[j];
+        if (user < 0 || user >= std::int64_t(n) || seen[user])
+            throw std::invalid_argument("ClosedForm: index must be a permutation of 0 .. n - 1");
+        seen[user] = true;
+        cf.index[j] = int(user);
+        cf.sign[j] = sign.data()[j];
+    }
+    cf.M_inv = pose_from_matrix(M_inv.data());
+    cf.inverted = inverted;
+    cf.k = k;
+    cf.verify = verify;
+    cf.polish = polish;
+    cf.verify_tolerance = verify_tolerance;
+    return cf;
+}
+
+std::size_t poses(const In& T) {
+    if (T.size() % 16 != 0) throw std::invalid_argument("T: expected poses (N, 4, 4)");
+    return T.size() / 16;
+}
+
+// The outputs of N poses as a Found (k candidates per pose: from their sizes), after checking them.
+Found found_of(const ClosedForm& cf, std::size_t N, Out& q, Out& errors, OutBool& flags, OutIndex& count) {
+    const std::size_t n = std::size_t(cf.chain.n), k = N > 0 ? errors.size() / (2 * N) : std::size_t(cf.k);
+    if (k > std::size_t(kMaxCandidates) || q.size() != N * k * n || errors.size() != N * k * 2 ||
+        flags.size() != N * k * kFlags || count.size() != N)
+        throw std::invalid_argument("expected outputs q (N, k, n), errors (N, k, 2), flags (N, k, 4), count (N,)");
+    return Found{int(k), cf.chain.n, q.data(), errors.data(), flags.data(), count.data()};
+}
+
+// The reference configurations (N, n) or (n,) (stride 0), or zeros; the weights (n,), or ones.
+struct References {
+    double zeros[kMaxJoints] = {}, ones[kMaxJoints];
+    const double* near = zeros;
+    std::size_t stride = 0;
+    const double* weights = ones;
+
+    References(const ClosedForm& cf, std::size_t N, const In& near_in, const In& weights_in) {
+        const std::size_t n = std::size_t(cf.chain.n);
+        for (double& one : ones) one = 1.0;
+        if (near_in.is_valid()) {
+            if (near_in.size() != N * n && near_in.size() != n)
+                throw std::invalid_argument("near: expected (N, n) or (n,) joint values");
+            near = near_in.data();
+            stride = near_in.size() == N * n && N > 1 ? n : 0;
+        }
+        if (weights_in.is_valid()) {
+            if (weights_in.size() != n) throw std::invalid_argument("weights: expected (n,) values");
+            weights = weights_in.data();
+        }
+    }
+};
+
+nb::tuple solve_batch(const ClosedForm& cf, In T, In near, In weights, bool within_limits, bool nearest,
+                      double rigid_tolerance, Out q, Out errors, OutBool flags, OutIndex count, int threads) {
+    const std::size_t N = poses(T);
+    const Found f = found_of(cf, N, q, errors, flags, count);
+    if (f.k != cf.k) throw std::invalid_argument("solve_batch: expected k = closed_form.k candidates per pose");
+    const References ref(cf, N, near, weights);
+    long long rough = 0, empty = 0;
+    {
+        nb::gil_scoped_release release;
+        bool solve = true;
+        if (rigid_tolerance >= 0.0) {
+            const Rigidity r = rigidity(T.data(), N);
+            solve = r.finite && r.last_row <= rigid_tolerance && r.orthonormal <= rigid_tolerance && r.rough == 0;
+        }
+        if (solve) {
+            std::atomic<long long> total_rough{0}, total_empty{0};
+            parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
+                const SolveCounts c = solve_poses(cf, T.data(), ref.near, ref.stride, ref.weights, within_limits,
+                                                  nearest, f, begin, end);
+                total_rough += c.rough;
+                total_empty += c.empty;
+            });
+            rough = total_rough, empty = total_empty;
+        } else {
+            rough = -1;
+        }
+    }
+    return nb::make_tuple(rough, empty);
+}
+
+void rank(const ClosedForm& cf, InIndex which, In near, In weights, bool within_limits, Out q, Out errors,
+          OutBool flags, OutIndex count) {
+    const std::size_t N = count.size();
+    const Found f = found_of(cf, N, q, errors, flags, count);
+    const References ref(cf, N, near, weights);
+    for (std::size_t a = 0; a < which.size(); ++a) {
+        const std::int64_t i = which.data()[a];
+        if (i < 0 || std::size_t(i) >= N) throw std::invalid_argument("rank: pose index out of range");
+        rank_pose(cf.chain, f, std::size_t(i), ref.near + ref.stride * std::size_t(i), ref.weights, within_limits);
+    }
+}
+
+void candidates(const ClosedForm& cf, In T, Out q, OutBool valid, OutBool family, int threads) {
+    const std::size_t N = poses(T), k = std::size_t(cf.k), n = std::size_t(cf.chain.n);
+    if (q.size() != N * k * n || valid.size() != N * k || family.size() != N * k)
+        throw std::invalid_argument("candidates: expected outputs q (N, k, n), valid and family (N, k)");
+    const double* poses_in = T.data();
+    double* q_out = q.data();
+    bool *valid_out = valid.data(), *family_out = family.data();
+    parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i)
+            pose_candidates(cf, pose_from_matrix(poses_in + 16 * i), q_out + i * k * n, valid_out + i * k,
+                            family_out + i * k);
+    });
+}
+
+void residuals(In T_target, In F, Out out) {
+    const std::size_t N = poses(T_target);
+    if (F.size() != 16 * N || out.size() != 2 * N)
+        throw std::invalid_argument("residuals: expected (N, 4, 4), (N, 4, 4) and an output (N, 2)");
+    for (std::size_t i = 0; i < N; ++i)
+        pose_residual(pose_from_matrix(T_target.data() + 16 * i), pose_from_matrix(F.data() + 16 * i),
+                      out.data()[2 * i], out.data()[2 * i + 1]);
+}
+
+void duplicates(In q, InBool valid, InBool prismatic, OutBool duplicate) {
+    const std::size_t k = valid.size(), n = prismatic.size();
+    if (k > std::size_t(kMaxCandidates) || n > std::size_t(kMaxJoints) || q.size() != k * n ||
+        duplicate.size() != k)
+        throw std::invalid_argument("duplicates: expected q (k, n), valid (k,), prismatic (n,), duplicate (k,)");
+    std::uint8_t kinds[kMaxJoints];
+    for (std::size_t j = 0; j < n; ++j) kinds[j] = prismatic.data()[j];
+    mark_duplicates(q.data(), int(k), int(n), valid.data(), kinds, duplicate.data());
+}
+
+}  // namespace
+
+void bind_solve(nb::module_& m) {
+    nb::class_<ClosedForm>(m, "ClosedForm",
+                           "A chain's closed-form IK: its chain, case geometry, joint map and checks.")
+        .def(nb::new_(&make_closed_form), nb::arg("chain"), nb::arg("geometry"), nb::arg("index"),
+             nb::arg("sign"), nb::arg("M_inv"), nb::arg("inverted"), nb::arg("k"), nb::arg("verify"),
+             nb::arg("polish"), nb::arg("verify_tolerance"))
+        .def_ro("k", &ClosedForm::k)
+        .def_prop_ro("n", [](const ClosedForm& cf) { return cf.chain.n; });
+    m.def("solve_batch", &solve_batch, nb::arg("closed_form"), nb::arg("T"), nb::arg("near").none(),
+          nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("nearest"), nb::arg("rigid_tolerance"),
+          nb::arg("q"), nb::arg("errors"), nb::arg("flags"), nb::arg("count"), nb::arg("threads"),
+          "Candidates of poses T (N, 4, 4) wrapped into the limits (reference near (N, n), (n,) or None: "
+          "zeros), FK-verified, family representatives moved to the member nearest to near, ranked by "
+          "|weights * (q - near)| (None: ones) into q (N, k, n), errors (N, k, 2) [m, rad], flags (N, k, 4) "
+          "(valid, keep, inside, family) and count (N,). nearest: verify nearest first, up to the first kept. "
+          "rigid_tolerance >= 0: first check that every T is exactly rigid (as check_transform would return "
+          "it unchanged); if not, solve nothing and return rough = -1. Returns (rough: valid candidates "
+          "above 1e-10 to refine, empty: poses without a usable candidate).");
+    m.def("rank", &rank, nb::arg("closed_form"), nb::arg("poses"), nb::arg("near").none(),
+          nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("q"), nb::arg("errors"), nb::arg("flags"),
+          nb::arg("count"), "Flag, count and sort again the candidates of the given poses (in place).");
+    m.def("candidates", &candidates, nb::arg("closed_form"), nb::arg("T"), nb::arg("q"), nb::arg("valid"),
+          nb::arg("family"), nb::arg("threads"), nb::call_guard<nb::gil_scoped_release>(),
+          "Every closed-form candidate of poses T (N, 4, 4) into q (N, k, n), valid and family (N, k).");
+    m.def("residuals", &residuals, nb::arg("T_target"), nb::arg("F"), nb::arg("out"),
+          "FK residuals (N, 2) of poses F to T_target (N, 4, 4): position [m], rotation angle [rad].");
+    m.def("duplicates", &duplicates, nb::arg("q"), nb::arg("valid"), nb::arg("prismatic"), nb::arg("duplicate"),
+          "Mark the candidates of q (k, n) equal (modulo 2 pi, 1e-9) to an earlier valid one.");
+}
 
 }  // namespace armkit::bindings

@@ -1,0 +1,87 @@
+#include "armkit/closed_form.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "armkit/fk.hpp"
+
+namespace armkit {
+
+void joint_motion(const ClosedForm& cf, const Pose& T, Mat3& R, Vec3& t) {
+    const Pose A = cf.inverted ? inverse(T) : T;
+    const Pose G = compose(A, cf.M_inv);
+    R = G.rotation();
+    t = G.position();
+}
+
+void newton(const Chain& chain, const Pose& T, double* q, int steps) {
+    const int n = chain.n;
+    static constexpr int rows[6] = {0, 1, 2, 3, 4, 5};  // every task row
+    const double free[kMaxJoints] = {};                  // no joint held at a bound
+    Vec3 axes[kMaxJoints], points[kMaxJoints];
+    double J[6 * kMaxJoints], e[6], dq[kMaxJoints];
+    for (int step = 0; step < steps; ++step) {
+        const Pose F = joint_axes(chain, q, axes, points);
+        jacobian_from_axes(F, axes, points, chain.prismatic.data(), n, J);
+        pose_error(T, F, e);
+        damped_step(J, n, e, rows, 6, free, 1e-14, dq);
+        for (int j = 0; j < n; ++j) q[j] += dq[j];
+    }
+}
+
+double fk_difference(const Chain& chain, const Pose& T, const double* q) {
+    const Pose F = tool_pose(chain, q);
+    double worst = 0.0;
+    for (int a = 0; a < 12; ++a) worst = std::max(worst, std::fabs(F.m[a] - T.m[a]));
+    return worst;
+}
+
+void mark_duplicates(const double* q, int k, int n, const bool* valid, const std::uint8_t* prismatic,
+                     bool* duplicate) {
+    for (int a = 0; a < k; ++a) duplicate[a] = false;
+    for (int a = 0; a < k; ++a) {
+        if (!valid[a]) continue;
+        for (int b = a + 1; b < k; ++b) {
+            bool same = true;
+            for (int j = 0; j < n; ++j) {
+                double diff = std::fabs(q[a * n + j] - q[b * n + j]);
+                if (!prismatic[j]) diff = std::min(diff, kTwoPi - diff);
+                if (!(diff <= kDuplicateTolerance)) {
+                    same = false;
+                    break;
+                }
+            }
+            if (same) duplicate[b] = true;
+        }
+    }
+}
+
+void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family) {
+    const int k = cf.k, n = cf.chain.n;
+    double q_int[kMaxCandidates * kMaxJoints];
+    Mat3 R;
+    Vec3 t;
+    joint_motion(cf, T, R, t);
+    solve_pose(cf.geometry, R, t, q_int, valid, family);
+    for (int s = 0; s < k; ++s) {
+        double* qs = q + s * n;
+        bool finite = true;
+        for (int j = 0; j < n; ++j) {
+            qs[cf.index[j]] = cf.sign[j] * q_int[s * n + j];
+        }
+        for (int j = 0; j < n; ++j) finite = finite && std::isfinite(qs[j]);
+        valid[s] = valid[s] && finite;
+        if (cf.polish && valid[s]) newton(cf.chain, T, qs, 2);
+        for (int j = 0; j < n; ++j)
+            if (!cf.chain.prismatic[j]) qs[j] = wrap_angle(qs[j]);
+        if (cf.verify && valid[s]) valid[s] = fk_difference(cf.chain, T, qs) <= cf.verify_tolerance;
+    }
+    bool duplicate[kMaxCandidates];
+    mark_duplicates(q, k, n, valid, cf.chain.prismatic.data(), duplicate);
+    for (int s = 0; s < k; ++s) {
+        valid[s] = valid[s] && !duplicate[s];
+        family[s] = family[s] && valid[s];
+    }
+}
+
+}  // namespace armkit

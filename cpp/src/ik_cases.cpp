@@ -1,0 +1,533 @@
+// The closed-form case solvers (port of armkit/ik/cases.py; see ik_cases.hpp).
+//
+// Spherical wrist: joints 1-3 place the wrist centre (SP3 / SP4 / SP2 / planar 2R by which
+// pair of axes 1-3 meets or is parallel; a prismatic third joint gives a quadratic; general
+// axes a two-angle system), then the wrist turns h6 (SP2) and a normal of it (SP1) into
+// place. Three parallel axes 2-4: two equations in q1, q5 alone (two_angle_system), then
+// q6 (SP1), q2 + q3 + q4 (SP1) and a planar 2R; axes 1-3 parallel the same in q6, q4.
+// SCARA and planar 2R/3R: angle sum, height along the axes, planar 2R.
+#include "armkit/ik_cases.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "armkit/quartic.hpp"
+#include "armkit/subproblems.hpp"
+
+namespace armkit {
+
+namespace {
+
+// The 2x2 matrix of a two-angle system P x(t1) - Q x(t2) = r, x(t) = [cos t, sin t].
+struct Mat2 {
+    double m[2][2];
+};
+
+// The four candidates of a two-angle system.
+struct AngleCandidates {
+    double t1[4], t2[4];
+    bool valid[4], free[4];
+};
+
+// The three joints of each of four candidates for joints 1-3 (spherical wrist).
+struct ArmCandidates {
+    double q[4][3];
+    bool valid[4], free[4];
+};
+
+double sign_of(double x) { return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0); }
+
+// ------------------------------------------------------------ two-angle system
+
+// t1 with m . x(t1) = mr (or as close as it gets). When the first equation leaves t1 free,
+// the second, mP . x(t1) - mQ . x(t2) = mr, still ties t2 to it; this t1 puts its
+// right-hand side at 0, the middle of the range t2 can reach.
+double family_representative(double m0, double m1, double mr) {
+    const double m = std::sqrt(m0 * m0 + m1 * m1);
+    if (m == 0.0) return 0.0;
+    return std::atan2(m1, m0) + std::acos(std::min(std::max(mr / m, -1.0), 1.0));
+}
+
+// The system when Q has rank 1: lam holds t1 alone, mu then t2.
+void rank1(const CaseGeometry& g, const Mat2& P, const double* r, double size, AngleCandidates& out) {
+    const double l0 = g.lam[0], l1 = g.lam[1], m0 = g.mu[0], m1 = g.mu[1];
+    const double lP0 = l0 * P.m[0][0] + l1 * P.m[1][0], lP1 = l0 * P.m[0][1] + l1 * P.m[1][1];
+    Angles2 first = solve_trig_linear(lP0, lP1, r[0] * l0 + r[1] * l1, size, true);
+    const double mP0 = m0 * P.m[0][0] + m1 * P.m[1][0], mP1 = m0 * P.m[0][1] + m1 * P.m[1][1];
+    const double mr = r[0] * m0 + r[1] * m1;
+    if (first.free) {  // t1 free: the member whose t2 equation is easiest (middle of its range)
+        const double rep = family_representative(mP0, mP1, mr);
+        first.t[0] = first.t[1] = rep;
+    }
+    const double mQ0 = m0 * g.Q[0][0] + m1 * g.Q[1][0], mQ1 = m0 * g.Q[0][1] + m1 * g.Q[1][1];
+    for (int i = 0; i < 2; ++i) {
+        const double rhs = mP0 * std::cos(first.t[i]) + mP1 * std::sin(first.t[i]) - mr;
+        const Angles2 second = solve_trig_linear(mQ0, mQ1, rhs, size, g.snap_t2);
+        for (int j = 0; j < 2; ++j) {
+            out.t1[2 * i + j] = first.t[i];
+            out.t2[2 * i + j] = second.t[j];
+            out.valid[2 * i + j] = first.ok[i] && second.ok[j];
+            out.free[2 * i + j] = first.free || second.free;
+        }
+    }
+}
+
+// F(t) = A0 + A1 cos t + B1 sin t + A2 cos 2t + B2 sin 2t and F'(t).
+void quartic_equation(const double* A, double t, double& F, double& dF) {
+    const double c = std::cos(t), s = std::sin(t), c2 = std::cos(2.0 * t), s2 = std::sin(2.0 * t);
+    F = A[0] + A[1] * c + A[2] * s + A[3] * c2 + A[4] * s2;
+    dF = -A[1] * s + A[2] * c - 2.0 * A[3] * s2 + 2.0 * A[4] * c2;
+}
+
+// Roots of the quartic in exp(i t1), with t2 from Q^-1.
+void quartic(const CaseGeometry& g, const Mat2& P, const double* r, AngleCandidates& out) {
+    const auto& Qi = g.Q_inv;
+    const double W00 = Qi[0][0] * P.m[0][0] + Qi[0][1] * P.m[1][0];
+    const double W01 = Qi[0][0] * P.m[0][1] + Qi[0][1] * P.m[1][1];
+    const double W10 = Qi[1][0] * P.m[0][0] + Qi[1][1] * P.m[1][0];
+    const double W11 = Qi[1][0] * P.m[0][1] + Qi[1][1] * P.m[1][1];
+    const double w0[2] = {Qi[0][0] * r[0] + Qi[0][1] * r[1], Qi[1][0] * r[0] + Qi[1][1] * r[1]};
+    const double S00 = W00 * W00 + W10 * W10, S11 = W01 * W01 + W11 * W11, S01 = W00 * W01 + W10 * W11;
+    const double m0 = W00 * w0[0] + W10 * w0[1], m1 = W01 * w0[0] + W11 * w0[1];
+    // F(t) = |W x(t) - w0|^2 - 1 = A0 + A1 cos t + B1 sin t + A2 cos 2t + B2 sin 2t
+    const double A[5] = {0.5 * (S00 + S11) + w0[0] * w0[0] + w0[1] * w0[1] - 1.0,  // A0
+                         -2.0 * m0, -2.0 * m1,                                      // A1, B1
+                         0.5 * (S00 - S11), S01};                                   // A2, B2
+    // z^2 F in z = exp(i t): coefficients of z^4 ... z^0
+    const Complex coeffs[5] = {Complex(A[3], -A[4]) / 2.0, Complex(A[1], -A[2]) / 2.0, Complex(A[0], 0.0),
+                               Complex(A[1], A[2]) / 2.0, Complex(A[3], A[4]) / 2.0};
+    double size = 0.0;
+    for (const Complex& c : coeffs) size = std::max(size, std::abs(c));
+    if (std::abs(coeffs[0]) > 1e-12 * size) {
+        Complex roots[4];
+        quartic_roots(coeffs, roots);
+        for (int i = 0; i < 4; ++i) {
+            double t = std::atan2(roots[i].imag(), roots[i].real());
+            for (int step = 0; step < 3; ++step) {  // Newton on F(t), the real equation
+                double F, dF;
+                quartic_equation(A, t, F, dF);
+                if (std::abs(dF) > 1e-300) t -= std::min(std::max(F / dF, -0.1), 0.1);
+            }
+            out.t1[i] = t;
+            out.valid[i] = std::abs(std::abs(roots[i]) - 1.0) <= 1e-6;
+        }
+    } else {  // degenerate: F is of degree 1, a cos t + b sin t = -A0
+        const Angles2 lin = solve_trig_linear(A[1], A[2], -A[0], size, true);
+        for (int i = 0; i < 4; ++i) {
+            out.t1[i] = lin.t[i % 2];
+            out.valid[i] = i < 2 ? lin.ok[i] : false;
+        }
+    }
+    for (int i = 0; i < 4; ++i) {
+        const double c = std::cos(out.t1[i]), s = std::sin(out.t1[i]);
+        out.t2[i] = std::atan2(W10 * c + W11 * s - w0[1], W00 * c + W01 * s - w0[0]);
+    }
+}
+
+// P x(t1) - Q x(t2) - r (F) and its derivatives by t1 (d1) and t2 (d2).
+void system_residual(const double (&Q)[2][2], const Mat2& P, const double* r, double t1, double t2, double* F,
+                     double* d1, double* d2) {
+    const double c1 = std::cos(t1), s1 = std::sin(t1), c2 = std::cos(t2), s2 = std::sin(t2);
+    F[0] = P.m[0][0] * c1 + P.m[0][1] * s1 - Q[0][0] * c2 - Q[0][1] * s2 - r[0];
+    F[1] = P.m[1][0] * c1 + P.m[1][1] * s1 - Q[1][0] * c2 - Q[1][1] * s2 - r[1];
+    d1[0] = -P.m[0][0] * s1 + P.m[0][1] * c1;
+    d1[1] = -P.m[1][0] * s1 + P.m[1][1] * c1;
+    d2[0] = Q[0][0] * s2 - Q[0][1] * c2;
+    d2[1] = Q[1][0] * s2 - Q[1][1] * c2;
+}
+
+// Newton steps on P x(t1) - Q x(t2) = r itself (Q^-1 may be ill-conditioned); returns the
+// remaining residual max |P x(t1) - Q x(t2) - r|.
+double polish(const double (&Q)[2][2], const Mat2& P, const double* r, double& t1, double& t2) {
+    double F[2], d1[2], d2[2];
+    for (int step = 0; step < 6; ++step) {  // quadratic convergence; linear near a double root
+        system_residual(Q, P, r, t1, t2, F, d1, d2);
+        const double det = d1[0] * d2[1] - d1[1] * d2[0];
+        const double scale = 1.0 + std::max(std::abs(d1[0]), std::abs(d1[1])) *
+                                       std::max(std::abs(d2[0]), std::abs(d2[1]));
+        if (std::abs(det) > 1e-12 * scale) {
+            t1 -= std::min(std::max((d2[1] * F[0] - d2[0] * F[1]) / det, -0.1), 0.1);
+            t2 -= std::min(std::max((d1[0] * F[1] - d1[1] * F[0]) / det, -0.1), 0.1);
+        }
+    }
+    system_residual(Q, P, r, t1, t2, F, d1, d2);
+    return std::max(std::abs(F[0]), std::abs(F[1]));
+}
+
+// All (t1, t2) with P x(t1) - Q x(t2) = r (Q = g.Q fixed by the chain; P, r by the pose).
+// Q of rank 1: a combination of the equations holds t1 alone, then t2 the same way (up to
+// 2 x 2 pairs). Otherwise x(t2) = Q^-1 (P x(t1) - r) on the unit circle is a quartic in
+// exp(i t1) (then Newton steps on the equations themselves). free: t1 (or t2) arbitrary.
+AngleCandidates two_angle_system(const CaseGeometry& g, const Mat2& P, const double* r) {
+    const double size = 1.0 + std::max(std::max(std::abs(P.m[0][0]), std::abs(P.m[0][1])),
+                                       std::max(std::abs(P.m[1][0]), std::abs(P.m[1][1]))) +
+                        std::max(std::abs(r[0]), std::abs(r[1]));
+    AngleCandidates out{};
+    if (g.rank1) {
+        rank1(g, P, r, size, out);
+        return out;
+    }
+    quartic(g, P, r, out);
+    for (int i = 0; i < 4; ++i) {
+        const double residual = polish(g.Q, P, r, out.t1[i], out.t2[i]);
+        out.valid[i] = out.valid[i] && residual <= 1e-10 * size;
+        out.free[i] = false;
+    }
+    return out;
+}
+
+// ------------------------------------------------------------- spherical wrist
+
+// Both s with |v + s h| = d, and whether each is a real root.
+Angles2 slide_to_sphere(Vec3 v, Vec3 h, double d) {
+    const double b = dot(v, h);
+    const double disc = b * b - dot(v, v) + d * d;
+    const bool exists = disc >= -1e-9 * (dot(v, v) + d * d);
+    const double root = std::sqrt(std::max(disc, 0.0));
+    return {{-b + root, -b - root}, {exists, exists && disc > 0}, false};
+}
+
+// Joints 1-3 for general axes: a two-angle system in q1, q3 (g.a1, g.a2 are the closest
+// points o2, o3 of axes 2 and 3), then q2 by SP1.
+ArmCandidates general_position(const CaseGeometry& g, Vec3 w) {
+    const Vec3 h0 = g.h[0], h1 = g.h[1], h2 = g.h[2], p0 = g.p[0];
+    const Vec3 o2 = g.a1, o3 = g.a2, c = g.c;
+    const Vec3 u = w - p0;
+    TrigCoeffs height = trig_coeffs(h1, -h0, u);
+    TrigCoeffs distance = trig_coeffs(2.0 * (p0 - o2), -h0, u);
+    height.constant += dot(h1, p0 - o2);
+    distance.constant += dot(p0 - o2, p0 - o2) + dot(u, u);
+    const Mat2 P{{{height.cos_coeff, height.sin_coeff}, {distance.cos_coeff, distance.sin_coeff}}};
+    const double r[2] = {g.f[0] - height.constant, g.f[1] - distance.constant};
+    const AngleCandidates pair = two_angle_system(g, P, r);
+    ArmCandidates out{};
+    for (int i = 0; i < 4; ++i) {
+        const Vec3 y = p0 + rotate(-h0, pair.t1[i], u);
+        const Vec3 x = o3 + rotate(h2, pair.t2[i], c - o3);
+        const Angle1 q2 = sp1(x - o2, y - o2, h1);
+        out.q[i][0] = pair.t1[i];
+        out.q[i][1] = q2.t;
+        out.q[i][2] = pair.t2[i];
+        out.valid[i] = pair.valid[i];
+        out.free[i] = pair.free[i] || q2.free;
+    }
+    return out;
+}
+
+// Joints 1-3 that put the wrist centre g.c at w: four triples.
+ArmCandidates wrist_centre_joints(const CaseGeometry& g, Vec3 w) {
+    if (g.position_case == PositionCase::General123) return general_position(g, w);
+    const Vec3 c = g.c, o = g.o;
+    const Vec3 h0 = g.h[0], h1 = g.h[1], h2 = g.h[2];
+    const Vec3 p0 = g.p[0], p1 = g.p[1], p2 = g.p[2];
+    ArmCandidates out{};
+    auto put = [&out](int s, double q1, double q2, double q3, bool valid, bool free) {
+        out.q[s][0] = q1;
+        out.q[s][1] = q2;
+        out.q[s][2] = q3;
+        out.valid[s] = valid;
+        out.free[s] = free;
+    };
+    switch (g.position_case) {
+        case PositionCase::Parallel23: {
+            const Angles2 q1 = sp4(h1, w - p0, -h0, dot(h1, c - p0));
+            for (int i = 0; i < 2; ++i) {
+                const Vec3 y = p0 + rotate(-h0, q1.t[i], w - p0);
+                const Planar2 q23 = planar_2r(h1, p2 - p1, c - p2, y - p1);
+                for (int j = 0; j < 2; ++j)
+                    put(2 * i + j, q1.t[i], q23.ta[j], q23.tb[j], q1.ok[i] && q23.ok[j], q1.free || q23.free);
+            }
+            break;
+        }
+        case PositionCase::Parallel12: {
+            const Angles2 q3 = sp4(h0, c - p2, h2, dot(w - p2, h0));
+            for (int i = 0; i < 2; ++i) {
+                const Vec3 x = p2 + rotate(h2, q3.t[i], c - p2);
+                const Planar2 q12 = planar_2r(h0, p1 - p0, x - p1, w - p0);
+                for (int j = 0; j < 2; ++j)
+                    put(2 * i + j, q12.ta[j], q12.tb[j], q3.t[i], q3.ok[i] && q12.ok[j], q3.free || q12.free);
+            }
+            break;
+        }
+        case PositionCase::Intersect23: {
+            const Angles2 q1 = sp3(w - p0, o - p0, -h0, norm(c - o));
+            for (int i = 0; i < 2; ++i) {
+                const Vec3 y = p0 + rotate(-h0, q1.t[i], w - p0);
+                const AnglePairs2 q23 = sp2(y - o, c - o, -h1, h2);
+                for (int j = 0; j < 2; ++j)
+                    put(2 * i + j, q1.t[i], q23.t1[j], q23.t2[j], q1.ok[i] && q23.ok[j],
+                        q1.free || q23.free1 || q23.free2);
+            }
+            break;
+        }
+        default: {  // Intersect12Revolute / Intersect12Prismatic
+            const bool slide = g.position_case == PositionCase::Intersect12Prismatic;
+            const double d = norm(w - o);
+            const Angles2 q3 = slide ? slide_to_sphere(c - o, h2, d) : sp3(c - p2, o - p2, h2, d);
+            for (int i = 0; i < 2; ++i) {
+                const Vec3 x = slide ? c + q3.t[i] * h2 : p2 + rotate(h2, q3.t[i], c - p2);
+                const AnglePairs2 q12 = sp2(w - o, x - o, -h0, h1);
+                for (int j = 0; j < 2; ++j)
+                    put(2 * i + j, q12.t1[j], q12.t2[j], q3.t[i], q3.ok[i] && q12.ok[j],
+                        q3.free || q12.free1 || q12.free2);
+            }
+            break;
+        }
+    }
+    return out;
+}
+
+// Spherical wrist: joints 1-3 for the wrist centre, then the wrist: 8 candidates.
+void spherical(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    const Vec3 h3 = g.h[3], h4 = g.h[4], h5 = g.h[5], u = g.u;
+    const int n = g.n;
+    const ArmCandidates arm = wrist_centre_joints(g, R * g.c + t);
+    // the wrist's rotation R_w = R123^T R_G, applied to h6 and a normal u of it
+    for (int i = 0; i < 4; ++i) {
+        Vec3 a = R * h5, b = R * u;
+        for (int j = 0; j < 3; ++j) {
+            if (g.prismatic[j]) continue;
+            const Vec3 k = -g.h[j];
+            a = rotate(k, arm.q[i][j], a);
+            b = rotate(k, arm.q[i][j], b);
+        }
+        const AnglePairs2 q45 = sp2(a, h5, -h3, h4);
+        for (int m = 0; m < 2; ++m) {
+            // R6 u = R5^T R4^T R_w u
+            const Vec3 target = rotate(-h4, q45.t2[m], rotate(-h3, q45.t1[m], b));
+            const Angle1 q6 = sp1(u, target, h5);
+            const int s = 2 * i + m;
+            double* qs = q + n * s;
+            qs[0] = arm.q[i][0];
+            qs[1] = arm.q[i][1];
+            qs[2] = arm.q[i][2];
+            qs[3] = q45.t1[m];
+            qs[4] = q45.t2[m];
+            qs[5] = q6.t;
+            valid[s] = arm.valid[i] && q45.ok[m];
+            family[s] = arm.free[i] || q45.free1 || q45.free2 || q6.free;
+        }
+    }
+}
+
+// ----------------------------------------------------------- three parallel axes
+
+// Near an aligned wrist, q5 from a sine (accurate) rather than a cosine (~1e-8). h6 . R5^T h
+// is the cosine-like quantity the equations give; at a distance d from the aligned value it
+// differs from +-1 by b (1 - cos d) only, lost below d ~ 1e-8. S = |h6 x R_G^T R1 h| keeps
+// its relative accuracy: b (1 - cos d) = S^2 / (1 + sqrt(1 - S^2)). The two branches of
+// candidate pair s straddle the aligned value.
+double q5_near_aligned_wrist(const CaseGeometry& g, const Mat3& R, double q1, double q5, int s) {
+    if (g.q5_aligned.empty()) return q5;
+    std::size_t nearest = 0;
+    double gap = std::numeric_limits<double>::infinity();
+    for (std::size_t a = 0; a < g.q5_aligned.size(); ++a) {
+        const double d = wrap_angle(q5 - g.q5_aligned[a]);
+        if (std::abs(d) < std::abs(gap)) {
+            nearest = a;
+            gap = d;
+        }
+    }
+    if (std::abs(gap) > 1e-3) return q5;
+    const Vec3 v = mul_transposed(R, rotate(g.h[0], q1, g.hp));
+    const Vec3 c = cross(g.h[5], v);
+    const double S2 = std::min(dot(c, c), 1.0);
+    const double one_minus_cos = S2 / (1.0 + std::sqrt(1.0 - S2)) / g.b_aligned;
+    const double d = 2.0 * std::asin(std::min(std::sqrt(0.5 * one_minus_cos), 1.0));
+    double sign;
+    if (gap > 0)
+        sign = 1.0;
+    else if (gap < 0)
+        sign = -1.0;
+    else
+        sign = s % 2 == 0 ? 1.0 : -1.0;  // (+d, -d) pairs
+    return g.q5_aligned[nearest] + sign * d;
+}
+
+// Put q5 exactly where axis 6 is parallel to h when a quartic root is that close to it.
+// There the quartic has a double root, which Newton steps reach only to ~1e-8; the exact
+// value lets the family (q6 against q2 + q3 + q4) be recognised. q1 is then solved from
+// P x1 = r + Q x5 (a 2x2 linear system).
+void snap_to_aligned_wrist(const CaseGeometry& g, const Mat2& P, const double* r, double* t1, double* t5) {
+    const double det = P.m[0][0] * P.m[1][1] - P.m[0][1] * P.m[1][0];
+    const double size = 1.0 + std::max(std::max(std::abs(P.m[0][0]), std::abs(P.m[0][1])),
+                                       std::max(std::abs(P.m[1][0]), std::abs(P.m[1][1])));
+    if (g.q5_aligned.empty() || std::abs(det) <= 1e-9 * size) return;
+    const auto& Q = g.Q;
+    for (int i = 0; i < 4; ++i) {
+        std::size_t nearest = 0;
+        double gap = std::numeric_limits<double>::infinity();
+        for (std::size_t a = 0; a < g.q5_aligned.size(); ++a) {
+            const double d = std::abs(wrap_angle(t5[i] - g.q5_aligned[a]));
+            if (d < gap) {
+                nearest = a;
+                gap = d;
+            }
+        }
+        if (gap > 1e-6) continue;
+        const double q5 = g.q5_aligned[nearest];
+        const double rhs0 = r[0] + Q[0][0] * std::cos(q5) + Q[0][1] * std::sin(q5);
+        const double rhs1 = r[1] + Q[1][0] * std::cos(q5) + Q[1][1] * std::sin(q5);
+        t1[i] = std::atan2((P.m[0][0] * rhs1 - P.m[1][0] * rhs0) / det, (P.m[1][1] * rhs0 - P.m[0][1] * rhs1) / det);
+        t5[i] = q5;
+    }
+}
+
+// Axis 6 parallel to axes 2-4: the q6 of the family that is best reachable. Along the
+// family q2 + q3 + q4 = theta - s q6 (s = +-1: axis 6 along or against h) the planar
+// target A - R(h, theta) B turns on a circle; choose the angle that puts its length where
+// the planar 2R reaches best (|v|^2 = |a|^2 + |b|^2). Returns q6 and theta.
+void wrist_family_representative(const CaseGeometry& g, double s6, double& q6, double& theta, Vec3 A, Vec3 B) {
+    const Vec3 h = g.hp;
+    A = detail::in_plane(A, h);
+    B = detail::in_plane(B, h);
+    const Vec3 a = detail::in_plane(g.p[2] - g.p[1], h), b = detail::in_plane(g.p[3] - g.p[2], h);
+    const double wanted = 0.5 * (dot(A, A) + dot(B, B) - dot(a, a) - dot(b, b));  // A . R(h, phi) B
+    const double cos_part = dot(A, B), sin_part = dot(A, cross(h, B));
+    const double r = std::sqrt(cos_part * cos_part + sin_part * sin_part);
+    if (r == 0.0) return;
+    const double phi = std::atan2(sin_part, cos_part) + std::acos(std::min(std::max(wanted / r, -1.0), 1.0));
+    q6 = q6 + s6 * (theta - phi);
+    theta = phi;
+}
+
+// Axes 2-4 parallel: (q1, q5), then q6, q2 + q3 + q4 and a planar 2R: 8 candidates.
+// g.a1, g.a2: the closest points p5, p6 of axes 5 and 6.
+void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    const Vec3 h = g.hp, h0 = g.h[0], h4 = g.h[4], h5 = g.h[5];
+    const Vec3 p0 = g.p[0], p1 = g.p[1], p2 = g.p[2], p3 = g.p[3];
+    const Vec3 p5 = g.a1, p6 = g.a2;
+    const int n = g.n;
+    const Vec3 G_p6 = R * p6 + t;
+    const TrigCoeffs e1 = trig_coeffs(h, -h0, R * h5);
+    const TrigCoeffs e2 = trig_coeffs(h, -h0, G_p6 - p0);
+    const Mat2 P{{{e1.cos_coeff, e1.sin_coeff}, {e2.cos_coeff, e2.sin_coeff}}};  // P x1 - Q x5 = r
+    const double r[2] = {g.f[0] - e1.constant, g.f[1] - e2.constant};
+    AngleCandidates pair = two_angle_system(g, P, r);
+    if (g.rank1) {
+        for (int i = 0; i < 4; ++i) pair.t2[i] = q5_near_aligned_wrist(g, R, pair.t1[i], pair.t2[i], i);
+    } else {
+        snap_to_aligned_wrist(g, P, r, pair.t1, pair.t2);
+    }
+    for (int i = 0; i < 4; ++i) {
+        const double q1 = pair.t1[i], q5 = pair.t2[i];
+        // q6: R6^T (R5^T h) = R_G^T R1 h
+        const Vec3 v = rotate(-h4, q5, h);
+        Angle1 q6 = sp1(v, mul_transposed(R, rotate(h0, q1, h)), -h5);
+        // q2 + q3 + q4: R234 = R1^T R_G R6^T R5^T, applied to a normal of h
+        const Vec3 turned = rotate(-h0, q1, R * rotate(-h5, q6.t, rotate(-h4, q5, g.u)));
+        double theta = sp1(g.u, turned, h).t;
+        // planar part: e2 e3 e4 y = z with y = e5 p6, z = e1^-1 G p6
+        const Vec3 y = p5 + rotate(h4, q5, p6 - p5);
+        const Vec3 z = p0 + rotate(-h0, q1, G_p6 - p0);
+        if (q6.free) wrist_family_representative(g, sign_of(dot(v, h5)), q6.t, theta, z - p1, y - p3);
+        const Vec3 target = (z - p1) - rotate(h, theta, y - p3);
+        const Planar2 q23 = planar_2r(h, p2 - p1, p3 - p2, target);
+        for (int b = 0; b < 2; ++b) {
+            const int s = 2 * i + b;
+            double* qs = q + n * s;
+            qs[0] = q1;
+            qs[1] = q23.ta[b];
+            qs[2] = q23.tb[b];
+            qs[3] = theta - q23.ta[b] - q23.tb[b];
+            qs[4] = q5;
+            qs[5] = q6.t;
+            valid[s] = pair.valid[i] && q23.ok[b];
+            family[s] = pair.free[i] || q6.free || q23.free;
+        }
+    }
+}
+
+// ------------------------------------------------------ parallel axes 1-3 (or 4-6)
+
+// Axes 1-3 parallel: (q6, q4), then q5, q1 + q2 + q3 and a planar 2R: 8 candidates. Their
+// motion keeps h-components, which leaves two equations in q4 and q6: h . R4 h5 =
+// (R_G^T h) . R6^T h5 (orientation, since R5 h5 = h5) and h . e4 o5 = h . G e6^-1 o5.
+// g.a1 .. g.a3: points o4, o5, o6 of axes 4-6 (o4, o5 closest to each other).
+void parallel_base(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    const Vec3 h = g.hp, h3 = g.h[3], h4 = g.h[4], h5 = g.h[5];
+    const Vec3 p0 = g.p[0], p1 = g.p[1], p2 = g.p[2];
+    const Vec3 o4 = g.a1, o5 = g.a2, o6 = g.a3;
+    const int n = g.n;
+    const Vec3 gh = mul_transposed(R, h);  // R_G^T h
+    const TrigCoeffs e1 = trig_coeffs(gh, -h5, h4);
+    TrigCoeffs e2 = trig_coeffs(gh, -h5, o5 - o6);
+    e2.constant += dot(R * o6 + t, h);
+    const Mat2 P{{{e1.cos_coeff, e1.sin_coeff}, {e2.cos_coeff, e2.sin_coeff}}};
+    const double r[2] = {g.f[0] - e1.constant, g.f[1] - e2.constant};
+    const AngleCandidates pair = two_angle_system(g, P, r);  // t1 = q6, t2 = q4
+    const Vec3 z = R * o4 + t;
+    for (int i = 0; i < 4; ++i) {
+        const double q4 = pair.t2[i], q6 = pair.t1[i];
+        // q5: R5^T (R4^T h) = R6 R_G^T h
+        const Angle1 q5 = sp1(rotate(-h3, q4, h), rotate(h5, q6, gh), -h4);
+        // q1 + q2 + q3: R123 = R_G R6^T R5^T R4^T, applied to a normal of h
+        const Vec3 turned = rotate(-h5, q6, rotate(-h4, q5.t, rotate(-h3, q4, g.u)));
+        const double theta = sp1(g.u, R * turned, h).t;
+        // planar part: e1 e2 e3 y = z with y = e4 e5 e6 o4, z = G o4
+        Vec3 y = o6 + rotate(h5, q6, o4 - o6);
+        y = o5 + rotate(h4, q5.t, y - o5);
+        y = o4 + rotate(h3, q4, y - o4);
+        const Vec3 target = (z - p0) - rotate(h, theta, y - p2);
+        const Planar2 q12 = planar_2r(h, p1 - p0, p2 - p1, target);
+        for (int b = 0; b < 2; ++b) {
+            const int s = 2 * i + b;
+            double* qs = q + n * s;
+            qs[0] = q12.ta[b];
+            qs[1] = q12.tb[b];
+            qs[2] = theta - q12.ta[b] - q12.tb[b];
+            qs[3] = q4;
+            qs[4] = q5.t;
+            qs[5] = q6;
+            valid[s] = pair.valid[i] && q12.ok[b];
+            family[s] = pair.free[i] || q5.free || q12.free;
+        }
+    }
+}
+
+// ------------------------------------------------------------- SCARA and planar
+
+// SCARA / planar arm: angle sum, height, planar 2R: 2 candidates. g.a1: a point moved by
+// the first two revolute joints only.
+void planar(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    const Vec3 h = g.hp, y = g.a1;
+    const auto& rev = g.revolute_joints;
+    const int n = g.n;
+    const double theta = sp1(g.u, R * g.u, h).t;
+    const Vec3 Gy = R * y + t;
+    const double slide = g.prismatic_joint >= 0 ? dot(Gy - y, h) : 0.0;
+    const Vec3 p_a = g.p[rev[0]], p_b = g.p[rev[1]];
+    const Planar2 ab = planar_2r(h, p_b - p_a, y - p_b, (Gy - slide * h) - p_a);
+    for (int b = 0; b < 2; ++b) {
+        double* qs = q + n * b;
+        for (int j = 0; j < n; ++j) qs[j] = 0.0;
+        qs[rev[0]] = ab.ta[b];
+        qs[rev[1]] = ab.tb[b];
+        if (rev.size() == 3) qs[rev[2]] = theta - ab.ta[b] - ab.tb[b];
+        if (g.prismatic_joint >= 0) qs[g.prismatic_joint] = slide;
+        valid[b] = ab.ok[b];
+        family[b] = ab.free;
+    }
+}
+
+}  // namespace
+
+void solve_pose(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    switch (g.kind) {
+        case CaseKind::Spherical:
+            spherical(g, R, t, q, valid, family);
+            break;
+        case CaseKind::ThreeParallel:
+            three_parallel(g, R, t, q, valid, family);
+            break;
+        case CaseKind::ParallelBase:
+            parallel_base(g, R, t, q, valid, family);
+            break;
+        case CaseKind::Planar:
+            planar(g, R, t, q, valid, family);
+            break;
+    }
+}
+
+}  // namespace armkit

@@ -1,0 +1,59 @@
+// Every closed-form candidate of one target pose (port of the loop of armkit/ik/closed_form.py).
+//
+// The case solver (ik_cases.hpp) works on the joint motion G = T M^-1 in its internal joint
+// order; pose_candidates maps its candidates to the user's joints, polishes quartic ones by
+// two Newton steps on the full pose, wraps revolute angles into [-pi, pi], checks them by
+// FK where the chain is over-determined or a quartic was solved, and merges duplicates.
+#pragma once
+
+#include <cstdint>
+
+#include "armkit/chain.hpp"
+#include "armkit/ik_cases.hpp"
+#include "armkit/linalg.hpp"
+
+namespace armkit {
+
+//: Largest number of candidates per pose of any case solver.
+constexpr int kMaxCandidates = 8;
+//: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution
+//: (armkit.ik.closed_form.DUPLICATE_TOLERANCE).
+constexpr double kDuplicateTolerance = 1e-9;
+
+// What the per-pose loop needs of one chain, made once by ClosedFormSolver (Python). It
+// holds copies of the chain and the case geometry, so it outlives neither's Python object.
+struct ClosedForm {
+    Chain chain;             // the user's chain, for FK
+    CaseGeometry geometry;   // the case solver's constants
+    int index[kMaxJoints];   // user's joint of internal joint j
+    double sign[kMaxJoints]; // q_user[index[j]] = sign[j] q_int[j]
+    Pose M_inv;              // inverse tool pose at q = 0 of the (possibly reversed) chain
+    bool inverted = false;   // the solver's chain describes T^-1
+    int k = kMaxCandidates;  // candidates per pose
+    bool verify = false;     // check candidates by FK
+    bool polish = false;     // Newton steps on the full pose (quartic paths)
+    double verify_tolerance = 0.0;  // max |fk(q) - T| of a kept candidate (top three rows)
+};
+
+// G = T M^-1 (or T^-1 M^-1 for an inverted chain): its rotation R and translation t.
+void joint_motion(const ClosedForm& cf, const Pose& T, Mat3& R, Vec3& t);
+
+// `steps` damped Newton steps on fk(q) = T (all six rows, damping 1e-14) for one
+// candidate q (n), in place. Where a quartic root meets another singularity (a double
+// root near an aligned wrist) a candidate may carry errors of ~1e-7; two steps bring it
+// to rounding level, and the FK check then decides.
+void newton(const Chain& chain, const Pose& T, double* q, int steps);
+
+// max |fk(q) - T| over the top three rows.
+double fk_difference(const Chain& chain, const Pose& T, const double* q);
+
+// duplicate[b] (k): candidate b (row of q, k x n) equals, modulo 2 pi for revolute joints
+// and to kDuplicateTolerance, an earlier valid candidate.
+void mark_duplicates(const double* q, int k, int n, const bool* valid, const std::uint8_t* prismatic,
+                     bool* duplicate);
+
+// Every candidate of one target T into q (cf.k x n, user's joints), valid and family
+// (cf.k); duplicates are invalid, and family implies valid.
+void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family);
+
+}  // namespace armkit

@@ -2,12 +2,13 @@
 
 :class:`ClosedFormSolver` prepares, once per chain, what the case solvers of
 :mod:`armkit.ik.cases` need (axes, points, the constant part of the case's equations);
-then one compiled loop handles each pose: the case solver's candidates are mapped to the
-user's joints, polished by two Newton steps on the full pose where they come from a
-quartic, wrapped into ``[-pi, pi]``, checked by forward kinematics where the chain is
-over-determined (SCARA, planar) or a quartic was solved (``VERIFY_TOLERANCE``), and
-duplicates are merged. Nothing is allocated per pose beyond a few small work arrays, so
-one pose costs a few microseconds and a batch scales linearly.
+then the compiled core (``armkit._core``, ``cpp/src/closed_form.cpp``) handles each pose:
+the case solver's candidates are mapped to the user's joints, polished by two Newton
+steps on the full pose where they come from a quartic, wrapped into ``[-pi, pi]``,
+checked by forward kinematics where the chain is over-determined (SCARA, planar) or a
+quartic was solved (``VERIFY_TOLERANCE``), and duplicates are merged. Nothing is
+allocated per pose, so one pose costs about a microsecond and a batch splits over
+threads.
 
 Example
 -------
@@ -21,15 +22,12 @@ Example
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
-from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
-from armkit._jit import entry_point
+from armkit import _core
 from armkit.chain import Chain
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.cases import (
@@ -38,16 +36,10 @@ from armkit.ik.cases import (
     POSITION_CASES,
     SPHERICAL,
     THREE_PARALLEL,
-    TWO_PI,
     CaseGeometry,
-    solve_pose,
-    trig_coeffs,
-    wrap_angle,
 )
-from armkit.ik.numeric import _damped_step
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
-from armkit.ik.subproblems import sp4
-from armkit.kinematics import chain_frames, chain_jacobian, chain_pose, pose_error_into
+from armkit.ik.subproblems import sp4, trig_coeffs
 from armkit.spatial.transforms import check_transform
 
 __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
@@ -83,136 +75,6 @@ class ClosedFormSolutions:
     q: Array
     valid: Mask
     family: Mask
-
-
-class ChainData(NamedTuple):
-    """What the compiled loop needs of the user's chain (see :class:`ClosedFormSolver`)."""
-
-    T_between: Array  # (n + 1, 4, 4) fixed transforms, for FK
-    prismatic: Mask  # (n,) user's joint order
-    index: NDArray[np.int64]  # user's joint of internal joint j
-    sign: Array  # q_user[index[j]] = sign[j] q_int[j]
-    M_inv: Array  # (4, 4) inverse tool pose at q = 0 of the (possibly reversed) chain
-    inverted: bool  # the solver's chain describes T^-1
-    k: int  # candidates per pose
-    verify: bool  # check candidates by FK
-    polish: bool  # Newton steps on the full pose (quartic paths)
-    verify_tolerance: float
-
-
-# ------------------------------------------------------------ compiled loop
-@njit(cache=True)
-def _joint_motion(d, T):
-    """``G = T M^-1`` (or ``T^-1 M^-1`` for an inverted chain): rotation rows and translation."""
-    R = np.empty((3, 3))
-    t = np.empty(3)
-    for a in range(3):
-        if d.inverted:  # T^-1 = [R^T, -R^T p]
-            t[a] = -(T[0, a] * T[0, 3] + T[1, a] * T[1, 3] + T[2, a] * T[2, 3])
-            for b in range(3):
-                R[a, b] = T[b, a]
-        else:
-            t[a] = T[a, 3]
-            for b in range(3):
-                R[a, b] = T[a, b]
-    G = np.empty((3, 4))
-    M = d.M_inv
-    for a in range(3):
-        for b in range(4):
-            G[a, b] = R[a, 0] * M[0, b] + R[a, 1] * M[1, b] + R[a, 2] * M[2, b]
-    return ((G[0, 0], G[0, 1], G[0, 2]), (G[1, 0], G[1, 1], G[1, 2]), (G[2, 0], G[2, 1], G[2, 2])), \
-        (G[0, 3] + t[0], G[1, 3] + t[1], G[2, 3] + t[2])
-
-
-@njit(cache=True)
-def _newton(d, T, q, steps):
-    """Damped Newton steps on ``fk(q) = T`` for one candidate ``q`` (quartic paths only).
-
-    Where a quartic root meets another singularity (a double root near an aligned
-    wrist), a candidate may carry errors of ~1e-7; two steps bring it to rounding level,
-    and the FK check then decides.
-    """
-    n = q.shape[0]
-    F, axes, points = np.empty((4, 4)), np.empty((n, 3)), np.empty((n, 3))
-    J, e, dq = np.empty((6, n)), np.empty(6), np.empty(n)
-    rows, free = np.arange(6), np.zeros(n)  # every task row; no joint held at a bound
-    for _ in range(steps):
-        chain_frames(d.T_between, d.prismatic, q, F, axes, points)
-        chain_jacobian(F, axes, points, d.prismatic, J)
-        pose_error_into(T, F, e)
-        _damped_step(J, e, rows, free, 1e-14, dq)
-        for j in range(n):
-            q[j] += dq[j]
-
-
-@njit(cache=True)
-def _fk_difference(d, T, q):
-    """``max |fk(q) - T|`` over the top three rows."""
-    F = np.empty((4, 4))
-    chain_pose(d.T_between, d.prismatic, q, F)
-    worst = 0.0
-    for a in range(3):
-        for b in range(4):
-            worst = max(worst, abs(F[a, b] - T[a, b]))
-    return worst
-
-
-@njit(cache=True)
-def _duplicates(q, valid, prismatic, duplicate):
-    """Mark in ``duplicate`` ``(k,)`` the candidates equal (modulo 2 pi) to an earlier valid one."""
-    k, n = q.shape
-    for a in range(k):
-        duplicate[a] = False
-    for a in range(k):
-        if not valid[a]:
-            continue
-        for b in range(a + 1, k):
-            same = True
-            for j in range(n):
-                diff = abs(q[a, j] - q[b, j])
-                if not prismatic[j]:
-                    diff = min(diff, TWO_PI - diff)
-                if not diff <= DUPLICATE_TOLERANCE:
-                    same = False
-                    break
-            if same:
-                duplicate[b] = True
-
-
-@njit(cache=True)
-def pose_candidates(g, d, T, q, valid, family):
-    """Every candidate of one target ``T`` ``(4, 4)`` into ``q`` ``(k, n)`` (user's joints),
-    ``valid`` and ``family`` ``(k,)``; duplicates are invalid."""
-    k, n = q.shape
-    q_int = np.empty((k, n))
-    R, t = _joint_motion(d, T)
-    solve_pose(g, R, t, q_int, valid, family)
-    for s in range(k):
-        for j in range(n):
-            q[s, d.index[j]] = d.sign[j] * q_int[s, j]
-        finite = True
-        for j in range(n):
-            finite = finite and math.isfinite(q[s, j])
-        valid[s] = valid[s] and finite
-        if d.polish and valid[s]:
-            _newton(d, T, q[s], 2)
-        for j in range(n):
-            if not d.prismatic[j]:
-                q[s, j] = wrap_angle(q[s, j])
-        if d.verify and valid[s]:
-            valid[s] = _fk_difference(d, T, q[s]) <= d.verify_tolerance
-    duplicate = np.empty(k, dtype=np.bool_)
-    _duplicates(q, valid, d.prismatic, duplicate)
-    for s in range(k):
-        valid[s] = valid[s] and not duplicate[s]
-    for s in range(k):
-        family[s] = family[s] and valid[s]
-
-
-@njit(cache=True)
-def _candidates_batch(g, d, T, q, valid, family):
-    for i in range(T.shape[0]):
-        pose_candidates(g, d, T[i], q[i], valid[i], family[i])
 
 
 # ------------------------------------------------------------- preparation
@@ -283,11 +145,14 @@ class ClosedFormSolver:
         M_inv = np.eye(4)
         M_inv[:3, :3] = poe.M[:3, :3].T
         M_inv[:3, 3] = -poe.M[:3, :3].T @ poe.M[:3, 3]
-        self._candidates_entry = None  # the compiled loop for this chain, set on first use
-        self.data = ChainData(*chain._kernel_arrays,
-                              poe.index.astype(np.int64), poe.sign.astype(float), M_inv, poe.inverted,
-                              8 if fields["kind"] != PLANAR else 2, verify or polish, polish,
-                              VERIFY_TOLERANCE * size)
+        #: Candidates per pose: 8, or 2 for SCARA and planar arms.
+        self.k = 8 if fields["kind"] != PLANAR else 2
+        #: The compiled per-pose loop's view of this solver (``_core.ClosedForm``; it holds
+        #: copies of the chain and the geometry, so it lives on its own).
+        self.core = _core.ClosedForm(_core_chain(chain), self.geometry,
+                                     np.ascontiguousarray(poe.index, np.int64),
+                                     np.ascontiguousarray(poe.sign, np.float64), M_inv, bool(poe.inverted),
+                                     self.k, verify or polish, polish, VERIFY_TOLERANCE * size)
 
     # ------------------------------------------------------------------ public
     def solve(self, T_base_tool: ArrayLike) -> ClosedFormSolutions:
@@ -299,19 +164,17 @@ class ClosedFormSolver:
         return ClosedFormSolutions(q.reshape(*batch, k, n), valid.reshape(*batch, k),
                                    family.reshape(*batch, k))
 
-    def candidates(self, T: Array) -> tuple[Array, Mask, Mask]:
+    def candidates(self, T: Array, threads: int = 0) -> tuple[Array, Mask, Mask]:
         """``(q, valid, family)`` ``(N, k, n)``, ``(N, k)`` for rigid poses ``T`` ``(N, 4, 4)``
-        (checked by :func:`armkit.spatial.check_transform`)."""
-        T = np.require(T, dtype=np.float64, requirements="CW")  # the types the compiled loop takes
+        (checked by :func:`armkit.spatial.check_transform`), split over ``threads``
+        (0: all cores; the answer does not depend on it)."""
+        T = np.ascontiguousarray(T, dtype=np.float64)
         if T.ndim != 3 or T.shape[1:] != (4, 4):
             raise InputError(f"T: expected shape (N, 4, 4), got {T.shape}")
-        N, k = len(T), self.data.k
+        N, k = len(T), self.k
         q = np.empty((N, k, self.chain.n))
         valid, family = np.empty((N, k), dtype=bool), np.empty((N, k), dtype=bool)
-        args = (self.geometry, self.data, T, q, valid, family)
-        if self._candidates_entry is None:  # compiled once per chain: later calls skip numba's dispatch
-            self._candidates_entry = entry_point(_candidates_batch, *args)
-        self._candidates_entry(*args)
+        _core.candidates(self.core, T, q, valid, family, threads)
         return q, valid, family
 
     # ------------------------------------------------------------ per case
@@ -379,6 +242,13 @@ class ClosedFormSolver:
         y = poe.points[rev[2]] if len(rev) == 3 else poe.points[rev[1]] + u
         return {"hp": _vector(h), "u": _vector(u), "a1": _vector(y),
                 "revolute_joints": np.array(rev, dtype=np.int64), "prismatic_joint": pri[0] if pri else -1}
+
+
+def _core_chain(chain: Chain) -> _core.Chain:
+    """The chain as the compiled core takes it."""
+    return _core.Chain(np.ascontiguousarray(chain.T_between, np.float64),
+                       np.ascontiguousarray(chain.prismatic), np.ascontiguousarray(chain.lower, np.float64),
+                       np.ascontiguousarray(chain.upper, np.float64))
 
 
 def closed_form_solver(chain: Chain) -> ClosedFormSolver:

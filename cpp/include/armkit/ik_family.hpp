@@ -1,0 +1,191 @@
+// Singular poses: the member of a one-parameter family of solutions nearest to a reference
+// (port of armkit/ik/family.py's walk). Header-only: used by ik_solve.hpp.
+//
+// At a singular pose the closed form returns one member of a family (e.g. q4 = 0 for an
+// aligned wrist, where only q4 + q6 is defined). The family runs along the null space of
+// the Jacobian: first the point of that line (two whole turns of its fastest joint, either
+// way) nearest to near after the 2 pi wrap into the limits, then steps along the null
+// space (weighted), each put back exactly on the solution set by Levenberg-Marquardt steps,
+// while the distance falls. A move that would leave the limits a representative was inside
+// is not taken.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "armkit/chain.hpp"
+#include "armkit/fk.hpp"
+#include "armkit/linalg.hpp"
+#include "armkit/transform.hpp"
+
+namespace armkit {
+
+//: Steps along a singular family towards near (one where the family is a line in joint space).
+constexpr int kFamilySteps = 10;
+//: Singular values below this fraction of the largest span a family's directions.
+constexpr double kNullSpace = 1e-8;
+//: Points sampled along a family's line (two whole turns of its fastest joint).
+constexpr int kFamilySamples = 257;
+//: The projection back onto the solution set: iterations, and the residual [m, rad] it must reach.
+constexpr int kProjectionIterations = 10;
+constexpr double kProjectionTolerance = 1e-13;
+
+// Singular values s (n) and right singular vectors V (n x n, row-major, column j for s[j])
+// of J (6 x n, row-major, n <= 6) by one-sided (Hestenes) Jacobi rotations of J's columns.
+inline void jacobi_svd(const double* J, int n, double* s, double* V) {
+    double A[6 * kMaxJoints];
+    for (int a = 0; a < 6 * n; ++a) A[a] = J[a];
+    for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) V[a * n + b] = a == b ? 1.0 : 0.0;
+    for (int sweep = 0; sweep < 60; ++sweep) {
+        bool rotated = false;
+        for (int p = 0; p < n - 1; ++p)
+            for (int q = p + 1; q < n; ++q) {
+                double alpha = 0.0, beta = 0.0, gamma = 0.0;
+                for (int r = 0; r < 6; ++r) {
+                    alpha += A[r * n + p] * A[r * n + p];
+                    beta += A[r * n + q] * A[r * n + q];
+                    gamma += A[r * n + p] * A[r * n + q];
+                }
+                if (gamma == 0.0 || std::fabs(gamma) <= 1e-15 * std::sqrt(alpha * beta)) continue;
+                rotated = true;
+                const double zeta = (beta - alpha) / (2.0 * gamma);
+                const double t = (zeta >= 0.0 ? 1.0 : -1.0) / (std::fabs(zeta) + std::sqrt(1.0 + zeta * zeta));
+                const double c = 1.0 / std::sqrt(1.0 + t * t), sn = c * t;
+                for (int r = 0; r < 6; ++r) {
+                    const double x = A[r * n + p], y = A[r * n + q];
+                    A[r * n + p] = c * x - sn * y;
+                    A[r * n + q] = sn * x + c * y;
+                }
+                for (int r = 0; r < n; ++r) {
+                    const double x = V[r * n + p], y = V[r * n + q];
+                    V[r * n + p] = c * x - sn * y;
+                    V[r * n + q] = sn * x + c * y;
+                }
+            }
+        if (!rotated) break;
+    }
+    for (int j = 0; j < n; ++j) {
+        double total = 0.0;
+        for (int r = 0; r < 6; ++r) total += A[r * n + j] * A[r * n + j];
+        s[j] = std::sqrt(total);
+    }
+}
+
+// Levenberg-Marquardt steps (no limits; damping 0.1 cost + 1e-9, as armkit.ik.numeric) from
+// q (n, in place) until fk(q) reproduces T to kProjectionTolerance (true), or it stalls.
+inline bool project_onto_solutions(const Chain& chain, const Pose& T, double* q) {
+    static constexpr int rows[6] = {0, 1, 2, 3, 4, 5};
+    const double free[kMaxJoints] = {};
+    Vec3 axes[kMaxJoints], points[kMaxJoints];
+    double J[6 * kMaxJoints], e[6], dq[kMaxJoints];
+    double reference = std::numeric_limits<double>::infinity();
+    int since = 0;
+    for (int step = 1; step <= kProjectionIterations; ++step) {
+        const Pose F = joint_axes(chain, q, axes, points);
+        pose_error(T, F, e);
+        const double position = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+        const double orientation = e[3] * e[3] + e[4] * e[4] + e[5] * e[5];
+        const double cost = 0.5 * (position + orientation);
+        if (position <= kProjectionTolerance * kProjectionTolerance &&
+            orientation <= kProjectionTolerance * kProjectionTolerance)
+            return true;
+        if (cost < 0.5 * reference) {
+            reference = cost, since = 0;
+        } else if (++since >= 3 || !std::isfinite(cost)) {
+            return false;
+        }
+        if (step == kProjectionIterations) break;
+        jacobian_from_axes(F, axes, points, chain.prismatic.data(), chain.n, J);
+        damped_step(J, chain.n, e, rows, 6, free, 0.1 * cost + 1e-9, dq);
+        for (int j = 0; j < chain.n; ++j) q[j] += dq[j];
+    }
+    return false;
+}
+
+// The revolute values of q (n) shifted by whole turns into the limits (reference near), into out.
+inline void wrap_towards(const Chain& chain, const double* q, const double* near, double* out) {
+    for (int j = 0; j < chain.n; ++j)
+        out[j] = chain.prismatic[j] ? q[j] : wrap_angle_into_limits(q[j], chain.lower[j], chain.upper[j], near[j]);
+}
+
+// Weighted squared distance of q (n) to near after the wrap; infinite where the wrapped q
+// leaves the limits and keep_inside.
+inline double family_distance(const Chain& chain, const double* q, const double* near, const double* weights,
+                              bool keep_inside) {
+    double moved[kMaxJoints];
+    wrap_towards(chain, q, near, moved);
+    double far = 0.0;
+    for (int j = 0; j < chain.n; ++j) {
+        const double d = weights[j] * (moved[j] - near[j]);
+        far += d * d;
+    }
+    return chain.within_limits(moved) || !keep_inside ? far : std::numeric_limits<double>::infinity();
+}
+
+// Moves q (n, a solution of T at a singular pose) to the member of its family nearest to
+// near (n), weights (n).
+inline void walk_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights) {
+    const int n = chain.n;
+    const bool inside = chain.within_limits(q);
+    for (int step = 0; step < kFamilySteps; ++step) {
+        Vec3 axes[kMaxJoints], points[kMaxJoints];
+        double J[6 * kMaxJoints], s[kMaxJoints], V[kMaxJoints * kMaxJoints];
+        jacobian_from_axes(joint_axes(chain, q, axes, points), axes, points, chain.prismatic.data(), n, J);
+        jacobi_svd(J, n, s, V);
+        double largest = 0.0;
+        for (int j = 0; j < n; ++j) largest = std::fmax(largest, s[j]);
+        int null[kMaxJoints], c = 0;  // the columns of V spanning the null space
+        for (int j = 0; j < n; ++j)
+            if (s[j] <= kNullSpace * largest) null[c++] = j;
+        if (c == 0) break;
+        const bool line = step == 0 && c == 1;
+        double target[kMaxJoints];
+        if (line) {  // the line through q, up to two whole turns of its fastest joint either way
+            double v[kMaxJoints], biggest = 0.0;
+            for (int j = 0; j < n; ++j) {
+                v[j] = V[j * n + null[0]];
+                if (std::fabs(v[j]) > std::fabs(biggest)) biggest = v[j];
+            }
+            for (int j = 0; j < n; ++j) v[j] /= biggest;
+            double best = 0.0, point[kMaxJoints];
+            for (int a = 0; a < kFamilySamples; ++a) {  // the first nearest point, t from -2 pi to 2 pi
+                const double t = a == kFamilySamples - 1 ? kTwoPi : -kTwoPi + a * (2.0 * kTwoPi / (kFamilySamples - 1));
+                for (int j = 0; j < n; ++j) point[j] = q[j] + t * v[j];
+                const double d = family_distance(chain, point, near, weights, inside);
+                if (a == 0 || d < best) {
+                    best = d;
+                    for (int j = 0; j < n; ++j) target[j] = point[j];
+                }
+            }
+        } else {  // q + N (N^T W N)^-1 N^T W (near - q), W = diag(weights^2)
+            double A[kMaxJoints * kMaxJoints], b[kMaxJoints];
+            for (int a = 0; a < c; ++a) {
+                for (int d = 0; d <= a; ++d) {
+                    double total = 0.0;
+                    for (int j = 0; j < n; ++j)
+                        total += V[j * n + null[a]] * weights[j] * weights[j] * V[j * n + null[d]];
+                    A[a * c + d] = total;
+                }
+                double total = 0.0;
+                for (int j = 0; j < n; ++j) total += V[j * n + null[a]] * weights[j] * weights[j] * (near[j] - q[j]);
+                b[a] = total;
+            }
+            if (!cholesky_solve(A, b, c)) break;
+            for (int j = 0; j < n; ++j) {
+                double total = q[j];
+                for (int a = 0; a < c; ++a) total += V[j * n + null[a]] * b[a];
+                target[j] = total;
+            }
+        }
+        const bool solved = project_onto_solutions(chain, T, target);
+        if (!(solved && family_distance(chain, target, near, weights, inside) <
+                            family_distance(chain, q, near, weights, inside) - 1e-24)) {
+            if (line) continue;  // the sampled point did not help: go on with local steps
+            break;
+        }
+        wrap_towards(chain, target, near, q);
+    }
+}
+
+}  // namespace armkit

@@ -1,0 +1,209 @@
+// The closed-form IK pipeline of many poses (port of the loop of armkit/ik/solve.py):
+// every candidate of pose_candidates wrapped into the joint limits, verified by FK, flagged
+// and ranked by distance to a reference configuration. Header-only: used by bind_solve.cpp.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "armkit/closed_form.hpp"
+#include "armkit/fk.hpp"
+#include "armkit/ik_family.hpp"
+#include "armkit/transform.hpp"
+
+namespace armkit {
+
+//: Position [m] and angle [rad] within which every returned solution reproduces the target
+//: (armkit.ik.solve.VERIFY_TOLERANCE).
+constexpr double kSolutionTolerance = 1e-9;
+//: Candidates with a larger FK residual [m or rad] are rough: refined by the caller.
+constexpr double kRefineAbove = 1e-10;
+
+// Indices of the per-candidate flags (the last axis of Found::flags).
+enum FoundFlag : int { kValid = 0, kKeep = 1, kInside = 2, kFamily = 3, kFlags = 4 };
+
+// The candidates of N poses, k per pose (rows of C-ordered arrays):
+//   q (N, k, n) joint values; errors (N, k, 2) FK residual [m, rad] (NaN: not verified);
+//   flags (N, k, 4): valid (a solution of the closed form), keep (also reproduces the
+//   pose to kSolutionTolerance), inside (the limits), family (as the closed form flags
+//   it); count (N): the usable candidates (kept, and inside if asked), sorted first.
+struct Found {
+    int k = 0, n = 0;
+    double* q = nullptr;
+    double* errors = nullptr;
+    bool* flags = nullptr;
+    std::int64_t* count = nullptr;
+
+    double* q_of(std::size_t i, int s) const { return q + (i * k + s) * n; }
+    double* errors_of(std::size_t i, int s) const { return errors + (i * k + s) * 2; }
+    bool* flags_of(std::size_t i, int s) const { return flags + (i * k + s) * kFlags; }
+};
+
+// What one pass over poses counted: valid candidates with a residual above kRefineAbove
+// (to be refined by the caller), poses without a usable candidate.
+struct SolveCounts {
+    long long rough = 0, empty = 0;
+};
+
+// Whether q (n) is inside the limits (to kLimitTolerance); its distance |w * (q - near)|.
+inline bool inside_and_distance(const Chain& chain, const double* q, const double* near, const double* weights,
+                                double& distance) {
+    bool inside = true;
+    double total = 0.0;
+    for (int j = 0; j < chain.n; ++j) {
+        inside = inside && chain.lower[j] - kLimitTolerance <= q[j] && q[j] <= chain.upper[j] + kLimitTolerance;
+        const double d = weights[j] * (q[j] - near[j]);
+        total += d * d;
+    }
+    distance = std::sqrt(total);
+    return inside;
+}
+
+// order (k): indices that sort values (k), equal ones in their original order (insertion sort).
+inline void stable_order(const double* values, int k, int* order) {
+    for (int a = 0; a < k; ++a) order[a] = a;
+    for (int a = 1; a < k; ++a) {
+        const int current = order[a];
+        int b = a;
+        while (b > 0 && values[order[b - 1]] > values[current]) {
+            order[b] = order[b - 1];
+            --b;
+        }
+        order[b] = current;
+    }
+}
+
+// Flag pose i's candidates (keep, inside), count the usable ones (keep, and inside if
+// within_limits) and sort them first, nearest to near (n) first.
+inline void rank_pose(const Chain& chain, const Found& f, std::size_t i, const double* near,
+                      const double* weights, bool within_limits) {
+    const int k = f.k, n = f.n;
+    double distance[kMaxCandidates];
+    std::int64_t count = 0;
+    for (int s = 0; s < k; ++s) {
+        bool* flags = f.flags_of(i, s);
+        const double* errors = f.errors_of(i, s);
+        flags[kKeep] = flags[kValid] && errors[0] <= kSolutionTolerance && errors[1] <= kSolutionTolerance;
+        flags[kInside] = inside_and_distance(chain, f.q_of(i, s), near, weights, distance[s]);
+        const bool usable = flags[kKeep] && (flags[kInside] || !within_limits);
+        if (!usable) distance[s] = std::numeric_limits<double>::infinity();
+        count += usable;
+    }
+    f.count[i] = count;
+    int order[kMaxCandidates];
+    stable_order(distance, k, order);
+    double q[kMaxCandidates * kMaxJoints], errors[kMaxCandidates * 2];
+    bool flags[kMaxCandidates * kFlags];
+    for (int s = 0; s < k; ++s) {  // the rows in that order, through copies
+        const int r = order[s];
+        for (int j = 0; j < n; ++j) q[s * n + j] = f.q_of(i, r)[j];
+        for (int e = 0; e < 2; ++e) errors[s * 2 + e] = f.errors_of(i, r)[e];
+        for (int g = 0; g < kFlags; ++g) flags[s * kFlags + g] = f.flags_of(i, r)[g];
+    }
+    for (int s = 0; s < k; ++s) {
+        for (int j = 0; j < n; ++j) f.q_of(i, s)[j] = q[s * n + j];
+        for (int e = 0; e < 2; ++e) f.errors_of(i, s)[e] = errors[s * 2 + e];
+        for (int g = 0; g < kFlags; ++g) f.flags_of(i, s)[g] = flags[s * kFlags + g];
+    }
+}
+
+// FK residuals of candidate s of pose i (target T) into f; whether it reproduces the pose.
+inline bool verify(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s) {
+    double* errors = f.errors_of(i, s);
+    pose_residual(T, tool_pose(chain, f.q_of(i, s)), errors[0], errors[1]);
+    return errors[0] <= kSolutionTolerance && errors[1] <= kSolutionTolerance;
+}
+
+// At a singular pose: each kept family representative of pose i moved to the member of its
+// family nearest to near (ik_family.hpp), with its new residuals; ranked again if one moved.
+inline void nearest_family_members(const Chain& chain, const Pose& T, const Found& f, std::size_t i,
+                                   const double* near, const double* weights, bool within_limits) {
+    bool moved = false;
+    for (int s = 0; s < f.k; ++s) {
+        if (!(f.flags_of(i, s)[kFamily] && f.flags_of(i, s)[kKeep])) continue;
+        double* q = f.q_of(i, s);
+        double before[kMaxJoints];
+        for (int j = 0; j < f.n; ++j) before[j] = q[j];
+        walk_family(chain, T, q, near, weights);
+        bool changed = false;
+        for (int j = 0; j < f.n; ++j) changed = changed || q[j] != before[j];
+        if (changed) verify(chain, T, f, i, s);
+        moved = moved || changed;
+    }
+    if (moved) rank_pose(chain, f, i, near, weights, within_limits);
+}
+
+// Candidates of poses [begin, end) of T (N x 4 x 4), wrapped into the limits (reference
+// near, (N x n)), with their FK residuals, ranked: into f. near_stride is n, or 0 when one
+// reference serves every pose.
+//
+// nearest: only the nearest candidate that reproduces the pose is wanted, so the
+// candidates are put through FK nearest first until one does (the others' residuals stay
+// NaN: not kept); family representatives always are (they are moved along their family
+// towards near), and if none does, all are (the caller's error message needs them).
+inline SolveCounts solve_poses(const ClosedForm& cf, const double* T, const double* near, std::size_t near_stride,
+                               const double* weights, bool within_limits, bool nearest, const Found& f,
+                               std::size_t begin, std::size_t end) {
+    const Chain& chain = cf.chain;
+    const int k = f.k, n = f.n;
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    SolveCounts counts;
+    double distance[kMaxCandidates];
+    bool valid[kMaxCandidates], family[kMaxCandidates];
+    for (std::size_t i = begin; i < end; ++i) {
+        const Pose target = pose_from_matrix(T + 16 * i);
+        const double* reference = near + near_stride * i;
+        pose_candidates(cf, target, f.q_of(i, 0), valid, family);
+        for (int s = 0; s < k; ++s) {
+            bool* flags = f.flags_of(i, s);
+            flags[kValid] = valid[s];
+            flags[kFamily] = family[s];
+            double* q = f.q_of(i, s);
+            double* errors = f.errors_of(i, s);
+            errors[0] = errors[1] = nan;
+            distance[s] = inf;
+            if (!valid[s]) {
+                for (int j = 0; j < n; ++j) q[j] = 0.0;
+                continue;
+            }
+            for (int j = 0; j < n; ++j)
+                if (!chain.prismatic[j])
+                    q[j] = wrap_angle_into_limits(q[j], chain.lower[j], chain.upper[j], reference[j]);
+            if (nearest) {
+                double gap;
+                const bool inside = inside_and_distance(chain, q, reference, weights, gap);
+                distance[s] = inside || !within_limits ? gap : inf;
+            } else {
+                verify(chain, target, f, i, s);
+            }
+        }
+        if (nearest) {
+            int order[kMaxCandidates];
+            stable_order(distance, k, order);
+            bool kept = false;
+            for (int a = 0; a < k; ++a) {
+                const int s = order[a];
+                if (kept || distance[s] == inf) break;
+                kept = verify(chain, target, f, i, s);
+            }
+            for (int s = 0; s < k; ++s) {
+                // a family's representative may be far from near while a member of it is not,
+                // and none usable: verify the rest, to tell out of reach from out of limits
+                if ((family[s] || !kept) && valid[s] && std::isnan(f.errors_of(i, s)[0])) verify(chain, target, f, i, s);
+            }
+        }
+        rank_pose(chain, f, i, reference, weights, within_limits);
+        nearest_family_members(chain, target, f, i, reference, weights, within_limits);
+        counts.empty += f.count[i] == 0;
+        for (int s = 0; s < k; ++s) {
+            const double* errors = f.errors_of(i, s);
+            counts.rough += f.flags_of(i, s)[kValid] && (errors[0] > kRefineAbove || errors[1] > kRefineAbove);
+        }
+    }
+    return counts;
+}
+
+}  // namespace armkit

@@ -1,0 +1,84 @@
+"""The errors IK raises when a target has no usable solution, and their messages.
+
+Each message says which pose of a batch it is about, how far out of reach the target is
+(the closest pose the numeric solver finds) or which joint limits the solutions leave,
+and what to ask for instead.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armkit.chain import LIMIT_TOLERANCE, Chain
+from armkit.errors import JointLimitError, UnreachableError
+from armkit.ik.numeric import IKResult, numeric_ik
+
+if TYPE_CHECKING:
+    from armkit.ik.pipeline import Found
+
+__all__ = ["Labels", "angle_text", "numeric_failure", "outside_limits", "raise_if_unusable", "unreachable"]
+
+#: Budget of the search for the closest pose when a target is out of reach.
+_CLOSEST_POSE_RESTARTS = 20
+
+
+def angle_text(angle: float) -> str:
+    return f"{angle:.3g} rad ({np.degrees(angle):.3g} deg)"
+
+
+def unreachable(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
+                label: str) -> UnreachableError:
+    closest = numeric_ik(chain, T, q0=seed, respect_limits=False,
+                         max_restarts=_CLOSEST_POSE_RESTARTS, rng=0)
+    return UnreachableError(
+        f"{label}the target pose is out of reach: the closest pose found is "
+        f"{closest.position_error:.3g} m and {angle_text(closest.orientation_error)} away",
+        closest.position_error, closest.orientation_error)
+
+
+def outside_limits(chain: Chain, q: NDArray[np.float64], label: str) -> JointLimitError:
+    lower, upper = chain.lower, chain.upper
+    bad = [f"{j.name} = {v:.4g} not in [{lo:.4g}, {hi:.4g}]"
+           for j, v, lo, hi in zip(chain.joints, q, lower, upper, strict=True)
+           if not lo - LIMIT_TOLERANCE <= v <= hi + LIMIT_TOLERANCE]
+    return JointLimitError(
+        f"{label}the target pose is reachable, but only outside the joint limits (e.g. "
+        f"{', '.join(bad)}): ask for solutions outside the limits with within_limits=False or "
+        f"'armkit ik --outside'")
+
+
+class Labels:
+    """``labels[i]``: ``"pose i of N: "`` to start an error message about pose ``i`` of a batch."""
+
+    def __init__(self, size: int) -> None:
+        self.size = size
+
+    def __getitem__(self, i: int) -> str:
+        return f"pose {i} of {self.size}: " if self.size else ""
+
+
+def raise_if_unusable(chain: Chain, c: Found, T: NDArray[np.float64],
+                      near: NDArray[np.float64], labels: Labels) -> None:
+    """Raise for the first pose without a usable candidate."""
+    for i in np.flatnonzero(c.count == 0):
+        if c.keep[i].any():
+            first = np.flatnonzero(c.keep[i])[0]
+            raise outside_limits(chain, c.q[i, first], labels[i])
+        raise unreachable(chain, T[i], near[i], labels[i])
+
+
+def numeric_failure(chain: Chain, result: IKResult, label: str, masked: bool) -> UnreachableError:
+    """The error for a target the numeric solver did not reach (``result``: its best attempt)."""
+    hint = ""
+    if chain.n < 6 and not masked:
+        hint = (f" (an arm with {chain.n} joints reaches only a {chain.n}-dimensional set of poses, so a "
+                f"rounded pose misses it: ask for the position only, mask=[1, 1, 1, 0, 0, 0] or "
+                f"'armkit ik --position')")
+    return UnreachableError(
+        f"{label}no solution found by numeric IK within its budget ({result.restarts + 1} "
+        f"attempts): the closest pose found is {result.position_error:.3g} m and "
+        f"{angle_text(result.orientation_error)} away; the target is probably out of reach{hint}",
+        result.position_error, result.orientation_error)

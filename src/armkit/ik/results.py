@@ -1,0 +1,98 @@
+"""What :func:`armkit.ik.ik_solutions` returns: every solution of a pose, with flags.
+
+Every returned solution reproduces its target to :data:`VERIFY_TOLERANCE` (checked by
+forward kinematics in the compiled core, ``cpp/include/armkit/ik_solve.hpp``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armkit import _core
+
+__all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "residuals"]
+
+#: Position [m] and angle [rad] within which every returned solution reproduces the target.
+VERIFY_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class IKSolutions:
+    """Every closed-form solution of one target pose, with a flag per solution.
+
+    Attributes
+    ----------
+    q : ndarray, shape (k, n)
+        Solutions [rad or m], wrapped into the limits where a ``2 pi`` shift makes them fit,
+        sorted by distance to ``near``.
+    within_limits : ndarray, shape (k,), bool
+        Whether each solution lies inside every joint limit.
+    family : ndarray, shape (k,), bool
+        Whether the solution is a representative of a one-parameter family (a wrist,
+        shoulder or elbow singularity, where only a sum of joint angles is defined).
+    position_error : ndarray, shape (k,)
+        FK residual [m] of each solution: distance from the target position.
+    orientation_error : ndarray, shape (k,)
+        FK residual [rad] of each solution: angle from the target orientation.
+    """
+
+    q: NDArray[np.float64]
+    within_limits: NDArray[np.bool_]
+    family: NDArray[np.bool_]
+    position_error: NDArray[np.float64]
+    orientation_error: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class IKSolutionsBatch(Sequence[IKSolutions]):
+    """The solutions of ``N`` target poses as padded arrays; ``batch[i]`` is pose ``i``'s.
+
+    Attributes
+    ----------
+    q : ndarray, shape (N, k_max, n)
+        Per pose, its ``counts[i]`` solutions first (nearest to ``near`` first), then padding.
+    counts : ndarray, shape (N,), int
+        Number of solutions of each pose (0: out of reach).
+    within_limits, family : ndarray, shape (N, k_max), bool
+    position_error, orientation_error : ndarray, shape (N, k_max)
+        As in :class:`IKSolutions`; padding entries are meaningless.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("ur5")
+    >>> from armkit.ik import ik_solutions
+    >>> found = ik_solutions(robot.chain, robot.fk(robot.random_q(3, rng=0)))
+    >>> len(found), found.q.shape, found[0].q.shape == (found.counts[0], 6)
+    (3, (3, 8, 6), True)
+    """
+
+    q: NDArray[np.float64]
+    counts: NDArray[np.int_]
+    within_limits: NDArray[np.bool_]
+    family: NDArray[np.bool_]
+    position_error: NDArray[np.float64]
+    orientation_error: NDArray[np.float64]
+
+    def __len__(self) -> int:
+        return len(self.q)
+
+    def __getitem__(self, i):  # type: ignore[override]  # int -> IKSolutions, slice -> list
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        k = self.counts[i]
+        return IKSolutions(self.q[i, :k], self.within_limits[i, :k], self.family[i, :k],
+                           self.position_error[i, :k], self.orientation_error[i, :k])
+
+
+def residuals(T_target: NDArray[np.float64], F: NDArray[np.float64]) -> NDArray[np.float64]:
+    """FK residuals ``(..., 2)`` of poses ``F`` to ``T_target`` ``(..., 4, 4)``: the position
+    distance [m] and the rotation angle [rad], accurate to rounding from 0 to ``pi``."""
+    T_target, F = np.broadcast_arrays(np.asarray(T_target, dtype=np.float64), np.asarray(F, dtype=np.float64))
+    out = np.empty((*F.shape[:-2], 2))
+    _core.residuals(np.ascontiguousarray(T_target), np.ascontiguousarray(F), out)
+    return out
