@@ -8,7 +8,8 @@ Run: python benchmarks/bench_ik.py [--quick]
     every solution with flags (ik_solutions), every solution as arrays (robot.ik(all=True)),
     and the nearest solution only (robot.ik(near=), one verified solution per pose).
 (b) Numeric IK on the Panda with joint limits from the same random seed per pose: success
-    rate and median / mean time over random reachable poses, success judged by armkit's
+    rate and median / mean time over random reachable poses (a batch: time per pose of one
+    call), success judged by armkit's
     FK for every solver: position within 1e-6 m, orientation within 1e-6 rad, inside
     the limits.
 Every peer is given exactly armkit's kinematics (same joint zeros, base and tool), so the
@@ -199,8 +200,7 @@ def bench_numeric(poses: int, slow_poses: int) -> None:
         start = np.concatenate([[0.0], q0, [0.0]])
         return ik_py.inverse_kinematics_frame(T, initial_position=start, orientation_mode="all")[1:-1]
 
-    # built once per chain, as rtb's ETS is; the constructor compiles the numba kernels (or
-    # loads them from numba's cache) before anything is timed
+    # built once per chain, as rtb's ETS is
     solver = NumericIK(chain)
     coarse = NumericIK(chain, position_tolerance=1e-6, orientation_tolerance=1e-6)
     solvers = [
@@ -227,6 +227,12 @@ def bench_numeric(poses: int, slow_poses: int) -> None:
         ours = ours or median
         rows.append([label, str(count), f"{100 * ok / count:.1f}", f"{median * 1e3:.3f}",
                      f"{mean * 1e3:.3f}", ratio(median, ours)])
+    for threads in (1, 0):  # the whole batch in one call: its time per pose as the mean
+        dt, result = timed(solver.solve_batch, targets[:poses], seeds[:poses], 0, threads)
+        ok = sum(bool(reproduces(robot, q, T)[0] and robot.within_limits(q))
+                 for q, T in zip(result.q, targets[:poses], strict=True))
+        rows.append([f"armkit NumericIK.solve_batch (tol 1e-9, threads={threads or 'all'})", str(poses),
+                     f"{100 * ok / poses:.1f}", "-", f"{dt / poses * 1e3:.3f}", "-"])
     table("(b) numeric IK, Panda with joint limits, random reachable poses, one random seed each",
           ["solver", "poses", "success %", "median [ms]", "mean [ms]", "median /armkit"], rows)
 

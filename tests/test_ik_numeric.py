@@ -1,4 +1,4 @@
-"""Numeric IK: the per-target pose error and the Levenberg-Marquardt solver."""
+"""Numeric IK: the Levenberg-Marquardt solver (armkit._core), its damped step, projection and batch."""
 
 from __future__ import annotations
 
@@ -9,33 +9,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import armkit
+from armkit import _core
 from armkit.chain import DHRow
 from armkit.errors import InputError
-from armkit.ik.numeric import (
-    NumericIK,
-    _cholesky_solve,
-    _damped_step,
-    _TargetError,
-    numeric_ik,
-    wrap_into_limits,
-)
+from armkit.ik.numeric import IKResultBatch, NumericIK, numeric_ik, wrap_into_limits
 from armkit.kinematics import pose_error
 from armkit.spatial import matrix_from_axis_angle, transform_from
-
-
-@pytest.mark.parametrize("name", ["panda", "stanford", "probot-anno"])
-def test_target_error_matches_pose_error(name):
-    robot = armkit.load(name)
-    rng = np.random.default_rng(2)
-    T_target = robot.fk(robot.random_q(rng=rng))
-    error = _TargetError(T_target)
-    poses = robot.fk(robot.random_q(50, rng=rng))
-    near = T_target.copy()
-    near[:3, :3] = near[:3, :3] @ matrix_from_axis_angle([0.0, 1e-9, 0.0])
-    half_turn = T_target.copy()
-    half_turn[:3, :3] = matrix_from_axis_angle(np.pi * np.array([0.6, 0.0, 0.8])) @ T_target[:3, :3]
-    for T in [*poses, T_target, near, half_turn]:
-        np.testing.assert_allclose(error(T), pose_error(T_target, T), atol=1e-12)
 
 
 def _check_solution(robot, T_target, result, tol=1e-9):
@@ -214,35 +193,56 @@ def test_non_finite_or_misshaped_target_is_an_input_error():
         numeric_ik(panda.chain, T, q0=[0.0, np.inf, 0, 0, 0, 0, 0])
 
 
-def _step_by_numpy(J, e, rows, sides, damping):
-    """The documented damped step, written with NumPy: frozen columns, masked rows, normal equations."""
-    J = J.copy()
-    frozen = (e * np.isin(np.arange(6), rows)) @ J * sides > 0.0
-    J[:, frozen] = 0.0
-    J, e = J[rows], e[rows]
-    if len(rows) <= J.shape[1]:
-        return J.T @ np.linalg.solve(J @ J.T + damping * np.eye(len(rows)), e)
-    return np.linalg.solve(J.T @ J + damping * np.eye(J.shape[1]), J.T @ e)
+def _free_jacobian(J, e, rows, sides):
+    """J's task rows with the columns of joints held at a bound by the gradient zeroed."""
+    Jm, em = J[rows].copy(), e[rows]
+    frozen = em @ Jm * sides > 0.0
+    Jm[:, frozen] = 0.0
+    return Jm, em, frozen
 
 
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.integers(4, 8),
        st.sampled_from([(0, 1, 2, 3, 4, 5), (0, 1, 2), (0, 2, 4, 5)]))
-def test_compiled_step_equals_the_numpy_formula(seed, n, rows):
+def test_damped_step_solves_the_damped_normal_equations(seed, n, rows):
+    """Whichever system the core solves (m x m when m <= n, else n x n), the step satisfies
+    (Jf^T Jf + damping I) dq = Jf^T e for the free columns Jf, and a joint pushed against its
+    bound does not move."""
     rng = np.random.default_rng(seed)
     J, e = rng.normal(size=(6, n)), rng.normal(size=6)
     rows = np.array(rows, dtype=np.int64)
     sides = rng.choice([-1.0, 0.0, 1.0], n)
-    # frozen columns can leave J J^T singular, so the system's condition is about |J|^2 / damping:
-    # from 1e-4 on the two solutions agree to 1e-9 whatever the rounding
     damping = 10.0 ** rng.uniform(-4, 0)
     dq = np.empty(n)
-    _damped_step(J, e, rows, sides, damping, dq)
-    expected = _step_by_numpy(J, e, rows, sides, damping)
-    np.testing.assert_allclose(dq, expected, rtol=1e-9, atol=1e-12)
+    _core.damped_step(J, e, rows, sides, damping, dq)
+    Jf, em, frozen = _free_jacobian(J, e, rows, sides)
+    residual = (Jf.T @ Jf + damping * np.eye(n)) @ dq - Jf.T @ em
+    np.testing.assert_allclose(residual, 0.0, atol=1e-10 * (1.0 + np.abs(Jf.T @ em).max()))
+    np.testing.assert_array_equal(dq[frozen], 0.0)
+    # a descent direction of the masked error: the first-order change of E = 1/2 |e|^2 is -e^T Jf dq
+    assert em @ Jf @ dq >= 0.0
 
 
-def test_compiled_step_without_damping_on_a_singular_jacobian():
+def test_damped_step_lowers_a_pose_error_like_finite_differences_predict():
+    """On a real chain, J from the core's Jacobian: a small step along dq changes the pose error
+    as J dq says (finite differences), and the full step lowers |e|."""
+    panda = armkit.load("panda")
+    rng = np.random.default_rng(6)
+    rows, sides, dq = np.arange(6), np.zeros(7), np.empty(7)
+    for _ in range(10):
+        q = panda.random_q(rng=rng)
+        T_target = panda.fk(q + rng.normal(scale=0.05, size=7))
+        J = panda.jacobian(q)
+        e = pose_error(T_target, panda.fk(q))
+        _core.damped_step(np.ascontiguousarray(J), e, rows, sides, 1e-9, dq)
+        h = 1e-6
+        change = (pose_error(T_target, panda.fk(q + h * dq))
+                  - pose_error(T_target, panda.fk(q - h * dq))) / (2 * h)
+        np.testing.assert_allclose(change, -J @ dq, atol=1e-6)
+        assert np.linalg.norm(pose_error(T_target, panda.fk(q + dq))) < 0.1 * np.linalg.norm(e)
+
+
+def test_damped_step_without_damping_on_a_singular_jacobian():
     """Not positive definite: close to the minimum-norm least-squares step (damping 1e-10
     trace(J^T J): about 1e-7 away on these rank-3 Jacobians); all zeros: no step."""
     rng = np.random.default_rng(3)
@@ -250,19 +250,145 @@ def test_compiled_step_without_damping_on_a_singular_jacobian():
     for _ in range(20):
         J = rng.normal(size=(6, 3)) @ rng.normal(size=(3, 7))  # rank 3
         e = rng.normal(size=6)
-        _damped_step(J, e, rows, sides, 0.0, dq)
+        _core.damped_step(J, e, rows, sides, 0.0, dq)
         np.testing.assert_allclose(dq, np.linalg.lstsq(J, e, rcond=None)[0], rtol=0, atol=1e-6)
-    _damped_step(np.zeros((6, 7)), e, rows, sides, 0.0, dq)
+    _core.damped_step(np.zeros((6, 7)), e, rows, sides, 0.0, dq)
     np.testing.assert_array_equal(dq, np.zeros(7))
 
 
-@settings(max_examples=30, deadline=None)
-@given(st.integers(0, 2**32 - 1), st.integers(1, 8))
-def test_compiled_cholesky_solve_equals_numpy(seed, k):
-    rng = np.random.default_rng(seed)
-    M = rng.normal(size=(k, k))
-    A, b = M @ M.T + 1e-3 * np.eye(k), rng.normal(size=k)
-    x = b.copy()
-    assert _cholesky_solve(A.copy(), x)
-    np.testing.assert_allclose(A @ x, b, rtol=0, atol=1e-9 * np.linalg.cond(A))
-    assert not _cholesky_solve(-A, b.copy())
+def test_solutions_reproduce_the_target_in_roboticstoolbox():
+    """Targets from roboticstoolbox-python's Panda FK; its FK of armkit's answers gives them back."""
+    rtb = pytest.importorskip("roboticstoolbox")
+    theirs = rtb.models.DH.Panda()
+    panda = armkit.load("panda")
+    q_true = panda.random_q(30, rng=30)
+    targets = np.array([theirs.fkine(q).A for q in q_true])
+    result = NumericIK(panda.chain).solve_batch(targets, rng=31)
+    assert result.success.all()
+    for T, q in zip(targets, result.q, strict=True):
+        assert_transform_close(theirs.fkine(q).A, T, 1e-9, 1e-9)
+        assert panda.within_limits(q)
+
+
+def _same_batches(a, b):
+    for field in ("q", "success", "iterations", "restarts", "position_error", "orientation_error"):
+        np.testing.assert_array_equal(getattr(a, field), getattr(b, field))
+
+
+def test_batch_results_do_not_depend_on_the_thread_count():
+    # poses that need restarts (seeds far from the answer, unreachable targets) included;
+    # the budget is generous so that no solve stops on time
+    panda = armkit.load("panda")
+    solver = NumericIK(panda.chain, max_restarts=20, time_budget=60.0)
+    targets = panda.fk(panda.random_q(60, rng=40))
+    targets[::10, :3, 3] += 1.0  # out of reach: every restart used
+    seeds = panda.random_q(60, rng=41)
+    one = solver.solve_batch(targets, seeds, rng=42, threads=1)
+    assert one.restarts.max() == 20 and one.success.sum() == 54
+    for threads in (2, 3, None):
+        _same_batches(one, solver.solve_batch(targets, seeds, rng=42, threads=threads))
+
+
+def test_batch_entries_are_single_solves():
+    """Entry 0 is what solve() gives with the same rng; every entry is a valid IKResult."""
+    panda = armkit.load("panda")
+    solver = NumericIK(panda.chain)
+    targets = panda.fk(panda.random_q(8, rng=43))
+    seeds = panda.random_q(8, rng=44)
+    batch = solver.solve_batch(targets, seeds, rng=7)
+    assert isinstance(batch, IKResultBatch) and len(batch) == 8
+    single = solver.solve(targets[0], seeds[0], rng=7)
+    np.testing.assert_array_equal(batch[0].q, single.q)
+    assert (batch[0].iterations, batch[0].restarts) == (single.iterations, single.restarts)
+    for i in range(8):
+        _check_solution(panda, targets[i], batch[i])
+    shared = solver.solve_batch(targets, seeds[3], rng=7)  # one seed (n,) for every target
+    _same_batches(shared, solver.solve_batch(targets, np.tile(seeds[3], (8, 1)), rng=7))
+    assert solver.solve_batch(np.empty((0, 4, 4))).q.shape == (0, 7)
+
+
+def test_fixed_rng_reproduces_restarts():
+    """Far seeds and a tight iteration budget force restarts; the same rng (an int or a
+    Generator in the same state) gives the same restarts and answers, another rng others."""
+    panda = armkit.load("panda")
+    solver = NumericIK(panda.chain, max_iterations=8)
+    targets = panda.fk(panda.random_q(20, rng=45))
+    a = solver.solve_batch(targets, rng=3)
+    assert a.success.all() and (a.restarts > 0).sum() >= 10
+    _same_batches(a, solver.solve_batch(targets, rng=3))
+    b = solver.solve_batch(targets, rng=4)
+    assert b.success.all() and not np.array_equal(a.restarts, b.restarts)
+    g, h = np.random.default_rng(9), np.random.default_rng(9)
+    for T in targets[:5]:
+        x, y = solver.solve(T, rng=g), solver.solve(T, rng=h)
+        np.testing.assert_array_equal(x.q, y.q)
+        assert (x.iterations, x.restarts) == (y.iterations, y.restarts)
+
+
+def test_panda_batch_success_rate_counted_by_forward_kinematics():
+    """As the single-solve version, 1000 poses in one batch: every one solved within 1e-6."""
+    panda = armkit.load("panda")
+    targets, seeds = panda.fk(panda.random_q(1000, rng=22)), panda.random_q(1000, rng=23)
+    result = NumericIK(panda.chain).solve_batch(targets, seeds, rng=24)
+    e = pose_error(targets, panda.fk(result.q))
+    solved = ((np.linalg.norm(e[:, :3], axis=1) <= 1e-6) & (np.linalg.norm(e[:, 3:], axis=1) <= 1e-6)
+              & panda.within_limits(result.q))
+    assert solved.all() and result.success.all()
+
+
+def test_bad_batch_inputs_are_input_errors():
+    panda = armkit.load("panda")
+    solver = NumericIK(panda.chain)
+    T = panda.fk(panda.random_q(3, rng=0))
+    with pytest.raises(InputError, match=r"T_base_tool: expected finite transforms \(N, 4, 4\), got an array "
+                                         r"of shape \(4, 4\)"):
+        solver.solve_batch(T[0])
+    bad = T.copy()
+    bad[1, 0, 3] = np.nan
+    with pytest.raises(InputError, match=r"expected finite transforms \(N, 4, 4\), got non-finite values"):
+        solver.solve_batch(bad)
+    with pytest.raises(InputError, match=r"q0: expected finite joint values \(3, 7\) or \(7,\), got an "
+                                         r"array of shape \(2, 7\)"):
+        solver.solve_batch(T, np.zeros((2, 7)))
+    with pytest.raises(InputError, match=r"q0: expected finite joint values \(3, 7\) or \(7,\), got non-fin"):
+        solver.solve_batch(T, np.full((3, 7), np.inf))
+    with pytest.raises(InputError, match="threads: expected 0"):
+        solver.solve_batch(T, threads=-1)
+    with pytest.raises(InputError, match="T_base_tool: expected transforms"):
+        solver.solve_batch("not poses")
+
+
+def test_bad_rng_and_budgets_are_input_errors():
+    panda = armkit.load("panda")
+    T = panda.fk(np.zeros(7))
+    for rng in (-1, 2**64, "seed"):
+        with pytest.raises(InputError, match="rng: expected a seed in"):
+            numeric_ik(panda.chain, T, rng=rng)
+    with pytest.raises(InputError, match="max_restarts: expected 0 or more"):
+        NumericIK(panda.chain, max_restarts=-1)
+    for budget in (-1.0, np.nan):
+        with pytest.raises(InputError, match="time_budget: expected a wall-clock budget >= 0 s"):
+            NumericIK(panda.chain, time_budget=budget)
+
+
+def test_a_zero_time_budget_stops_after_the_first_attempt():
+    panda = armkit.load("panda")
+    target = transform_from(np.eye(3), [2.0, 0.0, 0.5])  # out of reach
+    result = numeric_ik(panda.chain, target, time_budget=0.0, rng=0)
+    assert not result.success and result.restarts == 0
+
+
+def test_wrap_into_limits_broadcasts_and_moves_by_whole_turns():
+    chain = armkit.load("stanford").chain  # joint 3 prismatic
+    rng = np.random.default_rng(5)
+    q = rng.uniform(-12, 12, (4, 5, chain.n))
+    wrapped = wrap_into_limits(chain, q, 0.0)
+    assert wrapped.shape == q.shape
+    turns = (wrapped - q) / (2 * np.pi)
+    np.testing.assert_allclose(turns, np.round(turns), atol=1e-12)
+    np.testing.assert_array_equal(wrapped[..., chain.prismatic], q[..., chain.prismatic])
+    fits = np.ceil((chain.lower - q) / (2 * np.pi)) <= np.floor((chain.upper - q) / (2 * np.pi))
+    inside = (wrapped >= chain.lower - 1e-9) & (wrapped <= chain.upper + 1e-9)
+    assert inside[fits & ~chain.prismatic].all()
+    with pytest.raises(InputError, match=r"wrap_into_limits: expected q \(\.\.\., 6\)"):
+        wrap_into_limits(chain, np.zeros(5), 0.0)

@@ -17,7 +17,7 @@ converged only linearly below ``1e-8`` and 0.3-1.7 % of random poses of the 6-jo
 failed the ``1e-9`` tolerance; with ``1e-9`` none did. For ``m`` task rows and ``n >= m``
 joints the same step is ``dq = J^T y`` with the ``m x m`` system ``(J J^T + lambda I) y = e``,
 else the ``n x n`` one; either is solved by a Cholesky factorisation written out in the
-compiled kernel.
+compiled core.
 
 Joint limits are kept during the iterations, as bounds: after each step a revolute angle
 outside its range is moved into it by whole turns if that fits, else to the bound nearer
@@ -29,45 +29,31 @@ the caller's ``q0``: an attempt that has not halved its error in ``3`` steps, or
 used ``max_iterations`` steps, is abandoned for a new uniform random seed inside the
 limits, until the restart or time budget runs out.
 
-Each attempt runs as one call of compiled code (numba, :func:`_attempt`): the tool pose
-and Jacobian from :func:`armkit.kinematics.chain_frames` / :func:`~armkit.kinematics.chain_jacobian`
-(the kernels behind :class:`armkit.kinematics.ChainKernel`), the pose error from
-:func:`armkit.kinematics.pose_error_into`, the projection, the active set and the solve,
-about 1 us per step on a 7-joint arm (a Panda solve from a random seed: 20-30 us median).
-Restarts, their random seeds (drawn from ``rng`` in Python, so results are reproducible)
-and the time budget stay in Python between attempts. The first :class:`NumericIK` of a
-process compiles the kernels, or loads them from numba's on-disk cache, before any time
-budget starts (about 5 s the first time after installing, 0.2 s afterwards).
+The whole solve, restarts included, is one call of the compiled core (``armkit._core``,
+cpp/src/ik_numeric.cpp): the tool pose and Jacobian, the pose error, the projection, the
+active set, the Cholesky solve, the restart seeds and the time budget, about 1 us per step on
+a 7-joint arm. The restart seeds come from a small deterministic generator (xoshiro256**)
+seeded once per solve from ``rng``, so a given ``rng`` gives the same answer on every run and
+platform. :meth:`NumericIK.solve_batch` solves many targets over threads with the GIL released;
+pose ``i`` draws from stream ``i`` of one seed, so its answer does not depend on the thread count
+(unless the time budget, which each pose has for itself, cuts its solve short).
 """
 
 from __future__ import annotations
 
 import math
-import time
+import os
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-from numba import njit, vectorize
 from numpy.typing import ArrayLike, NDArray
 
-from armkit.chain import LIMIT_TOLERANCE, Chain
+from armkit import _core
+from armkit.chain import Chain
 from armkit.errors import InputError
-from armkit.kinematics import chain_frames, chain_jacobian, pose_error_into
 
-__all__ = ["IKResult", "NumericIK", "numeric_ik", "wrap_angle_into_limits", "wrap_into_limits"]
-
-#: Range [m] used for random seeds of prismatic joints without limits.
-_UNBOUNDED_SEED_RANGE = 1.0
-_TWO_PI = 2.0 * math.pi
-#: An attempt whose error has not fallen below _STALL_FACTOR times its best in
-#: _STALL_STEPS steps is abandoned for a new seed.
-_STALL_STEPS = 3
-_STALL_FACTOR = 0.5
-#: Damping, relative to trace(J^T J), of a step whose damped normal equations were not
-#: positive definite (a singular Jacobian and ``damping = 0``). 1e-10 came closest to the
-#: minimum-norm least-squares step on rank-deficient random Jacobians (about 1e-7 from it;
-#: 1e-12 and 1e-8 were 1e-5 and 1e-6 away).
-_SINGULAR_DAMPING = 1e-10
+__all__ = ["IKResult", "IKResultBatch", "NumericIK", "numeric_ik", "wrap_into_limits"]
 
 
 @dataclass(frozen=True)
@@ -99,6 +85,44 @@ class IKResult:
     orientation_error: float
 
 
+@dataclass(frozen=True)
+class IKResultBatch:
+    """The outcomes of :meth:`NumericIK.solve_batch` for ``N`` targets: the fields of
+    :class:`IKResult` as arrays, one entry per target; ``result[i]`` is target ``i``'s
+    :class:`IKResult`.
+
+    Attributes
+    ----------
+    q : ndarray, shape (N, n)
+        Best configuration per target [rad or m].
+    success : ndarray of bool, shape (N,)
+    iterations, restarts : ndarray of int64, shape (N,)
+    position_error, orientation_error : ndarray, shape (N,)
+        [m] and [rad], masked axes only.
+    """
+
+    q: NDArray[np.float64]
+    success: NDArray[np.bool_]
+    iterations: NDArray[np.int64]
+    restarts: NDArray[np.int64]
+    position_error: NDArray[np.float64]
+    orientation_error: NDArray[np.float64]
+
+    def __len__(self) -> int:
+        return len(self.success)
+
+    def __getitem__(self, i: int) -> IKResult:
+        return IKResult(self.q[i], bool(self.success[i]), int(self.iterations[i]), int(self.restarts[i]),
+                        float(self.position_error[i]), float(self.orientation_error[i]))
+
+
+def _core_chain(chain: Chain) -> Any:
+    """The chain as the compiled core takes it (an ``_core.Chain``), built once per chain."""
+    return chain.derived("_core_chain", lambda: _core.Chain(
+        np.ascontiguousarray(chain.T_between), np.ascontiguousarray(chain.prismatic),
+        np.ascontiguousarray(chain.lower), np.ascontiguousarray(chain.upper)))
+
+
 def _check_mask(mask: ArrayLike | None) -> NDArray[np.bool_]:
     if mask is None:
         return np.ones(6, dtype=bool)
@@ -109,22 +133,59 @@ def _check_mask(mask: ArrayLike | None) -> NDArray[np.bool_]:
     return m == 1
 
 
-def _check_target(T_base_tool: ArrayLike) -> NDArray[np.float64]:
+def _float_array(value: Any, label: str, expected: str) -> NDArray[np.float64]:
+    """``value`` as a C-ordered float64 array (itself if it already is one)."""
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.flags.c_contiguous:
+        return value
     try:
-        T = np.array(T_base_tool, dtype=np.float64, order="C")  # writable: the compiled type
+        return np.ascontiguousarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise InputError(f"T_base_tool: expected a 4x4 transform, got {T_base_tool!r}") from exc
+        raise InputError(f"{label}: expected {expected}, got {value!r}") from exc
+
+
+def _check_target(T_base_tool: ArrayLike) -> NDArray[np.float64]:
+    T = _float_array(T_base_tool, "T_base_tool", "a 4x4 transform")
     if T.shape != (4, 4) or not math.isfinite(T.sum()):
         raise InputError(f"T_base_tool: expected a finite 4x4 transform, got {T.tolist()}")
     return T
+
+
+def _check_seed(q0: ArrayLike, n: int) -> NDArray[np.float64]:
+    q = _float_array(q0, "q0", f"{n} finite joint values")
+    if q.shape != (n,) or not math.isfinite(q.sum()):
+        raise InputError(f"q0: expected {n} finite joint values, got {q.tolist()}")
+    return q
+
+
+def _shape_or_values(values: NDArray[np.float64], shaped: bool) -> str:
+    """What is wrong with an array of the expected shape (its values) or of another one."""
+    return "non-finite values" if shaped else f"an array of shape {values.shape}"
+
+
+def _seed(rng: np.random.Generator | int | None) -> int:
+    """The 64-bit seed of one solve's restart seeds: an int ``rng`` itself, one draw from a
+    Generator (or whatever ``np.random.default_rng`` takes), fresh entropy for ``None``."""
+    if type(rng) is int and 0 <= rng < 2**64:
+        return rng
+    if rng is None:
+        return int.from_bytes(os.urandom(8), "little")
+    if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool):
+        if 0 <= rng < 2**64:
+            return int(rng)
+        raise InputError(f"rng: expected a seed in [0, 2**64), a numpy Generator or None, got {rng}")
+    try:
+        return int(np.random.default_rng(rng).integers(2**63))
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"rng: expected a seed in [0, 2**64), a numpy Generator or None, "
+                         f"got {rng!r}") from exc
 
 
 def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArray[np.float64]:
     """Shift revolute angles ``(..., n)`` by multiples of ``2 pi`` into the joint limits.
 
     Among several shifts that fit (limits wider than ``2 pi``) the one closest to
-    ``reference`` ``(..., n)`` is taken; an angle that fits no shift is moved as close to
-    ``reference`` as whole turns allow. Prismatic values are left alone.
+    ``reference`` (broadcast against ``q``) is taken; an angle that fits no shift is moved
+    as close to ``reference`` as whole turns allow. Prismatic values are left alone.
 
     Examples
     --------
@@ -133,243 +194,29 @@ def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArra
     >>> float(wrap_into_limits(panda.chain, [0, 0, 0, -1, 0, -3.0, 0], 0.0)[5].round(4))
     3.2832
     """
-    q = np.asarray(q, dtype=float)
-    return np.where(chain.prismatic, q, wrap_angle_into_limits(q, chain.lower, chain.upper, reference))
-
-
-@vectorize(["float64(float64, float64, float64, float64)"], cache=True)
-def wrap_angle_into_limits(q: float, lower: float, upper: float, reference: float) -> float:
-    """A revolute angle shifted by whole turns into ``[lower, upper]`` (a NumPy ufunc).
-
-    Among several fitting shifts (limits wider than ``2 pi``) the one closest to
-    ``reference``; an angle that fits no shift is moved as close to ``reference`` as
-    whole turns allow. Every argument broadcasts; all in radians.
-
-    >>> float(wrap_angle_into_limits(-3.0, -0.0175, 3.7525, 0.0).round(4))
-    3.2832
-    """
-    low, high = lower - LIMIT_TOLERANCE, upper + LIMIT_TOLERANCE
-    if low <= q <= high and high - low < _TWO_PI:  # fits, and no other shift can: the usual case
-        return q
-    turns_low = np.ceil((low - q) / _TWO_PI)
-    turns_high = np.floor((high - q) / _TWO_PI)
-    turns = np.rint((reference - q) / _TWO_PI)
-    if turns_low <= turns_high:
-        turns = min(max(turns, turns_low), turns_high)
-    return q + _TWO_PI * turns
-
-
-# ------------------------------------------------------------------ compiled kernels (numba)
-@njit(cache=True)
-def _project(q: NDArray[np.float64], lower: NDArray[np.float64], upper: NDArray[np.float64],
-             revolute: NDArray[np.bool_], sides: NDArray[np.float64]) -> None:
-    """Move ``q`` ``(n,)`` into the limits in place and mark the joints left at a bound.
-
-    A revolute angle outside its range moves by whole turns if that fits, else to the
-    bound nearer in angle; a prismatic value to the nearer bound. ``sides[i]`` becomes
-    ``-1`` at the lower bound, ``+1`` at the upper one, ``0`` inside. The same whole-turn
-    rule as :func:`wrap_into_limits` with the reference at the middle of the limits, then
-    clamped.
-    """
-    for i in range(q.shape[0]):
-        value, low, high = q[i], lower[i], upper[i]
-        sides[i] = 0.0
-        if low < value < high:
-            continue
-        if revolute[i] and not low <= value <= high:
-            turned = low + (value - low) % (2 * math.pi)  # in [low, low + 2 pi)
-            # inside, or else at the bound nearer in angle
-            value = turned if turned <= high or turned - high < low + 2 * math.pi - turned else low
-        if value <= low:
-            value, sides[i] = low, -1.0
-        elif value >= high:
-            value, sides[i] = high, 1.0
-        q[i] = value
-
-
-@njit(cache=True)
-def _cholesky_solve(A: NDArray[np.float64], b: NDArray[np.float64]) -> bool:
-    """Solve ``A x = b`` for a symmetric positive definite ``A`` ``(k, k)`` in place.
-
-    Reads the lower triangle of ``A`` and overwrites it with the Cholesky factor, ``b``
-    ``(k,)`` with ``x``. ``False`` (and ``b`` unusable) if ``A`` is not positive definite.
-    Written out because for ``k <= 7`` a LAPACK call costs more than the arithmetic.
-    """
-    k = b.shape[0]
-    for j in range(k):
-        d = A[j, j]
-        for p in range(j):
-            d -= A[j, p] * A[j, p]
-        if not d > 0.0:
-            return False
-        d = math.sqrt(d)
-        A[j, j] = d
-        for i in range(j + 1, k):
-            s = A[i, j]
-            for p in range(j):
-                s -= A[i, p] * A[j, p]
-            A[i, j] = s / d
-    for i in range(k):  # L y = b
-        s = b[i]
-        for p in range(i):
-            s -= A[i, p] * b[p]
-        b[i] = s / A[i, i]
-    for i in range(k - 1, -1, -1):  # L^T x = y
-        s = b[i]
-        for p in range(i + 1, k):
-            s -= A[p, i] * b[p]
-        b[i] = s / A[i, i]
-    return True
-
-
-@njit(cache=True)
-def _solve_normal_equations(Jm: NDArray[np.float64], em: NDArray[np.float64], damping: float,
-                            x: NDArray[np.float64]) -> bool:
-    """``x`` ``(k,)`` from ``(Jm Jm^T + damping I) x = em`` if ``Jm`` ``(m, n)`` has ``m <= n``
-    rows (``k = m``), else from ``(Jm^T Jm + damping I) x = Jm^T em`` (``k = n``), by Cholesky;
-    ``False`` if the matrix is not positive definite."""
-    m, n = Jm.shape
-    wide = m <= n
-    size = x.shape[0]
-    A = np.empty((size, size))
-    for a in range(size):
-        for b in range(a + 1):
-            s = 0.0
-            if wide:
-                for i in range(n):
-                    s += Jm[a, i] * Jm[b, i]
-            else:
-                for k in range(m):
-                    s += Jm[k, a] * Jm[k, b]
-            A[a, b] = s
-        A[a, a] += damping
-        if wide:
-            x[a] = em[a]
-        else:
-            s = 0.0
-            for k in range(m):
-                s += Jm[k, a] * em[k]
-            x[a] = s
-    return _cholesky_solve(A, x)
-
-
-@njit(cache=True)
-def _damped_step(J: NDArray[np.float64], e: NDArray[np.float64], rows: NDArray[np.int64],
-                 sides: NDArray[np.float64], damping: float, dq: NDArray[np.float64]) -> None:
-    """The Levenberg-Marquardt step ``dq`` ``(n,)`` for the masked ``rows`` of ``J`` and ``e``.
-
-    Joints held at a bound (``sides``) by the gradient ``J^T e`` get a zero column.
-    Solves ``(J J^T + damping I) y = e``, ``dq = J^T y`` when ``m <= n`` rows, else
-    ``(J^T J + damping I) dq = J^T e``. If that matrix is not positive definite (a singular
-    ``J`` and no damping asked), the damping becomes ``_SINGULAR_DAMPING`` times the trace
-    of ``J^T J``: within about 1e-7 of the minimum-norm least-squares step
-    (``np.linalg.lstsq`` would cost seconds of compile time for a case the default damping
-    never reaches).
-    """
-    m, n = rows.shape[0], J.shape[1]
-    Jm, em = np.empty((m, n)), np.empty(m)
-    for k in range(m):
-        em[k] = e[rows[k]]
-    trace = 0.0
-    for i in range(n):
-        frozen = False
-        if sides[i] != 0.0:
-            gradient = 0.0
-            for k in range(m):
-                gradient += em[k] * J[rows[k], i]
-            frozen = gradient * sides[i] > 0.0
-        for k in range(m):
-            Jm[k, i] = 0.0 if frozen else J[rows[k], i]
-            trace += Jm[k, i] * Jm[k, i]
-    wide = m <= n
-    x = np.empty(m if wide else n)
-    if not _solve_normal_equations(Jm, em, damping, x) and not _solve_normal_equations(
-            Jm, em, damping + _SINGULAR_DAMPING * trace, x):
-        for k in range(x.shape[0]):  # J is all zeros: no direction lowers the error
-            x[k] = 0.0
-    for i in range(n):
-        if wide:
-            s = 0.0
-            for k in range(m):
-                s += Jm[k, i] * x[k]
-            dq[i] = s
-        else:
-            dq[i] = x[i]
-
-
-@njit(cache=True)
-def _attempt(T_between: NDArray[np.float64], prismatic: NDArray[np.bool_], lower: NDArray[np.float64],
-             upper: NDArray[np.float64], respect_limits: bool, T_target: NDArray[np.float64],
-             rows: NDArray[np.int64], settings: NDArray[np.float64], max_iterations: int,
-             q: NDArray[np.float64], best_q: NDArray[np.float64],
-             best: NDArray[np.float64]) -> tuple[bool, int, float, float]:
-    """One Levenberg-Marquardt attempt from ``q`` ``(n,)`` (updated in place to the last
-    configuration evaluated): ``(solved, steps, position error, orientation error)``.
-
-    ``settings`` is ``(position_tolerance**2, orientation_tolerance**2, damping_gain,
-    damping)``; ``best`` ``(cost, position error, orientation error)`` and ``best_q`` keep
-    the lowest-cost configuration over all attempts.
-    """
-    n = q.shape[0]
-    T, J, e = np.empty((4, 4)), np.empty((6, n)), np.empty(6)
-    axes, points, sides, dq = np.empty((n, 3)), np.empty((n, 3)), np.zeros(n), np.empty(n)
-    revolute = ~prismatic
-    if respect_limits:
-        _project(q, lower, upper, revolute, sides)
-    reference, since, steps = math.inf, 0, 0
-    position = orientation = math.inf
-    while steps < max_iterations:
-        steps += 1
-        chain_frames(T_between, prismatic, q, T, axes, points)
-        pose_error_into(T_target, T, e)
-        position = orientation = 0.0
-        for r in rows:
-            if r < 3:
-                position += e[r] * e[r]
-            else:
-                orientation += e[r] * e[r]
-        cost = 0.5 * (position + orientation)
-        if cost < best[0]:
-            best[0], best[1], best[2] = cost, math.sqrt(position), math.sqrt(orientation)
-            for i in range(n):
-                best_q[i] = q[i]
-        if position <= settings[0] and orientation <= settings[1]:
-            return True, steps, math.sqrt(position), math.sqrt(orientation)
-        if cost < _STALL_FACTOR * reference:
-            reference, since = cost, 0
-        else:
-            since += 1
-            if since >= _STALL_STEPS or not math.isfinite(cost):
-                break
-        if steps == max_iterations:  # the step would never be evaluated
-            break
-        chain_jacobian(T, axes, points, prismatic, J)
-        _damped_step(J, e, rows, sides, settings[2] * cost + settings[3], dq)
-        q += dq
-        if respect_limits:
-            _project(q, lower, upper, revolute, sides)
-    return False, steps, math.sqrt(position), math.sqrt(orientation)
-
-
-class _TargetError:
-    """The pose error (:func:`armkit.kinematics.pose_error`) to one target, one compiled call
-    (:func:`armkit.kinematics.pose_error_into`, the one :func:`_attempt` uses) per pose."""
-
-    def __init__(self, T_target: NDArray[np.float64]) -> None:
-        self.T_target = np.ascontiguousarray(T_target, dtype=np.float64)
-
-    def __call__(self, T: NDArray[np.float64]) -> NDArray[np.float64]:
-        """The pose error ``(6,)`` [m, rad] of the tool pose ``T`` ``(4, 4)``."""
-        e = np.empty(6)
-        pose_error_into(self.T_target, np.ascontiguousarray(T, dtype=np.float64), e)
-        return e
+    q = np.asarray(q, dtype=np.float64)
+    reference = np.asarray(reference, dtype=np.float64)
+    try:
+        shape = np.broadcast_shapes(q.shape, reference.shape)
+    except ValueError:
+        shape = ()
+    if shape[-1:] != (chain.n,):
+        raise InputError(f"wrap_into_limits: expected q (..., {chain.n}) and a reference broadcasting "
+                         f"to it, got shapes {q.shape} and {reference.shape}")
+    flat = (-1, chain.n)
+    q = np.ascontiguousarray(np.broadcast_to(q, shape)).reshape(flat)
+    reference = np.ascontiguousarray(np.broadcast_to(reference, shape)).reshape(flat)
+    out = np.empty(q.shape)
+    _core.wrap_into_limits(_core_chain(chain), q, reference, out)
+    return out.reshape(shape)
 
 
 class NumericIK:
     """Numeric IK of one chain, reusable for many targets (see :func:`numeric_ik`).
 
-    Holds the chain's arrays in the form the compiled attempt takes, so that a loop over
-    targets pays for them once. Parameters are those of :func:`numeric_ik`.
+    Holds the chain and settings in the compiled core (an ``_core.NumericSolver``), so that a
+    loop over targets pays for them once; :meth:`solve_batch` solves many targets at once.
+    Parameters are those of :func:`numeric_ik`.
 
     Examples
     --------
@@ -388,28 +235,18 @@ class NumericIK:
                  max_restarts: int = 100, time_budget: float = 0.5, respect_limits: bool = True) -> None:
         if max_iterations < 1:
             raise InputError(f"max_iterations: expected at least 1 step per attempt, got {max_iterations}")
+        if max_restarts < 0:
+            raise InputError(f"max_restarts: expected 0 or more random restarts, got {max_restarts}")
+        if not time_budget >= 0.0:
+            raise InputError(f"time_budget: expected a wall-clock budget >= 0 s, got {time_budget}")
         self.chain = chain
-        self.rows = np.flatnonzero(_check_mask(mask)).astype(np.int64)
-        self.settings = np.array([position_tolerance**2, orientation_tolerance**2, damping_gain, damping],
-                                 dtype=np.float64)
+        self.rows = np.flatnonzero(_check_mask(mask))
         self.max_iterations, self.max_restarts = int(max_iterations), int(max_restarts)
         self.time_budget, self.respect_limits = float(time_budget), bool(respect_limits)
-        # writable copies, like every array _attempt gets: a read-only array is another numba
-        # type, which would compile another specialisation inside a solve's time budget
-        self.lower = np.array(chain.lower, dtype=np.float64)
-        self.upper = np.array(chain.upper, dtype=np.float64)
-        self.seed_low = np.where(np.isfinite(self.lower), self.lower, -_UNBOUNDED_SEED_RANGE)
-        self.seed_high = np.where(np.isfinite(self.upper), self.upper, _UNBOUNDED_SEED_RANGE)
-        if not _attempt.signatures:  # compile (or load from numba's cache) outside any time budget
-            self._run_attempt(np.eye(4), (self.seed_low + self.seed_high) / 2.0, self.seed_low.copy(),
-                              np.full(3, math.inf), max_iterations=1)
-
-    def _run_attempt(self, T_target: NDArray[np.float64], q: NDArray[np.float64], best_q: NDArray[np.float64],
-                     best: NDArray[np.float64], max_iterations: int) -> tuple[bool, int, float, float]:
-        """The compiled :func:`_attempt` on this solver's chain and settings."""
-        return _attempt(*self.chain._kernel_arrays, self.lower, self.upper,
-                        self.respect_limits, T_target, self.rows, self.settings, max_iterations,
-                        q, best_q, best)
+        self._solver = _core.NumericSolver(
+            _core_chain(chain), self.rows.tolist(), float(position_tolerance), float(orientation_tolerance),
+            float(damping_gain), float(damping), self.max_iterations, self.max_restarts, self.time_budget,
+            self.respect_limits)
 
     def solve(self, T_base_tool: NDArray[np.float64], q0: ArrayLike | None = None,
               rng: np.random.Generator | int | None = None) -> IKResult:
@@ -418,41 +255,96 @@ class NumericIK:
         Raises
         ------
         InputError
-            If ``T_base_tool`` is not a finite 4x4 array or ``q0`` not ``n`` finite values.
+            If ``T_base_tool`` is not a finite 4x4 array, ``q0`` not ``n`` finite values or
+            ``rng`` not a seed, Generator or None.
         """
         n = self.chain.n
-        T_target = _check_target(T_base_tool)
-        if q0 is None:
-            q = (self.seed_low + self.seed_high) / 2.0
-        else:
-            q = np.array(q0, dtype=np.float64)  # a copy: the attempt moves it in place
-            if q.shape != (n,) or not math.isfinite(q.sum()):
-                raise InputError(f"q0: expected {n} finite joint values, got {q.tolist()}")
-        best_q, best = q.copy(), np.array([math.inf, math.inf, math.inf])
-        deadline = time.perf_counter() + self.time_budget
-        iterations = restarts = 0
-        while True:
-            solved, steps, position, orientation = self._run_attempt(T_target, q, best_q, best,
-                                                                     self.max_iterations)
-            iterations += steps
-            if solved:
-                return IKResult(q, True, iterations, restarts, position, orientation)
-            if restarts >= self.max_restarts or time.perf_counter() > deadline:
-                break
-            if restarts == 0:
-                rng = np.random.default_rng(rng)
-            q = rng.uniform(self.seed_low, self.seed_high)
-            restarts += 1
-        return IKResult(best_q, False, iterations, restarts, float(best[1]), float(best[2]))
+        T = _float_array(T_base_tool, "T_base_tool", "a 4x4 transform")
+        seed_q = None if q0 is None else _float_array(q0, "q0", f"{n} finite joint values")
+        if T.shape != (4, 4):
+            _check_target(T)
+        if seed_q is not None and seed_q.shape != (n,):
+            _check_seed(seed_q, n)
+        q = np.empty(n)
+        found = self._solver.solve(T, seed_q, _seed(rng), q)  # None if T or q0 is not finite
+        if found is None:
+            _check_target(T)
+            _check_seed(seed_q, n)
+        return IKResult(q, *found)
+
+    def solve_batch(self, T_base_tool: ArrayLike, q0: ArrayLike | None = None,
+                    rng: np.random.Generator | int | None = None,
+                    threads: int | None = None) -> IKResultBatch:
+        """Solve ``N`` targets ``T_base_tool`` ``(N, 4, 4)`` at once, over threads.
+
+        Parameters
+        ----------
+        T_base_tool : array_like, shape (N, 4, 4)
+            Target tool poses [m], assumed rigid.
+        q0 : array_like, shape (N, n) or (n,), optional
+            First seed per target [rad or m]; default the middle of the limits.
+        rng : numpy Generator or int, optional
+            One seed for the whole batch: target ``i`` draws its restart seeds from stream
+            ``i`` of it (target 0 from the stream :meth:`solve` uses with the same ``rng``).
+        threads : int, optional
+            Threads to spread the targets over; default (``None`` or 0) all cores.
+
+        Returns
+        -------
+        IKResultBatch
+            One entry per target. Identical whatever ``threads`` is, except for targets whose
+            solve ran out of ``time_budget`` (each target has the full budget for itself; a
+            solve that stops on time rather than on ``max_restarts`` depends on the machine's load).
+
+        Raises
+        ------
+        InputError
+            If ``T_base_tool`` is not finite ``(N, 4, 4)``, ``q0`` not finite ``(N, n)`` or
+            ``(n,)``, or ``threads`` negative.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> panda = armkit.load("panda")
+        >>> T = panda.fk(panda.random_q(20, rng=1))
+        >>> result = NumericIK(panda.chain).solve_batch(T, rng=0)
+        >>> bool(result.success.all()), result.q.shape
+        (True, (20, 7))
+        """
+        n = self.chain.n
+        T = _float_array(T_base_tool, "T_base_tool", "transforms (N, 4, 4)")
+        if T.ndim != 3 or T.shape[1:] != (4, 4) or not math.isfinite(T.sum()):
+            raise InputError("T_base_tool: expected finite transforms (N, 4, 4), got "
+                             + _shape_or_values(T, T.ndim == 3 and T.shape[1:] == (4, 4)))
+        N = T.shape[0]
+        seeds = None
+        if q0 is not None:
+            seeds = _float_array(q0, "q0", f"joint values (N, {n})")
+            if seeds.shape == (n,):
+                seeds = np.ascontiguousarray(np.broadcast_to(seeds, (N, n)))
+            if seeds.shape != (N, n) or not math.isfinite(seeds.sum()):
+                raise InputError(f"q0: expected finite joint values ({N}, {n}) or ({n},), got "
+                                 + _shape_or_values(seeds, seeds.shape == (N, n)))
+        if threads is None:
+            threads = 0
+        if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 0:
+            raise InputError(f"threads: expected 0 (all cores) or a positive number of threads, "
+                             f"got {threads!r}")
+        q, success = np.empty((N, n)), np.empty(N, dtype=bool)
+        iterations, restarts = np.empty(N, dtype=np.int64), np.empty(N, dtype=np.int64)
+        position, orientation = np.empty(N), np.empty(N)
+        self._solver.solve_batch(T, seeds, _seed(rng), int(threads), q, success, iterations, restarts,
+                                 position, orientation)
+        return IKResultBatch(q, success, iterations, restarts, position, orientation)
 
     def _project(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], list[tuple[int, float]]]:
-        """``q`` moved into the limits (a copy, see the compiled ``_project``) and the joints at
-        a bound as ``(index, -1.0 at the lower / +1.0 at the upper)``: the projection of
-        every step, callable from Python."""
+        """``q`` moved into the limits (a copy, the core's ``project``) and the joints at a
+        bound as ``(index, -1.0 at the lower / +1.0 at the upper)``: the projection of every
+        step, callable from Python."""
         if not self.respect_limits:
             return q, []
         q, sides = np.array(q, dtype=np.float64), np.zeros(self.chain.n)
-        _project(q, self.lower, self.upper, ~self.chain._kernel_arrays[1], sides)
+        self._solver.project(q, sides)
         return q, [(i, float(sides[i])) for i in np.flatnonzero(sides).tolist()]
 
 
@@ -494,7 +386,9 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
         Keep every step inside the joint limits (default). ``False`` accepts any solution,
         e.g. to refine a known one.
     rng : numpy Generator or int, optional
-        Source of the random seeds (reproducible when given).
+        Source of the random restart seeds: an int in ``[0, 2**64)`` is the seed itself, a
+        Generator gives one draw per solve; the same ``rng`` gives the same answer (except a
+        solve cut short by ``time_budget``). Default fresh entropy.
 
     Returns
     -------
@@ -516,3 +410,14 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
                        damping_gain=damping_gain, damping=damping, max_iterations=max_iterations,
                        max_restarts=max_restarts, time_budget=time_budget, respect_limits=respect_limits)
     return solver.solve(T_base_tool, q0, rng)
+
+
+def __getattr__(name: str) -> Any:
+    """The numba kernels solve.py and closed_form.py still call from their own numba loops
+    (``wrap_angle_into_limits``, ``_damped_step``), loaded on first use from
+    :mod:`armkit.ik._numba_transition`; remove with that module once they call the core."""
+    if name in ("wrap_angle_into_limits", "_damped_step"):
+        from armkit.ik import _numba_transition
+
+        return getattr(_numba_transition, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
