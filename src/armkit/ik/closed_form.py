@@ -149,7 +149,7 @@ class ClosedFormSolver:
         self.k = 8 if fields["kind"] != PLANAR else 2
         #: The compiled per-pose loop's view of this solver (``_core.ClosedForm``; it holds
         #: copies of the chain and the geometry, so it lives on its own).
-        self.core = _core.ClosedForm(_core_chain(chain), self.geometry,
+        self.core = _core.ClosedForm(chain._core, self.geometry,
                                      np.ascontiguousarray(poe.index, np.int64),
                                      np.ascontiguousarray(poe.sign, np.float64), M_inv, bool(poe.inverted),
                                      self.k, verify or polish, polish, VERIFY_TOLERANCE * size)
@@ -242,13 +242,6 @@ class ClosedFormSolver:
         y = poe.points[rev[2]] if len(rev) == 3 else poe.points[rev[1]] + u
         return {"hp": _vector(h), "u": _vector(u), "a1": _vector(y),
                 "revolute_joints": np.array(rev, dtype=np.int64), "prismatic_joint": pri[0] if pri else -1}
-
-
-def _core_chain(chain: Chain) -> _core.Chain:
-    """The chain as the compiled core takes it."""
-    return _core.Chain(np.ascontiguousarray(chain.T_between, np.float64),
-                       np.ascontiguousarray(chain.prismatic), np.ascontiguousarray(chain.lower, np.float64),
-                       np.ascontiguousarray(chain.upper, np.float64))
 
 
 def closed_form_solver(chain: Chain) -> ClosedFormSolver:

@@ -116,13 +116,6 @@ class IKResultBatch:
                         float(self.position_error[i]), float(self.orientation_error[i]))
 
 
-def _core_chain(chain: Chain) -> Any:
-    """The chain as the compiled core takes it (an ``_core.Chain``), built once per chain."""
-    return chain.derived("_core_chain", lambda: _core.Chain(
-        np.ascontiguousarray(chain.T_between), np.ascontiguousarray(chain.prismatic),
-        np.ascontiguousarray(chain.lower), np.ascontiguousarray(chain.upper)))
-
-
 def _check_mask(mask: ArrayLike | None) -> NDArray[np.bool_]:
     if mask is None:
         return np.ones(6, dtype=bool)
@@ -207,7 +200,7 @@ def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArra
     q = np.ascontiguousarray(np.broadcast_to(q, shape)).reshape(flat)
     reference = np.ascontiguousarray(np.broadcast_to(reference, shape)).reshape(flat)
     out = np.empty(q.shape)
-    _core.wrap_into_limits(_core_chain(chain), q, reference, out)
+    _core.wrap_into_limits(chain._core, q, reference, out)
     return out.reshape(shape)
 
 
@@ -244,7 +237,7 @@ class NumericIK:
         self.max_iterations, self.max_restarts = int(max_iterations), int(max_restarts)
         self.time_budget, self.respect_limits = float(time_budget), bool(respect_limits)
         self._solver = _core.NumericSolver(
-            _core_chain(chain), self.rows.tolist(), float(position_tolerance), float(orientation_tolerance),
+            chain._core, self.rows.tolist(), float(position_tolerance), float(orientation_tolerance),
             float(damping_gain), float(damping), self.max_iterations, self.max_restarts, self.time_budget,
             self.respect_limits)
 
@@ -410,14 +403,3 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
                        damping_gain=damping_gain, damping=damping, max_iterations=max_iterations,
                        max_restarts=max_restarts, time_budget=time_budget, respect_limits=respect_limits)
     return solver.solve(T_base_tool, q0, rng)
-
-
-def __getattr__(name: str) -> Any:
-    """The numba kernels solve.py and closed_form.py still call from their own numba loops
-    (``wrap_angle_into_limits``, ``_damped_step``), loaded on first use from
-    :mod:`armkit.ik._numba_transition`; remove with that module once they call the core."""
-    if name in ("wrap_angle_into_limits", "_damped_step"):
-        from armkit.ik import _numba_transition
-
-        return getattr(_numba_transition, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
