@@ -17,8 +17,10 @@ __all__ = ["main"]
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI and return its exit code.
 
-    Usage errors are Typer's (exit code 2); an :class:`ArmkitError` from a command becomes
-    one red line on stderr and exit code 1, never a traceback.
+    Usage errors are Typer's (exit code 2); an :class:`ArmkitError` from a command, or a
+    file that cannot be read or written (:class:`OSError`), becomes one red line on stderr
+    and exit code 1, never a traceback. Ctrl-C (:class:`KeyboardInterrupt`) in any command
+    prints one line and returns 130, the shell's code for a run ended by SIGINT.
     """
     try:
         with announce_compilation(_compiling):
@@ -26,9 +28,28 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
     except ArmkitError as exc:
-        err_console.print(f"[red]error:[/red] {escape(str(exc))}", highlight=False, soft_wrap=True)
-        return 1
+        return _error(str(exc))
+    except OSError as exc:
+        return _error(_os_error_text(exc))
+    except KeyboardInterrupt:
+        err_console.print("[yellow]interrupted[/yellow] (Ctrl-C)", highlight=False, soft_wrap=True)
+        return INTERRUPTED
     return 0
+
+
+#: Exit code of a run interrupted by Ctrl-C (128 + SIGINT), as shells report it.
+INTERRUPTED = 130
+
+
+def _error(text: str) -> int:
+    err_console.print(f"[red]error:[/red] {escape(text)}", highlight=False, soft_wrap=True)
+    return 1
+
+
+def _os_error_text(exc: OSError) -> str:
+    """``file '/proc/x.csv': No such file or directory`` rather than a traceback."""
+    where = f" {str(exc.filename)!r}" if exc.filename is not None else ""
+    return f"file{where}: {exc.strerror or exc}"
 
 
 def _compiling() -> None:

@@ -298,5 +298,5 @@ def angular_velocity_matrix(angles: ArrayLike,
     R = np.broadcast_to(np.eye(3), (*angles.shape[:-1], 3, 3))
     for k, axis in enumerate(axes):
         E[..., :, order[k]] = R[..., :, _AXES[axis]]
-        R = R @ Rotation.from_euler(axis, theta[..., k]).as_matrix()
+        R = R @ Rotation.from_euler(axis, theta[..., k, None]).as_matrix()  # (..., 1): one angle each
     return E
