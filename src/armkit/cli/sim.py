@@ -94,6 +94,20 @@ def _tracking_summary(robot: Robot, result: SimResult) -> dict:
             "max_tool_rotation_error_rad": float(rotation_angle_between(result.T_tool, T_command).max())}
 
 
+def _tracking_lines(robot: Robot, summary: dict) -> list[str]:
+    """The tracking summary as lines of text, a unit on every number."""
+    on = {True: "on", False: "off"}
+    units = ["m" if prismatic else "rad" for prismatic in robot.chain.prismatic]
+    joint_errors = ", ".join(f"{name} {error:.2e} {unit}" for name, error, unit in
+                             zip(robot.joint_names, summary["max_joint_error"], units, strict=True))
+    return [f"duration: {summary['duration_s']:.4g} s ({summary['steps']} steps); gravity "
+            f"{on[summary['gravity']]}, gravity compensation {on[summary['gravity_compensation']]}",
+            f"largest |q_MuJoCo - q_command|: {joint_errors}",
+            f"largest tool error (MuJoCo vs FK of the command): position "
+            f"{summary['max_tool_position_error_m']:.2e} m, "
+            f"rotation {summary['max_tool_rotation_error_rad']:.2e} rad"]
+
+
 @app.command("sim", context_settings=ALLOW_NEGATIVE)
 def sim_command(
     robot: RobotArg,
@@ -140,12 +154,11 @@ def sim_command(
         result = sim.run(t, q_traj, qd)
         summary = _tracking_summary(arm, result)
         if json_output:
-            print_json({"robot": arm.name, **summary})
+            print_json({"robot": arm.name, **summary,
+                        "max_joint_error_units": ["m" if p else "rad" for p in arm.chain.prismatic]})
         else:
-            for key, value in summary.items():
-                text = (np.array2string(np.asarray(value), formatter={"float_kind": "{:.3g}".format})
-                        if isinstance(value, np.ndarray | float) else str(value))
-                console.print(f"{key}: {text}", markup=False)
+            for line in _tracking_lines(arm, summary):
+                console.print(line, markup=False)
         if gif is not None:
             stride = max(1, len(result.t) // 200)
             animate_trajectory(arm, result.q[::stride], gif, t=result.t[::stride], title=arm.name)
