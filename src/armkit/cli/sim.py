@@ -52,6 +52,7 @@ def export_command(
                                               show_default=False)] = None,
     no_gravity: Annotated[bool, typer.Option("--no-gravity", help="MJCF without gravity.")] = False,
     force: ForceOpt = False,
+    json_output: Annotated[bool, typer.Option("--json", help="Print JSON instead.")] = False,
 ) -> None:
     """Export a robot as URDF and/or MJCF (capsule links, masses, limits, servos, a 'tool' frame)."""
     from armkit.export import write_mjcf, write_urdf
@@ -65,11 +66,16 @@ def export_command(
     for path in (urdf, mjcf):
         if path is not None:
             check_output_path(path, force, remedy="pass --force")
+    written = []
     if urdf is not None:
-        console.print(f"wrote {write_urdf(arm, urdf, overwrite=force)}", highlight=False)
+        written.append(write_urdf(arm, urdf, overwrite=force))
     if mjcf is not None:
-        console.print(f"wrote {write_mjcf(arm, mjcf, overwrite=force, gravity=not no_gravity)}",
-                      highlight=False)
+        written.append(write_mjcf(arm, mjcf, overwrite=force, gravity=not no_gravity))
+    if json_output:
+        print_json({"robot": arm.name, "written": [str(path) for path in written]})
+        return
+    for path in written:
+        console.print(f"wrote {path}", highlight=False, markup=False)
 
 
 def _comparison_table(table: PoseComparison, title: str) -> Table:
