@@ -90,6 +90,9 @@ def option_values(first: str | None, rest: Sequence[str] | None, option: str, wh
             raise InputError(f"unexpected values {' '.join(rest)}: {what} are given after {option} "
                              f"(e.g. {option} 0 0 0 or {option} 0,0,0)")
         return None
+    if first.startswith("--"):  # "--near --json": the option took the next option as its value
+        raise InputError(f"{option}: expected {what} after it (e.g. {option} 0 0 0; leave {option} out "
+                         f"for the default), got the option {first}")
     return [word for word in first.replace(",", " ").split()] + list(rest or [])
 
 

@@ -26,19 +26,33 @@ def main(argv: list[str] | None = None) -> int:
         with announce_compilation(_compiling):
             app(args=argv, prog_name="armkit")
     except SystemExit as exc:
+        if _caused_by_interrupt(exc):  # Typer turns Ctrl-C into a silent exit 130
+            return _interrupted()
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
     except ArmkitError as exc:
         return _error(str(exc))
     except OSError as exc:
         return _error(_os_error_text(exc))
     except KeyboardInterrupt:
-        err_console.print("[yellow]interrupted[/yellow] (Ctrl-C)", highlight=False, soft_wrap=True)
-        return INTERRUPTED
+        return _interrupted()
     return 0
 
 
 #: Exit code of a run interrupted by Ctrl-C (128 + SIGINT), as shells report it.
 INTERRUPTED = 130
+
+
+def _caused_by_interrupt(exc: BaseException) -> bool:
+    while exc is not None:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
+def _interrupted() -> int:
+    err_console.print("[yellow]interrupted[/yellow] (Ctrl-C)", highlight=False, soft_wrap=True)
+    return INTERRUPTED
 
 
 def _error(text: str) -> int:

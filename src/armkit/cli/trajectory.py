@@ -69,7 +69,7 @@ def _limit_cells(peak: float, limit: float, scale: float, unit: str) -> list[str
 
 def _summary(robot: Robot, traj: JointTrajectory, degrees: bool) -> Table:
     table = Table(title=escape(f"{robot.name}: {traj.durations.size} segments, "
-                               f"{fmt_number(traj.duration, 4)} s"),
+                               f"{traj.duration:.4g} s"),
                   caption="peaks computed exactly from the polynomials; ratio = peak / limit; "
                           "none: the robot file gives no limit")
     for column in ("joint", "peak |qd|", "limit", "ratio", "peak |qdd|", "limit", "ratio"):
@@ -198,7 +198,7 @@ def traj_command(
     if poses:
         console.print(_waypoint_table(arm, traj, deg))
     console.print(_summary(arm, traj, deg))
-    final = ", ".join(fmt_number(d, 4) for d in traj.durations)
+    final = ", ".join(f"{d:.4g}" for d in traj.durations)
     console.print(f"segment durations [s]: {final}", markup=False)
     for path, what in written:
         console.print(f"wrote {path}{what}", markup=False)
