@@ -42,8 +42,15 @@ def save_figure(figure: Figure, path: str | Path, overwrite: bool = False, dpi: 
     return path
 
 
+#: Most samples a figure draws per curve by default (a long trajectory is drawn at a lower rate).
+MAX_PLOT_SAMPLES = 100_000
+
+
 def _rate(trajectory: JointTrajectory, rate_hz: float | None) -> float:
-    return rate_hz if rate_hz is not None else max(50.0, 2000.0 / trajectory.duration)
+    """``rate_hz``, or by default 2000 samples or 50 Hz, whichever is more, up to MAX_PLOT_SAMPLES."""
+    if rate_hz is not None:
+        return rate_hz
+    return min(max(50.0, 2000.0 / trajectory.duration), MAX_PLOT_SAMPLES / trajectory.duration)
 
 
 def plot_pva(trajectory: JointTrajectory, robot: Robot | None = None, *, rate_hz: float | None = None,
