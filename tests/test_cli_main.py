@@ -42,3 +42,17 @@ def test_a_system_error_is_one_line_naming_the_file(capsys, monkeypatch):
 def test_help_shows_flags_without_type_tags(capsys, command):
     code, out, _ = run(capsys, command, "--help")
     assert code == 0 and "--help" in out and "<bool>" not in out
+
+
+@pytest.mark.parametrize("argv", [["fk", "probot-anno", "0", "0", "0", "0", "0", "0", "--typo"],
+                                  ["traj", "probot-anno", "--waypoints", "w", "--durations", "1", "--dge"],
+                                  ["move", "probot-anno", "--from", "0", "0", "0", "0", "0", "0", "--fast",
+                                   "--by", "0", "0", "0.1"]])
+def test_an_unknown_option_among_values_is_named_as_such(capsys, argv):
+    code, _, err = run(capsys, *argv)
+    assert code == 1 and err.startswith("error: no such option: --") and err.count("\n") == 1
+
+
+def test_show_prints_no_negative_zero(capsys):
+    code, out, _ = run(capsys, "show", "probot-anno")
+    assert code == 0 and "tool at q = 0: position [0.228900, 0.000000, 0.454000] m" in out

@@ -24,7 +24,7 @@ from armkit.robot import Robot
 from armkit.robot_file import load
 
 __all__ = ["ALLOW_NEGATIVE", "QUATERNION_NAMES", "app", "console", "err_console", "fmt_number", "fmt_numbers",
-           "load_robot", "option_values", "print_json", "to_si", "warn"]
+           "load_robot", "option_values", "print_json", "reject_unknown_options", "to_si", "warn"]
 
 app = typer.Typer(
     name="armkit",
@@ -53,6 +53,7 @@ def load_robot(name_or_path: str) -> Robot:
 
 def to_si(robot: Robot, q: Sequence[float | str], degrees: bool) -> np.ndarray:
     """Joint values from the command line in SI units (``--deg`` converts revolute joints only)."""
+    reject_unknown_options([str(v) for v in q])
     q = robot.check_q(np.asarray(parse_floats(q, "joint values"), dtype=float), "joint values")
     if degrees:
         q = np.where(robot.chain.prismatic, q, np.radians(q))
@@ -85,6 +86,7 @@ def option_values(first: str | None, rest: Sequence[str] | None, option: str, wh
     ``--near 0,-0.5,0.5`` give the same three words. Trailing values without the option are
     refused, naming ``what`` they would have been.
     """
+    reject_unknown_options(rest or [])
     if first is None:
         if rest:
             raise InputError(f"unexpected values {' '.join(rest)}: {what} are given after {option} "
@@ -94,6 +96,17 @@ def option_values(first: str | None, rest: Sequence[str] | None, option: str, wh
         raise InputError(f"{option}: expected {what} after it (e.g. {option} 0 0 0; leave {option} out "
                          f"for the default), got the option {first}")
     return [word for word in first.replace(",", " ").split()] + list(rest or [])
+
+
+def reject_unknown_options(words: Sequence[str]) -> None:
+    """Raise for a word like ``--deg`` among a command's trailing values: an option it does not have.
+
+    Commands that read negative numbers as values let Typer pass unknown options through
+    with them; without this check ``--typo`` would be reported as a misplaced value.
+    """
+    for word in words:
+        if word.startswith("--") and len(word) > 2:
+            raise InputError(f"no such option: {word} (see the command's --help)")
 
 
 def warn(message: str) -> None:

@@ -11,7 +11,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from armkit.cli.app import app, console, load_robot, print_json
+from armkit.cli.app import app, console, fmt_numbers, load_robot, print_json
 from armkit.ik.structure import analyze_structure
 from armkit.robot import Robot
 from armkit.robot_file import builtin_robots, load
@@ -95,5 +95,5 @@ def show_command(
         return
     console.print(dh_table(arm))
     home = arm.fk(np.zeros(arm.n))
-    console.print(f"tool at q = 0: position {np.round(home[:3, 3], 6).tolist()} m")
-    console.print(f"kind: {structure.description}")
+    console.print(f"tool at q = 0: position {fmt_numbers(home[:3, 3], 6)} m", markup=False)
+    console.print(f"kind: {structure.description}", markup=False)

@@ -17,6 +17,7 @@ from armkit.cli.app import (
     check_limits_or_warn,
     console,
     err_console,
+    fmt_number,
     load_robot,
     print_json,
     to_si,
@@ -83,8 +84,8 @@ def _comparison_table(table: PoseComparison, title: str) -> Table:
     for name in ["#", "", *table.columns, "|dp| [m]", "rot [rad]"]:
         out.add_column(escape(name), justify="right")
     for k, label in enumerate(table.labels):
-        out.add_row(label, "computed", *(f"{v:.6f}" for v in table.computed[k]), "", "")
-        out.add_row("", "simulated", *(f"{v:.6f}" for v in table.simulated[k]), "", "")
+        out.add_row(label, "computed", *(fmt_number(v, 6) for v in table.computed[k]), "", "")
+        out.add_row("", "simulated", *(fmt_number(v, 6) for v in table.simulated[k]), "", "")
         out.add_row("", "error", *(f"{v:.1e}" for v in table.error[k]), f"{table.position_error[k]:.1e}",
                     f"{table.rotation_error[k]:.1e}", end_section=True)
     return out

@@ -19,6 +19,7 @@ from armkit.cli.app import (
     load_robot,
     parse_floats,
     print_json,
+    reject_unknown_options,
     warn,
 )
 from armkit.errors import InputError
@@ -36,6 +37,7 @@ def _check_output(path: Path | None, suffixes: tuple[str, ...], force: bool, wha
 
 
 def _durations(values: list[str] | None, durations: bool, times: bool, auto: bool) -> np.ndarray | None:
+    reject_unknown_options(values or [])
     if values and not (durations or times):
         raise InputError(f"unexpected values {' '.join(values)}: segment durations are given "
                          f"after --durations (or waypoint times after --times)")
