@@ -12,7 +12,11 @@ from armkit.spatial.rotations import rotation_angle_between
 # CI runs the same examples every time (a failure there is reproducible from its log);
 # locally hypothesis explores new ones on every run.
 settings.register_profile("ci", derandomize=True, print_blob=True)
-if os.environ.get("CI"):
+# `make fuzz` (HYPOTHESIS_PROFILE=fuzz): the fuzz tests with many more examples, no deadline.
+settings.register_profile("fuzz", max_examples=400, deadline=None, print_blob=True)
+if os.environ.get("HYPOTHESIS_PROFILE") == "fuzz":
+    settings.load_profile("fuzz")
+elif os.environ.get("CI"):
     settings.load_profile("ci")
 
 

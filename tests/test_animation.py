@@ -57,3 +57,19 @@ def test_bad_input():
         animate_trajectory(robot, np.zeros(4), "never.gif")
     with pytest.raises(InputError, match="expected 3 times"):
         animate_trajectory(robot, np.zeros((3, 4)), "never.gif", t=[0.0, 1.0])
+
+
+def test_gif_frames_carry_their_labels_and_axis_numbers(tmp_path):
+    robot = armkit.load("grb400-scara")
+    q = np.linspace([0, 0, 0, 0], [1.5, 1.2, 0.03, 1.0], 6)
+    labels = [f"solution {k // 3 + 1} of 2" for k in range(6)]
+    plain = animate_trajectory(robot, q, tmp_path / "plain.gif", frames=6, dpi=40)
+    labelled = animate_trajectory(robot, q, tmp_path / "labelled.gif", frames=6, dpi=40, labels=labels)
+    with Image.open(plain) as a, Image.open(labelled) as b:
+        a.seek(0)
+        b.seek(0)
+        top_a = np.asarray(a.convert("L"))[:30, :80]
+        top_b = np.asarray(b.convert("L"))[:30, :80]
+        assert (top_a != top_b).any()  # the label is drawn in the top left corner
+    with pytest.raises(InputError, match="labels: expected 6"):
+        animate_trajectory(robot, q, tmp_path / "never.gif", labels=["one"])

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 
 import armkit
 from armkit.cli.main import main
+from armkit.ik import ik_solutions
 
 SEED_POSE = ["--pose", "0.2", "0.2", "0.2007", "1.5707963", "-1.5707963", "0"]
 REPORT_SOLUTIONS = np.array([[0.943488, -0.924743, -0.347274, -2.17673, 0.173647, 2.89722],
@@ -107,13 +109,62 @@ def test_position_only_target(capsys):
     np.testing.assert_allclose(reached, [0.3, 0.1, 0.2], atol=1e-9)
 
 
-def test_near_without_values_means_zeros(capsys):
-    assert main(["ik", "probot-anno", "--pose", "0.2289", "0", "0.454", "1.5707963267948966", "0", "0",
-                 "--near", "--json"]) == 0
+def test_without_near_the_reference_is_zeros_and_a_bare_near_is_one_clear_error(capsys):
+    home = ["ik", "probot-anno", "--pose", "0.2289", "0", "0.454", "1.5707963267948966", "0", "0"]
+    assert main([*home, "--json"]) == 0
     solution = json.loads(capsys.readouterr().out)["solutions"][0]
     np.testing.assert_allclose(solution, np.zeros(6), atol=1e-9)
+    code, out, err = run(capsys, *home, "--near", "--json")
+    assert code == 1 and err.count("\n") == 1 and "--near: expected joint values after it" in err
 
 
 def test_angles_beyond_two_pi_without_deg_are_refused(capsys):
     assert main(["ik", "probot-anno", "--pose", "0.2", "0.2", "0.2007", "90", "-90", "0"]) == 1
     assert "add --deg if they are degrees" in capsys.readouterr().err
+
+
+def test_family_flags_agree_with_ik_solutions_at_a_wrist_singularity(capsys):
+    """UR5 at q5 = 0: the CLI once asked ik_solutions with its first row as reference, which moved
+    the other family's member, so 1 row was flagged where ik_solutions flags 2."""
+    robot = armkit.load("ur5")
+    T = robot.fk([0.3, -1.2, 1.0, -0.5, 0.0, 0.7])
+    found = ik_solutions(robot.chain, T)
+    code, out, _ = run(capsys, "ik", "ur5", "--matrix", *map(str, T.ravel()), "--all", "--outside", "--json")
+    data = json.loads(out)
+    assert code == 0 and found.family.sum() == 2
+    listed = {tuple(np.round(q, 9)): bool(f) for q, f in zip(found.q, found.family, strict=True)}
+    shown = {tuple(np.round(q, 9)): f for q, f in zip(data["solutions"], data["family"], strict=True)}
+    assert shown == listed
+
+
+def test_outside_keeps_the_numbers_of_the_in_limit_solutions(capsys):
+    code, out, _ = run(capsys, "ik", "probot-anno", *SEED_POSE, "--all", "--json")
+    inside = json.loads(out)
+    code_all, out_all, _ = run(capsys, "ik", "probot-anno", *SEED_POSE, "--all", "--outside", "--json")
+    everything = json.loads(out_all)
+    assert code == code_all == 0 and len(everything["solutions"]) == 8
+    assert inside["numbers"] == [1, 2, 3, 4] and everything["numbers"] == list(range(1, 9))
+    np.testing.assert_allclose(everything["solutions"][:4], inside["solutions"], atol=1e-12)
+    assert not any(everything["within_limits"][4:])
+    code, out, _ = run(capsys, "ik", "probot-anno", *SEED_POSE, "--near", *map(str, inside["solutions"][2]),
+                       "--json")
+    assert json.loads(out)["numbers"] == [1]  # numbered from the --near given
+
+
+def test_near_takes_its_values_directly_or_as_a_comma_list(capsys):
+    q = [-1.0, -0.9, -0.3, 0.9, 2.9, -0.2]
+    spaced = run(capsys, "ik", "probot-anno", *SEED_POSE, "--near", *map(str, q), "--json")
+    commas = run(capsys, "ik", "probot-anno", *SEED_POSE, "--near", ",".join(map(str, q)), "--json")
+    first = run(capsys, "ik", "probot-anno", "--near", *map(str, q), *SEED_POSE, "--json")
+    assert spaced[0] == commas[0] == first[0] == 0
+    assert json.loads(spaced[1])["solutions"] == json.loads(commas[1])["solutions"] \
+        == json.loads(first[1])["solutions"]
+
+
+def test_ik_table_has_units_and_no_negative_zero(capsys):
+    code, out, _ = run(capsys, "ik", "stanford", "--pose", "0.3", "0.2", "0.4", "0", "0", "0", "--all",
+                       "--outside")
+    assert code == 0 and "q1 [rad]" in out and "q3 [m]" in out and "pos.err [m]" in out
+    assert not re.search(r"-0\.0+(?![0-9])", out)
+    code, _, err = run(capsys, "ik", "ur5", *SEED_POSE[:4], "1", "0", "0", "--euler", "quat")
+    assert code == 1 and "output format" in err

@@ -16,7 +16,7 @@ def test_fk_seed_case_prints_the_report_pose(capsys):
     code, out, _ = run(capsys, "fk", "probot-anno", "0.927", "-0.687", "-0.396", "0", "1.083", "0.927",
                        "--euler", "xyz-fixed")
     assert code == 0
-    assert "0.150047 0.19994  0.200756" in out
+    assert "[0.150047, 0.199940, 0.200756]" in out
     assert "1.570796" in out and "Rz(a3) Ry(a2) Rx(a1)" in out
 
 
@@ -93,3 +93,23 @@ def test_non_numeric_joint_value_is_named(capsys):
 def test_show_writes_offsets_as_a_dh_table_does(capsys):
     code, out, _ = run(capsys, "show", "probot-anno")
     assert "q - 90" in out and "q + 90" in out and "-0 " not in out
+
+
+def test_fk_prints_no_negative_zero_and_aligned_decimals(capsys):
+    code, out, _ = run(capsys, "fk", "probot-anno", "0", "0", "0", "0", "0", "0")
+    assert code == 0 and "-0.0" not in out
+    assert "position [m]: [0.228900, 0.000000, 0.454000]" in out
+
+
+def test_fk_quaternion_output_is_wxyz(capsys):
+    from armkit import load
+    from armkit.spatial.rotations import matrix_from_quaternion_wxyz
+
+    q = ["0.3", "-0.5", "0.2", "0.1", "0.9", "-0.4"]
+    code, out, _ = run(capsys, "fk", "puma560", *q, "--euler", "quat", "--json")
+    data = json.loads(out)
+    assert code == 0 and len(data["quaternion_wxyz"]) == 4 and data["quaternion_wxyz"][0] >= 0
+    R = load("puma560").fk([float(v) for v in q])[:3, :3]
+    np.testing.assert_allclose(matrix_from_quaternion_wxyz(data["quaternion_wxyz"]), R, atol=1e-12)
+    code, out, _ = run(capsys, "fk", "puma560", *q, "--euler", "quat")
+    assert code == 0 and "quaternion w x y z" in out

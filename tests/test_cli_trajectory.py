@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -135,3 +136,41 @@ def test_overshoot_past_a_position_limit_is_reported(capsys, tmp_path):
     assert re.search(r"joint q2 reaches 0 \.\. 2\.10\d* rad between waypoints, outside its limits "
                      r"\[-2\.00713, 2\.00713\] rad",
                      " ".join(err.split())), err
+
+
+@pytest.mark.parametrize("out", ["/proc/x.csv", "/proc/x.npz"])
+def test_unwritable_output_is_one_error_line(capsys, out):
+    code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--auto-time", "--out", out)
+    assert code == 1 and err.count("\n") == 1 and out in err and "Traceback" not in err
+
+
+def test_a_rate_whose_samples_cannot_fit_is_refused_with_the_count(capsys, tmp_path):
+    code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--durations", "10", "10", "10",
+                       "--rate", "1e12", "--out", tmp_path / "big.csv")
+    assert code == 1 and "asks for 3e+13 samples" in err and "lower the rate" in err
+    assert not (tmp_path / "big.csv").exists()
+
+
+def test_waypoints_in_degrees_give_the_radian_trajectory(capsys, tmp_path):
+    degrees = tmp_path / "deg.csv"
+    np.savetxt(degrees, np.degrees(SEED_WAYPOINTS), delimiter=",")
+    code, out_deg, err = run(capsys, "traj", "probot-anno", "--waypoints", degrees, "--deg", "--auto-time",
+                             "--json")
+    assert code == 0, err
+    code, out_rad, _ = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--auto-time", "--json")
+    deg, rad = json.loads(out_deg), json.loads(out_rad)
+    np.testing.assert_allclose(deg["waypoints"], rad["waypoints"], atol=1e-12)
+    np.testing.assert_allclose(deg["duration_s"], rad["duration_s"], rtol=1e-9)
+    code, out, _ = run(capsys, "traj", "probot-anno", "--waypoints", degrees, "--deg", "--auto-time")
+    assert code == 0 and "deg/s" in out
+
+
+def test_auto_time_without_acceleration_limits_warns_and_prints_none(capsys, tmp_path):
+    arm = Path(__file__).parents[1] / "examples" / "data" / "my_arm.toml"
+    waypoints = tmp_path / "w.csv"
+    waypoints.write_text("0 0 0\n30 20 -40\n60 -10 20\n")
+    code, out, err = run(capsys, "traj", arm, "--waypoints", waypoints, "--deg", "--auto-time")
+    assert code == 0, err
+    assert "no max_acceleration for base, shoulder, elbow" in err and "--auto-time cannot keep" in err
+    assert not re.search(r"\binf\b|\s0\.000\s", out)  # no infinite limit, no ratio to it
+    assert re.search(r"base\s.*90\.0000 deg/s.*90\.0000 deg/s.*1\.000.*deg/s².*none.*-", out)

@@ -61,7 +61,7 @@ def test_images_exist_decode_and_are_embedded(seed_report):
 def test_report_tables_show_published_computed_and_simulated_values(seed_report):
     page = seed_report.index.read_text()
     for title in ("Tool pose: published, computed by armkit, simulated in MuJoCo", "Target 3:",
-                  "Waypoints: target pose", "Peaks against the joint limits", "Tool moved by d",
+                  "Waypoints: target pose", "Peaks against the joint limits", "Target: the tool along d",
                   "Rotation about", "ZJU-I tool pose", "SCARA tool coordinates", "PROBOT Anno: modified DH"):
         assert title in page
     for published in ("0.150035", "0.199922", "-148.05", "36.31", "141.4214", "370.1666", "0.303826"):
@@ -121,6 +121,21 @@ def test_lab_on_a_users_robot_file(tmp_path, capsys):
     assert page.count(">checked<") >= 2 * 3
     moved = re.search(r"The axis is ([^,]+).*?Joints that moved [^:]*: [^(]*\((\d) of 6\)", text)
     assert moved and int(moved.group(2)) >= 3, "the rotation must exercise more than the last joint"
+    target = re.search(r"Target: the tool along d = \[([^\]]+)\] m", text)
+    computed = re.search(r"armkit \(computed\)\s+\[[^\]]+\]\s+\[[^\]]+\]\s+\[([^\]]+)\]", text)
+    assert target and computed  # the title's displacement is the one the computed run made
+    np.testing.assert_allclose(np.array(computed.group(1).split(", "), dtype=float),
+                               np.array(target.group(1).split(", "), dtype=float), atol=1e-3)
+
+
+def test_lab_on_the_readme_3r_arm_says_not_applicable_once_and_exits_0(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["lab", "--quick", "--robot", str(EXAMPLE_ARM), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert printed.count("Not applicable, because") == 2 and "failed" not in printed
+    page = (out / "index.html").read_text()
+    text = re.sub(r"<[^>]+>", " ", re.sub(r'src="data:[^"]+"', "", page))
+    assert text.count("Not applicable, because") == 2 and "failed" not in text
 
 
 def test_rotation_axes_of_a_users_arm_are_not_the_last_joint_axis():
@@ -143,12 +158,85 @@ def test_lab_refuses_a_robot_that_cannot_be_simulated(tmp_path, capsys):
     assert not out.exists()
 
 
-def test_a_three_joint_arm_is_told_why_line_and_rotation_fail(tmp_path):
+def test_a_three_joint_arm_is_told_once_why_line_and_rotation_do_not_apply(tmp_path):
     ctx = LabContext(robot=armkit.load(EXAMPLE_ARM), folder=tmp_path, quick=True, seeds=False)
     line, rotation = motion.linear_motion(ctx), motion.fixed_point_rotation(ctx)
-    assert line.status == rotation.status == "failed"
-    assert "3 joints cannot in general move its tool point while keeping" in " ".join(line.notes)
-    assert "cannot turn its tool about a fixed point" in " ".join(rotation.notes)
+    assert line.status == rotation.status == "n/a" and not line.tables and not rotation.tables
+    for section in (line, rotation):
+        assert len(section.notes) == 1 and section.notes[0].startswith("Not applicable, because ")
+    assert "cannot move its tool point without turning the tool" in line.notes[0]
+    assert "cannot turn its tool about any of the axes tried" in rotation.notes[0]
+
+
+def test_twist_possible_follows_the_jacobian_range():
+    puma, arm = armkit.load("puma560"), armkit.load(EXAMPLE_ARM)
+    q = motion.ready_configuration(puma, np.random.default_rng(0))
+    assert motion.twist_possible(puma, q, np.array([0.1, 0, 0, 0, 0, 0]))
+    q3 = motion.ready_configuration(arm, np.random.default_rng(0))
+    J = arm.jacobian(q3)
+    assert motion.twist_possible(arm, q3, J @ np.array([0.2, -0.1, 0.3]))   # any joint motion's twist
+    assert not motion.twist_possible(arm, q3, np.array([0, 0, 0, 1.0, 0, 0]))
+
+
+def _fake_experiments(monkeypatch, failing: str | None = None, interrupt: str | None = None):
+    """Replace the five experiments by instant ones (``failing`` fails, ``interrupt`` raises Ctrl-C)."""
+    from armkit.lab import fk_ik
+    from armkit.lab.report import Section
+
+    for module, name in ((fk_ik, "fk_check"), (fk_ik, "ik_check"), (motion, "linear_motion"),
+                         (motion, "trajectory_experiment"), (motion, "fixed_point_rotation")):
+        def experiment(ctx, name=name):
+            if name == interrupt:
+                raise KeyboardInterrupt
+            picture = ctx.path(f"{name}.png")
+            picture.write_bytes(b"new")
+            section = Section(name, name, "", headline=f"{name} done")
+            if name == failing:
+                section.status = "failed"
+                section.notes.append(f"{name} missed its target")
+            return section
+        monkeypatch.setattr(module, name, experiment)
+
+
+def test_a_failed_experiment_makes_the_run_exit_1(tmp_path, capsys, monkeypatch):
+    _fake_experiments(monkeypatch, failing="linear_motion")
+    out = tmp_path / "report"
+    assert main(["lab", "--robot", "puma560", "--out", str(out)]) == 1
+    printed = capsys.readouterr().out
+    assert printed.count("linear_motion missed its target") == 1 and "failed" in printed
+    assert (out / "index.html").is_file()
+    _fake_experiments(monkeypatch)
+    assert main(["lab", "--robot", "puma560", "--out", str(out), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["failed"] == 0 and [s["status"] for s in data["sections"]] == ["ok"] * 6
+
+
+def test_an_interrupted_run_leaves_the_previous_report_whole(tmp_path, capsys, monkeypatch):
+    _fake_experiments(monkeypatch)
+    out = tmp_path / "report"
+    assert main(["lab", "--robot", "puma560", "--out", str(out)]) == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    _fake_experiments(monkeypatch, interrupt="trajectory_experiment")
+    capsys.readouterr()
+    assert main(["lab", "--robot", "puma560", "--out", str(out)]) == 130
+    assert capsys.readouterr().err.strip() == "interrupted (Ctrl-C)"
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]  # no staging folder left
+
+
+def test_a_new_report_replaces_the_old_files_and_keeps_the_users(tmp_path, monkeypatch):
+    folder = tmp_path / "report"
+    folder.mkdir()
+    (folder / "old.png").write_bytes(b"x")
+    (folder / "mine.txt").write_text("user notes")
+    (folder / MARKER).write_text(json.dumps({"files": ["old.png", "index.html"]}))
+    _fake_experiments(monkeypatch)
+    run_lab("puma560", folder, quick=True, progress=False)
+    names = sorted(p.name for p in folder.iterdir())
+    assert "old.png" not in names and "mine.txt" in names and "linear_motion.png" in names
+    assert (folder / "linear_motion.png").read_bytes() == b"new"
+    assert sorted(json.loads((folder / MARKER).read_text())["files"]) == sorted(
+        n for n in names if n not in ("mine.txt", MARKER))
 
 
 def test_tables_drop_empty_columns_and_wide_ones_fit_the_page():

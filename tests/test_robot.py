@@ -80,3 +80,31 @@ def test_home_is_zero_clipped_into_the_limits():
     np.testing.assert_array_equal(stanford.home, [0.0, 0.0, stanford.limits[2, 0], 0.0, 0.0, 0.0])
     assert stanford.limits[2, 0] > 0 and stanford.within_limits(stanford.home)
     np.testing.assert_array_equal(armkit.load("probot-anno").home, np.zeros(6))
+
+
+def test_analytic_jacobian_of_a_batch_of_three_is_each_one():
+    robot = armkit.load("probot-anno")
+    q = np.random.default_rng(5).uniform(-1, 1, (3, 6))
+    batch = robot.analytic_jacobian(q, "zyz-euler")
+    assert batch.shape == (3, 6, 6)
+    for k in range(3):
+        np.testing.assert_allclose(batch[k], robot.analytic_jacobian(q[k], "zyz-euler"), atol=1e-15)
+    assert robot.analytic_jacobian(np.zeros((3, 6))).shape == (3, 6, 6)
+
+
+@pytest.mark.parametrize("near, message", [
+    ("abc", "near: expected 6 numbers, got 'abc'"),
+    ([np.zeros(6), 1], "near: expected 6 numbers"),
+    (np.zeros((2, 6)), r"near: shape \(2, 6\) for one target pose"),
+    ([0, 0, np.nan, 0, 0, 0], "near: contains NaN"),
+])
+def test_ik_with_a_bad_near_is_one_input_error(near, message):
+    robot = armkit.load("probot-anno")
+    with pytest.raises(InputError, match=message):
+        robot.ik(robot.fk(np.zeros(6)), near=near)
+
+
+def test_ik_of_no_poses_is_empty():
+    robot = armkit.load("probot-anno")
+    assert robot.ik(np.zeros((0, 4, 4))).shape == (0, 6)
+    assert robot.ik(np.zeros((0, 4, 4)), all=True) == []

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import mujoco
 import numpy as np
@@ -150,3 +151,21 @@ def test_sim_warns_about_values_outside_the_limits(capsys, tmp_path):
     np.savetxt(csv, np.column_stack([t, q]), delimiter=",", header="t,q1,q2,q3,q4", comments="")
     code, _, err = run(capsys, "sim", "grb400-scara", "--trajectory", csv, "--json")
     assert code == 0 and "the trajectory leaves the joint limits (6 of 11 samples, first at t = 0.5 s" in err
+
+
+def test_sim_trajectory_summary_has_a_unit_on_every_number(capsys, tmp_path):
+    csv = tmp_path / "t.csv"
+    assert main(["traj", "grb400-scara", "--waypoints", str(_scara_waypoints(tmp_path)), "--durations", "1",
+                 "--rate", "100", "--out", str(csv)]) == 0
+    capsys.readouterr()
+    code, out, err = run(capsys, "sim", "grb400-scara", "--trajectory", str(csv))
+    assert code == 0, err
+    assert re.search(r"duration: 1 s \(\d+ steps\)", out)
+    assert re.search(r"q1 [0-9.e+-]+ rad, q2 [0-9.e+-]+ rad, q3 [0-9.e+-]+ m, q4 [0-9.e+-]+ rad", out)
+    assert re.search(r"position [0-9.e+-]+ m, rotation [0-9.e+-]+ rad", out)
+
+
+def _scara_waypoints(folder):
+    path = folder / "w.csv"
+    path.write_text("0 0 0 0\n0.5 0.4 0.03 0.3\n")
+    return path

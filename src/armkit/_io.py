@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from armkit.errors import InputError
 
-__all__ = ["check_output_path"]
+__all__ = ["check_output_path", "writing"]
 
 
 def check_output_path(path: str | Path, overwrite: bool, *, remedy: str = "pass overwrite=True") -> Path:
@@ -35,3 +37,22 @@ def check_output_path(path: str | Path, overwrite: bool, *, remedy: str = "pass 
     if not path.parent.is_dir():
         raise InputError(f"output file {str(path)!r}: folder {str(path.parent)!r} does not exist")
     return path
+
+
+@contextmanager
+def writing(path: str | Path) -> Iterator[Path]:
+    """Turn an :class:`OSError` while writing ``path`` into one :class:`InputError` naming it.
+
+    A folder the user may not write to (``/proc``, a read-only mount, a full disk) is bad
+    input, not a bug: the message names the file and the system's reason.
+
+    >>> with writing("/proc/armkit-test.csv") as path:  # doctest: +IGNORE_EXCEPTION_DETAIL
+    ...     path.write_text("t")
+    Traceback (most recent call last):
+    armkit.errors.InputError: cannot write '/proc/armkit-test.csv': No such file or directory
+    """
+    path = Path(path)
+    try:
+        yield path
+    except OSError as exc:
+        raise InputError(f"cannot write {str(path)!r}: {exc.strerror or exc}") from exc

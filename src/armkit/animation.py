@@ -10,6 +10,7 @@ floor helps the eye place the arm in depth.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 from PIL import Image
 
 from armkit import kinematics
+from armkit._io import writing
 from armkit.errors import InputError
 from armkit.export.physical import PhysicalModel, physical_model
 from armkit.robot import Robot
@@ -190,17 +192,19 @@ def plot_configurations(robot: Robot, q: ArrayLike, path: str | Path | None = No
         _axis_legend(ax)
     figure.subplots_adjust(left=0.02, right=0.95, bottom=0.03, top=0.93, wspace=0.05)
     if path is not None:
-        figure.savefig(path, dpi=dpi)
+        with writing(path):
+            figure.savefig(path, dpi=dpi)
     return figure
 
 
 def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: ArrayLike | None = None,
                        trace_tool: bool = True, frames: int = 40, fps: int = 12, dpi: int = 64,
-                       size: float = 4.0, title: str = "", link_frames: bool = False) -> Path:
+                       size: float = 4.0, title: str = "", link_frames: bool = False,
+                       labels: Sequence[str] | None = None) -> Path:
     """Write a GIF of ``robot`` moving through the configurations ``q``.
 
     Frames are rendered with matplotlib (Agg) and assembled by Pillow, so neither ffmpeg
-    nor a display is needed. Tick labels are left out of animations to keep them small.
+    nor a display is needed. The axes carry their numbers, in metres.
 
     Parameters
     ----------
@@ -219,6 +223,9 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
     title : str
     link_frames : bool
         Draw every DH link frame (the tool frame is always drawn).
+    labels : sequence of str, optional
+        One text per configuration of ``q``, shown in the frames that draw it (e.g. which
+        IK solution a frame shows).
 
     Returns
     -------
@@ -237,6 +244,8 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
     times = None if t is None else np.asarray(t, dtype=float)
     if times is not None and times.shape != (len(q),):
         raise InputError(f"t: expected {len(q)} times, got shape {times.shape}")
+    if labels is not None and len(labels) != len(q):
+        raise InputError(f"labels: expected {len(q)}, one per configuration, got {len(labels)}")
     model = physical_model(robot)
     picks = np.unique(np.linspace(0, len(q) - 1, max(2, frames)).round().astype(int))
     centre, half = _bounds(robot, model, q[picks])
@@ -247,8 +256,6 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
     figure.subplots_adjust(left=0.0, right=1.0, bottom=0.0, top=0.94)
     ax.view_init(elev=22, azim=-58)
     floor = _setup_axes(ax, centre, half, title)
-    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
-        axis.set_ticklabels([])
     if trace_tool:
         ax.plot(*tool_path.T, color=_PATH_COLOR, linewidth=0.8, alpha=0.25)
     figure.canvas.draw()
@@ -262,6 +269,8 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
         _draw_arm(ax, robot, model, q[k], floor, half, link_frames)
         if times is not None:
             ax.text2D(0.03, 0.03, f"t = {times[k]:.1f} s", transform=ax.transAxes, fontsize=8)
+        if labels is not None:
+            ax.text2D(0.03, 0.93, labels[k], transform=ax.transAxes, fontsize=8, fontweight="bold")
         added = [a for a in [*ax.lines, *ax.collections, *ax.texts] if a not in before]
         for artist in added:
             if hasattr(artist, "do_3d_projection"):
@@ -271,5 +280,6 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
         for artist in added:
             artist.remove()
     path = Path(path)
-    images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+    with writing(path):
+        images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
     return path

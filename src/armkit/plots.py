@@ -20,7 +20,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the "3d" projection)
 
-from armkit._io import check_output_path
+from armkit._io import check_output_path, writing
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.trajectory.joint_trajectory import JointTrajectory
@@ -37,12 +37,20 @@ def save_figure(figure: Figure, path: str | Path, overwrite: bool = False, dpi: 
     if path.suffix.lower() not in _FORMATS:
         raise InputError(f"{path}: expected a figure file ending in {', '.join(_FORMATS)}")
     check_output_path(path, overwrite)
-    figure.savefig(path, dpi=dpi)
+    with writing(path):
+        figure.savefig(path, dpi=dpi)
     return path
 
 
+#: Most samples a figure draws per curve by default (a long trajectory is drawn at a lower rate).
+MAX_PLOT_SAMPLES = 100_000
+
+
 def _rate(trajectory: JointTrajectory, rate_hz: float | None) -> float:
-    return rate_hz if rate_hz is not None else max(50.0, 2000.0 / trajectory.duration)
+    """``rate_hz``, or by default 2000 samples or 50 Hz, whichever is more, up to MAX_PLOT_SAMPLES."""
+    if rate_hz is not None:
+        return rate_hz
+    return min(max(50.0, 2000.0 / trajectory.duration), MAX_PLOT_SAMPLES / trajectory.duration)
 
 
 def plot_pva(trajectory: JointTrajectory, robot: Robot | None = None, *, rate_hz: float | None = None,

@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from armkit import kinematics
 from armkit.chain import LIMIT_TOLERANCE, Chain, DHConvention, DHRow, chain_from_dh
 from armkit.errors import InputError, JointLimitError
-from armkit.spatial.transforms import pose_from_transform
+from armkit.spatial.transforms import check_transform, pose_from_transform
 
 __all__ = ["DHDescription", "Robot"]
 
@@ -232,6 +232,13 @@ class Robot:
         -------
         ndarray
             ``(n,)`` or ``(N, n)``; with ``all=True`` ``(k, n)`` (a list for ``N`` poses).
+            An empty batch ``(0, 4, 4)`` gives ``(0, n)`` (``[]`` with ``all=True``).
+
+        Raises
+        ------
+        InputError
+            If a target is not a rigid transform, or ``near`` is not ``n`` finite joint values
+            (per pose, or one set for all).
 
         Examples
         --------
@@ -245,7 +252,16 @@ class Robot:
         """
         from armkit.ik.solve import ik  # here, not at the top: armkit.ik imports this module
 
-        return ik(self.chain, T_base_tool, all=all, near=near, within_limits=within_limits, **options)
+        T = check_transform(T_base_tool, "target pose")
+        if near is not None:
+            near = self.check_q(near, "near")
+            if near.ndim > 1 and near.shape[:-1] != T.shape[:-2]:
+                poses = "one target pose" if T.ndim == 2 else f"target poses of shape {T.shape}"
+                raise InputError(f"near: shape {near.shape} for {poses}; expected ({self.n},), one set of "
+                                 f"joint values for every pose, or {(*T.shape[:-2], self.n)}, one per pose")
+        if T.ndim > 2 and T.shape[0] == 0:
+            return [] if all else np.empty((0, self.n))
+        return ik(self.chain, T, all=all, near=near, within_limits=within_limits, **options)
 
     def random_q(self, size: int | tuple[int, ...] | None = None,
                  rng: np.random.Generator | int | None = None) -> NDArray[np.float64]:

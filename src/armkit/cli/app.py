@@ -23,14 +23,15 @@ from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.robot_file import load
 
-__all__ = ["ALLOW_NEGATIVE", "app", "console", "err_console", "load_robot", "print_json",
-           "to_si", "warn"]
+__all__ = ["ALLOW_NEGATIVE", "QUATERNION_NAMES", "app", "console", "err_console", "fmt_number", "fmt_numbers",
+           "load_robot", "option_values", "print_json", "reject_unknown_options", "to_si", "warn"]
 
 app = typer.Typer(
     name="armkit",
     help="From a robot arm's DH table to a verified motion. ROBOT is a built-in name "
          "(see 'armkit robots') or a path to a robot TOML file.",
     no_args_is_help=True,
+    rich_markup_mode=None,  # plain help: no "<bool>" type tags after flags
     pretty_exceptions_enable=False,
     add_completion=False,
 )
@@ -41,6 +42,9 @@ err_console = Console(stderr=True)
 #: Command settings that let joint values such as ``-0.687`` be read as numbers.
 ALLOW_NEGATIVE = {"ignore_unknown_options": True}
 
+#: ``--euler`` names that ask for a unit quaternion ``w x y z`` instead of three angles.
+QUATERNION_NAMES = ("quat", "quaternion", "wxyz")
+
 
 def load_robot(name_or_path: str) -> Robot:
     """The robot named on the command line (built-in name or file path)."""
@@ -49,10 +53,60 @@ def load_robot(name_or_path: str) -> Robot:
 
 def to_si(robot: Robot, q: Sequence[float | str], degrees: bool) -> np.ndarray:
     """Joint values from the command line in SI units (``--deg`` converts revolute joints only)."""
+    reject_unknown_options([str(v) for v in q])
     q = robot.check_q(np.asarray(parse_floats(q, "joint values"), dtype=float), "joint values")
     if degrees:
         q = np.where(robot.chain.prismatic, q, np.radians(q))
     return q
+
+
+def fmt_number(value: float, digits: int = 4) -> str:
+    """``value`` with ``digits`` decimals, never ``-0.0000``: the one number format of tables.
+
+    A value that rounds to zero prints as zero (a ``-6.97e-18`` beside 4-decimal values is
+    ``0.0000``); non-finite values print as ``inf``, ``-inf`` or ``nan``.
+
+    >>> fmt_number(-6.97e-18), fmt_number(-0.5, 2), fmt_number(float("inf"))
+    ('0.0000', '-0.50', 'inf')
+    """
+    text = f"{value:.{digits}f}"
+    return text[1:] if text.startswith("-") and math.isfinite(value) and float(text) == 0 else text
+
+
+def fmt_numbers(values: Sequence[float], digits: int = 4) -> str:
+    """``[a, b, c]`` with :func:`fmt_number` for each."""
+    return "[" + ", ".join(fmt_number(float(v), digits) for v in values) + "]"
+
+
+def option_values(first: str | None, rest: Sequence[str] | None, option: str, what: str) -> list[str] | None:
+    """The words of an option with as many values as the robot has joints, or ``None`` if not given.
+
+    Typer options take a fixed number of values, so ``option`` takes the first word and the
+    command's trailing arguments collect the rest: ``--near 0 -0.5 0.5`` and the comma list
+    ``--near 0,-0.5,0.5`` give the same three words. Trailing values without the option are
+    refused, naming ``what`` they would have been.
+    """
+    reject_unknown_options(rest or [])
+    if first is None:
+        if rest:
+            raise InputError(f"unexpected values {' '.join(rest)}: {what} are given after {option} "
+                             f"(e.g. {option} 0 0 0 or {option} 0,0,0)")
+        return None
+    if first.startswith("--"):  # "--near --json": the option took the next option as its value
+        raise InputError(f"{option}: expected {what} after it (e.g. {option} 0 0 0; leave {option} out "
+                         f"for the default), got the option {first}")
+    return [word for word in first.replace(",", " ").split()] + list(rest or [])
+
+
+def reject_unknown_options(words: Sequence[str]) -> None:
+    """Raise for a word like ``--deg`` among a command's trailing values: an option it does not have.
+
+    Commands that read negative numbers as values let Typer pass unknown options through
+    with them; without this check ``--typo`` would be reported as a misplaced value.
+    """
+    for word in words:
+        if word.startswith("--") and len(word) > 2:
+            raise InputError(f"no such option: {word} (see the command's --help)")
 
 
 def warn(message: str) -> None:

@@ -8,10 +8,21 @@ import numpy as np
 import typer
 from rich import box
 from rich.console import Console
+from rich.markup import escape
 from rich.measure import Measurement
 from rich.table import Table
 
-from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, print_json, to_si
+from armkit.cli.app import (
+    ALLOW_NEGATIVE,
+    QUATERNION_NAMES,
+    app,
+    console,
+    fmt_number,
+    load_robot,
+    option_values,
+    print_json,
+    to_si,
+)
 from armkit.errors import InputError
 from armkit.ik.solve import ik_solutions
 from armkit.ik.structure import analyze_structure
@@ -46,20 +57,35 @@ def _target(pose: tuple[float, ...] | None, matrix: tuple[float, ...] | None,
     return transform_from(R, pose[:3])
 
 
-def _family_flags(robot: Robot, T: np.ndarray, q: np.ndarray, closed_form: bool) -> np.ndarray:
-    """Which of the rows of ``q`` stand for a one-parameter family of solutions."""
+#: Joint distance [rad or m] below which a returned solution is the same as a listed one.
+SAME_SOLUTION = 1e-9
+
+
+def _numbered(robot: Robot, T: np.ndarray, q: np.ndarray, near: np.ndarray,
+              closed_form: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Each row of ``q``: its number among all solutions, and whether it stands for a family.
+
+    The numbers are positions in :func:`ik_solutions`'s list for the same ``near``, in-limit
+    solutions first (nearest first), then the others: ``--outside`` adds rows after the
+    in-limit ones and never renumbers them. The family flag is that list's own (asking
+    ``ik_solutions`` with another reference would move a family's member elsewhere).
+    """
     if not closed_form:
-        return np.zeros(len(q), dtype=bool)
-    found = ik_solutions(robot.chain, T, near=q[0])
-    match = np.abs(q[:, None, :] - found.q[None, :, :]).max(axis=-1) < 1e-9
-    return (match & found.family[None, :]).any(axis=-1)
+        return np.arange(1, len(q) + 1), np.zeros(len(q), dtype=bool)
+    found = ik_solutions(robot.chain, T, near=near)
+    order = np.argsort(~found.within_limits, kind="stable")
+    listed, family = found.q[order], found.family[order]
+    distance = np.abs(q[:, None, :] - listed[None, :, :]).max(axis=-1)
+    index = np.argmin(distance, axis=1)
+    matched = distance[np.arange(len(q)), index] < SAME_SOLUTION
+    return np.where(matched, index + 1, 0), matched & family[index]
 
 
 @app.command("ik", context_settings=ALLOW_NEGATIVE)
 def ik_command(
     robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
     near_values: Annotated[list[str] | None, typer.Argument(
-        metavar="[Q...]", help="Joint values after --near.", show_default=False)] = None,
+        metavar="[Q...]", help="The rest of the --near joint values.", show_default=False)] = None,
     pose: Annotated[tuple[float, float, float, float, float, float] | None, typer.Option(
         help="Target: position X Y Z in m and three angles A B C in the --euler convention.",
         show_default=False)] = None,
@@ -75,9 +101,10 @@ def ik_command(
                                                               "limits (closed form).")] = False,
     outside: Annotated[bool, typer.Option("--outside", help="Also list solutions outside the "
                                                             "joint limits.")] = False,
-    near: Annotated[bool, typer.Option("--near", help="The joint values Q... that follow: "
-                                                      "return the solution closest to them "
-                                                      "(default zeros).")] = False,
+    near: Annotated[str | None, typer.Option(
+        "--near", metavar="Q...", help="Return the solution closest to these joint values, e.g. "
+                                       "--near 0 -0.5 0.5 0 1 0 or --near 0,-0.5,0.5,0,1,0 (rad and m; "
+                                       "deg with --deg; default zeros).", show_default=False)] = None,
     json_output: Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of "
                                                              "a table.")] = False,
 ) -> None:
@@ -86,10 +113,11 @@ def ik_command(
     Example: armkit ik probot-anno --pose 0.2 0.2 0.2007 1.5707963 -1.5707963 0 --all
     """
     arm = load_robot(robot)
-    if near_values and not near:
-        raise InputError(f"unexpected values {' '.join(near_values)}: joint values are given "
-                         f"after --near")
-    q_near = to_si(arm, near_values, deg) if near_values else np.zeros(arm.n)
+    words = option_values(near, near_values, "--near", "joint values")
+    q_near = to_si(arm, words, deg) if words is not None else np.zeros(arm.n)
+    if euler.strip().lower() in QUATERNION_NAMES:
+        raise InputError("--euler quat is an output format (armkit fk); give the target as --pose with "
+                         "angles in a convention such as xyz-fixed, or as --matrix")
     convention = parse_convention(euler)
     T = _target(pose, matrix, position, convention, deg)
     structure = analyze_structure(arm.chain)
@@ -97,17 +125,19 @@ def ik_command(
         raise InputError("--position asks the numeric solver for one solution; drop --all")
     options = {"mask": POSITION_ONLY} if position is not None else {}
     q = np.atleast_2d(arm.ik(T, all=all_solutions, near=q_near, within_limits=not outside, **options))
+    closed = structure.closed_form and position is None
+    number, family = _numbered(arm, T, q, q_near, closed)
+    order = np.argsort(number, kind="stable")
+    q, number, family = q[order], number[order], family[order]
     inside = arm.within_limits(q)
     T_found = arm.fk(q)
     position_error = np.linalg.norm(T_found[:, :3, 3] - T[:3, 3], axis=-1)
     orientation_error = (rotation_angle_between(T_found, T) if position is None
                          else np.full(len(q), np.nan))
-    family = _family_flags(arm, T, q, structure.closed_form and position is None)
-    method = ("closed form" if structure.closed_form and position is None
-              else "numeric (Levenberg-Marquardt)")
+    method = "closed form" if closed else "numeric (Levenberg-Marquardt)"
     if json_output:
         print_json({"robot": arm.name, "target": T, "method": method,
-                    "structure": structure.description, "solutions": q,
+                    "structure": structure.description, "solutions": q, "numbers": number,
                     "within_limits": inside, "family": family,
                     "position_error": position_error, "orientation_error": orientation_error,
                     "joint_names": arm.joint_names, "units": "rad and m"})
@@ -116,17 +146,18 @@ def ik_command(
     shown = np.where(arm.chain.prismatic, q, np.degrees(q) if deg else q)
     digits = np.where(arm.chain.prismatic, 4, 2 if deg else 4)
     table = Table(title=f"{arm.name}: {len(q)} IK solution{'s' * (len(q) != 1)}, {method}",
-                  caption=f"revolute joints in {unit}, prismatic in m; FK residual: position "
-                          f"error in m, angle error in rad", box=box.SIMPLE_HEAD)
+                  caption="# = the solution's number (in-limit ones first, nearest --near first); FK "
+                          "residual of each solution", box=box.SIMPLE_HEAD)
     table.add_column("#", justify="right")
-    for name in arm.joint_names:
-        table.add_column(name, justify="right")
-    extra = ["limits", *(["family"] if family.any() else []), "pos.err", "ang.err"]
+    for name, prismatic in zip(arm.joint_names, arm.chain.prismatic, strict=True):
+        table.add_column(escape(f"{name} [{'m' if prismatic else unit}]"), justify="right")
+    extra = ["limits", *(["family"] if family.any() else []), "pos.err [m]", "ang.err [rad]"]
     for column in extra:
-        table.add_column(column, justify="right")
+        table.add_column(escape(column), justify="right")
     for k in range(len(q)):
         flags = ["in" if inside[k] else "OUT", *(["yes" if family[k] else ""] if family.any() else [])]
-        table.add_row(str(k + 1), *(f"{v:.{d}f}" for v, d in zip(shown[k], digits, strict=True)),
+        table.add_row(str(number[k]) if number[k] else "-",
+                      *(fmt_number(v, d) for v, d in zip(shown[k], digits, strict=True)),
                       *flags, f"{position_error[k]:.0e}",
                       "-" if np.isnan(orientation_error[k]) else f"{orientation_error[k]:.0e}")
     natural = Measurement.get(console, console.options.update_width(1000), table).maximum

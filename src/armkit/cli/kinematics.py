@@ -10,14 +10,17 @@ from rich.table import Table
 
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    QUATERNION_NAMES,
     app,
     check_limits_or_warn,
     console,
+    fmt_number,
+    fmt_numbers,
     load_robot,
     print_json,
     to_si,
 )
-from armkit.spatial.rotations import euler_from_matrix, parse_convention
+from armkit.spatial.rotations import euler_from_matrix, parse_convention, quaternion_wxyz_from_matrix
 
 #: Smallest singular value below which ``armkit jacobian`` calls a configuration singular.
 SINGULAR_THRESHOLD = 1e-9
@@ -40,7 +43,7 @@ def _matrix_table(matrix: np.ndarray, title: str, row_names: list[str] | None = 
     for name in column_names or [""] * matrix.shape[1]:
         table.add_column(name, justify="right")
     for i, row in enumerate(matrix):
-        table.add_row(*([row_names[i]] if row_names else []), *(f"{v: .6f}" for v in row))
+        table.add_row(*([row_names[i]] if row_names else []), *(fmt_number(v, 6) for v in row))
     return table
 
 
@@ -49,9 +52,9 @@ def fk_command(
     robot: RobotArg,
     q: JointsArg,
     deg: DegOpt = False,
-    euler: Annotated[str, typer.Option(help="Angle convention of the printed orientation, "
-                                            "e.g. xyz-fixed (roll pitch yaw), xyz-euler, "
-                                            "zyz-euler.")] = "xyz-fixed",
+    euler: Annotated[str, typer.Option(help="Convention of the printed orientation, e.g. xyz-fixed "
+                                            "(roll pitch yaw), xyz-euler, zyz-euler, or quat (unit "
+                                            "quaternion w x y z).")] = "xyz-fixed",
     strict: StrictOpt = False,
     json_output: JsonOpt = False,
 ) -> None:
@@ -59,21 +62,26 @@ def fk_command(
     arm = load_robot(robot)
     q_si = to_si(arm, q, deg)
     check_limits_or_warn(arm, q_si, strict, deg)
-    convention = parse_convention(euler)
+    quaternion = euler.strip().lower() in QUATERNION_NAMES
+    convention = None if quaternion else parse_convention(euler)
     T = arm.fk(q_si)
-    angles = euler_from_matrix(T, convention, degrees=deg)
     unit = "deg" if deg else "rad"
+    if quaternion:
+        wxyz = quaternion_wxyz_from_matrix(T[:3, :3])
+        orientation = {"quaternion_wxyz": wxyz}
+        line = f"quaternion w x y z (unit, w >= 0): {fmt_numbers(wxyz, 6)}"
+    else:
+        angles = euler_from_matrix(T, convention, degrees=deg)
+        orientation = {"angles": angles, "convention": convention.name,
+                       "convention_formula": f"R = {convention.formula()}", "angle_unit": unit}
+        line = f"{convention.name} angles [{unit}] (R = {convention.formula()}): {fmt_numbers(angles, 6)}"
     if json_output:
         print_json({"robot": arm.name, "q": [float(v) for v in q], "q_si": q_si, "matrix": T,
-                    "position": T[:3, 3],
-                    "angles": angles, "convention": convention.name,
-                    "convention_formula": f"R = {convention.formula()}", "angle_unit": unit})
+                    "position": T[:3, 3], **orientation})
         return
     console.print(_matrix_table(T, f"{arm.name}: T_base_tool (metres)"))
-    console.print(f"position [m]: {np.array2string(T[:3, 3], precision=6, suppress_small=True)}",
-                  markup=False)
-    console.print(f"{convention.name} angles [{unit}] (R = {convention.formula()}): "
-                  f"{np.array2string(angles, precision=6, suppress_small=True)}", markup=False)
+    console.print(f"position [m]: {fmt_numbers(T[:3, 3], 6)}", markup=False)
+    console.print(line, markup=False)
 
 
 @app.command("jacobian", context_settings=ALLOW_NEGATIVE)
@@ -100,7 +108,8 @@ def jacobian_command(
                                 ["vx", "vy", "vz", "wx", "wy", "wz"], arm.joint_names))
     condition = sigma[0] / sigma[-1] if sigma[-1] > 0 else float("inf")
     console.print(f"manipulability: {np.prod(sigma):.6g}   smallest singular value: {sigma[-1]:.6g}   "
-                  f"condition number: {condition:.6g}", soft_wrap=True)
+                  f"condition number: {condition:.6g}   (rows in m/s and rad/s per unit joint rate; "
+                  f"singular values mix the two)", soft_wrap=True, markup=False)
     if sigma[-1] < SINGULAR_THRESHOLD:
         console.print("[yellow]singular configuration:[/yellow] the tool cannot move in every direction "
                       "here", soft_wrap=True)

@@ -6,8 +6,9 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
+from rich.markup import escape
 
-from armkit.cli.app import app, console
+from armkit.cli.app import app, console, print_json
 from armkit.cli.sim import require_mujoco
 
 
@@ -20,14 +21,31 @@ def lab_command(
     quick: Annotated[bool, typer.Option("--quick", help="Small animations and short moves (fast).")] = False,
     force: Annotated[bool, typer.Option("--force", help="Write into a folder that is not an armkit "
                                                         "report.")] = False,
+    json_output: Annotated[bool, typer.Option("--json", help="Print JSON (each section's status and "
+                                                             "headline) instead.")] = False,
 ) -> None:
-    """Reproduce the seed experiments (FK, IK, straight line, trajectory, rotation) in MuJoCo; write HTML."""
+    """Reproduce the seed experiments (FK, IK, straight line, trajectory, rotation) in MuJoCo; write HTML.
+
+    Exits with code 1 if an experiment failed (the report is written either way); an
+    experiment the arm cannot do is "not applicable", which is no failure.
+    """
     require_mujoco()
     from armkit.lab import run_lab
+    from armkit.lab.report import status_label
 
-    result = run_lab(robot, out, quick=quick, force=force)
-    for section in result.sections:
-        if section.status != "ok":
-            console.print(f"[yellow]{section.title}: {section.status}[/yellow] {' '.join(section.notes)}",
-                          highlight=False)
-    console.print(f"report: {result.index} ({result.seconds:.0f} s)", highlight=False)
+    result = run_lab(robot, out, quick=quick, force=force, progress=not json_output)
+    failed = [s for s in result.sections if s.status == "failed"]
+    if json_output:
+        print_json({"report": str(result.index), "seconds": result.seconds, "failed": len(failed),
+                    "sections": [{"key": s.key, "title": s.title, "status": s.status, "headline": s.headline,
+                                  "notes": s.notes} for s in result.sections]})
+    else:
+        for section in result.sections:
+            if section.status != "ok":
+                why = escape(section.notes[0] if section.notes else section.headline)
+                if section.status == "failed":
+                    why = f"[red]{status_label(section.status, robot is None)}[/red]: {why}"
+                console.print(f"{escape(section.title)}: {why}", highlight=False, soft_wrap=True)
+        console.print(f"report: {escape(str(result.index))} ({result.seconds:.0f} s)", highlight=False)
+    if failed:
+        raise typer.Exit(1)

@@ -14,8 +14,9 @@ from armkit.cli.app import (
     app,
     console,
     err_console,
+    fmt_number,
     load_robot,
-    parse_floats,
+    option_values,
     print_json,
     to_si,
 )
@@ -26,9 +27,10 @@ from armkit.spatial.transforms import pose_from_transform
 
 RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
 StartValues = Annotated[list[str] | None, typer.Argument(
-    metavar="[Q...]", help="Start joint values after --from.", show_default=False)]
-FromOpt = Annotated[bool, typer.Option("--from", help="The start joint values Q... that follow "
-                                                      "(rad and m; default all zeros).")]
+    metavar="[Q...]", help="The rest of the --from joint values.", show_default=False)]
+FromOpt = Annotated[str | None, typer.Option(
+    "--from", metavar="Q...", help="Start joint values, e.g. --from 0 0 0 0 0 0 or --from 0,0,0,0,0,0 "
+                                   "(rad and m; deg with --deg; default all zeros).", show_default=False)]
 FrameOpt = Annotated[str, typer.Option(help="base or tool: the frame the vector is written in "
                                             "(tool = the start tool frame).")]
 DtOpt = Annotated[float, typer.Option("--dt", help="Control period in seconds.")]
@@ -37,13 +39,9 @@ DegOpt = Annotated[bool, typer.Option("--deg", help="Revolute joint values and a
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of tables.")]
 
 
-def _start(robot: Robot, values: list[str] | None, given: bool, degrees: bool) -> np.ndarray:
-    if values and not given:
-        raise InputError(f"unexpected values {' '.join(values)}: start joint values are given "
-                         f"after --from")
-    if not given:
-        return np.zeros(robot.n)
-    return to_si(robot, parse_floats(values or [], "--from"), degrees)
+def _start(robot: Robot, first: str | None, rest: list[str] | None, degrees: bool) -> np.ndarray:
+    words = option_values(first, rest, "--from", "start joint values")
+    return np.zeros(robot.n) if words is None else to_si(robot, words, degrees)
 
 
 def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_output: bool) -> None:
@@ -64,20 +62,25 @@ def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_
                     "max_joint_speed_ratio": np.max(np.abs(result.qd) / robot.max_velocity),
                     "min_singular_value": result.sigma_min.min()})
     else:
-        joints = Table(title=escape(f"{robot.name}: {title}"))
-        for column in ("joint", f"start [{unit}]", f"final [{unit}]", "peak |qd| / limit"):
+        joints = Table(title=escape(f"{robot.name}: {title}"), caption="limit: the joint's max_velocity; "
+                                                                      "- where the robot file gives none")
+        for column in ("joint", "start", "final", "peak |qd| / limit"):
             joints.add_column(escape(column), justify="right")
         start = np.where(robot.chain.prismatic, result.q[0], result.q[0] * angle_scale)
-        peaks = np.max(np.abs(result.qd), axis=0) / robot.max_velocity
-        for name, a, b, peak in zip(robot.joint_names, start, q_shown, peaks, strict=True):
-            joints.add_row(name, f"{a:.6f}", f"{b:.6f}", f"{peak:.3f}")
+        peaks = np.max(np.abs(result.qd), axis=0)
+        for j, name in enumerate(robot.joint_names):
+            joint_unit = "m" if robot.chain.prismatic[j] else unit
+            limit = robot.max_velocity[j]
+            joints.add_row(escape(name), f"{fmt_number(start[j], 6)} {joint_unit}",
+                           f"{fmt_number(q_shown[j], 6)} {joint_unit}",
+                           fmt_number(peaks[j] / limit, 3) if np.isfinite(limit) else "-")
         console.print(joints)
-        poses = Table(title=escape(f"tool pose after {result.t[-1]:.4g} s (x y z [m], roll pitch "
-                                   f"yaw = xyz-fixed [{unit}])"))
-        for column in ("", "x", "y", "z", "roll", "pitch", "yaw"):
-            poses.add_column(column, justify="right")
+        poses = Table(title=escape(f"tool pose after {fmt_number(result.t[-1], 3)} s (roll pitch yaw = "
+                                   f"xyz-fixed angles)"))
+        for column in ("", "x [m]", "y [m]", "z [m]", f"roll [{unit}]", f"pitch [{unit}]", f"yaw [{unit}]"):
+            poses.add_column(escape(column), justify="right")
         for label, T in (("final", final), ("target", target)):
-            poses.add_row(label, *(f"{v:.6g}" for v in pose_from_transform(T, "xyz-fixed", degrees)))
+            poses.add_row(label, *(fmt_number(v, 6) for v in pose_from_transform(T, "xyz-fixed", degrees)))
         console.print(poses)
         console.print(f"pose error: position {result.position_error:.3g} m, orientation "
                       f"{result.orientation_error * angle_scale:.3g} {unit}; largest along the way: "
@@ -92,7 +95,7 @@ def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_
 def move_command(
     robot: RobotArg,
     start_values: StartValues = None,
-    start: FromOpt = False,
+    start: FromOpt = None,
     by: Annotated[tuple[float, float, float], typer.Option(
         "--by", help="Tool displacement DX DY DZ, in metres.", show_default=False)] = ...,
     duration: Annotated[float, typer.Option(help="Duration in seconds (quintic time law).")] = 5.0,
@@ -108,7 +111,7 @@ def move_command(
     Example: armkit move probot-anno --from 0 0 0 0 0 0 --by 0.15 0 -0.15 --duration 3
     """
     arm = load_robot(robot)
-    q0 = _start(arm, start_values, start, deg)
+    q0 = _start(arm, start, start_values, deg)
     result = move_linear(arm, q0, np.array(by), duration, frame=frame, dt=dt)
     _report(arm, result, f"straight move by {list(by)} m ({frame} frame)", deg, json_output)
 
@@ -117,7 +120,7 @@ def move_command(
 def rotate_command(
     robot: RobotArg,
     start_values: StartValues = None,
-    start: FromOpt = False,
+    start: FromOpt = None,
     axis: Annotated[tuple[float, float, float], typer.Option(
         "--axis", help="Rotation axis X Y Z through the tool origin.", show_default=False)] = ...,
     angle: Annotated[float, typer.Option(help="Signed angle about the axis (rad; deg with --deg).",
@@ -140,7 +143,7 @@ def rotate_command(
     Example: armkit rotate probot-anno --from 0 0 0 0 0 0 --axis 1 0 0 --angle -180 --rate 11.46 --deg
     """
     arm = load_robot(robot)
-    q0 = _start(arm, start_values, start, deg)
+    q0 = _start(arm, start, start_values, deg)
     scale = np.pi / 180 if deg else 1.0
     if rate is not None and rate < 0 < angle:
         unit = "deg" if deg else "rad"

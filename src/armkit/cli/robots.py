@@ -8,24 +8,34 @@ from typing import Annotated
 
 import numpy as np
 import typer
+from rich.markup import escape
 from rich.table import Table
 
-from armkit.cli.app import app, console, load_robot, print_json
+from armkit.cli.app import app, console, fmt_numbers, load_robot, print_json
 from armkit.ik.structure import analyze_structure
 from armkit.robot import Robot
 from armkit.robot_file import builtin_robots, load
 
 
 @app.command("robots")
-def robots_command() -> None:
+def robots_command(
+    json_output: Annotated[bool, typer.Option("--json", help="Print JSON instead.")] = False,
+) -> None:
     """List the built-in robots."""
+    rows = []
+    for name in builtin_robots():
+        robot = load(name)
+        rows.append({"name": name, "robot": robot.name, "joints": "".join("P" if p else "R"
+                                                                          for p in robot.chain.prismatic),
+                     "convention": robot.dh.convention, "description": robot.description})
+    if json_output:
+        print_json({"robots": rows})
+        return
     table = Table(title="Built-in robots")
     for column in ("name", "robot", "joints", "DH", "description"):
         table.add_column(column)
-    for name in builtin_robots():
-        robot = load(name)
-        kinds = "".join("P" if p else "R" for p in robot.chain.prismatic)
-        table.add_row(name, robot.name, kinds, robot.dh.convention, robot.description)
+    for row in rows:
+        table.add_row(*(escape(str(value)) for value in row.values()))
     console.print(table)
 
 
@@ -85,5 +95,5 @@ def show_command(
         return
     console.print(dh_table(arm))
     home = arm.fk(np.zeros(arm.n))
-    console.print(f"tool at q = 0: position {np.round(home[:3, 3], 6).tolist()} m")
-    console.print(f"kind: {structure.description}")
+    console.print(f"tool at q = 0: position {fmt_numbers(home[:3, 3], 6)} m", markup=False)
+    console.print(f"kind: {structure.description}", markup=False)

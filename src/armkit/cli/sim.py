@@ -17,6 +17,7 @@ from armkit.cli.app import (
     check_limits_or_warn,
     console,
     err_console,
+    fmt_number,
     load_robot,
     print_json,
     to_si,
@@ -52,6 +53,7 @@ def export_command(
                                               show_default=False)] = None,
     no_gravity: Annotated[bool, typer.Option("--no-gravity", help="MJCF without gravity.")] = False,
     force: ForceOpt = False,
+    json_output: Annotated[bool, typer.Option("--json", help="Print JSON instead.")] = False,
 ) -> None:
     """Export a robot as URDF and/or MJCF (capsule links, masses, limits, servos, a 'tool' frame)."""
     from armkit.export import write_mjcf, write_urdf
@@ -65,11 +67,16 @@ def export_command(
     for path in (urdf, mjcf):
         if path is not None:
             check_output_path(path, force, remedy="pass --force")
+    written = []
     if urdf is not None:
-        console.print(f"wrote {write_urdf(arm, urdf, overwrite=force)}", highlight=False)
+        written.append(write_urdf(arm, urdf, overwrite=force))
     if mjcf is not None:
-        console.print(f"wrote {write_mjcf(arm, mjcf, overwrite=force, gravity=not no_gravity)}",
-                      highlight=False)
+        written.append(write_mjcf(arm, mjcf, overwrite=force, gravity=not no_gravity))
+    if json_output:
+        print_json({"robot": arm.name, "written": [str(path) for path in written]})
+        return
+    for path in written:
+        console.print(f"wrote {path}", highlight=False, markup=False)
 
 
 def _comparison_table(table: PoseComparison, title: str) -> Table:
@@ -77,8 +84,8 @@ def _comparison_table(table: PoseComparison, title: str) -> Table:
     for name in ["#", "", *table.columns, "|dp| [m]", "rot [rad]"]:
         out.add_column(escape(name), justify="right")
     for k, label in enumerate(table.labels):
-        out.add_row(label, "computed", *(f"{v:.6f}" for v in table.computed[k]), "", "")
-        out.add_row("", "simulated", *(f"{v:.6f}" for v in table.simulated[k]), "", "")
+        out.add_row(label, "computed", *(fmt_number(v, 6) for v in table.computed[k]), "", "")
+        out.add_row("", "simulated", *(fmt_number(v, 6) for v in table.simulated[k]), "", "")
         out.add_row("", "error", *(f"{v:.1e}" for v in table.error[k]), f"{table.position_error[k]:.1e}",
                     f"{table.rotation_error[k]:.1e}", end_section=True)
     return out
@@ -92,6 +99,20 @@ def _tracking_summary(robot: Robot, result: SimResult) -> dict:
             "max_tool_position_error_m": float(np.linalg.norm(
                 result.T_tool[:, :3, 3] - T_command[:, :3, 3], axis=-1).max()),
             "max_tool_rotation_error_rad": float(rotation_angle_between(result.T_tool, T_command).max())}
+
+
+def _tracking_lines(robot: Robot, summary: dict) -> list[str]:
+    """The tracking summary as lines of text, a unit on every number."""
+    on = {True: "on", False: "off"}
+    units = ["m" if prismatic else "rad" for prismatic in robot.chain.prismatic]
+    joint_errors = ", ".join(f"{name} {error:.2e} {unit}" for name, error, unit in
+                             zip(robot.joint_names, summary["max_joint_error"], units, strict=True))
+    return [f"duration: {summary['duration_s']:.4g} s ({summary['steps']} steps); gravity "
+            f"{on[summary['gravity']]}, gravity compensation {on[summary['gravity_compensation']]}",
+            f"largest |q_MuJoCo - q_command|: {joint_errors}",
+            f"largest tool error (MuJoCo vs FK of the command): position "
+            f"{summary['max_tool_position_error_m']:.2e} m, "
+            f"rotation {summary['max_tool_rotation_error_rad']:.2e} rad"]
 
 
 @app.command("sim", context_settings=ALLOW_NEGATIVE)
@@ -140,12 +161,11 @@ def sim_command(
         result = sim.run(t, q_traj, qd)
         summary = _tracking_summary(arm, result)
         if json_output:
-            print_json({"robot": arm.name, **summary})
+            print_json({"robot": arm.name, **summary,
+                        "max_joint_error_units": ["m" if p else "rad" for p in arm.chain.prismatic]})
         else:
-            for key, value in summary.items():
-                text = (np.array2string(np.asarray(value), formatter={"float_kind": "{:.3g}".format})
-                        if isinstance(value, np.ndarray | float) else str(value))
-                console.print(f"{key}: {text}", markup=False)
+            for line in _tracking_lines(arm, summary):
+                console.print(line, markup=False)
         if gif is not None:
             stride = max(1, len(result.t) // 200)
             animate_trajectory(arm, result.q[::stride], gif, t=result.t[::stride], title=arm.name)

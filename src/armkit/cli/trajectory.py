@@ -7,10 +7,21 @@ from typing import Annotated
 
 import numpy as np
 import typer
+from rich.markup import escape
 from rich.table import Table
 
 from armkit._io import check_output_path
-from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, parse_floats, warn
+from armkit.cli.app import (
+    ALLOW_NEGATIVE,
+    app,
+    console,
+    fmt_number,
+    load_robot,
+    parse_floats,
+    print_json,
+    reject_unknown_options,
+    warn,
+)
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.trajectory import JointTrajectory, durations_from_times, plan_trajectory, read_waypoints
@@ -26,6 +37,7 @@ def _check_output(path: Path | None, suffixes: tuple[str, ...], force: bool, wha
 
 
 def _durations(values: list[str] | None, durations: bool, times: bool, auto: bool) -> np.ndarray | None:
+    reject_unknown_options(values or [])
     if values and not (durations or times):
         raise InputError(f"unexpected values {' '.join(values)}: segment durations are given "
                          f"after --durations (or waypoint times after --times)")
@@ -41,31 +53,63 @@ def _durations(values: list[str] | None, durations: bool, times: bool, auto: boo
     return numbers if durations else durations_from_times(numbers)
 
 
-def _summary(robot: Robot, traj: JointTrajectory) -> Table:
-    units = "rad/s, rad/s²" + (" (prismatic joints: m/s, m/s²)" if any(robot.chain.prismatic) else "")
-    table = Table(title=f"{robot.name}: {traj.durations.size} segments, {traj.duration:.4g} s",
-                  caption=f"peaks computed exactly from the polynomials; units {units}; "
-                          f"ratio = peak / limit")
+def _joint_scale(robot: Robot, degrees: bool) -> tuple[np.ndarray, list[str]]:
+    """Per joint: the factor from SI to the shown unit, and the unit (deg with ``--deg``, rad, m)."""
+    revolute = ~np.asarray(robot.chain.prismatic)
+    scale = np.where(revolute & degrees, 180 / np.pi, 1.0)
+    units = ["m" if not r else ("deg" if degrees else "rad") for r in revolute]
+    return scale, units
+
+
+def _limit_cells(peak: float, limit: float, scale: float, unit: str) -> list[str]:
+    """``peak``, ``limit`` and ``peak / limit`` with units; a missing limit is "none" and its ratio "-"."""
+    if not np.isfinite(limit):
+        return [f"{fmt_number(peak * scale, 4)} {unit}", "none", "-"]
+    return [f"{fmt_number(peak * scale, 4)} {unit}", f"{fmt_number(limit * scale, 4)} {unit}",
+            fmt_number(peak / limit, 3)]
+
+
+def _summary(robot: Robot, traj: JointTrajectory, degrees: bool) -> Table:
+    table = Table(title=escape(f"{robot.name}: {traj.durations.size} segments, "
+                               f"{traj.duration:.4g} s"),
+                  caption="peaks computed exactly from the polynomials; ratio = peak / limit; "
+                          "none: the robot file gives no limit")
     for column in ("joint", "peak |qd|", "limit", "ratio", "peak |qdd|", "limit", "ratio"):
         table.add_column(column, justify="right")
-    ratio_v = traj.peak_velocity / robot.max_velocity
-    ratio_a = traj.peak_acceleration / robot.max_acceleration
+    scale, units = _joint_scale(robot, degrees)
     for j, name in enumerate(robot.joint_names):
-        table.add_row(name, f"{traj.peak_velocity[j]:.4f}", f"{robot.max_velocity[j]:.4f}",
-                      f"{ratio_v[j]:.3f}", f"{traj.peak_acceleration[j]:.4f}",
-                      f"{robot.max_acceleration[j]:.4f}", f"{ratio_a[j]:.3f}")
+        table.add_row(escape(name), *_limit_cells(traj.peak_velocity[j], robot.max_velocity[j], scale[j],
+                                          f"{units[j]}/s"),
+                      *_limit_cells(traj.peak_acceleration[j], robot.max_acceleration[j], scale[j],
+                                    f"{units[j]}/s²"))
     return table
 
 
-def _waypoint_table(robot: Robot, traj: JointTrajectory) -> Table:
-    table = Table(title="Waypoints: IK solutions, each nearest the previous (rad, m)")
+def _waypoint_table(robot: Robot, traj: JointTrajectory, degrees: bool) -> Table:
+    scale, units = _joint_scale(robot, degrees)
+    table = Table(title="Waypoints: IK solutions, each nearest the previous")
     table.add_column("#", justify="right")
-    table.add_column("t (s)", justify="right")
-    for name in robot.joint_names:
-        table.add_column(name, justify="right")
+    table.add_column(escape("t [s]"), justify="right")
+    for name, unit in zip(robot.joint_names, units, strict=True):
+        table.add_column(escape(f"{name} [{unit}]"), justify="right")
     for k, (t, q) in enumerate(zip(traj.waypoint_times, traj.waypoints, strict=True), start=1):
-        table.add_row(str(k), f"{t:.4g}", *(f"{v:.4f}" for v in np.round(q, 4) + 0.0))
+        table.add_row(str(k), fmt_number(t, 4), *(fmt_number(v, 4) for v in q * scale))
     return table
+
+
+def _unlimited_warning(robot: Robot) -> str | None:
+    """A warning naming the joints whose velocity or acceleration the robot file leaves unlimited."""
+    parts = []
+    for what, limits in (("max_velocity", robot.max_velocity), ("max_acceleration", robot.max_acceleration)):
+        missing = [name for name, limit in zip(robot.joint_names, limits, strict=True)
+                   if not np.isfinite(limit)]
+        if missing:
+            parts.append(f"no {what} for {', '.join(missing)}")
+    if not parts:
+        return None
+    return (f"{robot.name}: {'; '.join(parts)} in the robot file, so --auto-time cannot keep those "
+            f"joints within such a limit; their peaks below are whatever the other limits give "
+            f"(add the limits to the robot file, or give --durations)")
 
 
 @app.command("traj", context_settings=ALLOW_NEGATIVE)
@@ -75,8 +119,10 @@ def traj_command(
         metavar="[D... | T...]", help="Segment durations (s) after --durations, or waypoint times (s) "
                                       "after --times.", show_default=False)] = None,
     waypoints: Annotated[Path, typer.Option(
-        help="CSV file, one waypoint per line (header allowed): joint values (rad, m), or with "
-             "--poses x y z a b c (m, rad).", show_default=False)] = ...,
+        help="CSV file, one waypoint per line (header allowed): joint values (rad, m; deg with --deg), "
+             "or with --poses x y z a b c (m, rad; deg with --deg).", show_default=False)] = ...,
+    deg: Annotated[bool, typer.Option("--deg", help="Waypoint angles (revolute joints, pose angles) in "
+                                                    "degrees; printed joint values in degrees.")] = False,
     poses: Annotated[bool, typer.Option("--poses", help="Waypoints are tool poses, solved by IK "
                                                         "(each nearest the previous).")] = False,
     euler: Annotated[str, typer.Option(help="Angle convention of the poses, e.g. xyz-fixed (roll "
@@ -96,6 +142,8 @@ def traj_command(
     plot_path: Annotated[Path | None, typer.Option(help="Save the 3-D tool path figure.",
                                                    show_default=False)] = None,
     force: Annotated[bool, typer.Option("--force", help="Replace existing output files.")] = False,
+    json_output: Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of "
+                                                             "tables.")] = False,
 ) -> None:
     """Minimum-jerk trajectory through waypoints (piecewise quintic, continuous qd and qdd).
 
@@ -110,31 +158,49 @@ def traj_command(
         raise InputError(f"--rate: expected a positive sampling rate (Hz), got {rate:g}")
     arm = load_robot(robot)
     rows = read_waypoints(waypoints, 6 if poses else arm.n)
+    if deg:  # revolute joint columns, or the three pose angles
+        angles = np.zeros(rows.shape[1], dtype=bool)
+        angles[3:] = True
+        rows = np.where(angles if poses else ~np.asarray(arm.chain.prismatic), np.radians(rows), rows)
     if segment_durations is not None and segment_durations.size != len(rows) - 1:
         wanted = (f"{len(rows) - 1} segment durations" if durations else f"{len(rows)} waypoint times")
         raise InputError(f"{'--durations' if durations else '--times'}: {len(rows)} waypoints need "
                          f"{wanted}, got {len(duration_values)}")
     traj = plan_trajectory(arm, rows, segment_durations, poses=poses, convention=euler)
-    samples = traj.sample(rate)
-    for message in traj.position_limit_violations(arm):
-        warn(message)
-    if poses:
-        console.print(_waypoint_table(arm, traj))
-    console.print(_summary(arm, traj))
-    final = ", ".join(f"{d:.4g}" for d in traj.durations)
-    console.print(f"segment durations [s]: {final}", markup=False)
+    samples = traj.sample(rate) if out is not None else None
+    warnings = [*traj.position_limit_violations(arm, deg)]
+    if auto_time and (message := _unlimited_warning(arm)) is not None:
+        warnings.append(message)
     if segment_durations is not None and np.any(traj.stretch > 1):
-        warn("stretched to meet the limits: segment factors "
-             + ", ".join(f"{k:.4g}" for k in traj.stretch)
-             + f" (total {traj.duration / traj.requested_durations.sum():.4g}x)")
+        warnings.append("stretched to meet the limits: segment factors "
+                        + ", ".join(fmt_number(k, 4) for k in traj.stretch)
+                        + f" (total {fmt_number(traj.duration / traj.requested_durations.sum(), 4)}x)")
+    for message in warnings:
+        warn(message)
+    written = []  # (path, what it holds)
     if out is not None:
-        (write_npz if out.suffix.lower() == ".npz" else write_csv)(samples, out, force)
-        console.print(f"wrote {out} ({samples.t.size} samples at {rate:g} Hz)", markup=False)
+        written.append(((write_npz if out.suffix.lower() == ".npz" else write_csv)(samples, out, force),
+                        f" ({samples.t.size} samples at {rate:g} Hz)"))
     if plot is not None or plot_path is not None:
         from armkit.plots import plot_pva, plot_tool_path, save_figure  # matplotlib only when plotting
     if plot is not None:
-        save_figure(plot_pva(traj, arm), plot, force)
-        console.print(f"wrote {plot}", markup=False)
+        written.append((save_figure(plot_pva(traj, arm), plot, force), ""))
     if plot_path is not None:
-        save_figure(plot_tool_path(arm, traj), plot_path, force)
-        console.print(f"wrote {plot_path}", markup=False)
+        written.append((save_figure(plot_tool_path(arm, traj), plot_path, force), ""))
+    if json_output:
+        print_json({"robot": arm.name, "joint_names": arm.joint_names, "duration_s": traj.duration,
+                    "segment_durations_s": traj.durations, "stretch": traj.stretch,
+                    "waypoint_times_s": traj.waypoint_times, "waypoints": traj.waypoints,
+                    "peak_velocity": traj.peak_velocity, "max_velocity": arm.max_velocity,
+                    "peak_acceleration": traj.peak_acceleration, "max_acceleration": arm.max_acceleration,
+                    "units": "SI: rad or m, per s, per s²; limits null where the robot file gives none",
+                    "warnings": warnings, "samples": None if samples is None else samples.t.size,
+                    "rate_hz": rate, "written": [str(path) for path, _ in written]})
+        return
+    if poses:
+        console.print(_waypoint_table(arm, traj, deg))
+    console.print(_summary(arm, traj, deg))
+    final = ", ".join(f"{d:.4g}" for d in traj.durations)
+    console.print(f"segment durations [s]: {final}", markup=False)
+    for path, what in written:
+        console.print(f"wrote {path}{what}", markup=False)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from armkit._io import check_output_path
+from armkit._io import check_output_path, writing
 
 __all__ = ["write_text"]
 
@@ -15,8 +15,10 @@ def write_text(path: str | Path, text: str, *, overwrite: bool = False) -> Path:
     Raises
     ------
     InputError
-        If ``path`` exists and ``overwrite`` is false, is a folder, or its folder is missing.
+        If ``path`` exists and ``overwrite`` is false, is a folder, its folder is missing,
+        or the system refuses the write.
     """
     path = check_output_path(path, overwrite)
-    path.write_text(text, encoding="utf-8")
+    with writing(path):
+        path.write_text(text, encoding="utf-8")
     return path

@@ -124,6 +124,7 @@ def ik_check(ctx: LabContext) -> Section:
         targets = [(pose_from_transform(robot.fk(q)), None, None) for q in robot.random_q(3, rng=ctx.rng)]
     counts, worst_position, worst_rotation = [], 0.0, 0.0
     gif_q: list[NDArray] = []
+    gif_labels: list[str] = []
     for index, (pose, listed, report_error) in enumerate(targets, start=1):
         T = transform_from_pose(pose)
         solutions, method = _solutions(robot, T, ctx.rng)
@@ -131,6 +132,7 @@ def ik_check(ctx: LabContext) -> Section:
                  for s in solutions]
         if index == 1:
             gif_q = [m.q[:: max(1, len(m.q) // 12)] for m in moves]
+            gif_labels = [f"solution {k + 1} of {len(moves)}" for k, q_k in enumerate(gif_q) for _ in q_k]
             picture = ctx.path("ik_solutions.png")
             animation.plot_configurations(robot, np.array([m.q[-1] for m in moves]), picture,
                                           titles=[f"solution {k + 1}" for k in range(len(moves))],
@@ -172,7 +174,8 @@ def ik_check(ctx: LabContext) -> Section:
     if gif_q:
         gif = ctx.path("ik_solutions.gif")
         animation.animate_trajectory(robot, np.vstack(gif_q), gif, frames=ctx.gif_frames, dpi=ctx.gif_dpi,
-                                     trace_tool=False, title=f"Target 1: {counts[0]} IK solutions in MuJoCo")
+                                     trace_tool=False, title=f"Target 1: {counts[0]} IK solutions in MuJoCo",
+                                     labels=gif_labels)
         section.images.append((gif.name, "Each solution of target 1 driven in MuJoCo from the home "
                                          "configuration, one after the other."))
     return section

@@ -30,6 +30,29 @@ ROTATION_RATE = 0.2  # rad/s, for a user's arm
 USER_ROTATION_ANGLE = np.radians(60.0)
 MIN_TURN_DEG = 40.0  # the seed experiment's minimum
 MOTION_TOLERANCE = 1e-3  # m: the reports' millimetre level; a worse end or drift counts as failed
+#: Directions (base frame) tried for the straight line of a user's arm, in this order.
+LINE_DIRECTIONS = ([1, 0, -1], [0, 1, 0], [0, 0, -1], [-1, 0, 0], [0, -1, 1], [1, 1, 0])
+#: Relative residual below which a tool twist counts as one the arm can make (in its Jacobian's range).
+TWIST_TOLERANCE = 1e-6
+
+
+def twist_possible(robot: Robot, q: NDArray, twist: NDArray) -> bool:
+    """Whether some joint rates at ``q`` give the tool exactly the twist ``[v; w]`` (base frame).
+
+    An arm with fewer than six joints (or at a singularity) reaches only a subspace of
+    twists: a 3R arm cannot move its tool point without turning the tool, so it cannot
+    follow a line with the orientation held, nor turn the tool about its own point.
+    """
+    J = robot.jacobian(q)
+    rates = np.linalg.lstsq(J, twist, rcond=None)[0]
+    return bool(np.linalg.norm(J @ rates - twist) <= TWIST_TOLERANCE * np.linalg.norm(twist))
+
+
+def _not_applicable(section: Section, because: str) -> Section:
+    """Mark ``section`` as an experiment this arm cannot do, saying why once (in its note)."""
+    section.status, section.headline = "n/a", ""
+    section.notes.append(f"Not applicable, because {because}.")
+    return section
 
 
 def ready_configuration(robot: Robot, rng: np.random.Generator) -> NDArray[np.float64]:
@@ -73,7 +96,8 @@ def _line_deviation(points: NDArray, start: NDArray, displacement: NDArray) -> N
     return np.linalg.norm(points - (start + s[:, None] * displacement), axis=-1)
 
 
-def _linear_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object]:
+def _linear_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object] | None:
+    """Start, displacement and the computed motion; ``None`` if the arm can move along no direction tried."""
     robot = ctx.robot
     if ctx.seeds:
         q0 = np.zeros(6)
@@ -81,13 +105,15 @@ def _linear_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object]:
         return q0, displacement, move_linear(robot, q0, displacement, LINE_SECONDS)
     q0 = ready_configuration(robot, ctx.rng)
     length = 0.15 * max(np.linalg.norm(robot.fk(q0)[:3, 3]), 0.1)
-    last = None
-    for direction in ([1, 0, -1], [0, 1, 0], [0, 0, -1], [-1, 0, 0], [0, -1, 1], [1, 1, 0]):
+    plan = None
+    for direction in LINE_DIRECTIONS:
         displacement = length * np.array(direction, dtype=float) / np.linalg.norm(direction)
-        last = move_linear(robot, q0, displacement, LINE_SECONDS)
-        if last.completed and last.max_position_error < 1e-4:
+        if not twist_possible(robot, q0, np.append(displacement, np.zeros(3))):
+            continue
+        plan = q0, displacement, move_linear(robot, q0, displacement, LINE_SECONDS)
+        if plan[2].completed and plan[2].max_position_error < 1e-4:
             break
-    return q0, displacement, last
+    return plan
 
 
 def linear_motion(ctx: LabContext) -> Section:
@@ -98,7 +124,13 @@ def linear_motion(ctx: LabContext) -> Section:
         "driven in MuJoCo twice: with position and velocity servos, and with the velocity servo "
         "alone" + (", as the report published joint velocities to Gazebo." if ctx.seeds else ".")))
     robot = ctx.robot
-    q0, displacement, motion = _linear_plan(ctx)
+    plan = _linear_plan(ctx)
+    if plan is None:
+        return _not_applicable(section, (
+            f"move_linear holds the tool's orientation while its point moves, and this arm "
+            f"({robot.n} joints) cannot move its tool point without turning the tool in any of the "
+            f"{len(LINE_DIRECTIONS)} directions tried"))
+    q0, displacement, motion = plan
     start = motion.poses[0, :3, 3]
     both = _simulate(ctx, motion.t, motion.q)
     velocity = _simulate(ctx, motion.t, motion.q, mode="velocity")
@@ -122,7 +154,8 @@ def linear_motion(ctx: LabContext) -> Section:
         gazebo = fmt_q(published.PROBOT_LINE_END_GAZEBO, 4)
         section.published = f"end at {fmt_q(report_end, 3)} (Gazebo {gazebo})"
     section.tables.append(Table(
-        f"Tool moved by d = {fmt_q(displacement, 3)} m in {motion.t[-1]:.1f} s from q0 = {fmt_q(q0, 3)}",
+        f"Target: the tool along d = {fmt_q(displacement, 3)} m in {motion.t[-1]:.1f} s from "
+        f"q0 = {fmt_q(q0, 3)} (the rows: where each run ended and how far it moved)",
         ["run", "start [m]", "end [m]", "moved [m]", "|end - target| [m]", "max distance from the line [m]",
          "max orientation change [rad]"], rows, note=motion.message))
     position_error, _ = _tool_errors(robot, both)
@@ -131,12 +164,7 @@ def linear_motion(ctx: LabContext) -> Section:
                         f"tracking within {position_error.max():.1e} m")
     if miss > MOTION_TOLERANCE:
         section.status = "failed"
-        section.notes.append(f"The tool ended {miss:.1e} m from the end of the line "
-                             f"({robot.n} joints; {motion.message}).")
-        if robot.n < 6:
-            section.notes.append(f"move_linear holds the tool's orientation along the line; an arm with "
-                                 f"{robot.n} joints cannot in general move its tool point while keeping all "
-                                 f"three orientation angles.")
+        section.notes.append(f"The tool ended {miss:.1e} m from the end of the line ({motion.message}).")
     figure = Figure(figsize=(8.5, 3.2))
     ax_position, ax_deviation = figure.subplots(1, 2)
     for k, name in enumerate("xyz"):
@@ -264,10 +292,7 @@ def trajectory_experiment(ctx: LabContext) -> Section:
           "acceleration of every joint (dots: waypoints, dashed: limits).", section)
     figure = Figure(figsize=(8.5, 3.0))
     ax_joint, ax_tool = figure.subplots(1, 2)
-    for j, name in enumerate(robot.joint_names):
-        ax_joint.plot(result.t, result.joint_error[:, j], lw=1.0, label=name)
-    ax_joint.set(xlabel="time [s]", ylabel="[rad or m]", title="q_MuJoCo - q_command")
-    ax_joint.legend(fontsize=7, ncol=3)
+    _plot_joint_errors(ax_joint, robot, result)
     ax_tool.plot(result.t, position_error * 1e3, lw=1.0, label="position [mm]")
     ax_tool.plot(result.t, rotation_error * 1e3, lw=1.0, label="rotation [mrad]")
     ax_tool.set(xlabel="time [s]", title="Tool: MuJoCo vs commanded")
@@ -281,6 +306,23 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     _gif(ctx, "trajectory.gif", result, "Minimum-jerk trajectory in MuJoCo",
          "The trajectory in MuJoCo with the tool path traced.", section)
     return section
+
+
+def _plot_joint_errors(ax, robot: Robot, result: SimResult) -> None:
+    """``q_MuJoCo - q_command`` per joint: revolute joints in rad on the left axis, prismatic in m
+    (dashed, on a right-hand axis when the arm has both kinds)."""
+    prismatic = np.asarray(robot.chain.prismatic)
+    axes = {False: ax, True: ax.twinx() if prismatic.any() and not prismatic.all() else ax}
+    for j, name in enumerate(robot.joint_names):
+        axes[bool(prismatic[j])].plot(result.t, result.joint_error[:, j], lw=1.0, color=f"C{j}",
+                                      ls="--" if prismatic[j] else "-", label=name)
+    if not prismatic.all():
+        ax.set_ylabel("revolute joints [rad]")
+    if prismatic.any():
+        axes[True].set_ylabel("prismatic joints (dashed) [m]")
+    ax.set(xlabel="time [s]", title="q_MuJoCo - q_command")
+    lines = [line for a in {id(a): a for a in axes.values()}.values() for line in a.get_lines()]
+    ax.legend(lines, [line.get_label() for line in lines], fontsize=7, ncol=3)
 
 
 def rotation_axes(robot: Robot, q0: NDArray) -> list[tuple[NDArray, str]]:
@@ -308,8 +350,9 @@ def rotation_axes(robot: Robot, q0: NDArray) -> list[tuple[NDArray, str]]:
     return candidates
 
 
-def _rotation_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object, str]:
-    """Start, axis, the computed motion, and a sentence on why this axis."""
+def _rotation_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object, str] | None:
+    """Start, axis, the computed motion, and a sentence on why this axis; ``None`` if the arm can
+    turn its tool about no candidate axis with the tool point held."""
     robot = ctx.robot
     if ctx.seeds:  # the twist [v; w] = [0, 0, 0, -0.2, 0, 0]: 0.2 rad/s about -x
         w = np.array(published.PROBOT_ROTATION_TWIST[3:])
@@ -319,8 +362,12 @@ def _rotation_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object, str]:
         return np.zeros(6), axis, motion, "The axis is the report's: -x of the base frame."
     q0 = ready_configuration(robot, ctx.rng)
     T0 = robot.fk(q0)
+    candidates = [(axis, why) for axis, why in rotation_axes(robot, q0)
+                  if twist_possible(robot, q0, np.append(np.zeros(3), axis))]
+    if not candidates:
+        return None
     best, best_turn = None, -1.0
-    for axis, why in rotation_axes(robot, q0):
+    for axis, why in candidates:
         motion = rotate_about_tool_point(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE)
         turn = float(np.abs(_signed_turn(motion.poses, T0, axis)).max())
         held = motion.orientation_error < 1e-3 and motion.max_position_error < 1e-3
@@ -330,7 +377,7 @@ def _rotation_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object, str]:
         if held and turn > best_turn:
             best, best_turn = (q0, axis, motion, why), turn
     if best is None:
-        axis, why = rotation_axes(robot, q0)[0]
+        axis, why = candidates[0]
         turn = rotate_about_tool_point(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE)
         best = (q0, axis, turn, why)
     q0, axis, motion, why = best
@@ -347,12 +394,13 @@ def fixed_point_rotation(ctx: LabContext) -> Section:
         + (" (the report's twist [0, 0, 0, -0.2, 0, 0] about the base x axis at the home pose)" if ctx.seeds
            else "") + " while the Jacobian loop keeps the tool position; the motion "
         "stops at the first joint limit. MuJoCo then drives the joint motion with gravity on."))
-    if ctx.robot.n <= 3:
-        section.status, section.headline = "failed", f"not attempted: {ctx.robot.n} joints"
-        section.notes.append(f"With {ctx.robot.n} joints nothing is left to move once the tool point is "
-                             f"held: this arm cannot turn its tool about a fixed point (not attempted).")
-        return section
-    q0, axis, motion, why = _rotation_plan(ctx)
+    plan = _rotation_plan(ctx)
+    if plan is None:
+        return _not_applicable(section, (
+            f"this arm ({ctx.robot.n} joints) cannot turn its tool about any of the axes tried (base x, y, z "
+            f"and two perpendicular to the last joint's axis; turning about that axis alone tests nothing) "
+            f"while its tool point stays where it is"))
+    q0, axis, motion, why = plan
     result = _simulate(ctx, motion.t, motion.q)
     rows, turns = [], []
     for label, poses in (("armkit (computed)", motion.poses), ("MuJoCo (servos, gravity)", result.T_tool)):

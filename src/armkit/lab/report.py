@@ -4,6 +4,9 @@ Every picture is embedded in ``index.html`` (base64), so the file can be mailed 
 own; the PNG and GIF files stay next to it for reuse. The folder is marked as an armkit
 report with a marker file listing what was written, so that a later run replaces exactly
 those files and never touches a folder that is not an armkit report (unless forced).
+A run writes its report into a staging folder beside the report folder and swaps it in
+only once it is complete (:func:`install_report`): an interrupted run leaves the previous
+report as it was.
 """
 
 from __future__ import annotations
@@ -11,21 +14,25 @@ from __future__ import annotations
 import base64
 import html
 import json
+import os
+import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from armkit.errors import InputError
 
-__all__ = ["MARKER", "Section", "Table", "prepare_folder", "status_label", "write_report"]
+__all__ = ["MARKER", "Section", "Table", "check_folder", "install_report", "prepare_folder", "staging_folder",
+           "status_label", "write_report"]
 
 MARKER = ".armkit-report"
 _MIME = {".png": "image/png", ".gif": "image/gif"}
-_COLORS = {"ok": "#1e7b34", "failed": "#b00020"}
+_COLORS = {"ok": "#1e7b34", "failed": "#b00020", "n/a": "#6b6b75"}
 
 
 def status_label(status: str, seeds: bool) -> str:
-    """The words for a section status: a seed experiment is "reproduced", a user's arm "checked"."""
-    return {"ok": "reproduced" if seeds else "checked", "failed": "failed"}[status]
+    """The words for a section status: a seed experiment is "reproduced", a user's arm "checked";
+    an experiment the arm cannot do is "not applicable"."""
+    return {"ok": "reproduced" if seeds else "checked", "failed": "failed", "n/a": "not applicable"}[status]
 
 
 @dataclass
@@ -45,8 +52,9 @@ class Table:
 class Section:
     """One experiment of the report.
 
-    ``status`` is ``"ok"`` or ``"failed"`` (it raised an error, or missed its target; the
-    message is shown as is). ``images`` are
+    ``status`` is ``"ok"``, ``"failed"`` (it raised an error, or missed its target; the
+    message is shown as is) or ``"n/a"`` (the arm cannot do this experiment; the first
+    note says why). ``images`` are
     ``(file name in the report folder, caption)``.
     """
 
@@ -62,8 +70,8 @@ class Section:
     badge: bool = True
 
 
-def prepare_folder(folder: Path, force: bool) -> None:
-    """Make ``folder`` ready for a report: remove our earlier report, refuse foreign folders.
+def check_folder(folder: Path, force: bool) -> None:
+    """Raise unless a report may be written to ``folder``; change nothing.
 
     Raises
     ------
@@ -73,17 +81,63 @@ def prepare_folder(folder: Path, force: bool) -> None:
     """
     if folder.exists() and not folder.is_dir():
         raise InputError(f"report folder {str(folder)!r} is a file; expected a folder")
-    marker = folder / MARKER
-    if marker.is_file():
-        for name in json.loads(marker.read_text(encoding="utf-8")).get("files", []):
-            target = (folder / name).resolve()
-            if target.parent == folder.resolve() and target.is_file():
-                target.unlink()
-        marker.unlink()
-    elif folder.is_dir() and any(folder.iterdir()) and not force:
+    if not (folder / MARKER).is_file() and folder.is_dir() and any(folder.iterdir()) and not force:
         raise InputError(f"folder {str(folder)!r} exists and is not an armkit report (no {MARKER} "
                          f"file); choose another --out or pass --force to write into it")
+
+
+def prepare_folder(folder: Path, force: bool) -> None:
+    """Make ``folder`` ready for a report: remove our earlier report, refuse foreign folders.
+
+    Only the files the marker lists (inside ``folder``) are removed; anything else stays.
+
+    Raises
+    ------
+    InputError
+        As :func:`check_folder`.
+    """
+    check_folder(folder, force)
+    for target in _listed(folder):
+        target.unlink()
+    (folder / MARKER).unlink(missing_ok=True)
     folder.mkdir(parents=True, exist_ok=True)
+
+
+def _listed(folder: Path) -> list[Path]:
+    """The existing files the marker of ``folder`` lists, only those directly inside ``folder``."""
+    marker = folder / MARKER
+    if not marker.is_file():
+        return []
+    targets = [(folder / name).resolve() for name in json.loads(marker.read_text(encoding="utf-8"))
+               .get("files", [])]
+    return [t for t in targets if t.parent == folder.resolve() and t.is_file()]
+
+
+def staging_folder(folder: Path) -> Path:
+    """A new empty folder beside ``folder`` (same file system) to write the next report into."""
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    return Path(tempfile.mkdtemp(prefix=f".{folder.name}.new-", dir=folder.parent))
+
+
+def install_report(staging: Path, folder: Path, force: bool) -> None:
+    """Swap the complete report in ``staging`` in for the one in ``folder``; remove ``staging``.
+
+    The new files are moved in, each with one rename (replacing a file of the same name at
+    once), then the earlier report's other files are removed and the marker comes last; so
+    until the run is complete the old report stays whole, and other files are never touched.
+    """
+    check_folder(folder, force)
+    folder.mkdir(parents=True, exist_ok=True)
+    old = _listed(folder)
+    new = sorted(staging.iterdir(), key=lambda p: p.name == MARKER)
+    for path in new[:-1]:
+        os.replace(path, folder / path.name)
+    names = {path.name for path in new}
+    for target in old:
+        if target.name not in names:
+            target.unlink()
+    os.replace(new[-1], folder / new[-1].name)
+    staging.rmdir()
 
 
 def _cell(text: str) -> str:

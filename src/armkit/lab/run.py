@@ -8,6 +8,7 @@ With a robot file it runs experiments 1-5 on that arm, choosing reachable target
 
 from __future__ import annotations
 
+import shutil
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -21,7 +22,15 @@ import armkit
 from armkit.errors import ArmkitError
 from armkit.lab import fk_ik, motion
 from armkit.lab.context import LabContext
-from armkit.lab.report import Section, Table, prepare_folder, status_label, write_report
+from armkit.lab.report import (
+    Section,
+    Table,
+    check_folder,
+    install_report,
+    staging_folder,
+    status_label,
+    write_report,
+)
 from armkit.robot import Robot
 from armkit.robot_file import load
 
@@ -100,8 +109,9 @@ def run_lab(robot: str | Path | None = None, out: str | Path = "armkit-report", 
         A robot file or built-in name; default: the seed experiments (PROBOT Anno, ZJU-I,
         GRB400 SCARA).
     out : str or Path
-        Report folder. An earlier armkit report there is replaced; any other non-empty
-        folder is refused unless ``force``.
+        Report folder. An earlier armkit report there is replaced, once the new one is
+        complete (it is written to a staging folder beside ``out`` first, which an error or
+        Ctrl-C removes); any other non-empty folder is refused unless ``force``.
     quick : bool
         Fewer, smaller animation frames and shorter moves (for tests).
     progress : bool
@@ -118,9 +128,23 @@ def run_lab(robot: str | Path | None = None, out: str | Path = "armkit-report", 
     folder = Path(out)
     seeds = robot is None
     arm = load("probot-anno" if seeds else robot)
-    ctx = LabContext(robot=arm, folder=folder, quick=quick, seeds=seeds)
-    ctx.sim  # noqa: B018  (build the model first: a robot that cannot be simulated fails before any file)
-    prepare_folder(folder, force)
+    check_folder(folder, force)
+    staging = None
+    try:
+        ctx = LabContext(robot=arm, folder=folder, quick=quick, seeds=seeds)
+        ctx.sim  # noqa: B018  (build the model first: a robot that cannot be simulated fails before any file)
+        staging = ctx.folder = staging_folder(folder)
+        sections = _run_stages(ctx, started, progress)
+        install_report(staging, folder, force)
+    finally:
+        if staging is not None and staging.exists():
+            shutil.rmtree(staging, ignore_errors=True)
+    return LabResult(index=folder / "index.html", sections=sections, seconds=time.perf_counter() - started)
+
+
+def _run_stages(ctx: LabContext, started: float, progress: bool) -> list[Section]:
+    """Run every experiment and write the report into ``ctx.folder``; return the sections."""
+    arm, seeds, quick = ctx.robot, ctx.seeds, ctx.quick
     stages: list[tuple[str, Experiment]] = [
         ("FK check", fk_ik.fk_check), ("IK, every solution", fk_ik.ik_check),
         ("straight line", motion.linear_motion), ("minimum-jerk trajectory", motion.trajectory_experiment),
@@ -144,6 +168,6 @@ def run_lab(robot: str | Path | None = None, out: str | Path = "armkit-report", 
         subtitle = (f"armkit {armkit.__version__}, MuJoCo simulation at 1 kHz with gravity, "
                     f"{datetime.now(UTC):%Y-%m-%d %H:%M} UTC, {seconds:.0f} s"
                     f"{' (quick mode)' if quick else ''}.")
-        index = write_report(folder, title, subtitle, _summary(sections, seeds), sections, ctx.files, seeds)
+        write_report(ctx.folder, title, subtitle, _summary(sections, seeds), sections, ctx.files, seeds)
         bar.advance(task)
-    return LabResult(index=index, sections=sections, seconds=time.perf_counter() - started)
+    return sections

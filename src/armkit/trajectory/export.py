@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from armkit._io import check_output_path
+from armkit._io import check_output_path, writing
 from armkit.errors import InputError
 from armkit.robot import Robot
 
@@ -35,7 +35,8 @@ def write_csv(samples, path: str | Path, overwrite: bool = False) -> Path:
     path = check_output_path(path, overwrite)
     table = sample_columns(samples)
     names = column_names(samples.q.shape[1])
-    np.savetxt(path, table, delimiter=",", header=",".join(names), comments="", fmt="%.17g")
+    with writing(path):
+        np.savetxt(path, table, delimiter=",", header=",".join(names), comments="", fmt="%.17g")
     return path
 
 
@@ -49,7 +50,8 @@ def write_npz(samples, path: str | Path, overwrite: bool = False) -> Path:
         raise InputError(f"{path}: an NPZ file name must end in .npz")
     table = sample_columns(samples)
     names = column_names(samples.q.shape[1])
-    np.savez(path, **{name: table[:, i] for i, name in enumerate(names)})
+    with writing(path):
+        np.savez(path, **{name: table[:, i] for i, name in enumerate(names)})
     return path
 
 

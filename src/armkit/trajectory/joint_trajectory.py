@@ -27,7 +27,11 @@ from armkit.trajectory._checks import check_finite
 from armkit.trajectory.peaks import segment_peaks, segment_ranges
 from armkit.trajectory.polynomial import TIME_TOLERANCE
 
-__all__ = ["JointTrajectory", "TrajectorySamples"]
+__all__ = ["MAX_SAMPLE_BYTES", "JointTrajectory", "TrajectorySamples"]
+
+#: Most memory [bytes] that :meth:`JointTrajectory.sample` may ask for (1 GiB): a rate that needs
+#: more is refused with the sample count, rather than exhausting the machine.
+MAX_SAMPLE_BYTES = 2**30
 
 
 class TrajectorySamples(NamedTuple):
@@ -120,10 +124,24 @@ class JointTrajectory:
         ----------
         rate_hz : float
             Sampling rate [Hz], positive.
+
+        Raises
+        ------
+        InputError
+            If ``rate_hz`` is not positive, or the samples would need more than
+            :data:`MAX_SAMPLE_BYTES` of memory (the message says how many were asked for).
         """
         rate = float(check_finite(rate_hz, "rate_hz"))
         if rate <= 0:
             raise InputError(f"rate_hz: expected a positive sampling rate (Hz), got {rate:g}")
+        count = self.duration * rate + 2
+        per_sample = (1 + 4 * self.dof) * 8  # bytes: t, q, qd, qdd, qddd
+        if count * per_sample > MAX_SAMPLE_BYTES:
+            fits = (MAX_SAMPLE_BYTES / per_sample - 2) / max(self.duration, TIME_TOLERANCE)
+            raise InputError(f"rate_hz {rate:g} Hz over {self.duration:.4g} s asks for {count:.4g} samples "
+                             f"({count * per_sample / 2**30:.3g} GiB), more than the "
+                             f"{MAX_SAMPLE_BYTES / 2**30:g} GiB allowed: lower the rate to at most "
+                             f"{fits:.4g} Hz")
         t = rate_time_grid(self.duration, rate, TIME_TOLERANCE * max(1.0, self.duration))
         return TrajectorySamples(t, *self._evaluate(t, 4))
 

@@ -1,0 +1,58 @@
+"""``armkit`` itself: Ctrl-C and system errors in any command are one line, help reads plainly."""
+
+from __future__ import annotations
+
+import pytest
+
+from armkit.cli import kinematics, trajectory
+from armkit.cli.main import INTERRUPTED, main
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _raise(exc):
+    def raising(*args, **kwargs):
+        raise exc
+    return raising
+
+
+@pytest.mark.parametrize("module, argv", [
+    (kinematics, ["fk", "probot-anno", "0", "0", "0", "0", "0", "0"]),
+    (trajectory, ["traj", "probot-anno", "--waypoints", "w.csv", "--auto-time"]),
+])
+def test_ctrl_c_in_any_command_is_one_line_and_exit_130(capsys, monkeypatch, module, argv):
+    monkeypatch.setattr(module, "load_robot", _raise(KeyboardInterrupt()))
+    code, out, err = run(capsys, *argv)
+    assert code == INTERRUPTED == 130
+    assert err.strip() == "interrupted (Ctrl-C)" and "Traceback" not in out + err
+
+
+def test_a_system_error_is_one_line_naming_the_file(capsys, monkeypatch):
+    denied = PermissionError(13, "Permission denied", "/x/arm.toml")
+    monkeypatch.setattr(kinematics, "load_robot", _raise(denied))
+    code, _, err = run(capsys, "fk", "probot-anno", "0", "0", "0", "0", "0", "0")
+    assert code == 1 and err.strip() == "error: file '/x/arm.toml': Permission denied"
+
+
+@pytest.mark.parametrize("command", ["fk", "ik", "traj", "sim", "lab", "show", "robots", "move", "export"])
+def test_help_shows_flags_without_type_tags(capsys, command):
+    code, out, _ = run(capsys, command, "--help")
+    assert code == 0 and "--help" in out and "<bool>" not in out
+
+
+@pytest.mark.parametrize("argv", [["fk", "probot-anno", "0", "0", "0", "0", "0", "0", "--typo"],
+                                  ["traj", "probot-anno", "--waypoints", "w", "--durations", "1", "--dge"],
+                                  ["move", "probot-anno", "--from", "0", "0", "0", "0", "0", "0", "--fast",
+                                   "--by", "0", "0", "0.1"]])
+def test_an_unknown_option_among_values_is_named_as_such(capsys, argv):
+    code, _, err = run(capsys, *argv)
+    assert code == 1 and err.startswith("error: no such option: --") and err.count("\n") == 1
+
+
+def test_show_prints_no_negative_zero(capsys):
+    code, out, _ = run(capsys, "show", "probot-anno")
+    assert code == 0 and "tool at q = 0: position [0.228900, 0.000000, 0.454000] m" in out
