@@ -1,4 +1,4 @@
-"""armkit: from a robot arm's DH table to a verified motion.
+"""armkit: from a robot arm's DH table or URDF to a verified motion.
 
 >>> import armkit
 >>> robot = armkit.load("probot-anno")
@@ -26,7 +26,7 @@ from armkit.errors import (
 from armkit.export import mjcf_from_robot, urdf_from_robot, write_mjcf, write_urdf
 from armkit.ik import IKResult, IKSolutions, NumericIK, analyze_structure, ik_solutions, numeric_ik
 from armkit.kinematics import ChainKernel
-from armkit.robot import Robot
+from armkit.robot import LockedRobot, Robot
 from armkit.robot_file import builtin_robots, load, robot_from_dict, robot_to_toml
 from armkit.trajectory import JointTrajectory, auto_time, min_jerk, plan_trajectory, quintic
 
@@ -44,6 +44,7 @@ __all__ = [
     "Joint",
     "JointLimitError",
     "JointTrajectory",
+    "LockedRobot",
     "MotionResult",
     "NoClosedFormError",
     "NumericIK",

@@ -11,7 +11,18 @@ from rich.console import Console
 from rich.measure import Measurement
 from rich.table import Table
 
-from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, print_json, to_si
+from armkit.cli.app import (
+    ALLOW_NEGATIVE,
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
+    app,
+    console,
+    load_robot,
+    print_json,
+    to_si,
+)
 from armkit.errors import InputError
 from armkit.ik.solve import ik_solutions
 from armkit.ik.structure import analyze_structure
@@ -57,7 +68,7 @@ def _family_flags(robot: Robot, T: np.ndarray, q: np.ndarray, closed_form: bool)
 
 @app.command("ik", context_settings=ALLOW_NEGATIVE)
 def ik_command(
-    robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
+    robot: RobotArg,
     near_values: Annotated[list[str] | None, typer.Argument(
         metavar="[Q...]", help="Joint values after --near.", show_default=False)] = None,
     pose: Annotated[tuple[float, float, float, float, float, float] | None, typer.Option(
@@ -80,12 +91,15 @@ def ik_command(
                                                       "(default zeros).")] = False,
     json_output: Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of "
                                                              "a table.")] = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Inverse kinematics: the solutions of a tool pose, with limits flag and FK residual.
 
     Example: armkit ik probot-anno --pose 0.2 0.2 0.2007 1.5707963 -1.5707963 0 --all
     """
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     if near_values and not near:
         raise InputError(f"unexpected values {' '.join(near_values)}: joint values are given "
                          f"after --near")

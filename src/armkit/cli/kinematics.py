@@ -10,6 +10,10 @@ from rich.table import Table
 
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
     app,
     check_limits_or_warn,
     console,
@@ -22,7 +26,6 @@ from armkit.spatial.rotations import euler_from_matrix, parse_convention
 #: Smallest singular value below which ``armkit jacobian`` calls a configuration singular.
 SINGULAR_THRESHOLD = 1e-9
 
-RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
 JointsArg = Annotated[list[str], typer.Argument(help="Joint values q1 ... qn (rad and m; "
                                                          "revolute in deg with --deg).")]
 DegOpt = Annotated[bool, typer.Option("--deg", help="Revolute joint values (and printed "
@@ -54,9 +57,12 @@ def fk_command(
                                             "zyz-euler.")] = "xyz-fixed",
     strict: StrictOpt = False,
     json_output: JsonOpt = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Forward kinematics: the tool pose for joint values q1 ... qn."""
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     q_si = to_si(arm, q, deg)
     check_limits_or_warn(arm, q_si, strict, deg)
     convention = parse_convention(euler)
@@ -84,9 +90,12 @@ def jacobian_command(
     frame: Annotated[str, typer.Option(help="base or tool: the frame the twist is in.")] = "base",
     strict: StrictOpt = False,
     json_output: JsonOpt = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Geometric Jacobian (rows vx vy vz wx wy wz), manipulability and singular values."""
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     q_si = to_si(arm, q, deg)
     check_limits_or_warn(arm, q_si, strict, deg)
     J = arm.jacobian(q_si, frame=frame)

@@ -10,7 +10,18 @@ import typer
 from rich.table import Table
 
 from armkit._io import check_output_path
-from armkit.cli.app import ALLOW_NEGATIVE, app, console, load_robot, parse_floats, warn
+from armkit.cli.app import (
+    ALLOW_NEGATIVE,
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
+    app,
+    console,
+    load_robot,
+    parse_floats,
+    warn,
+)
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.trajectory import JointTrajectory, durations_from_times, plan_trajectory, read_waypoints
@@ -70,7 +81,7 @@ def _waypoint_table(robot: Robot, traj: JointTrajectory) -> Table:
 
 @app.command("traj", context_settings=ALLOW_NEGATIVE)
 def traj_command(
-    robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
+    robot: RobotArg,
     duration_values: Annotated[list[str] | None, typer.Argument(
         metavar="[D... | T...]", help="Segment durations (s) after --durations, or waypoint times (s) "
                                       "after --times.", show_default=False)] = None,
@@ -96,6 +107,9 @@ def traj_command(
     plot_path: Annotated[Path | None, typer.Option(help="Save the 3-D tool path figure.",
                                                    show_default=False)] = None,
     force: Annotated[bool, typer.Option("--force", help="Replace existing output files.")] = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Minimum-jerk trajectory through waypoints (piecewise quintic, continuous qd and qdd).
 
@@ -108,7 +122,7 @@ def traj_command(
         _check_output(path, (".png", ".svg", ".pdf"), force, what)
     if not rate > 0:
         raise InputError(f"--rate: expected a positive sampling rate (Hz), got {rate:g}")
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     rows = read_waypoints(waypoints, 6 if poses else arm.n)
     if segment_durations is not None and segment_durations.size != len(rows) - 1:
         wanted = (f"{len(rows) - 1} segment durations" if durations else f"{len(rows)} waypoint times")
