@@ -254,7 +254,23 @@ def _tree(root: ET.Element, source: str) -> tuple[dict[str, ET.Element], dict[st
             raise RobotDefinitionError(f"{where}: link {child!r} already has parent joint "
                                        f"{by_child[child].name!r}; a URDF is a tree")
         by_child[child] = _UrdfJoint(name, kind, parent, child, element)
+    _refuse_cycles(links, by_child, source)
     return links, by_child
+
+
+def _refuse_cycles(links: dict, joints: dict[str, _UrdfJoint], source: str) -> None:
+    """Every link must lead up to a root (with one parent each, else the parents loop)."""
+    rooted: set[str] = set()
+    for start in links:
+        walk, link = [], start
+        while link in joints and link not in rooted:
+            if link in walk:
+                loop = walk[walk.index(link):]
+                raise RobotDefinitionError(f"{source}: links {', '.join(sorted(loop))} form a cycle; "
+                                           f"a URDF is a tree")
+            walk.append(link)
+            link = joints[link].parent
+        rooted.update(walk)
 
 
 def _link_reference(element: ET.Element, tag: str, links: dict, where: str) -> str:
