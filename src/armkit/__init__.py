@@ -1,4 +1,4 @@
-"""armkit: from a robot arm's DH table to a verified motion.
+"""armkit: from a robot arm's DH table or URDF to a verified motion.
 
 >>> import armkit
 >>> robot = armkit.load("probot-anno")
@@ -23,7 +23,7 @@ _MODULES = {
     "armkit.export": ["mjcf_from_robot", "urdf_from_robot", "write_mjcf", "write_urdf"],
     "armkit.ik": ["IKResult", "IKSolutions", "NumericIK", "analyze_structure", "ik_solutions", "numeric_ik"],
     "armkit.kinematics": ["ChainKernel"],
-    "armkit.robot": ["Robot"],
+    "armkit.robot": ["LockedRobot", "Robot"],
     "armkit.robot_file": ["builtin_robots", "load", "robot_from_dict", "robot_to_toml"],
     "armkit.trajectory": ["JointTrajectory", "auto_time", "min_jerk", "plan_trajectory", "quintic"],
 }

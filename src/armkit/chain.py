@@ -7,8 +7,9 @@ A chain with ``n`` joints is the product::
 where ``M_i`` is ``Rz(q_i)`` for a revolute joint and ``Tz(q_i)`` for a prismatic one, so
 every joint moves about or along the z axis of its *joint frame*
 ``T_base · ... · T_before_i``. The frame after ``T_after_i`` is link frame ``i`` of the
-DH table. Standard and modified DH tables (and later URDF joints) are only ways to fill
-``T_before`` and ``T_after``: FK, Jacobians, IK, export and simulation read this chain and
+DH table. Standard and modified DH tables, products of exponentials (:mod:`armkit.poe`) and
+URDF joints (:mod:`armkit.urdf`) are only ways to fill ``T_before`` and ``T_after``
+(:func:`chain_from_frames`): FK, Jacobians, IK, export and simulation read this chain and
 never ask which convention it came from.
 """
 
@@ -26,10 +27,14 @@ from armkit import _core
 from armkit.errors import RobotDefinitionError
 from armkit.spatial.transforms import rot_x, rot_z, trans_x, trans_z
 
-__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERANCE", "chain_from_dh"]
+__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERANCE", "MAX_VALUE",
+           "chain_from_dh", "chain_from_frames"]
 
 #: Slack [rad or m] allowed beyond a joint limit before a value counts as outside it.
 LIMIT_TOLERANCE = 1e-9
+#: Largest magnitude of a length [m] or angle [rad] a robot description may hold: larger ones
+#: are typos (1000 km) and let FK overflow. Robot files and URDF import refuse them.
+MAX_VALUE = 1e6
 _Derived = TypeVar("_Derived")
 
 JointKind = Literal["revolute", "prismatic"]
@@ -210,27 +215,12 @@ def chain_from_dh(rows: Sequence[DHRow], convention: DHConvention, *,
     names : sequence of str, optional
         Joint names, default ``q1 ... qn``.
     """
-    n = len(rows)
-    if n == 0:
+    if len(rows) == 0:
         raise RobotDefinitionError("a DH table needs at least one joint row, got none")
-    names = list(names) if names is not None else [f"q{i + 1}" for i in range(n)]
-    limits = list(limits) if limits is not None else [None] * n
-    max_velocity = list(max_velocity) if max_velocity is not None else [None] * n
-    max_acceleration = list(max_acceleration) if max_acceleration is not None else [None] * n
-    for label, values in (("limits", limits), ("max_velocity", max_velocity),
-                          ("max_acceleration", max_acceleration), ("names", names)):
-        if len(values) != n:
-            raise RobotDefinitionError(f"{label} has {len(values)} entries; expected {n}, "
-                                       f"one per joint")
-    joints = []
     for i, row in enumerate(rows):
         if row.joint is None:
             raise RobotDefinitionError(f"joint row {i + 1} has no joint type")
-        before, after = row.split(convention)
-        lower, upper = limits[i] if limits[i] is not None else (
-            (-np.pi, np.pi) if row.joint == "revolute" else (-np.inf, np.inf))
-        joints.append(Joint(row.joint, before, after, float(lower), float(upper),
-                            max_velocity[i], max_acceleration[i], names[i]))
+    before, after = zip(*(row.split(convention) for row in rows), strict=True)
     base = np.eye(4) if T_base is None else np.asarray(T_base, dtype=float)
     for row in base_rows:
         base = base @ row.transform(convention)
@@ -239,4 +229,58 @@ def chain_from_dh(rows: Sequence[DHRow], convention: DHConvention, *,
         tool = tool @ row.transform(convention)
     if T_tool is not None:
         tool = tool @ np.asarray(T_tool, dtype=float)
-    return Chain(tuple(joints), base, tool)
+    return chain_from_frames([row.joint for row in rows], before, after, limits=limits,
+                             max_velocity=max_velocity, max_acceleration=max_acceleration,
+                             T_base=base, T_tool=tool, names=names)
+
+
+def chain_from_frames(kinds: Sequence[JointKind], T_before: Sequence[NDArray[np.float64]],
+                      T_after: Sequence[NDArray[np.float64]], *,
+                      limits: Sequence[tuple[float, float] | None] | None = None,
+                      max_velocity: Sequence[float | None] | None = None,
+                      max_acceleration: Sequence[float | None] | None = None,
+                      T_base: NDArray[np.float64] | None = None,
+                      T_tool: NDArray[np.float64] | None = None,
+                      names: Sequence[str] | None = None) -> Chain:
+    """Build a :class:`Chain` from each joint's fixed transforms (what every description fills).
+
+    Parameters
+    ----------
+    kinds : sequence of {"revolute", "prismatic"}
+    T_before, T_after : sequence of ndarray (4, 4)
+        Per joint, the transforms before and after its motion (lengths in m).
+    limits : sequence of (lower, upper) or None, optional
+        Per joint [rad or m]; ``None`` (or no sequence) means ``[-pi, pi]`` for revolute
+        joints and unbounded for prismatic ones.
+    max_velocity, max_acceleration : sequence of float or None, optional
+    T_base, T_tool : ndarray (4, 4), optional
+    names : sequence of str, optional
+        Joint names, default ``q1 ... qn``.
+
+    Examples
+    --------
+    >>> chain = chain_from_frames(["revolute"], [np.eye(4)], [trans_x(0.5)])
+    >>> chain.T_between[-1][:3, 3].tolist(), chain.upper.tolist()
+    ([0.5, 0.0, 0.0], [3.141592653589793])
+    """
+    n = len(kinds)
+    if n == 0:
+        raise RobotDefinitionError("a chain needs at least one joint, got none")
+    names = list(names) if names is not None else [f"q{i + 1}" for i in range(n)]
+    limits = list(limits) if limits is not None else [None] * n
+    max_velocity = list(max_velocity) if max_velocity is not None else [None] * n
+    max_acceleration = list(max_acceleration) if max_acceleration is not None else [None] * n
+    for label, values in (("T_before", T_before), ("T_after", T_after), ("limits", limits),
+                          ("max_velocity", max_velocity), ("max_acceleration", max_acceleration),
+                          ("names", names)):
+        if len(values) != n:
+            raise RobotDefinitionError(f"{label} has {len(values)} entries; expected {n}, "
+                                       f"one per joint")
+    joints = []
+    for i, kind in enumerate(kinds):
+        lower, upper = limits[i] if limits[i] is not None else (
+            (-np.pi, np.pi) if kind == "revolute" else (-np.inf, np.inf))
+        joints.append(Joint(kind, T_before[i], T_after[i], float(lower), float(upper),
+                            max_velocity[i], max_acceleration[i], names[i]))
+    return Chain(tuple(joints), np.eye(4) if T_base is None else T_base,
+                 np.eye(4) if T_tool is None else T_tool)

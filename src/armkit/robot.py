@@ -1,19 +1,31 @@
-"""The :class:`Robot`: a named chain with its DH description and the user-facing methods."""
+"""The :class:`Robot`: a named chain with the description it came from and the user-facing methods.
+
+A robot keeps how it was written (a DH table, joint lines of a product of exponentials, a
+URDF file: ``robot.dh``, ``robot.poe``, ``robot.urdf``, at most one of them set) for
+display and for writing it back; everything it computes reads only ``robot.chain``.
+:meth:`Robot.lock` fixes some joints and returns a :class:`LockedRobot`, a robot of its own
+that knows how to give the full configuration back.
+"""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import kinematics
-from armkit.chain import LIMIT_TOLERANCE, Chain, DHConvention, DHRow, chain_from_dh
+from armkit.chain import LIMIT_TOLERANCE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
-from armkit.spatial.transforms import check_transform, pose_from_transform
+from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
 
-__all__ = ["DHDescription", "Robot"]
+if TYPE_CHECKING:  # the descriptions' modules import this one
+    from armkit.poe import PoeDescription
+    from armkit.urdf import UrdfDescription
+
+__all__ = ["DHDescription", "LockedRobot", "Robot"]
 
 
 @dataclass(frozen=True)
@@ -21,6 +33,8 @@ class DHDescription:
     """The DH table a robot was written in, kept for display and export.
 
     ``length_unit`` and ``angle_unit`` are the units the user wrote; ``rows`` are in SI.
+    ``T_base`` / ``T_tool``: base and tool given as plain transforms (``[base]`` / ``[tool]``
+    with ``xyz`` and ``rpy`` in a robot file) instead of DH rows, else None.
     """
 
     convention: DHConvention
@@ -29,6 +43,8 @@ class DHDescription:
     tool_rows: tuple[DHRow, ...] = ()
     length_unit: str = "m"
     angle_unit: str = "rad"
+    T_base: NDArray[np.float64] | None = None
+    T_tool: NDArray[np.float64] | None = None
 
 
 class Robot:
@@ -41,6 +57,13 @@ class Robot:
     name : str
     dh : DHDescription, optional
         The DH table the chain was built from, if any.
+    source : str, optional
+        The file (or built-in) it was loaded from.
+    description : str
+    poe : PoeDescription, optional
+        The joint lines it was written with (a ``convention = "poe"`` file, :meth:`from_poe`).
+    urdf : UrdfDescription, optional
+        The URDF file, links and meshes it was loaded from (:func:`armkit.urdf.load_urdf`).
 
     Examples
     --------
@@ -50,12 +73,15 @@ class Robot:
     """
 
     def __init__(self, chain: Chain, name: str = "robot", dh: DHDescription | None = None,
-                 source: str | None = None, description: str = "") -> None:
+                 source: str | None = None, description: str = "", *, poe: PoeDescription | None = None,
+                 urdf: UrdfDescription | None = None) -> None:
         self.chain = chain
         self.name = name
         self.description = description
         self.dh = dh
         self.source = source
+        self.poe = poe
+        self.urdf = urdf
 
     @classmethod
     def from_dh(cls, rows: Sequence[DHRow], convention: DHConvention, *, name: str = "robot",
@@ -64,14 +90,52 @@ class Robot:
                 max_acceleration: Sequence[float | None] | None = None,
                 base_rows: Sequence[DHRow] = (), tool_rows: Sequence[DHRow] = (),
                 length_unit: str = "m", angle_unit: str = "rad",
-                names: Sequence[str] | None = None) -> Robot:
-        """Build a robot from DH rows in SI units (see :func:`armkit.chain.chain_from_dh`)."""
+                names: Sequence[str] | None = None, T_base: ArrayLike | None = None,
+                T_tool: ArrayLike | None = None) -> Robot:
+        """Build a robot from DH rows in SI units (see :func:`armkit.chain.chain_from_dh`).
+
+        ``T_base`` ``(4, 4)`` places the DH base frame in the world (before any base rows),
+        ``T_tool`` ``(4, 4)`` follows the tool rows (or the last joint's link frame) [m].
+        """
+        T_base = None if T_base is None else np.array(T_base, dtype=float)
+        T_tool = None if T_tool is None else np.array(T_tool, dtype=float)
         chain = chain_from_dh(rows, convention, limits=limits, max_velocity=max_velocity,
                               max_acceleration=max_acceleration, base_rows=base_rows,
-                              tool_rows=tool_rows, names=names)
+                              tool_rows=tool_rows, names=names, T_base=T_base, T_tool=T_tool)
         dh = DHDescription(convention, tuple(rows), tuple(base_rows), tuple(tool_rows),
-                           length_unit, angle_unit)
+                           length_unit, angle_unit, T_base, T_tool)
         return cls(chain, name=name, dh=dh)
+
+    @classmethod
+    def from_poe(cls, axes: ArrayLike, points: ArrayLike, M: ArrayLike, *, name: str = "robot",
+                 kinds: Sequence[JointKind] | None = None, T_base: ArrayLike | None = None,
+                 limits: Sequence[tuple[float, float] | None] | None = None,
+                 max_velocity: Sequence[float | None] | None = None,
+                 max_acceleration: Sequence[float | None] | None = None,
+                 names: Sequence[str] | None = None, length_unit: str = "m",
+                 angle_unit: str = "rad") -> Robot:
+        """Build a robot from joint lines at ``q = 0`` (product of exponentials, SI units).
+
+        ``axes[i]`` ``(n, 3)`` is joint ``i``'s direction and ``points[i]`` a point on its
+        line [m], both in the base frame; ``M`` ``(4, 4)`` the tool pose at ``q = 0``. See
+        :func:`armkit.poe.chain_from_poe` for the other parameters.
+
+        Examples
+        --------
+        >>> M = np.eye(4); M[0, 3] = 1.0
+        >>> robot = Robot.from_poe([[0, 0, 1]], [[0, 0, 0]], M, name="1R")
+        >>> robot.fk([np.pi / 2])[:3, 3].round(12) + 0.0
+        array([0., 1., 0.])
+        """
+        from armkit.poe import PoeDescription, chain_from_poe
+
+        chain = chain_from_poe(axes, points, M, kinds=kinds, T_base=T_base, limits=limits,
+                               max_velocity=max_velocity, max_acceleration=max_acceleration, names=names)
+        axes = np.asarray(axes, dtype=float)
+        poe = PoeDescription(axes / np.linalg.norm(axes, axis=1, keepdims=True),
+                             np.asarray(points, dtype=float), np.asarray(M, dtype=float),
+                             np.array(chain.T_base), length_unit, angle_unit)
+        return cls(chain, name=name, poe=poe)
 
     def __repr__(self) -> str:
         kinds = "".join("P" if p else "R" for p in self.chain.prismatic)
@@ -265,8 +329,136 @@ class Robot:
 
     def random_q(self, size: int | tuple[int, ...] | None = None,
                  rng: np.random.Generator | int | None = None) -> NDArray[np.float64]:
-        """Uniform random configurations inside the limits (unbounded joints: ±1 m)."""
+        """Uniform random configurations inside the limits.
+
+        An unbounded revolute joint (URDF ``continuous``) is drawn from ``[-pi, pi]`` (one
+        whole turn), an unbounded prismatic one from ``[-1, 1]`` m.
+        """
         rng = np.random.default_rng(rng)
-        lim = np.where(np.isfinite(self.limits), self.limits, [[-1.0, 1.0]])
+        unbounded = np.where(self.chain.prismatic, 1.0, np.pi)[:, None] * [[-1.0, 1.0]]
+        lim = np.where(np.isfinite(self.limits), self.limits, unbounded)
         shape = (() if size is None else (size,) if isinstance(size, int) else tuple(size))
         return rng.uniform(lim[:, 0], lim[:, 1], size=(*shape, self.n))
+
+    # ----------------------------------------------------------------- locked joints
+    def lock(self, values: Mapping[int | str, float]) -> LockedRobot:
+        """The robot with some joints fixed at given values: a robot of the other joints.
+
+        The locked joints' motions are folded into the fixed transforms around them, so the
+        reduced robot has its own closed-form analysis (a 7-joint arm with one joint locked
+        can be a 6R arm with a spherical wrist) and every method works on it.
+
+        Parameters
+        ----------
+        values : mapping of joint name or index to value
+            Joint names as in :attr:`joint_names`, or 0-based indices; values in rad or m,
+            inside the joint's limits.
+
+        Returns
+        -------
+        LockedRobot
+            With :meth:`LockedRobot.full_q` to map its configurations back to this robot's.
+
+        Raises
+        ------
+        InputError
+            If a joint is unknown or named twice, a value is not a finite number, or every
+            joint would be locked.
+        JointLimitError
+            If a value is outside its joint's limits.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> arm = armkit.load("puma560").lock({"q6": 0.5})
+        >>> arm.n, arm.full_q(np.zeros(5)).tolist()
+        (5, [0.0, 0.0, 0.0, 0.0, 0.0, 0.5])
+        >>> bool(np.allclose(arm.fk(np.zeros(5)), armkit.load("puma560").fk([0, 0, 0, 0, 0, 0.5])))
+        True
+        """
+        return LockedRobot(self, self._joint_values(values))
+
+    def _joint_values(self, values: Mapping[int | str, float]) -> dict[int, float]:
+        """``{index: value}`` from names or indices, checked (see :meth:`lock`)."""
+        if not isinstance(values, Mapping) or not values:
+            raise InputError(f"joints to lock: expected a mapping such as {{'{self.joint_names[0]}': 0.3}}, "
+                             f"got {values!r}")
+        out: dict[int, float] = {}
+        for key, value in values.items():
+            if isinstance(key, str) and key in self.joint_names:
+                index = self.joint_names.index(key)
+            elif isinstance(key, int | np.integer) and not isinstance(key, bool) and 0 <= key < self.n:
+                index = int(key)
+            else:
+                raise InputError(f"joint {key!r} to lock: expected a joint name "
+                                 f"({', '.join(self.joint_names)}) or an index 0 to {self.n - 1}")
+            if index in out:
+                raise InputError(f"joint {self.joint_names[index]} is locked twice")
+            try:
+                number = float(value)
+            except (TypeError, ValueError) as exc:
+                raise InputError(f"joint {self.joint_names[index]}: lock value {value!r} is not a "
+                                 f"number") from exc
+            out[index] = number
+        if len(out) == self.n:
+            raise InputError(f"locking all {self.n} joints leaves no robot; keep at least one free")
+        q = self.home.copy()  # inside the limits: only the locked values can be outside
+        q[list(out)] = list(out.values())
+        violations = self.limit_violations(self.check_q(q, "locked joint values"))
+        if violations:
+            raise JointLimitError("cannot lock " + "; ".join(violations))
+        return out
+
+
+class LockedRobot(Robot):
+    """A robot with some joints of another robot fixed (see :meth:`Robot.lock`).
+
+    Attributes
+    ----------
+    full_robot : Robot
+        The robot with every joint.
+    locked : dict of int to float
+        Locked joints of ``full_robot`` (0-based indices) and their values [rad or m].
+    free : ndarray of int
+        Indices in ``full_robot`` of this robot's joints, in order.
+    """
+
+    def __init__(self, full_robot: Robot, locked: Mapping[int, float]) -> None:
+        if isinstance(full_robot, LockedRobot):  # locking more: one level, indices of the full robot
+            locked = {int(full_robot.free[i]): v for i, v in locked.items()} | full_robot.locked
+            full_robot = full_robot.full_robot
+        self.full_robot = full_robot
+        self.locked = dict(sorted(locked.items()))
+        self.free = np.array([i for i in range(full_robot.n) if i not in self.locked])
+        chain = full_robot.chain
+        joints, pending = [], None
+        for i, joint in enumerate(chain.joints):
+            if i in self.locked:
+                motion = (trans_z if joint.kind == "prismatic" else rot_z)(self.locked[i])
+                fixed = joint.T_before @ motion @ joint.T_after
+                pending = fixed if pending is None else pending @ fixed
+            else:
+                joints.append(joint if pending is None else replace(joint, T_before=pending @ joint.T_before))
+                pending = None
+        tool = chain.T_tool if pending is None else pending @ chain.T_tool
+        names = ", ".join(f"{full_robot.joint_names[i]} = {v:.6g}" for i, v in self.locked.items())
+        super().__init__(Chain(tuple(joints), chain.T_base, tool), name=f"{full_robot.name} ({names} locked)",
+                         source=full_robot.source, description=full_robot.description)
+
+    def full_q(self, q: ArrayLike) -> NDArray[np.float64]:
+        """This robot's configurations ``(..., n)`` as the full robot's ``(..., n_full)``.
+
+        >>> import armkit
+        >>> armkit.load("ur5").lock({1: -0.5}).full_q([[1, 2, 3, 4, 5]]).tolist()
+        [[1.0, -0.5, 2.0, 3.0, 4.0, 5.0]]
+        """
+        q = self.check_q(q)
+        full = np.empty((*q.shape[:-1], self.full_robot.n))
+        full[..., self.free] = q
+        for i, value in self.locked.items():
+            full[..., i] = value
+        return full
+
+    def reduced_q(self, q_full: ArrayLike) -> NDArray[np.float64]:
+        """The free joints' values ``(..., n)`` of full configurations ``(..., n_full)``."""
+        return self.full_robot.check_q(q_full)[..., self.free]

@@ -1,6 +1,7 @@
-"""Robot files: a hand-written TOML description of a DH arm, and the built-in robots.
+"""Robot files: a hand-written TOML description of an arm (DH table or joint lines), the
+built-in robots, and :func:`load`, which also reads URDF files (:mod:`armkit.urdf`).
 
-Format (every length in ``length_unit``, every angle in ``angle_unit``)::
+DH format (every length in ``length_unit``, every angle in ``angle_unit``)::
 
     name = "PROBOT Anno"
     convention = "modified"        # or "standard"
@@ -22,23 +23,51 @@ Format (every length in ``length_unit``, every angle in ``angle_unit``)::
     d = 55
     theta = 0
 
-``[[base]]`` rows work like ``[[tool]]`` rows, before the first joint. For a prismatic
-joint the joint variable is added to ``d``. In a file ``convention``, ``length_unit`` and
-``angle_unit`` are required: a table written in degrees must never be read as radians.
-Values are converted to SI units once, here.
+``[[base]]`` rows work like ``[[tool]]`` rows, before the first joint. Instead of rows,
+``[base]`` and ``[tool]`` may be single tables holding a plain transform: ``xyz`` (lengths)
+and ``rpy`` (angles, fixed axes: ``R = Rz(yaw) Ry(pitch) Rx(roll)``), or ``matrix`` (4x4,
+translation in ``length_unit``). In a DH file the tool transform is relative to the last
+joint's link frame and the base transform places the DH base frame in the world.
+
+Product-of-exponentials format (``convention = "poe"``, EAIK's and IK-Geo's ``H``/``P``)::
+
+    convention = "poe"
+    length_unit = "mm"
+    angle_unit = "deg"
+    [[joints]]
+    axis = [0, 0, 1]               # direction of the joint, base frame, q = 0
+    point = [0, 0, 89.2]           # a point on its line, base frame, q = 0
+    type = "revolute"              # limits, max_velocity, ... and name as above
+    [tool]                         # the tool pose in the base frame at q = 0 (M); default identity
+    xyz = [0, 191.5, 1001.3]
+    rpy = [-90, 0, 0]
+    [base]                         # optional: the base frame's pose in the world
+    xyz = [0, 0, 0]
+
+``convention``, ``length_unit`` and ``angle_unit`` are required in a file: a table written
+in degrees must never be read as radians. Values are converted to SI units once, here;
+lengths and angles larger in magnitude than :data:`armkit.chain.MAX_VALUE` (m or rad) are
+refused. Joint names must be unique and not empty (default ``q1 ... qn``).
 """
 
 from __future__ import annotations
 
+import json
 import math
 import tomllib
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from armkit.chain import DHRow
-from armkit.errors import RobotDefinitionError
+import numpy as np
+from numpy.typing import NDArray
+
+from armkit.chain import MAX_VALUE, DHRow
+from armkit.errors import InputError, RobotDefinitionError
+from armkit.poe import poe_from_chain
 from armkit.robot import Robot
+from armkit.spatial.rotations import euler_from_matrix, matrix_from_euler
+from armkit.spatial.transforms import check_transform, transform_from
 
 __all__ = ["builtin_robots", "load", "robot_from_dict", "robot_to_toml"]
 
@@ -47,7 +76,10 @@ _ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 _TOP_KEYS = {"name", "convention", "length_unit", "angle_unit", "description", "joints",
              "tool", "base"}
 _ROW_KEYS = {"alpha", "a", "d", "theta"}
-_JOINT_KEYS = _ROW_KEYS | {"type", "limits", "max_velocity", "max_acceleration", "name"}
+_COMMON_JOINT_KEYS = {"type", "limits", "max_velocity", "max_acceleration", "name"}
+_JOINT_KEYS = _ROW_KEYS | _COMMON_JOINT_KEYS
+_POE_KEYS = {"axis", "point"}
+_TRANSFORM_KEYS = {"xyz", "rpy", "matrix"}
 
 
 def builtin_robots() -> list[str]:
@@ -56,8 +88,17 @@ def builtin_robots() -> list[str]:
     return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
 
 
-def load(name_or_path: str | Path) -> Robot:
-    """Load a built-in robot by name (``"probot-anno"``) or a robot file by path.
+def load(name_or_path: str | Path, base: str | None = None, tip: str | None = None) -> Robot:
+    """Load a built-in robot by name (``"probot-anno"``), a robot file or a URDF file by path.
+
+    Parameters
+    ----------
+    name_or_path : str or Path
+        A built-in name, a ``.toml`` robot file, or a URDF file (``.urdf``, or any file
+        whose text starts with ``<``).
+    base, tip : str, optional
+        URDF only: the links the serial chain runs between (default the root link and
+        the only leaf; see :func:`armkit.urdf.load_urdf`).
 
     Raises
     ------
@@ -72,43 +113,87 @@ def load(name_or_path: str | Path) -> Robot:
     """
     text = str(name_or_path)
     if text in builtin_robots():
+        _no_links(base, tip, f"built-in robot {text!r}")
         resource = resources.files("armkit") / "robots" / f"{text}.toml"
-        return _load_text(resource.read_text(encoding="utf-8"), f"built-in robot {text!r}")
+        return _load_text(resource.read_bytes(), f"built-in robot {text!r}")
     path = Path(text)
     if not path.is_file():
         raise RobotDefinitionError(
             f"unknown robot {text!r}: not a built-in ({', '.join(builtin_robots())}) "
             f"and no such file")
-    return _load_text(path.read_text(encoding="utf-8"), str(path))
-
-
-def _load_text(text: str, source: str) -> Robot:
     try:
-        data = tomllib.loads(text)
+        data = path.read_bytes()
+    except OSError as exc:
+        raise RobotDefinitionError(f"{path}: cannot be read ({exc.strerror or exc})") from exc
+    if path.suffix.lower() == ".urdf" or data.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<"):
+        from armkit.urdf import robot_from_urdf  # URDF import needs this module's load only as entry
+
+        return robot_from_urdf(data, str(path), base=base, tip=tip)
+    _no_links(base, tip, str(path))
+    return _load_text(data, str(path))
+
+
+def _no_links(base: str | None, tip: str | None, source: str) -> None:
+    if base is not None or tip is not None:
+        raise RobotDefinitionError(f"{source}: base and tip links choose a chain in a URDF file; "
+                                   f"this is a robot file (its base and tool are [base] and [tool])")
+
+
+def _load_text(data: bytes, source: str) -> Robot:
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise RobotDefinitionError(f"{source}: not UTF-8 text (byte {exc.start}); save the robot file "
+                                   f"as UTF-8") from exc
+    try:
+        parsed = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise RobotDefinitionError(f"{source}: not valid TOML: {exc}") from exc
-    return robot_from_dict(data, source, require_units=True)
+    except RecursionError as exc:
+        raise RobotDefinitionError(f"{source}: arrays or tables nested too deeply to read") from exc
+    return robot_from_dict(parsed, source, require_units=True)
 
 
+# ------------------------------------------------------------------ values
 def _number(value: Any, where: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise RobotDefinitionError(f"{where}: expected a finite number, got {value!r}")
+        raise RobotDefinitionError(f"{where}: expected a finite number, got {_shown(value)}")
     return float(value)
+
+
+def _quantity(value: Any, where: str, unit: float) -> float:
+    """A length or angle in SI units, at most :data:`MAX_VALUE` in magnitude."""
+    number = _number(value, where) * unit
+    if not abs(number) <= MAX_VALUE:
+        raise RobotDefinitionError(f"{where}: {value!r} is {abs(number):.3g} in SI units (m or rad); "
+                                   f"expected at most {MAX_VALUE:g}")
+    return number
+
+
+def _shown(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _vector(value: Any, where: str, unit: float, size: int = 3) -> NDArray[np.float64]:
+    if not isinstance(value, list) or len(value) != size:
+        raise RobotDefinitionError(f"{where}: expected {size} numbers, got {_shown(value)}")
+    return np.array([_quantity(v, where, unit) for v in value])
 
 
 def _choice(data: dict, key: str, options: dict | tuple, source: str, default: str | None) -> str:
     value = data.get(key, default)
     if value is None:
         raise RobotDefinitionError(f"{source}: missing key {key!r} (one of {', '.join(options)})")
-    if value not in options:
+    if not isinstance(value, str) or value not in options:
         raise RobotDefinitionError(
-            f"{source}: {key} = {value!r}; expected one of {', '.join(map(repr, options))}")
+            f"{source}: {key} = {_shown(value)}; expected one of {', '.join(map(repr, options))}")
     return value
 
 
-def _check_keys(table: dict, allowed: set[str], required: set[str], where: str) -> None:
+def _check_keys(table: Any, allowed: set[str], required: set[str], where: str) -> None:
     if not isinstance(table, dict):
-        raise RobotDefinitionError(f"{where}: expected a table, got {table!r}")
+        raise RobotDefinitionError(f"{where}: expected a table, got {_shown(table)}")
     unknown = sorted(set(table) - allowed)
     if unknown:
         raise RobotDefinitionError(f"{where}: unknown key {unknown[0]!r}; expected keys: "
@@ -118,24 +203,74 @@ def _check_keys(table: dict, allowed: set[str], required: set[str], where: str) 
         raise RobotDefinitionError(f"{where}: missing key {missing[0]!r}")
 
 
+def _text(value: Any, where: str) -> str:
+    if not isinstance(value, str):
+        raise RobotDefinitionError(f"{where}: expected a string, got {_shown(value)}")
+    return value
+
+
+# ------------------------------------------------------------------ tables
 def _row(table: dict, where: str, joint: str | None, length: float, angle: float) -> DHRow:
-    return DHRow(alpha=_number(table["alpha"], f"{where}, key 'alpha'") * angle,
-                 a=_number(table["a"], f"{where}, key 'a'") * length,
-                 d=_number(table["d"], f"{where}, key 'd'") * length,
-                 theta=_number(table["theta"], f"{where}, key 'theta'") * angle,
+    return DHRow(alpha=_quantity(table["alpha"], f"{where}, key 'alpha'", angle),
+                 a=_quantity(table["a"], f"{where}, key 'a'", length),
+                 d=_quantity(table["d"], f"{where}, key 'd'", length),
+                 theta=_quantity(table["theta"], f"{where}, key 'theta'", angle),
                  joint=joint)
 
 
-def _fixed_rows(data: dict, key: str, source: str, length: float, angle: float) -> list[DHRow]:
-    rows = data.get(key, [])
-    if not isinstance(rows, list):
-        raise RobotDefinitionError(f"{source}: {key} must be an array of tables ([[{key}]])")
+def _fixed_rows(rows: list, key: str, source: str, length: float, angle: float) -> list[DHRow]:
     out = []
     for i, table in enumerate(rows):
         where = f"{source}, {key} row {i + 1}"
         _check_keys(table, _ROW_KEYS, _ROW_KEYS, where)
         out.append(_row(table, where, None, length, angle))
     return out
+
+
+def _transform(table: dict, where: str, length: float, angle: float) -> NDArray[np.float64]:
+    """A ``[base]`` / ``[tool]`` table: ``xyz`` + ``rpy`` or ``matrix``, to SI."""
+    _check_keys(table, _TRANSFORM_KEYS, set(), where)
+    if "matrix" in table:
+        if set(table) != {"matrix"}:
+            raise RobotDefinitionError(f"{where}: give either matrix or xyz and rpy, not both")
+        rows = table["matrix"]
+        if not isinstance(rows, list) or len(rows) != 4 or not all(isinstance(r, list) and len(r) == 4
+                                                                   for r in rows):
+            raise RobotDefinitionError(f"{where}, key 'matrix': expected 4 rows of 4 numbers")
+        T = np.array([[_number(v, f"{where}, key 'matrix'") for v in row] for row in rows])
+        try:
+            T = check_transform(T, f"{where}, key 'matrix'")
+        except InputError as exc:
+            raise RobotDefinitionError(str(exc)) from exc
+        T[:3, 3] = _vector(T[:3, 3].tolist(), f"{where}, key 'matrix' (translation)", length)
+        return T
+    xyz = _vector(table.get("xyz", [0, 0, 0]), f"{where}, key 'xyz'", length)
+    rpy = _vector(table.get("rpy", [0, 0, 0]), f"{where}, key 'rpy'", angle)
+    return transform_from(matrix_from_euler(rpy, "xyz-fixed"), xyz)
+
+
+def _end(data: dict, key: str, source: str, length: float, angle: float,
+         poe: bool) -> tuple[list[DHRow], NDArray[np.float64] | None]:
+    """``[[key]]`` DH rows or a ``[key]`` transform table (``None`` if neither)."""
+    value = data.get(key)
+    if value is None:
+        return [], None
+    if isinstance(value, dict):
+        return [], _transform(value, f"{source}, [{key}]", length, angle)
+    if isinstance(value, list) and not poe:
+        return _fixed_rows(value, key, source, length, angle), None
+    expected = f"a [{key}] table (xyz and rpy, or matrix)" + ("" if poe else f" or [[{key}]] DH rows")
+    raise RobotDefinitionError(f"{source}: {key} must be {expected}, got {_shown(value)}")
+
+
+def _joint_name(table: dict, where: str, index: int, seen: set[str]) -> str:
+    name = _text(table.get("name", f"q{index + 1}"), f"{where}, key 'name'")
+    if not name.strip():
+        raise RobotDefinitionError(f"{where}, key 'name': empty; give the joint a name or leave the key out")
+    if name in seen:
+        raise RobotDefinitionError(f"{where}, key 'name': {name!r} is already the name of another joint")
+    seen.add(name)
+    return name
 
 
 def robot_from_dict(data: dict, source: str = "robot description", require_units: bool = False) -> Robot:
@@ -147,33 +282,49 @@ def robot_from_dict(data: dict, source: str = "robot description", require_units
     """
     required = {"convention", "joints"} | ({"length_unit", "angle_unit"} if require_units else set())
     _check_keys(data, _TOP_KEYS, required, source)
-    convention = _choice(data, "convention", ("standard", "modified"), source, None)
+    convention = _choice(data, "convention", ("standard", "modified", "poe"), source, None)
     length_unit = _choice(data, "length_unit", _LENGTH_UNITS, source, "m")
     angle_unit = _choice(data, "angle_unit", _ANGLE_UNITS, source, "rad")
     length, angle = _LENGTH_UNITS[length_unit], _ANGLE_UNITS[angle_unit]
+    poe = convention == "poe"
     joints = data["joints"]
     if not isinstance(joints, list) or not joints:
         raise RobotDefinitionError(f"{source}: 'joints' must be a non-empty array of tables "
-                                   f"([[joints]]), got {joints!r}")
-    rows, limits, vmax, amax, names = [], [], [], [], []
+                                   f"([[joints]]), got {_shown(joints)}")
+    rows, axes, points, kinds, limits, vmax, amax, names = [], [], [], [], [], [], [], []
+    seen: set[str] = set()
     for i, table in enumerate(joints):
         where = f"{source}, joint {i + 1}"
-        _check_keys(table, _JOINT_KEYS, _ROW_KEYS, where)
+        keys = _POE_KEYS if poe else _ROW_KEYS
+        _check_keys(table, keys | _COMMON_JOINT_KEYS, keys, where)
         kind = _choice(table, "type", ("revolute", "prismatic"), where, "revolute")
         unit = angle if kind == "revolute" else length
-        rows.append(_row(table, where, kind, length, angle))
+        if poe:
+            axes.append(_vector(table["axis"], f"{where}, key 'axis'", 1.0))
+            points.append(_vector(table["point"], f"{where}, key 'point'", length))
+        else:
+            rows.append(_row(table, where, kind, length, angle))
+        kinds.append(kind)
         limits.append(_limits(table.get("limits"), f"{where}, key 'limits'", unit))
         vmax.append(_positive(table.get("max_velocity"), f"{where}, key 'max_velocity'", unit))
-        amax.append(_positive(table.get("max_acceleration"), f"{where}, key 'max_acceleration'",
-                              unit))
-        names.append(str(table.get("name", f"q{i + 1}")))
-    robot = Robot.from_dh(rows, convention, name=str(data.get("name", Path(source).stem)),
-                          limits=limits, max_velocity=vmax, max_acceleration=amax,
-                          base_rows=_fixed_rows(data, "base", source, length, angle),
-                          tool_rows=_fixed_rows(data, "tool", source, length, angle),
-                          length_unit=length_unit, angle_unit=angle_unit, names=names)
+        amax.append(_positive(table.get("max_acceleration"), f"{where}, key 'max_acceleration'", unit))
+        names.append(_joint_name(table, where, i, seen))
+    base_rows, T_base = _end(data, "base", source, length, angle, poe)
+    tool_rows, T_tool = _end(data, "tool", source, length, angle, poe)
+    name = _text(data.get("name", Path(source).stem), f"{source}, key 'name'")
+    if poe:
+        robot = Robot.from_poe(axes, points, np.eye(4) if T_tool is None else T_tool, name=name, kinds=kinds,
+                               T_base=T_base, limits=limits, max_velocity=vmax, max_acceleration=amax,
+                               names=names, length_unit=length_unit, angle_unit=angle_unit)
+    else:
+        robot = Robot.from_dh(rows, convention, name=name, limits=limits, max_velocity=vmax,
+                              max_acceleration=amax, base_rows=base_rows, tool_rows=tool_rows,
+                              length_unit=length_unit, angle_unit=angle_unit, names=names,
+                              T_base=T_base, T_tool=T_tool)
+    if not np.isfinite(robot.chain.T_between).all():
+        raise RobotDefinitionError(f"{source}: the fixed transforms overflow; check the lengths")
     robot.source = source
-    robot.description = str(data.get("description", ""))
+    robot.description = _text(data.get("description", ""), f"{source}, key 'description'")
     return robot
 
 
@@ -181,8 +332,8 @@ def _limits(value: Any, where: str, unit: float) -> tuple[float, float] | None:
     if value is None:
         return None
     if not isinstance(value, list) or len(value) != 2:
-        raise RobotDefinitionError(f"{where}: expected [lower, upper], got {value!r}")
-    lower, upper = (_number(v, where) * unit for v in value)
+        raise RobotDefinitionError(f"{where}: expected [lower, upper], got {_shown(value)}")
+    lower, upper = (_quantity(v, where, unit) for v in value)
     if not lower < upper:
         raise RobotDefinitionError(f"{where}: lower {value[0]} must be below upper {value[1]}")
     return lower, upper
@@ -197,25 +348,62 @@ def _positive(value: Any, where: str, unit: float) -> float | None:
     return number * unit
 
 
+# ------------------------------------------------------------------ writing
 def robot_to_toml(robot: Robot) -> str:
-    """A robot file (TOML text, SI units) for a robot built from a DH table."""
-    if robot.dh is None:
-        raise RobotDefinitionError(f"{robot.name}: has no DH table to write")
-    lines = [f"name = {robot.name!r}".replace("'", '"'), f'convention = "{robot.dh.convention}"',
-             'length_unit = "m"', 'angle_unit = "rad"']
-    for row, joint in zip(robot.dh.rows, robot.chain.joints, strict=True):
-        lines += ["", "[[joints]]", f'name = "{joint.name}"', f'type = "{joint.kind}"',
-                  *_row_lines(row)]
+    """A robot file (TOML text, SI units) in the form the robot came in.
+
+    A robot built from a DH table is written as that table (with its base and tool rows or
+    transforms); any other robot (product of exponentials, URDF, locked joints) as
+    ``convention = "poe"``: its joint lines at ``q = 0`` and the tool pose. Loading the
+    text gives the same FK (to rounding) and the same joint names and limits.
+
+    >>> text = robot_to_toml(load("ur5").lock({"q1": 0.0}))
+    >>> robot_from_dict(tomllib.loads(text)).n, 'convention = "poe"' in text
+    (5, True)
+    """
+    poe = None if robot.dh is not None else robot.poe or poe_from_chain(robot.chain)
+    convention = robot.dh.convention if robot.dh is not None else "poe"
+    lines = [f"name = {_toml_string(robot.name)}",
+             *([f"description = {_toml_string(robot.description)}"] if robot.description else []),
+             f'convention = "{convention}"', 'length_unit = "m"', 'angle_unit = "rad"']
+    for i, joint in enumerate(robot.chain.joints):
+        lines += ["", "[[joints]]", f"name = {_toml_string(joint.name)}", f'type = "{joint.kind}"']
+        if poe is None:
+            lines += _row_lines(robot.dh.rows[i])
+        else:
+            lines += [f"axis = {_array(poe.axes[i])}", f"point = {_array(poe.points[i])}"]
         if math.isfinite(joint.lower) and math.isfinite(joint.upper):
             lines.append(f"limits = [{joint.lower!r}, {joint.upper!r}]")
         for key in ("max_velocity", "max_acceleration"):
             if getattr(joint, key) is not None:
                 lines.append(f"{key} = {getattr(joint, key)!r}")
-    for key, rows in (("base", robot.dh.base_rows), ("tool", robot.dh.tool_rows)):
-        for row in rows:
-            lines += ["", f"[[{key}]]", *_row_lines(row)]
+    if poe is None:
+        for key, rows, T in (("base", robot.dh.base_rows, robot.dh.T_base),
+                             ("tool", robot.dh.tool_rows, robot.dh.T_tool)):
+            for row in rows:
+                lines += ["", f"[[{key}]]", *_row_lines(row)]
+            if T is not None:
+                lines += ["", f"[{key}]", *_transform_lines(T)]
+    else:
+        lines += ["", "[tool]", *_transform_lines(poe.M)]
+        if not np.array_equal(poe.T_base, np.eye(4)):
+            lines += ["", "[base]", *_transform_lines(poe.T_base)]
     return "\n".join(lines) + "\n"
 
 
 def _row_lines(row: DHRow) -> list[str]:
     return [f"{key} = {getattr(row, key)!r}" for key in ("alpha", "a", "d", "theta")]
+
+
+def _toml_string(text: str) -> str:
+    """A TOML basic string (JSON's escapes, plus DEL, which TOML wants escaped too)."""
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
+
+
+def _array(values: NDArray[np.float64]) -> str:
+    return "[" + ", ".join(repr(float(v)) for v in values) + "]"
+
+
+def _transform_lines(T: NDArray[np.float64]) -> list[str]:
+    return [f"xyz = {_array(T[:3, 3])}", f"rpy = {_array(euler_from_matrix(T[:3, :3], 'xyz-fixed'))}"]
+

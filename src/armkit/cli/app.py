@@ -12,7 +12,7 @@ import json
 import math
 import sys
 from collections.abc import Sequence
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 import typer
@@ -23,13 +23,14 @@ from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.robot_file import load
 
-__all__ = ["ALLOW_NEGATIVE", "QUATERNION_NAMES", "app", "console", "err_console", "fmt_number", "fmt_numbers",
-           "load_robot", "option_values", "print_json", "reject_unknown_options", "to_si", "warn"]
+__all__ = ["ALLOW_NEGATIVE", "BaseOpt", "LockOpt", "QUATERNION_NAMES", "RobotArg", "TipOpt", "app", "console",
+           "err_console", "fmt_number", "fmt_numbers", "load_robot", "option_values", "print_json",
+           "reject_unknown_options", "to_si", "warn"]
 
 app = typer.Typer(
     name="armkit",
-    help="From a robot arm's DH table to a verified motion. ROBOT is a built-in name "
-         "(see 'armkit robots') or a path to a robot TOML file.",
+    help="From a robot arm's DH table or URDF to a verified motion. ROBOT is a built-in name "
+         "(see 'armkit robots'), a robot TOML file or a URDF file (--base/--tip choose its chain).",
     no_args_is_help=True,
     rich_markup_mode=None,  # plain help: no "<bool>" type tags after flags
     pretty_exceptions_enable=False,
@@ -46,9 +47,39 @@ ALLOW_NEGATIVE = {"ignore_unknown_options": True}
 QUATERNION_NAMES = ("quat", "quaternion", "wxyz")
 
 
-def load_robot(name_or_path: str) -> Robot:
-    """The robot named on the command line (built-in name or file path)."""
-    return load(name_or_path)
+#: The robot argument and the options that shape it, shared by every command taking ROBOT.
+RobotArg = Annotated[str, typer.Argument(help="Built-in name, robot TOML file or URDF file.")]
+BaseOpt = Annotated[str | None, typer.Option(
+    "--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link).",
+    show_default=False)]
+TipOpt = Annotated[str | None, typer.Option(
+    "--tip", metavar="LINK", help="URDF: the link the chain ends at, the tool (default: the only leaf).",
+    show_default=False)]
+LockOpt = Annotated[list[str] | None, typer.Option(
+    "--lock", metavar="JOINT=VALUE", help="Lock a joint (name or number 1..n) at VALUE in rad or m; "
+                                          "repeat for more. The robot then has the other joints.",
+    show_default=False)]
+
+
+def load_robot(name_or_path: str, base: str | None = None, tip: str | None = None,
+               lock: Sequence[str] | None = None) -> Robot:
+    """The robot named on the command line, with its ``--base``/``--tip`` and ``--lock`` options."""
+    robot = load(name_or_path, base=base, tip=tip)
+    if not lock:
+        return robot
+    values: dict[int | str, float] = {}
+    for word in lock:
+        key, sep, value = word.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise InputError(f"--lock {word!r}: expected JOINT=VALUE, e.g. --lock "
+                             f"{robot.joint_names[-1]}=0.3")
+        if key not in robot.joint_names and key.isdigit():  # a joint number as 'armkit show' counts
+            if not 1 <= int(key) <= robot.n:
+                raise InputError(f"--lock {word!r}: joint number {key}; expected 1 to {robot.n}")
+            key = int(key) - 1
+        values[key] = parse_floats([value], f"--lock {word!r}")[0]
+    return robot.lock(values)
 
 
 def to_si(robot: Robot, q: Sequence[float | str], degrees: bool) -> np.ndarray:

@@ -15,6 +15,10 @@ from rich.table import Table
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
     QUATERNION_NAMES,
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
     app,
     console,
     fmt_number,
@@ -83,7 +87,7 @@ def _numbered(robot: Robot, T: np.ndarray, q: np.ndarray, near: np.ndarray,
 
 @app.command("ik", context_settings=ALLOW_NEGATIVE)
 def ik_command(
-    robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
+    robot: RobotArg,
     near_values: Annotated[list[str] | None, typer.Argument(
         metavar="[Q...]", help="The rest of the --near joint values.", show_default=False)] = None,
     pose: Annotated[tuple[float, float, float, float, float, float] | None, typer.Option(
@@ -107,12 +111,15 @@ def ik_command(
                                        "deg with --deg; default zeros).", show_default=False)] = None,
     json_output: Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of "
                                                              "a table.")] = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Inverse kinematics: the solutions of a tool pose, with limits flag and FK residual.
 
     Example: armkit ik probot-anno --pose 0.2 0.2 0.2007 1.5707963 -1.5707963 0 --all
     """
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     words = option_values(near, near_values, "--near", "joint values")
     q_near = to_si(arm, words, deg) if words is not None else np.zeros(arm.n)
     if euler.strip().lower() in QUATERNION_NAMES:

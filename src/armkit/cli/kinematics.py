@@ -11,6 +11,10 @@ from rich.table import Table
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
     QUATERNION_NAMES,
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
     app,
     check_limits_or_warn,
     console,
@@ -25,7 +29,6 @@ from armkit.spatial.rotations import euler_from_matrix, parse_convention, quater
 #: Smallest singular value below which ``armkit jacobian`` calls a configuration singular.
 SINGULAR_THRESHOLD = 1e-9
 
-RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
 JointsArg = Annotated[list[str], typer.Argument(help="Joint values q1 ... qn (rad and m; "
                                                          "revolute in deg with --deg).")]
 DegOpt = Annotated[bool, typer.Option("--deg", help="Revolute joint values (and printed "
@@ -57,9 +60,12 @@ def fk_command(
                                             "quaternion w x y z).")] = "xyz-fixed",
     strict: StrictOpt = False,
     json_output: JsonOpt = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Forward kinematics: the tool pose for joint values q1 ... qn."""
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     q_si = to_si(arm, q, deg)
     check_limits_or_warn(arm, q_si, strict, deg)
     quaternion = euler.strip().lower() in QUATERNION_NAMES
@@ -92,9 +98,12 @@ def jacobian_command(
     frame: Annotated[str, typer.Option(help="base or tool: the frame the twist is in.")] = "base",
     strict: StrictOpt = False,
     json_output: JsonOpt = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Geometric Jacobian (rows vx vy vz wx wy wz), manipulability and singular values."""
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     q_si = to_si(arm, q, deg)
     check_limits_or_warn(arm, q_si, strict, deg)
     J = arm.jacobian(q_si, frame=frame)

@@ -8,21 +8,25 @@ from typing import Annotated
 import typer
 from rich.markup import escape
 
-from armkit.cli.app import app, console, print_json
+from armkit.cli.app import BaseOpt, LockOpt, TipOpt, app, console, load_robot, print_json
 from armkit.cli.sim import require_mujoco
+from armkit.errors import InputError
 
 
 @app.command("lab")
 def lab_command(
     robot: Annotated[str | None, typer.Option(
-        help="A robot file (or built-in name) to run the experiments on, choosing reachable targets; "
-             "default: the seed reports' arms.", show_default=False)] = None,
+        help="A robot file, URDF file or built-in name to run the experiments on, choosing reachable "
+             "targets; default: the seed reports' arms.", show_default=False)] = None,
     out: Annotated[Path, typer.Option(help="Report folder.")] = Path("armkit-report"),
     quick: Annotated[bool, typer.Option("--quick", help="Small animations and short moves (fast).")] = False,
     force: Annotated[bool, typer.Option("--force", help="Write into a folder that is not an armkit "
                                                         "report.")] = False,
     json_output: Annotated[bool, typer.Option("--json", help="Print JSON (each section's status and "
                                                              "headline) instead.")] = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Reproduce the seed experiments (FK, IK, straight line, trajectory, rotation) in MuJoCo; write HTML.
 
@@ -33,7 +37,10 @@ def lab_command(
     from armkit.lab import run_lab
     from armkit.lab.report import status_label
 
-    result = run_lab(robot, out, quick=quick, force=force, progress=not json_output)
+    if robot is None and (base or tip or lock):
+        raise InputError("--base, --tip and --lock shape the arm given with --robot; give --robot too")
+    arm = None if robot is None else load_robot(robot, base, tip, lock)
+    result = run_lab(arm, out, quick=quick, force=force, progress=not json_output)
     failed = [s for s in result.sections if s.status == "failed"]
     if json_output:
         print_json({"report": str(result.index), "seconds": result.seconds, "failed": len(failed),

@@ -11,6 +11,10 @@ from rich.table import Table
 
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
     app,
     console,
     err_console,
@@ -25,7 +29,6 @@ from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.spatial.transforms import pose_from_transform
 
-RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
 StartValues = Annotated[list[str] | None, typer.Argument(
     metavar="[Q...]", help="The rest of the --from joint values.", show_default=False)]
 FromOpt = Annotated[str | None, typer.Option(
@@ -103,6 +106,9 @@ def move_command(
     dt: DtOpt = DEFAULT_DT,
     deg: DegOpt = False,
     json_output: JsonOpt = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Move the tool along a straight line (closed-loop resolved-rate control).
 
@@ -110,7 +116,7 @@ def move_command(
 
     Example: armkit move probot-anno --from 0 0 0 0 0 0 --by 0.15 0 -0.15 --duration 3
     """
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     q0 = _start(arm, start, start_values, deg)
     result = move_linear(arm, q0, np.array(by), duration, frame=frame, dt=dt)
     _report(arm, result, f"straight move by {list(by)} m ({frame} frame)", deg, json_output)
@@ -135,6 +141,9 @@ def rotate_command(
     dt: DtOpt = DEFAULT_DT,
     deg: DegOpt = False,
     json_output: JsonOpt = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Turn the tool about an axis through its own origin, keeping its position.
 
@@ -142,7 +151,7 @@ def rotate_command(
 
     Example: armkit rotate probot-anno --from 0 0 0 0 0 0 --axis 1 0 0 --angle -180 --rate 11.46 --deg
     """
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     q0 = _start(arm, start, start_values, deg)
     scale = np.pi / 180 if deg else 1.0
     if rate is not None and rate < 0 < angle:

@@ -11,9 +11,20 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from armkit.cli.app import app, console, fmt_numbers, load_robot, print_json
+from armkit.cli.app import (
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
+    app,
+    console,
+    fmt_numbers,
+    load_robot,
+    print_json,
+)
 from armkit.ik.structure import analyze_structure
-from armkit.robot import Robot
+from armkit.poe import poe_from_chain
+from armkit.robot import LockedRobot, Robot
 from armkit.robot_file import builtin_robots, load
 
 
@@ -27,7 +38,8 @@ def robots_command(
         robot = load(name)
         rows.append({"name": name, "robot": robot.name, "joints": "".join("P" if p else "R"
                                                                           for p in robot.chain.prismatic),
-                     "convention": robot.dh.convention, "description": robot.description})
+                     "convention": robot.dh.convention if robot.dh else "poe",
+                     "description": robot.description})
     if json_output:
         print_json({"robots": rows})
         return
@@ -78,22 +90,58 @@ def dh_table(robot: Robot) -> Table:
     return table
 
 
+def joint_line_table(robot: Robot) -> Table:
+    """Each joint's line at q = 0 in the base frame (product of exponentials) and its limits."""
+    poe = robot.poe if robot.poe is not None else poe_from_chain(robot.chain)
+    length = 1e-3 if poe.length_unit == "mm" else 1.0
+    angle = math.pi / 180 if poe.angle_unit == "deg" else 1.0
+    table = Table(title=f"{robot.name}: joint axes at q = 0, base frame "
+                        f"(lengths in {poe.length_unit}, angles in {poe.angle_unit})")
+    for column in ["joint", "type", "axis", "point", "limits", "max vel", "max acc"]:
+        table.add_column(column, justify="right")
+    for joint, axis, point in zip(robot.chain.joints, poe.axes, poe.points, strict=True):
+        unit = angle if joint.kind == "revolute" else length
+        table.add_row(joint.name, joint.kind, " ".join(_fmt(v, 1.0) for v in np.round(axis, 9)),
+                      " ".join(_fmt(v, length) for v in np.round(point, 9)),
+                      f"[{_fmt(joint.lower, unit)}, {_fmt(joint.upper, unit)}]",
+                      "" if joint.max_velocity is None else _fmt(joint.max_velocity, unit),
+                      "" if joint.max_acceleration is None else _fmt(joint.max_acceleration, unit))
+    if isinstance(robot, LockedRobot):
+        full = robot.full_robot
+        table.caption = "locked: " + ", ".join(
+            f"{full.joint_names[i]} = {_fmt(v, angle if full.chain.joints[i].kind == 'revolute' else length)}"
+            for i, v in robot.locked.items())
+    return table
+
+
 @app.command("show")
 def show_command(
-    robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
+    robot: RobotArg,
     json_output: Annotated[bool, typer.Option("--json", help="Print JSON instead.")] = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
-    """Print a robot's DH table, limits and the kind of arm it is."""
-    arm = load_robot(robot)
+    """Print a robot's DH table (or joint axes), limits and the kind of arm it is."""
+    arm = load_robot(robot, base, tip, lock)
     structure = analyze_structure(arm.chain)
     if json_output:
-        print_json({"name": arm.name, "n": arm.n, "joint_types": arm.joint_types,
-                    "convention": arm.dh.convention if arm.dh else None,
-                    "limits": arm.limits, "max_velocity": arm.max_velocity,
-                    "max_acceleration": arm.max_acceleration,
+        poe = poe_from_chain(arm.chain)
+        print_json({"name": arm.name, "n": arm.n, "joint_names": arm.joint_names,
+                    "joint_types": arm.joint_types, "convention": arm.dh.convention if arm.dh else None,
+                    "source": arm.source, "limits": arm.limits, "max_velocity": arm.max_velocity,
+                    "max_acceleration": arm.max_acceleration, "axes": poe.axes, "points": poe.points,
+                    "urdf": None if arm.urdf is None else {
+                        "base": arm.urdf.base, "tip": arm.urdf.tip, "links": arm.urdf.links,
+                        "effort": arm.urdf.effort, "meshes": len(arm.urdf.meshes)},
+                    "locked": None if not isinstance(arm, LockedRobot) else {
+                        arm.full_robot.joint_names[i]: v for i, v in arm.locked.items()},
                     "structure": dataclasses.asdict(structure)})
         return
-    console.print(dh_table(arm))
+    console.print(dh_table(arm) if arm.dh is not None else joint_line_table(arm))
+    if arm.urdf is not None:
+        console.print(f"URDF {arm.urdf.path}: links {arm.urdf.base} to {arm.urdf.tip}, "
+                      f"{len(arm.urdf.meshes)} visual meshes", highlight=False)
     home = arm.fk(np.zeros(arm.n))
     console.print(f"tool at q = 0: position {fmt_numbers(home[:3, 3], 6)} m", markup=False)
     console.print(f"kind: {structure.description}", markup=False)

@@ -13,6 +13,10 @@ from rich.table import Table
 from armkit._io import check_output_path
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
     app,
     check_limits_or_warn,
     console,
@@ -32,7 +36,6 @@ if TYPE_CHECKING:  # armkit.sim needs MuJoCo, imported only when a command runs
     from armkit.sim.runner import SimResult
     from armkit.sim.verify import PoseComparison
 
-RobotArg = Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")]
 ForceOpt = Annotated[bool, typer.Option("--force", help="Overwrite existing output files.")]
 
 
@@ -54,13 +57,16 @@ def export_command(
     no_gravity: Annotated[bool, typer.Option("--no-gravity", help="MJCF without gravity.")] = False,
     force: ForceOpt = False,
     json_output: Annotated[bool, typer.Option("--json", help="Print JSON instead.")] = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Export a robot as URDF and/or MJCF (capsule links, masses, limits, servos, a 'tool' frame)."""
     from armkit.export import write_mjcf, write_urdf
 
     if urdf is None and mjcf is None:
         raise InputError("nothing to write: give --urdf FILE and/or --mjcf FILE")
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     for path, suffix in ((urdf, ".urdf"), (mjcf, ".xml")):
         if path is not None and path.suffix.lower() != suffix:
             raise InputError(f"output file {str(path)!r}: expected a name ending in {suffix}")
@@ -136,6 +142,9 @@ def sim_command(
                                              show_default=False)] = None,
     force: ForceOpt = False,
     json_output: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Check a robot in MuJoCo: tool pose computed vs simulated, or a trajectory tracked by servos."""
     from armkit.animation import animate_trajectory, plot_configuration
@@ -144,7 +153,7 @@ def sim_command(
     from armkit.sim.runner import Simulation
     from armkit.sim.verify import compare_poses
 
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     if random < 1:
         raise InputError(f"--random {random}: expected at least 1 configuration")
     for path in (gif, png):

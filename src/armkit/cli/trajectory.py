@@ -13,6 +13,10 @@ from rich.table import Table
 from armkit._io import check_output_path
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
     app,
     console,
     fmt_number,
@@ -114,7 +118,7 @@ def _unlimited_warning(robot: Robot) -> str | None:
 
 @app.command("traj", context_settings=ALLOW_NEGATIVE)
 def traj_command(
-    robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
+    robot: RobotArg,
     duration_values: Annotated[list[str] | None, typer.Argument(
         metavar="[D... | T...]", help="Segment durations (s) after --durations, or waypoint times (s) "
                                       "after --times.", show_default=False)] = None,
@@ -144,6 +148,9 @@ def traj_command(
     force: Annotated[bool, typer.Option("--force", help="Replace existing output files.")] = False,
     json_output: Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of "
                                                              "tables.")] = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Minimum-jerk trajectory through waypoints (piecewise quintic, continuous qd and qdd).
 
@@ -156,7 +163,7 @@ def traj_command(
         _check_output(path, (".png", ".svg", ".pdf"), force, what)
     if not rate > 0:
         raise InputError(f"--rate: expected a positive sampling rate (Hz), got {rate:g}")
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     rows = read_waypoints(waypoints, 6 if poses else arm.n)
     if deg:  # revolute joint columns, or the three pose angles
         angles = np.zeros(rows.shape[1], dtype=bool)

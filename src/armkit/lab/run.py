@@ -99,15 +99,15 @@ def _summary(sections: list[Section], seeds: bool) -> Table:
     return Table("Summary", columns, rows, wrap=True)
 
 
-def run_lab(robot: str | Path | None = None, out: str | Path = "armkit-report", *, quick: bool = False,
-            force: bool = False, progress: bool = True) -> LabResult:
+def run_lab(robot: str | Path | Robot | None = None, out: str | Path = "armkit-report", *,
+            quick: bool = False, force: bool = False, progress: bool = True) -> LabResult:
     """Run the lab and write ``out/index.html``.
 
     Parameters
     ----------
-    robot : str or Path, optional
-        A robot file or built-in name; default: the seed experiments (PROBOT Anno, ZJU-I,
-        GRB400 SCARA).
+    robot : str, Path or Robot, optional
+        A robot, robot file, URDF file or built-in name; default: the seed experiments
+        (PROBOT Anno, ZJU-I, GRB400 SCARA).
     out : str or Path
         Report folder. An earlier armkit report there is replaced, once the new one is
         complete (it is written to a staging folder beside ``out`` first, which an error or
@@ -127,7 +127,7 @@ def run_lab(robot: str | Path | None = None, out: str | Path = "armkit-report", 
     started = time.perf_counter()
     folder = Path(out)
     seeds = robot is None
-    arm = load("probot-anno" if seeds else robot)
+    arm = robot if isinstance(robot, Robot) else load("probot-anno" if seeds else robot)
     check_folder(folder, force)
     staging = None
     try:
