@@ -108,6 +108,13 @@ class ReachabilityMap:
     chunks_done: int
     outside: int = 0
 
+    @classmethod
+    def from_section(cls, grid: Grid, arrays: dict[str, NDArray], attrs: dict) -> ReachabilityMap:
+        """The map a store's ``reachability`` group holds (see :mod:`armkit.workspace.store`)."""
+        plan = SamplePlan(**{key: attrs[key] for key in ("samples", "chunk_size", "seed", "method")})
+        return cls(grid, arrays["hits"].reshape(grid.shape), plan, int(attrs["chunks_done"]),
+                   int(arrays["outside"][0]))
+
     @property
     def samples(self) -> int:
         """Configurations counted [-]."""
