@@ -33,7 +33,8 @@ def test_open_gives_back_every_map_and_the_robot(tmp_path, puma):
     back = workspace.open(tmp_path / "m.zarr")
     np.testing.assert_array_equal(back.reachability.hits, made.reachability.hits)
     np.testing.assert_array_equal(back.dexterity.reachable_fraction, made.dexterity.reachable_fraction)
-    np.testing.assert_array_equal(back.manipulability.mean_manipulability, made.manipulability.mean_manipulability)
+    np.testing.assert_array_equal(back.manipulability.mean_manipulability,
+                                  made.manipulability.mean_manipulability)
     assert back.grid == made.grid
     np.testing.assert_allclose(back.robot.fk(np.full(6, 0.3)), puma.fk(np.full(6, 0.3)), atol=1e-12)
     assert back.summary()["reachable_volume"] == made.summary()["reachable_volume"]
@@ -104,8 +105,9 @@ def test_open_names_a_folder_that_is_not_a_store(tmp_path):
 
 def test_cli_json_summary_and_report(tmp_path, capsys):
     out = tmp_path / "anno.zarr"
-    code = main(["workspace", "probot-anno", "--resolution", "0.08", "--samples", "2e4", "--chunk-size", "5000",
-                 "--orientations", "4", "--manipulability-samples", "2000", "--out", str(out), "--json",
+    code = main(["workspace", "probot-anno", "--resolution", "0.08", "--samples", "2e4",
+                 "--chunk-size", "5000", "--orientations", "4", "--manipulability-samples", "2000",
+                 "--out", str(out), "--json",
                  "--report"])
     assert code == 0
     summary = json.loads(capsys.readouterr().out)
