@@ -1,0 +1,149 @@
+"""``armkit workspace``: reachability, dexterity and manipulability maps, design sweeps, IK data sets."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from armkit.cli.app import app, console, load_robot, print_json
+from armkit.errors import InputError
+
+#: ``--dask local``: start a LocalCluster on this machine instead of connecting to a scheduler.
+LOCAL_CLUSTER = "local"
+
+
+def _count(text: str, option: str) -> int:
+    """A count such as ``1e8`` or ``250000`` as an int."""
+    try:
+        value = float(text)
+    except ValueError as exc:
+        raise InputError(f"{option}: {text!r} is not a number") from exc
+    if not (value >= 0 and value == int(value)):
+        raise InputError(f"{option}: expected a whole number >= 0, got {text!r}")
+    return int(value)
+
+
+def _engine(dask: str | None, threads: int | None):
+    """The engine and, for ``--dask local``, the cluster to close afterwards."""
+    if dask is None:
+        return threads, None
+    if dask == LOCAL_CLUSTER:
+        try:
+            from distributed import Client, LocalCluster
+        except ImportError as exc:
+            raise InputError("--dask needs dask.distributed: pip install 'armkit[workspace]'") from exc
+        cluster = LocalCluster(n_workers=threads or 2, threads_per_worker=1, dashboard_address=None)
+        return Client(cluster), cluster
+    from armkit.workspace.engine import connect
+
+    return connect(dask), None
+
+
+def _print_summary(summary: dict) -> None:
+    lines = [f"robot: {summary['robot']}"]
+    if "volume" in summary:
+        v = summary["volume"]
+        lines += [f"reachable volume: {v['value']:.4g} ± {v['error']:.2g} {v['unit']} (voxelisation "
+                  f"± {v['voxelisation_error']:.2g}, sampling ± {v['sampling_error']:.2g})",
+                  f"samples: {summary['samples']:,}, voxels: {summary['voxels']:,} "
+                  f"({v['occupied_voxels']:,} reached) at {summary['resolution_m']:g} m"]
+    if "dexterity" in summary:
+        d = summary["dexterity"]
+        lines.append(f"mean reachability index: {d['mean_reachability_index']:.3f} ({d['orientations']} "
+                     f"orientations x {d['voxels_tested']:,} voxels)")
+    if "manipulability" in summary:
+        m = summary["manipulability"]
+        lines.append(f"singular voxels: {m['singular_voxels']:,} (s_min < {m['singular_threshold']:g})")
+    for row in summary.get("values", []):
+        index = row["mean_reachability_index"]
+        lines.append(f"{summary['parameter']} = {row['value']:.4g}: volume {row['reachable_volume']:.4g} ± "
+                     f"{row['reachable_volume_error']:.2g} {row['volume_unit']}"
+                     + ("" if index is None else f", mean reachability index {index:.3f}"))
+    if summary.get("store"):
+        lines.append(f"store: {summary['store']}")
+    lines.append(f"time: {summary['seconds']:.1f} s")
+    console.print("\n".join(lines), highlight=False)
+
+
+@app.command("workspace")
+def workspace_command(
+    robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
+    resolution: Annotated[float, typer.Option(help="Voxel edge [m].")] = 0.02,
+    samples: Annotated[str, typer.Option(help="Configurations for the reachability map, e.g. 1e8.")] = "1e6",
+    method: Annotated[str, typer.Option(help="Sampling: uniform or sobol.")] = "uniform",
+    seed: Annotated[int, typer.Option(help="The same seed gives the same counts on any engine.")] = 0,
+    chunk_size: Annotated[int, typer.Option(help="Configurations per task (memory per task).")] = 2**18,
+    orientations: Annotated[int, typer.Option(
+        help="Tool orientations per voxel for the dexterity map (0: none).")] = 100,
+    manipulability_samples: Annotated[str, typer.Option(
+        help="Configurations for the manipulability map (0: none).")] = "2e5",
+    singular_threshold: Annotated[float, typer.Option(
+        help="A voxel is singular where a sample's smallest singular value is below this.")] = 1e-3,
+    sweep: Annotated[str | None, typer.Option(
+        help="Maps over one DH parameter, e.g. a2=0.2:0.4:5 (row 2's a from 0.2 to 0.4 m, 5 values).",
+        show_default=False)] = None,
+    dataset: Annotated[str | None, typer.Option(
+        help="Write an IK data set of this many (q, pose, all solutions) rows instead of maps.",
+        show_default=False)] = None,
+    out: Annotated[Path | None, typer.Option(help="Zarr store to write (a folder, e.g. maps.zarr).",
+                                             show_default=False)] = None,
+    resume: Annotated[bool, typer.Option("--resume", help="Continue the run stored in --out.")] = False,
+    force: Annotated[bool, typer.Option("--force", help="Replace --out / the report folder.")] = False,
+    threads: Annotated[int | None, typer.Option(help="Local threads (default: one per core); with "
+                                                     "'--dask local' the number of workers.",
+                                                show_default=False)] = None,
+    dask: Annotated[str | None, typer.Option(
+        help="Run the chunks on a Dask cluster: its scheduler address (tcp://host:8786), or 'local' for "
+             "a LocalCluster on this machine.", show_default=False)] = None,
+    report: Annotated[bool, typer.Option("--report", help="Write an HTML page with the pictures.")] = False,
+    report_dir: Annotated[Path | None, typer.Option(
+        help="Folder of the page (default: next to --out, NAME-report; else armkit-workspace-report).",
+        show_default=False)] = None,
+    json_output: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", help="No progress bars.")] = False,
+) -> None:
+    """Where the arm reaches, how well and in how many ways: maps on a voxel grid, in a Zarr store."""
+    from armkit import workspace
+
+    arm = load_robot(robot)
+    if resume and out is None:
+        raise InputError("--resume needs --out: the store to continue")
+    engine, cluster = _engine(dask, threads)
+    common = {"seed": seed, "method": method, "engine": engine, "resume": resume, "overwrite": force,
+              "progress": not quiet and not json_output}
+    try:
+        if dataset is not None:
+            if out is None:
+                raise InputError("--dataset needs --out: the Zarr store to write the rows to")
+            result = workspace.ik_dataset(arm, _count(dataset, "--dataset"), out, **common)
+        elif sweep is not None:
+            result = workspace.sweep(arm, sweep, resolution=resolution, samples=_count(samples, "--samples"),
+                                     chunk_size=chunk_size, orientations=orientations, out=out, **common)
+        else:
+            result = workspace.compute(arm, resolution=resolution, samples=_count(samples, "--samples"),
+                                       chunk_size=chunk_size, orientations=orientations,
+                                       manipulability_samples=_count(manipulability_samples,
+                                                                     "--manipulability-samples"),
+                                       singular_threshold=singular_threshold, out=out, **common)
+    finally:
+        if cluster is not None:
+            engine.close()
+            cluster.close()
+    summary = result.summary()
+    if report and dataset is None:
+        from armkit.workspace.report import write_workspace_report
+
+        default = out.with_name(out.stem + "-report") if out else Path("armkit-workspace-report")
+        folder = report_dir or default
+        summary["report"] = str(write_workspace_report(result, folder, force=force))
+    if json_output:
+        print_json(summary)
+    elif dataset is not None:
+        console.print(f"IK data set: {summary['samples']:,} rows, {summary['mean_solutions']:.2f} solutions "
+                      f"per pose on average, in {summary['store']}", highlight=False)
+    else:
+        _print_summary(summary)
+        if "report" in summary:
+            console.print(f"report: {summary['report']}", highlight=False)

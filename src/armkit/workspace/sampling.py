@@ -1,0 +1,140 @@
+"""The workspace maps' only contact with the kinematics: configurations in, positions, IK counts out.
+
+Every map computes through the three batch functions here (:func:`tool_positions`,
+:func:`singular_values`, :func:`ik_solution_counts`), so a faster kernel replaces them in
+one place. Configurations come in chunks, each drawn from its own seed
+(``SeedSequence(seed, spawn_key=(chunk,))``, the ``chunk``-th child of ``SeedSequence(seed)``),
+so a chunk's samples do not depend on which worker draws it, or when.
+
+``method="uniform"``: independent uniform configurations in the joint box.
+``method="sobol"``: each chunk is a scrambled Sobol point set of the chunk's size, scrambled
+by the chunk's own seed (independent randomised quasi-Monte Carlo replicates; a chunk size
+that is a power of two keeps Sobol's balance). One long sequence split by ``fast_forward``
+would cost time proportional to the chunk's position in scipy.
+"""
+
+from __future__ import annotations
+
+import tomllib
+import warnings
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armkit.errors import InputError
+from armkit.ik import analyze_structure, ik_solutions, numeric_ik
+from armkit.kinematics import fk
+from armkit.robot import Robot
+from armkit.robot_file import robot_from_dict
+
+__all__ = ["METHODS", "SamplePlan", "configurations", "has_closed_form", "ik_solution_counts", "joint_box",
+           "robot_from_toml", "singular_values", "tool_positions"]
+
+METHODS = ("uniform", "sobol")
+#: Travel [m] sampled for a prismatic joint without limits (as :meth:`armkit.Robot.random_q`).
+UNBOUNDED_TRAVEL = 1.0
+
+
+@dataclass(frozen=True)
+class SamplePlan:
+    """How many configurations, in chunks of what size, from which seed and sequence.
+
+    Examples
+    --------
+    >>> plan = SamplePlan(samples=10, chunk_size=4)
+    >>> plan.n_chunks, [plan.chunk_count(i) for i in range(plan.n_chunks)]
+    (3, [4, 4, 2])
+    """
+
+    samples: int
+    chunk_size: int = 2**18
+    seed: int = 0
+    method: str = "uniform"
+
+    def __post_init__(self) -> None:
+        for name in ("samples", "chunk_size"):
+            value = getattr(self, name)
+            if not (isinstance(value, int | np.integer) and value > 0):
+                raise InputError(f"{name}: expected a positive whole number, got {value!r}")
+        if self.method not in METHODS:
+            raise InputError(f"sampling method {self.method!r}; expected one of {', '.join(METHODS)}")
+        if not (isinstance(self.seed, int | np.integer) and self.seed >= 0):
+            raise InputError(f"seed: expected a whole number >= 0, got {self.seed!r}")
+
+    @property
+    def n_chunks(self) -> int:
+        return -(-self.samples // self.chunk_size)
+
+    def chunk_count(self, chunk: int) -> int:
+        """Configurations in chunk ``chunk`` (the last one may be short)."""
+        return min(self.chunk_size, self.samples - chunk * self.chunk_size)
+
+    def to_attrs(self) -> dict:
+        return {"samples": int(self.samples), "chunk_size": int(self.chunk_size), "seed": int(self.seed),
+                "method": self.method}
+
+
+@lru_cache(maxsize=8)
+def robot_from_toml(text: str) -> Robot:
+    """The robot a robot file's text describes, built once per process (tasks carry the text, not the
+    robot, so that they pickle for a Dask worker)."""
+    return robot_from_dict(tomllib.loads(text), "robot description in the task")
+
+
+def joint_box(robot: Robot) -> NDArray[np.float64]:
+    """``(n, 2)`` the joint ranges sampled [rad or m]: the limits, ±1 m for an unbounded prismatic joint."""
+    limits = robot.limits
+    return np.where(np.isfinite(limits), limits, [[-UNBOUNDED_TRAVEL, UNBOUNDED_TRAVEL]])
+
+
+def configurations(robot: Robot, plan: SamplePlan, chunk: int) -> NDArray[np.float64]:
+    """Chunk ``chunk``'s configurations ``(plan.chunk_count(chunk), n)`` [rad or m], inside the limits.
+
+    >>> import armkit
+    >>> robot = armkit.load("ur5")
+    >>> plan = SamplePlan(100, chunk_size=50, seed=7)
+    >>> bool((configurations(robot, plan, 1) == configurations(robot, plan, 1)).all())
+    True
+    """
+    rng = np.random.default_rng(np.random.SeedSequence(int(plan.seed), spawn_key=(int(chunk),)))
+    count, box = plan.chunk_count(chunk), joint_box(robot)
+    if plan.method == "sobol":
+        from scipy.stats import qmc
+
+        with warnings.catch_warnings():  # a short last chunk is not a power of two: known, see above
+            warnings.filterwarnings("ignore", "The balance properties", UserWarning)
+            unit = qmc.Sobol(robot.n, scramble=True, rng=rng).random(count)
+    else:
+        unit = rng.random((count, robot.n))
+    return box[:, 0] + unit * (box[:, 1] - box[:, 0])
+
+
+def tool_positions(robot: Robot, q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Tool positions ``(N, 3)`` [m] in the base frame of configurations ``(N, n)``."""
+    return fk(robot.chain, q)[..., :3, 3]
+
+
+def singular_values(robot: Robot, q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Singular values ``(N, min(6, n))`` of the base-frame Jacobian, descending (m and rad mixed)."""
+    return robot.singular_values(q)
+
+
+def has_closed_form(robot: Robot) -> bool:
+    """Whether armkit solves this arm's IK in closed form (else :func:`ik_solution_counts` is numeric)."""
+    return analyze_structure(robot.chain).closed_form
+
+
+def ik_solution_counts(robot: Robot, T_base_tool: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Distinct IK solutions inside the joint limits of each target pose ``(N, 4, 4)``: ``(N,)``.
+
+    Closed form: every solution (a singular family counts once). Without a closed form, a
+    numeric solve per pose (slow, ~1 ms each) that can only say 1 (solved) or 0.
+    """
+    if not has_closed_form(robot):
+        return np.array([int(numeric_ik(robot.chain, T, rng=0, max_restarts=20).success)
+                         for T in T_base_tool], dtype=np.int64)
+    found = ik_solutions(robot.chain, T_base_tool)
+    kept = np.arange(found.within_limits.shape[1]) < found.counts[:, None]
+    return (found.within_limits & kept).sum(axis=1).astype(np.int64)

@@ -1,0 +1,98 @@
+"""Reachability maps against analytic workspaces: a planar 2R arm's annulus, a wrist centre's shell."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armkit
+from armkit.errors import InputError
+from armkit.workspace import grid_for, reachability
+from armkit.workspace.grid import reach_bound
+from armkit.workspace.sampling import SamplePlan, configurations
+
+
+def planar_2r(l1: float, l2: float) -> armkit.Robot:
+    return armkit.Robot.from_dh([armkit.DHRow(0, l1, 0, 0), armkit.DHRow(0, l2, 0, 0)], "standard",
+                                limits=[(-np.pi, np.pi)] * 2)
+
+
+def wrist_centre_arm() -> armkit.Robot:
+    """PROBOT Anno's joints without its tool rows and with full turns: its tool point is the wrist centre."""
+    probot = armkit.load("probot-anno")
+    return armkit.Robot.from_dh(probot.dh.rows, probot.dh.convention, limits=[(-np.pi, np.pi)] * 6)
+
+
+@pytest.mark.parametrize("method", ["uniform", "sobol"])
+def test_planar_2r_area_is_the_annulus_within_the_stated_error(method):
+    l1, l2 = 0.3, 0.2
+    area = reachability(planar_2r(l1, l2), resolution=0.01, samples=300_000, method=method,
+                        chunk_size=2**15).volume()
+    exact = np.pi * ((l1 + l2) ** 2 - (l1 - l2) ** 2)
+    assert area.unit == "m^2"
+    assert abs(area.value - exact) <= area.error
+    assert area.error < 0.05 * exact          # the statement is not empty
+
+
+def test_wrist_centre_volume_is_the_spherical_shell_within_the_stated_error():
+    l2, l3 = 0.225, 0.2289                    # PROBOT Anno's upper arm a3 and forearm d4
+    volume = reachability(wrist_centre_arm(), resolution=0.03, samples=400_000, chunk_size=2**16).volume()
+    exact = 4 / 3 * np.pi * ((l2 + l3) ** 3 - (l2 - l3) ** 3)
+    assert volume.unit == "m^3"
+    assert abs(volume.value - exact) <= volume.error
+    assert volume.error < 0.2 * exact
+
+
+def test_more_samples_shrink_the_sampling_error_of_an_undersampled_map():
+    arm = planar_2r(0.3, 0.2)
+    few = reachability(arm, resolution=0.005, samples=40_000).volume()
+    many = reachability(arm, resolution=0.005, samples=640_000).volume()
+    assert many.sampling_error < few.sampling_error / 10
+    assert many.occupied > few.occupied
+
+
+def test_no_sample_falls_outside_the_grid_and_counts_add_up():
+    robot = armkit.load("ur5")
+    result = reachability(robot, resolution=0.05, samples=30_000, chunk_size=7_000)
+    assert result.outside == 0 and result.complete
+    assert result.hits.sum() == 30_000 == result.samples
+
+
+def test_reach_bound_holds_every_sampled_tool_position():
+    for name in ("probot-anno", "stanford", "puma560"):
+        robot = armkit.load(name)
+        centre, reach = reach_bound(robot)
+        p = robot.fk(robot.random_q(5_000, rng=1))[:, :3, 3]
+        assert np.linalg.norm(p - centre, axis=1).max() <= reach + 1e-12
+
+
+def test_counts_do_not_depend_on_the_number_of_threads():
+    robot = armkit.load("probot-anno")
+    one = reachability(robot, resolution=0.04, samples=40_000, chunk_size=5_000, engine=1)
+    three = reachability(robot, resolution=0.04, samples=40_000, chunk_size=5_000, engine=3)
+    np.testing.assert_array_equal(one.hits, three.hits)
+
+
+def test_a_chunk_is_the_same_whoever_draws_it_and_chunks_differ():
+    robot = armkit.load("ur5")
+    plan = SamplePlan(1000, chunk_size=100, seed=3, method="sobol")
+    np.testing.assert_array_equal(configurations(robot, plan, 4), configurations(robot, plan, 4))
+    assert not np.allclose(configurations(robot, plan, 4), configurations(robot, plan, 5))
+    q = configurations(robot, plan, 9)
+    assert robot.within_limits(q).all()
+
+
+def test_planar_arm_gets_one_voxel_layer():
+    grid = grid_for(planar_2r(0.3, 0.2), 0.01)
+    assert grid.flat == (False, False, True) and grid.shape[2] == 1
+
+
+@pytest.mark.parametrize(("kwargs", "match"), [
+    ({"resolution": -1.0}, "resolution: expected a positive length"),
+    ({"resolution": 1e-6}, "choose a coarser one"),
+    ({"samples": 0}, "samples: expected a positive whole number"),
+    ({"method": "halton"}, "sampling method 'halton'"),
+])
+def test_bad_settings_are_named(kwargs, match):
+    with pytest.raises(InputError, match=match):
+        reachability(planar_2r(0.3, 0.2), **{"resolution": 0.1, "samples": 10, **kwargs})
