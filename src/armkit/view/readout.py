@@ -43,7 +43,7 @@ def joint_text(robot: Robot, q: NDArray[np.float64], degrees: bool, digits: int 
 
 
 def _matrix_text(T: NDArray[np.float64]) -> str:
-    return "\n".join(" ".join(f"{v:10.6f}" for v in row + 0.0) for row in T)
+    return "\n".join(" ".join(f"{v:10.6f}" for v in row) for row in np.round(T, 6) + 0.0)
 
 
 def _orientation(T: NDArray[np.float64], convention: str, degrees: bool) -> tuple[str, NDArray[np.float64]]:
@@ -65,9 +65,9 @@ def pose_html(robot: Robot, q: NDArray[np.float64], T: NDArray[np.float64], conv
         f"<b>T_base_tool</b> [m]<pre data-armkit='pose-matrix' style='margin:2px 0'>"
         f"{_matrix_text(T)}</pre>"
         f"<div>position [m]: <span data-armkit='position'>"
-        f"{' '.join(f'{v:.6f}' for v in T[:3, 3] + 0.0)}</span></div>"
+        f"{' '.join(f'{v:.6f}' for v in np.round(T[:3, 3], 6) + 0.0)}</span></div>"
         f"<div>{html.escape(label)}: <span data-armkit='orientation'>"
-        f"{' '.join(f'{v:.{digits}f}' for v in values + 0.0)}</span></div>"
+        f"{' '.join(f'{v:.{digits}f}' for v in np.round(values, digits) + 0.0)}</span></div>"
         f"<div>manipulability: <span data-armkit='manipulability'>{robot.manipulability(q):.4g}</span>, "
         f"smallest singular value: <span data-armkit='sigma-min'>{sigma[-1]:.4g}</span></div></div>")
 
