@@ -7,7 +7,7 @@ import sys
 from rich.markup import escape
 
 from armkit._jit import announce_compilation
-from armkit.cli import ik, kinematics, lab, motion, robots, sim, trajectory  # noqa: F401  (register commands)
+from armkit.cli import ik, kinematics, lab, motion, robots, sim, trajectory, view  # noqa: F401  (register)
 from armkit.cli.app import app, err_console
 from armkit.errors import ArmkitError
 

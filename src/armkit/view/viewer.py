@@ -29,7 +29,7 @@ from armkit.spatial.rotations import matrix_from_quaternion_wxyz, quaternion_wxy
 from armkit.spatial.transforms import check_transform, transform_from
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.plan import plan_trajectory
-from armkit.trajectory.waypoints import write_waypoints
+from armkit.trajectory.waypoints import joint_waypoints, write_waypoints
 from armkit.view import readout
 from armkit.view.geometry import arm_size, ellipsoid_axes, unit_sphere
 from armkit.view.playback import Playback
@@ -151,6 +151,13 @@ class Viewer:
         """The taught waypoints ``(M, n)`` [rad or m]."""
         with self._lock:
             return np.array(self._waypoints).reshape(len(self._waypoints), self.robot.n)
+
+    @waypoints.setter
+    def waypoints(self, values: ArrayLike) -> None:
+        checked = joint_waypoints(self.robot, np.reshape(values, (-1, self.robot.n)))
+        with self._lock:
+            self._waypoints = list(checked)
+            self._draw_waypoints()
 
     @property
     def playback(self) -> Playback | None:
@@ -316,10 +323,10 @@ class Viewer:
         scene.set_up_direction("+z")
         self._server.gui.configure_theme(control_width="large", show_share_button=False)
         # looking from the front right, aimed to the right of the arm so the panel leaves it in view
-        self._server.initial_camera.look_at = (0.17 * self._size, 0.2 * self._size, 0.3 * self._size)
-        self._server.initial_camera.position = (1.15 * self._size, -0.95 * self._size, 0.8 * self._size)
+        self._server.initial_camera.look_at = (0.12 * self._size, 0.16 * self._size, 0.3 * self._size)
+        self._server.initial_camera.position = (0.85 * self._size, -0.7 * self._size, 0.65 * self._size)
         step = _nice_step(self._size)
-        half = step * np.ceil(self._size / step)
+        half = step * np.ceil(0.6 * self._size / step)
         scene.add_grid("/floor", width=2 * half, height=2 * half, cell_size=step / 2, section_size=step,
                        plane_opacity=0.0, shadow_opacity=0.0)
         ticks = np.arange(-half, half + step / 2, step)
@@ -445,7 +452,8 @@ class Viewer:
                                            "drag the handle at the tool to solve IK</div>")
             gui.add_button("handle to tool").on_click(lambda _: self._guarded(self._handle_to_tool))
         with gui.add_folder("Waypoints and trajectory"):
-            gui.add_button("teach waypoint").on_click(lambda _: self._guarded(self.teach))
+            self._teach_button = gui.add_button("teach waypoint")
+            self._teach_button.on_click(lambda _: self._guarded(self.teach))
             gui.add_button("clear waypoints").on_click(lambda _: self._guarded(self.clear_waypoints))
             self._waypoint_list = gui.add_html(readout.waypoints_html(self.robot, [], True))
             self._plan_button = gui.add_button("plan through waypoints (auto time)", disabled=True)
@@ -460,7 +468,8 @@ class Viewer:
             self._play_button.on_click(lambda _: self._guarded(self._toggle_play))
             self._play_status = gui.add_html("")
             self._waypoint_file = gui.add_text("waypoints file", "waypoints.csv")
-            gui.add_button("save waypoints").on_click(lambda event: self._guarded(lambda: self._save_clicked(event)))
+            self._save_button = gui.add_button("save waypoints")
+            self._save_button.on_click(lambda event: self._guarded(lambda: self._save_clicked(event)))
         self._status = gui.add_html("")
 
     @property
@@ -609,7 +618,10 @@ class Viewer:
                 with self._server.atomic():
                     ghost.update(found.q[k])
                     ghost.colour(colour, colour)
-                label.position = ghost.placement.joint_origins[self.robot.n // 2] + [0, 0, 2 * self._radius]
+                # beside the middle joint, towards the next joint's axis: wrist flips get apart
+                middle = self.robot.n // 2
+                label.position = (ghost.placement.joint_origins[middle]
+                                  + 5 * self._radius * ghost.placement.joint_axes[min(middle + 1, self.robot.n - 1)])
             ghost.visible = shown
             label.visible = shown
         inside = np.flatnonzero(found.within_limits)
