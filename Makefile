@@ -10,7 +10,7 @@ $(BIN)/activate:
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
 $(VENV)/.installed-demo: pyproject.toml | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e ".[sim]"
+	$(BIN)/python -m pip install --quiet -e ".[sim,view]"
 	touch $@
 
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/activate

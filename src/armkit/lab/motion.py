@@ -24,8 +24,8 @@ from armkit.spatial.transforms import pose_from_transform, transform_from_pose
 from armkit.trajectory import plan_trajectory
 from armkit.trajectory.waypoints import write_waypoints
 
-__all__ = ["TRAJECTORY_FILE", "WAYPOINTS_FILE", "fixed_point_rotation", "linear_motion", "ready_configuration",
-           "trajectory_experiment"]
+__all__ = ["TRAJECTORY_FILE", "WAYPOINTS_FILE", "fixed_point_rotation", "linear_motion",
+           "ready_configuration", "trajectory_experiment"]
 
 LINE_SECONDS = 5.0
 #: Files of the report folder holding experiment 4's samples and waypoints (``armkit lab --view`` plays them).

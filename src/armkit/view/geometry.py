@@ -118,7 +118,8 @@ def unit_cylinder(segments: int = 24) -> tuple[NDArray[np.float32], NDArray[np.u
     i = np.arange(segments)
     j = (i + 1) % segments
     c_bottom, c_top = 2 * segments, 2 * segments + 1
-    sides = np.concatenate([np.column_stack([i, j, segments + j]), np.column_stack([i, segments + j, segments + i])])
+    sides = np.concatenate([np.column_stack([i, j, segments + j]),
+                            np.column_stack([i, segments + j, segments + i])])
     caps = np.concatenate([np.column_stack([np.full(segments, c_bottom), j, i]),
                            np.column_stack([np.full(segments, c_top), segments + i, segments + j])])
     return vertices.astype(np.float32), np.concatenate([sides, caps]).astype(np.uint32)

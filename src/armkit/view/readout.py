@@ -98,8 +98,9 @@ def waypoints_html(robot: Robot, waypoints: list[NDArray[np.float64]], degrees: 
     """The taught waypoints, numbered as the markers in the scene."""
     if not waypoints:
         return "<div style='font-size:0.8em' data-armkit='waypoints'>no waypoints taught yet</div>"
-    rows = "".join(f"<tr data-armkit='waypoint'><td>W{k + 1}</td><td>{' '.join(joint_text(robot, q, degrees, 1))}"
-                   f"</td></tr>" for k, q in enumerate(waypoints))
+    rows = "".join(f"<tr data-armkit='waypoint'><td>W{k + 1}</td>"
+                   f"<td>{' '.join(joint_text(robot, q, degrees, 1))}</td></tr>"
+                   for k, q in enumerate(waypoints))
     return f"<div style='font-size:0.8em' data-armkit='waypoints'><table>{rows}</table></div>"
 
 

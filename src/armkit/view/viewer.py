@@ -124,7 +124,7 @@ class Viewer:
 
     @property
     def q(self) -> NDArray[np.float64]:
-        """The arm's configuration ``(n,)`` [rad or m]; assign to move the arm (any value, limits not enforced)."""
+        """The arm's configuration ``(n,)`` [rad or m]; assign to move the arm (limits not enforced)."""
         with self._lock:
             return self._q.copy()
 
@@ -341,8 +341,10 @@ class Viewer:
         self._axes = scene.add_line_segments("/joint_axes", points=np.zeros((self.robot.n, 2, 3)),
                                              colors=Colours.AXIS, thickness=0.25 * self._radius)
         self._axis_length = axis
-        self._frames = scene.add_batched_axes("/link_frames", batched_wxyzs=np.tile([1.0, 0, 0, 0], (self.robot.n + 2, 1)),
-                                              batched_positions=np.zeros((self.robot.n + 2, 3)),
+        frames = self.robot.n + 2
+        self._frames = scene.add_batched_axes("/link_frames",
+                                              batched_wxyzs=np.tile([1.0, 0, 0, 0], (frames, 1)),
+                                              batched_positions=np.zeros((frames, 3)),
                                               axes_length=2.5 * self._radius, axes_radius=0.12 * self._radius)
         self._ghosts = [ArmDrawing(scene, f"/ghost/{k}", self.robot, 0.8 * self._radius, self._q, opacity=0.3)
                         for k in range(MAX_GHOSTS)]
@@ -476,11 +478,14 @@ class Viewer:
     def _degrees(self) -> bool:
         return self._units.value == "deg"
 
+    def _in_degrees(self, j: int) -> bool:
+        return self._degrees and not self.robot.chain.prismatic[j]
+
     def _to_slider(self, j: int, value: float) -> float:
-        return float(np.degrees(value)) if self._degrees and not self.robot.chain.prismatic[j] else float(value)
+        return float(np.degrees(value)) if self._in_degrees(j) else float(value)
 
     def _from_slider(self, j: int, value: float) -> float:
-        return float(np.radians(value)) if self._degrees and not self.robot.chain.prismatic[j] else float(value)
+        return float(np.radians(value)) if self._in_degrees(j) else float(value)
 
     def _rebuild_sliders(self) -> None:
         with self._lock:
@@ -492,17 +497,19 @@ class Viewer:
                                                               strict=True)):
                     prismatic = self.robot.chain.prismatic[j]
                     span = self._size if prismatic else np.pi
-                    lower, upper = (lower if np.isfinite(lower) else -span), (upper if np.isfinite(upper) else span)
+                    lower = lower if np.isfinite(lower) else -span
+                    upper = upper if np.isfinite(upper) else span
                     unit = "m" if prismatic else self._units.value
                     step = 0.0005 if prismatic else (0.1 if self._degrees else 0.001)
                     slider = self._server.gui.add_slider(
-                        f"{name} [{unit}]", min=self._to_slider(j, lower), max=self._to_slider(j, upper), step=step,
-                        initial_value=self._to_slider(j, np.clip(self._q[j], lower, upper)))
+                        f"{name} [{unit}]", min=self._to_slider(j, lower), max=self._to_slider(j, upper),
+                        step=step, initial_value=self._to_slider(j, np.clip(self._q[j], lower, upper)))
                     slider.on_update(lambda _, j=j: self._guarded(lambda: self._on_slider(j)))
                     self._sliders.append(slider)
             if hasattr(self, "_readout"):
                 self._redraw()
-                self._waypoint_list.content = readout.waypoints_html(self.robot, self._waypoints, self._degrees)
+                self._waypoint_list.content = readout.waypoints_html(self.robot, self._waypoints,
+                                                                     self._degrees)
                 if self._solutions is not None:
                     self._show_list()
 
@@ -620,8 +627,8 @@ class Viewer:
                     ghost.colour(colour, colour)
                 # beside the middle joint, towards the next joint's axis: wrist flips get apart
                 middle = self.robot.n // 2
-                label.position = (ghost.placement.joint_origins[middle]
-                                  + 5 * self._radius * ghost.placement.joint_axes[min(middle + 1, self.robot.n - 1)])
+                side = ghost.placement.joint_axes[min(middle + 1, self.robot.n - 1)]
+                label.position = ghost.placement.joint_origins[middle] + 5 * self._radius * side
             ghost.visible = shown
             label.visible = shown
         inside = np.flatnonzero(found.within_limits)
@@ -655,8 +662,9 @@ class Viewer:
         method = "closed form" if self.closed_form else "numeric, nearest the arm"
         self._ik_status.content = readout.solutions_html(self.robot, found, self._solution_index,
                                                          self._degrees, method)
-        options = tuple(f"{k + 1}: {'in limits' if ok else 'OUT of limits'}{', singular family' if fam else ''}"
-                        for k, (ok, fam) in enumerate(zip(found.within_limits, found.family, strict=True)))
+        options = tuple(f"{k + 1}: {'in limits' if ok else 'OUT of limits'}"
+                        f"{', singular family' if family else ''}"
+                        for k, (ok, family) in enumerate(zip(found.within_limits, found.family, strict=True)))
         self._set_pick_options(options, disabled=False,
                                value=None if self._solution_index is None else options[self._solution_index])
 
@@ -727,5 +735,5 @@ class Viewer:
         cancel.on_click(lambda _: modal.close())
 
     def _saved(self, path: Path) -> None:
-        self._status.content = (f"<div style='font-size:0.8em' data-armkit='saved'>saved {len(self._waypoints)} "
-                                f"waypoints to {path}</div>")
+        self._status.content = (f"<div style='font-size:0.8em' data-armkit='saved'>saved "
+                                f"{len(self._waypoints)} waypoints to {html.escape(str(path))}</div>")
