@@ -13,7 +13,7 @@ $(BIN)/activate:
 CORE := CMakeLists.txt $(wildcard cpp/src/*.cpp cpp/src/*.hpp cpp/include/armkit/*.hpp)
 
 $(VENV)/.installed-demo: pyproject.toml $(CORE) | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e ".[sim]"
+	$(BIN)/python -m pip install --quiet -e ".[sim,view]"
 	touch $@
 
 $(VENV)/.installed-test: pyproject.toml $(CORE) | $(BIN)/activate

@@ -11,6 +11,7 @@ from rich.markup import escape
 from armkit.cli.app import BaseOpt, LockOpt, TipOpt, app, console, load_robot, print_json
 from armkit.cli.sim import require_mujoco
 from armkit.errors import InputError
+from armkit.robot import Robot
 
 
 @app.command("lab")
@@ -27,6 +28,12 @@ def lab_command(
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
+    view: Annotated[bool, typer.Option("--view", help="Afterwards open the 3-D viewer (armkit view) on "
+                                                      "the robot with the trajectory experiment's motion "
+                                                      "and waypoints.")] = False,
+    port: Annotated[int, typer.Option(help="With --view: TCP port of the viewer.")] = 8080,
+    no_browser: Annotated[bool, typer.Option("--no-browser", help="With --view: do not open a "
+                                                                  "browser.")] = False,
 ) -> None:
     """Reproduce the seed experiments (FK, IK, straight line, trajectory, rotation) in MuJoCo; write HTML.
 
@@ -54,5 +61,24 @@ def lab_command(
                     why = f"[red]{status_label(section.status, robot is None)}[/red]: {why}"
                 console.print(f"{escape(section.title)}: {why}", highlight=False, soft_wrap=True)
         console.print(f"report: {escape(str(result.index))} ({result.seconds:.0f} s)", highlight=False)
+    if view:
+        _view(arm if arm is not None else "probot-anno", out, port, not no_browser)
     if failed:
         raise typer.Exit(1)
+
+
+def _view(robot: str | Robot, out: Path, port: int, open_browser: bool) -> None:
+    """The viewer on the lab's robot, with experiment 4's trajectory on the timeline and its waypoints."""
+    from armkit.cli.view import serve
+    from armkit.lab.motion import TRAJECTORY_FILE, WAYPOINTS_FILE
+    from armkit.trajectory import read_waypoints
+    from armkit.view import Viewer
+
+    viewer = Viewer(robot, port=port)
+    try:
+        viewer.waypoints = read_waypoints(out / WAYPOINTS_FILE, viewer.robot.n)
+        viewer.load(out / TRAJECTORY_FILE)
+    except BaseException:
+        viewer.close()
+        raise
+    serve(viewer, open_browser)

@@ -22,10 +22,15 @@ from armkit.sim.runner import SimResult
 from armkit.spatial.rotations import rotation_angle_between
 from armkit.spatial.transforms import pose_from_transform, transform_from_pose
 from armkit.trajectory import plan_trajectory
+from armkit.trajectory.waypoints import write_waypoints
 
-__all__ = ["fixed_point_rotation", "linear_motion", "ready_configuration", "trajectory_experiment"]
+__all__ = ["TRAJECTORY_FILE", "WAYPOINTS_FILE", "fixed_point_rotation", "linear_motion",
+           "ready_configuration", "trajectory_experiment"]
 
 LINE_SECONDS = 5.0
+#: Files of the report folder holding experiment 4's samples and waypoints (``armkit lab --view`` plays them).
+TRAJECTORY_FILE = "trajectory.csv"
+WAYPOINTS_FILE = "trajectory_waypoints.csv"
 ROTATION_RATE = 0.2  # rad/s, for a user's arm
 USER_ROTATION_ANGLE = np.radians(60.0)
 MIN_TURN_DEG = 40.0  # the seed experiment's minimum
@@ -264,6 +269,11 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     trajectory = plan_trajectory(robot, q, durations)
     samples = trajectory.sample(1000.0)
     result = ctx.sim.run(samples.t, samples.q, samples.qd)
+    trajectory.to_csv(ctx.path(TRAJECTORY_FILE), rate_hz=100.0, overwrite=True)
+    write_waypoints(ctx.path(WAYPOINTS_FILE), robot, q, overwrite=True)
+    section.notes.append(f"The trajectory (100 Hz samples) and its waypoints are in the report folder as "
+                         f"{TRAJECTORY_FILE} and {WAYPOINTS_FILE}; play them in the 3-D viewer with "
+                         f"'armkit lab --view' or 'armkit view ROBOT --trajectory {TRAJECTORY_FILE}'.")
     section.tables.append(_waypoint_table(ctx, q, poses, report_q, trajectory.waypoint_times, result))
     limit_rows = []
     for j, name in enumerate(robot.joint_names):

@@ -12,13 +12,14 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armkit._io import check_output_path
 from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.robot import Robot
 from armkit.spatial.transforms import transform_from_pose
 from armkit.trajectory._checks import check_waypoints
 from armkit.trajectory.export import read_csv_rows
 
-__all__ = ["joint_waypoints", "joint_waypoints_from_poses", "read_waypoints"]
+__all__ = ["joint_waypoints", "joint_waypoints_from_poses", "read_waypoints", "write_waypoints"]
 
 
 def _show(values: NDArray[np.float64]) -> str:
@@ -39,6 +40,42 @@ def read_waypoints(path: str | Path, columns: int) -> NDArray[np.float64]:
     if len(rows) < 2:
         raise InputError(f"{path}: a trajectory needs at least two waypoints, found {len(rows)}")
     return rows
+
+
+def write_waypoints(path: str | Path, robot: Robot, waypoints: ArrayLike, overwrite: bool = False,
+                    remedy: str = "pass overwrite=True") -> Path:
+    """Write joint waypoints as the CSV :func:`read_waypoints` (and ``armkit traj --waypoints``) reads.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file; an existing file is replaced only with ``overwrite``.
+    robot : Robot
+        The arm: each waypoint needs ``robot.n`` values inside its position limits.
+    waypoints : (M, n) array
+        Joint values [rad or m].
+    remedy : str
+        How the caller allows overwriting, quoted in the error.
+
+    Raises
+    ------
+    InputError, JointLimitError
+        The file exists (and not ``overwrite``), a wrong joint count, a waypoint outside the limits.
+
+    Examples
+    --------
+    >>> import armkit, tempfile
+    >>> robot = armkit.load("probot-anno")
+    >>> path = write_waypoints(Path(tempfile.mkdtemp()) / "w.csv", robot, [[0, 0, 0, 0, 0, 0], [0.1] * 6])
+    >>> read_waypoints(path, robot.n)[1].tolist() == [0.1] * 6
+    True
+    """
+    waypoints = joint_waypoints(robot, waypoints)
+    path = check_output_path(path, overwrite, remedy=remedy)
+    header = (f"# {robot.name}: {len(waypoints)} joint waypoints (rad, prismatic m)\n"
+              + ",".join(f"q{j}" for j in range(1, robot.n + 1)))
+    np.savetxt(path, waypoints, delimiter=",", header=header, comments="", fmt="%.17g")
+    return path
 
 
 def joint_waypoints(robot: Robot, waypoints: ArrayLike) -> NDArray[np.float64]:

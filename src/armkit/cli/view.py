@@ -1,0 +1,54 @@
+"""``armkit view``: the arm in the browser, a thin layer over :class:`armkit.view.Viewer`."""
+
+from __future__ import annotations
+
+import sys
+import webbrowser
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from armkit.cli.app import app, console, err_console
+
+#: Exit code after Ctrl-C (128 + SIGINT), as shells report it.
+INTERRUPTED = 130
+
+
+def serve(viewer, open_browser: bool) -> None:
+    """Print the address, open it in the browser unless told not to, serve until Ctrl-C."""
+    console.print(f"armkit view: {viewer.robot.name} at {viewer.url} (Ctrl-C to stop)", highlight=False)
+    if open_browser:
+        webbrowser.open(viewer.url)
+    try:
+        viewer.serve_forever()
+    except KeyboardInterrupt:
+        viewer.close()
+        err_console.print("armkit view: stopped", highlight=False)
+        sys.exit(INTERRUPTED)
+
+
+@app.command("view")
+def view_command(
+    robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
+    port: Annotated[int, typer.Option(help="TCP port of the page (the next free one if taken).")] = 8080,
+    host: Annotated[str, typer.Option(help="Interface to listen on; 0.0.0.0 lets other machines "
+                                           "open the page.")] = "127.0.0.1",
+    trajectory: Annotated[Path | None, typer.Option(
+        help="A trajectory file 'armkit traj' wrote, put on the timeline.", show_default=False)] = None,
+    no_browser: Annotated[bool, typer.Option("--no-browser", help="Do not open a browser.")] = False,
+) -> None:
+    """Interactive 3-D teach panel in the browser: joint sliders, every IK solution, trajectories.
+
+    Example: armkit view probot-anno
+    """
+    from armkit.view import Viewer
+
+    viewer = Viewer(robot, port=port, host=host)
+    try:
+        if trajectory is not None:
+            viewer.load(trajectory)
+    except BaseException:
+        viewer.close()
+        raise
+    serve(viewer, not no_browser)

@@ -1,0 +1,87 @@
+"""The arm in viser's scene: one instanced mesh of link and joint cylinders per drawn configuration."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armkit.robot import Robot
+from armkit.view.geometry import arm_placement, unit_cylinder
+
+__all__ = ["ArmDrawing", "Colours"]
+
+
+class Colours:
+    """RGB colours of the scene (0-255)."""
+
+    LINK = (150, 160, 175)
+    JOINT = (240, 150, 40)
+    AT_LIMIT = (220, 30, 30)
+    GHOST_IN = (40, 170, 70)
+    GHOST_OUT = (220, 50, 50)
+    GHOST_FAMILY = (230, 190, 0)
+    AXIS = (30, 90, 220)
+    PATH = (120, 60, 200)
+    WAYPOINT = (20, 120, 220)
+
+
+class ArmDrawing:
+    """One configuration of the arm drawn as cylinders (a single instanced mesh).
+
+    Parameters
+    ----------
+    scene : viser.SceneApi
+    name : str
+        Scene node name, e.g. ``"/arm"``.
+    robot : Robot
+    radius : float
+        Link radius [m].
+    opacity : float, optional
+        ``None`` draws opaque; ghosts use about 0.3.
+    """
+
+    def __init__(self, scene: Any, name: str, robot: Robot, radius: float, q: NDArray[np.float64],
+                 opacity: float | None = None) -> None:
+        self.robot, self.radius = robot, radius
+        self.placement = arm_placement(robot, q, radius)
+        self._scheme: tuple = (Colours.LINK, Colours.JOINT, None)
+        vertices, faces = unit_cylinder()
+        self.handle = scene.add_batched_meshes_simple(
+            name, vertices, faces, batched_wxyzs=self.placement.wxyzs,
+            batched_positions=self.placement.positions, batched_scales=self.placement.scales,
+            batched_colors=self._colours(*self._scheme), opacity=opacity, lod="off",
+            cast_shadow=False, receive_shadow=False)
+
+    def _colours(self, link: tuple[int, int, int], joint: tuple[int, int, int],
+                 highlight: NDArray[np.bool_] | None = None) -> NDArray[np.uint8]:
+        colours = np.array([link] * self.placement.link_count + [joint] * self.robot.n, dtype=np.uint8)
+        if highlight is not None:
+            colours[self.placement.link_count:][highlight] = Colours.AT_LIMIT
+        return colours
+
+    def update(self, q: NDArray[np.float64]) -> None:
+        """Draw the arm at ``q`` [rad or m]."""
+        placement = arm_placement(self.robot, q, self.radius)
+        recolour = placement.link_count != self.placement.link_count  # a segment appeared or vanished
+        self.placement = placement
+        if recolour:
+            self.handle.batched_colors = self._colours(*self._scheme)
+        self.handle.batched_positions = placement.positions
+        self.handle.batched_wxyzs = placement.wxyzs
+        self.handle.batched_scales = placement.scales
+
+    def colour(self, link: tuple[int, int, int], joint: tuple[int, int, int],
+               highlight: NDArray[np.bool_] | None = None) -> None:
+        """Colour links and joints; joints flagged in ``highlight`` ``(n,)`` in the at-limit red."""
+        self._scheme = (link, joint, highlight)
+        self.handle.batched_colors = self._colours(*self._scheme)
+
+    @property
+    def visible(self) -> bool:
+        return bool(self.handle.visible)
+
+    @visible.setter
+    def visible(self, value: bool) -> None:
+        self.handle.visible = value

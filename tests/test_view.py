@@ -1,0 +1,214 @@
+"""armkit view without a browser: the drawing geometry, the read-outs, and the Viewer's Python API
+(a real viser server in this process, no page connected)."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+import urllib.request
+
+import numpy as np
+import pytest
+
+import armkit
+from armkit.errors import InputError, JointLimitError, UnreachableError
+from armkit.lab import published
+from armkit.spatial.transforms import transform_from, transform_from_pose
+from armkit.trajectory import read_waypoints
+from armkit.view.geometry import arm_placement, arm_size, ellipsoid_axes, rotations_z_to, unit_cylinder
+from armkit.view.playback import Playback
+from armkit.view.readout import pose_html
+
+viser = pytest.importorskip("viser")
+
+from armkit.view import Viewer  # noqa: E402  (after the importorskip)
+
+ROBOTS = ["probot-anno", "puma560", "ur5", "stanford", "panda", "grb400-scara"]
+
+
+@pytest.fixture(scope="module")
+def probot():
+    viewer = Viewer("probot-anno", port=0)
+    yield viewer
+    viewer.close()
+
+
+def test_import_armkit_does_not_import_viser():
+    code = "import sys, armkit; print('viser' in sys.modules, 'armkit.view' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["False", "False"]
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_the_drawn_links_run_from_the_floor_through_every_joint_to_the_tool(name):
+    robot = armkit.load(name)
+    q = robot.random_q(rng=3)
+    p = arm_placement(robot, q, 0.01)
+    links = slice(0, p.link_count)
+    R = armkit.spatial.matrix_from_quaternion_wxyz(p.wxyzs[links])
+    half = R[..., :, 2] * p.scales[links, 2:3] / 2
+    starts, ends = p.positions[links] - half, p.positions[links] + half
+    np.testing.assert_allclose(starts[0], 0.0, atol=1e-12)                   # on the floor origin
+    np.testing.assert_allclose(ends[-1], robot.fk(q)[:3, 3], atol=1e-12)    # at the tool
+    np.testing.assert_allclose(starts[1:], ends[:-1], atol=1e-12)           # one unbroken path
+    corners = np.concatenate([starts, ends])
+    assert np.linalg.norm(corners[:, None] - p.joint_origins[None], axis=-1).min(axis=0).max() < 1e-12
+    np.testing.assert_allclose(p.joint_axes, armkit.kinematics.joint_frames(robot.chain, q)[0][:, :3, 2])
+
+
+def test_rotations_z_to_are_rotations_with_the_requested_z_axis():
+    d = np.random.default_rng(0).normal(size=(50, 3))
+    R = rotations_z_to(d)
+    np.testing.assert_allclose(R @ np.swapaxes(R, -1, -2), np.broadcast_to(np.eye(3), R.shape), atol=1e-12)
+    np.testing.assert_allclose(np.linalg.det(R), 1.0)
+    np.testing.assert_allclose(R[..., 2], d / np.linalg.norm(d, axis=-1, keepdims=True), atol=1e-12)
+
+
+def test_the_unit_cylinder_is_closed_and_faces_outwards():
+    vertices, faces = unit_cylinder(16)
+    v = vertices.astype(float)[faces]
+    normals = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    volume = np.einsum("ij,ij->i", v[:, 0], normals).sum() / 6      # divergence theorem
+    assert volume == pytest.approx(16 / 2 * np.sin(2 * np.pi / 16), rel=1e-6)   # the 16-gon prism
+
+
+def test_the_velocity_ellipsoid_semi_axes_bound_the_tool_speed_of_unit_joint_rates():
+    robot = armkit.load("puma560")
+    q = robot.random_q(rng=1)
+    R, semi = ellipsoid_axes(robot, q)
+    rates = np.random.default_rng(2).normal(size=(2000, 6))
+    rates /= np.linalg.norm(rates, axis=1, keepdims=True)
+    v_local = (robot.jacobian(q)[:3] @ rates.T).T @ R                 # in the ellipsoid's axes
+    assert np.all(np.sum((v_local / semi) ** 2, axis=1) <= 1 + 1e-9)
+    assert np.abs(v_local).max(axis=0) / semi == pytest.approx(np.ones(3), abs=0.15)
+
+
+def test_the_read_out_shows_the_fk_matrix_and_the_angles_of_the_chosen_convention():
+    robot = armkit.load("zju-i")
+    q = np.radians([15.0] * 6)
+    T = robot.fk(q)
+    text = pose_html(robot, q, T, "xyz-euler", degrees=True)
+    matrix = text.split("<pre data-armkit='pose-matrix' style='margin:2px 0'>")[1].split("</pre>")[0]
+    np.testing.assert_allclose(np.array(matrix.split(), dtype=float).reshape(4, 4), T, atol=1e-6)
+    angles = text.split("data-armkit='orientation'>")[1].split("</span>")[0]
+    np.testing.assert_allclose(np.array(angles.split(), dtype=float),
+                               armkit.spatial.euler_from_matrix(T, "xyz-euler", degrees=True), atol=1e-3)
+    quaternion = pose_html(robot, q, T, "wxyz", degrees=True).split("data-armkit='orientation'>")[1]
+    np.testing.assert_allclose(np.array(quaternion.split("</span>")[0].split(), dtype=float),
+                               armkit.spatial.quaternion_wxyz_from_matrix(T[:3, :3]), atol=1e-6)
+
+
+def test_setting_q_moves_the_handle_to_the_tool(probot):
+    q = np.array([0.2, -0.3, 0.4, 0.1, 0.9, -0.2])
+    probot.q = q
+    np.testing.assert_array_equal(probot.q, q)
+    np.testing.assert_allclose(probot.target, probot.robot.fk(q), atol=1e-15)
+    assert probot.solutions is None
+    with pytest.raises(InputError, match="6"):
+        probot.q = [0.1, 0.2]
+
+
+def test_report_000s_first_target_has_four_solutions_in_the_limits_and_four_outside(probot):
+    T = transform_from_pose(np.array(published.PROBOT_IK[0][0]), "xyz-fixed")
+    probot.q = probot.robot.home
+    found = probot.show_solutions(T, follow=False)
+    assert (len(found.q), int(found.within_limits.sum())) == (8, 4)
+    assert [g.visible for g in probot._ghosts] == [True] * 8
+    np.testing.assert_array_equal(probot.q, probot.robot.home)              # follow=False: stays
+    q = probot.pick(2)
+    np.testing.assert_array_equal(q, found.q[1])
+    np.testing.assert_allclose(probot.robot.fk(q), T, atol=1e-12)
+    with pytest.raises(InputError, match="8 solutions"):
+        probot.pick(9)
+
+
+def test_an_unreachable_target_says_how_far_the_closest_pose_is(probot):
+    T = transform_from(np.eye(3), [2.0, 0.0, 0.3])                         # 2 m out, the arm reaches ~0.6 m
+    found = probot.show_solutions(T)
+    assert len(found.q) == 0
+    assert [g.visible for g in probot._ghosts] == [False] * 8
+    text = probot._ik_status.content
+    mm = float(text.split("closest pose found is ")[1].split(" mm")[0])
+    with pytest.raises(UnreachableError) as solver:
+        probot.robot.ik(T, near=probot.q, within_limits=False)
+    assert mm == pytest.approx(solver.value.position_error * 1000, abs=0.05)
+    assert mm > 1000 * (2.0 - arm_size(probot.robot))              # at least the gap to the arm's reach
+
+def test_numeric_ik_arms_show_the_solution_nearest_the_arm():
+    with Viewer("panda", port=0) as viewer:
+        q_goal = viewer.robot.home + 0.2
+        found = viewer.show_solutions(viewer.robot.fk(q_goal))
+        assert len(found.q) == 1 and found.within_limits[0]
+        np.testing.assert_allclose(viewer.robot.fk(viewer.q), viewer.robot.fk(q_goal), atol=1e-8)
+
+
+def test_teach_plan_and_save_waypoints_within_the_limits(probot, tmp_path):
+    probot.clear_waypoints()
+    with pytest.raises(InputError, match="at least two"):
+        probot.plan()
+    for q in published.PROBOT_WAYPOINT_JOINTS:
+        probot.q = q
+        assert probot.teach() == len(probot.waypoints)
+    trajectory = probot.plan()
+    robot = probot.robot
+    assert np.all(trajectory.peak_velocity <= robot.max_velocity * (1 + 1e-9))
+    assert np.all(trajectory.peak_acceleration <= robot.max_acceleration * (1 + 1e-9))
+    probot.time = trajectory.duration / 2
+    np.testing.assert_allclose(probot.q, trajectory.at_time(trajectory.duration / 2)[0], atol=1e-3)
+    path = probot.save_waypoints(tmp_path / "w.csv")
+    np.testing.assert_array_equal(read_waypoints(path, 6), np.array(published.PROBOT_WAYPOINT_JOINTS))
+    with pytest.raises(InputError, match="already exists"):
+        probot.save_waypoints(path)
+    probot.q = [0.0, 0.0, -1.0, 0.0, 0.0, 0.0]                          # q3 below its -40 deg limit
+    with pytest.raises(JointLimitError, match="q3"):
+        probot.teach()
+
+
+def test_a_trajectory_file_from_armkit_traj_plays_on_the_timeline(probot, tmp_path):
+    robot = probot.robot
+    trajectory = armkit.plan_trajectory(robot, np.array(published.PROBOT_WAYPOINT_JOINTS))
+    path = trajectory.to_csv(tmp_path / "traj.csv")
+    playback = probot.load(path)
+    assert playback.duration == pytest.approx(trajectory.duration, abs=1e-9)
+    t = 0.37 * trajectory.duration
+    q, qd, qdd = playback.at(t)
+    exact = trajectory.at_time(t)
+    np.testing.assert_allclose(q, exact[0], atol=1e-4)
+    np.testing.assert_allclose(qd, exact[1], atol=1e-3)
+    probot.play()
+    time.sleep(0.5)
+    probot.pause()
+    assert 0.2 < probot.time < 3.0
+    with pytest.raises(InputError, match="joint columns"):
+        Playback.from_file(trajectory.to_csv(tmp_path / "t.csv"), armkit.load("grb400-scara"))
+
+
+def test_cli_view_serves_the_page_and_ctrl_c_ends_it_with_one_line(tmp_path):
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", "probot-anno", "--port", "0",
+                                "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env=env, cwd=tmp_path)
+    try:
+        line = process.stdout.readline()
+        assert line.startswith("armkit view: PROBOT Anno at http://127.0.0.1:")
+        url = line.split(" at ")[1].split()[0]
+        with urllib.request.urlopen(url, timeout=30) as response:
+            assert b"<html" in response.read(2000).lower()
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=60)
+    finally:
+        process.kill()
+    assert process.returncode == 130
+    assert err.strip() == "armkit view: stopped"
+    assert out.strip() == ""
+
+
+def test_cli_view_of_an_unknown_robot_is_one_error_line():
+    result = subprocess.run([sys.executable, "-m", "armkit.cli.main", "view", "no-such-arm", "--no-browser"],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 1
+    assert result.stderr.strip().startswith("error: unknown robot 'no-such-arm'")
+    assert len(result.stderr.strip().splitlines()) == 1

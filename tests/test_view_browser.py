@@ -1,0 +1,237 @@
+"""armkit view in a real browser: Debian's chromium, headless, driven by Playwright.
+
+The page is viser's web client talking to a :class:`armkit.view.Viewer` in this process; the
+tests read the read-outs from the page's DOM (their ``data-armkit`` attributes), drive its
+sliders, buttons and lists, and keep the screenshots they take in ``ARMKIT_VIEW_ARTIFACTS``
+(default ``tests/artifacts/``). Without chromium or Playwright they skip, unless
+``ARMKIT_REQUIRE_BROWSER=1`` (CI) makes that a failure.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from armkit.lab import published
+from armkit.spatial.transforms import transform_from_pose
+from armkit.trajectory import read_waypoints
+
+CHROMIUM = "/usr/bin/chromium"
+ARGS = ["--headless=new", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-sandbox",
+        "--disable-background-networking", "--disable-component-update", "--no-first-run", "--disable-sync"]
+#: The page renders in software on a shared machine: generous waits [ms].
+WAIT_MS = 120_000
+ARTIFACTS = Path(os.environ.get("ARMKIT_VIEW_ARTIFACTS", Path(__file__).parent / "artifacts"))
+
+
+def _require_browser():
+    missing = []
+    if not Path(CHROMIUM).exists():
+        missing.append(f"chromium ({CHROMIUM}; apt-get install chromium)")
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        missing.append("playwright (pip install playwright)")
+        sync_playwright = None
+    if missing:
+        message = "browser tests need " + " and ".join(missing)
+        if os.environ.get("ARMKIT_REQUIRE_BROWSER") == "1":
+            pytest.fail(message + " (ARMKIT_REQUIRE_BROWSER=1)")
+        pytest.skip(message)
+    return sync_playwright
+
+
+@pytest.fixture(scope="module")
+def browser():
+    sync_playwright = _require_browser()
+    pytest.importorskip("viser")
+    with sync_playwright() as playwright:
+        launched = playwright.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield launched
+        launched.close()
+
+
+@pytest.fixture(scope="module")
+def session(browser, tmp_path_factory):
+    """One viewer of the PROBOT Anno and one page on it, shared by the tests in order."""
+    from armkit.view import Viewer
+
+    viewer = Viewer("probot-anno", port=0)
+    page = browser.new_page(viewport={"width": 1100, "height": 700})
+    page.set_default_timeout(WAIT_MS)
+    page.goto(viewer.url)
+    page.wait_for_selector("[data-armkit=pose-matrix]")
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    yield viewer, page, tmp_path_factory.mktemp("view")
+    page.close()
+    viewer.close()
+
+
+def _matrix(page) -> np.ndarray:
+    text = page.inner_text("[data-armkit=pose-matrix]")
+    return np.array([[float(v) for v in line.split()] for line in text.strip().splitlines()])
+
+
+def _wait_for_matrix(page, T: np.ndarray, timeout_s: float = 60.0) -> np.ndarray:
+    """The page's matrix once it shows ``T`` to its six printed decimals (or the last one seen)."""
+    deadline = time.monotonic() + timeout_s
+    while True:
+        shown = _matrix(page)
+        if np.abs(shown - T).max() <= 1.5e-6 or time.monotonic() > deadline:
+            return shown
+        time.sleep(0.2)
+
+
+def _slider_number_input(page, handle):
+    return page.locator(f'[id="{handle._impl.uuid}"]').locator("xpath=following-sibling::div//input")
+
+
+def _button(page, handle):
+    return page.locator(f'[id="{handle._impl.uuid}"]')
+
+
+def _distinct_colours(path: Path) -> int:
+    from PIL import Image
+
+    with Image.open(path) as image:
+        return len(image.convert("RGB").getcolors(maxcolors=1 << 24))
+
+
+def test_the_page_loads_and_shows_the_fk_of_the_home_configuration(session):
+    viewer, page, _ = session
+    np.testing.assert_allclose(_matrix(page), viewer.robot.fk(viewer.robot.home), atol=1.5e-6)
+    assert page.locator("text=PROBOT Anno").first.is_visible()
+
+
+def test_typing_a_joint_value_in_the_page_moves_the_arm_to_its_fk(session):
+    viewer, page, _ = session
+    box = _slider_number_input(page, viewer._sliders[0])
+    box.fill("30")
+    box.press("Enter")
+    expected_q = viewer.robot.home.copy()
+    expected_q[0] = np.radians(30)
+    shown = _wait_for_matrix(page, viewer.robot.fk(expected_q))
+    np.testing.assert_allclose(viewer.q, expected_q, atol=1e-9)
+    np.testing.assert_allclose(shown, viewer.robot.fk(expected_q), atol=1.5e-6)
+
+
+def test_the_slider_thumb_moved_by_keyboard_changes_the_pose_to_the_fk(session):
+    viewer, page, _ = session
+    thumb = page.locator(f'[id="{viewer._sliders[2]._impl.uuid}"] [role=slider]')
+    thumb.focus()
+    for _ in range(5):
+        thumb.press("ArrowRight")            # 5 steps of 0.1 deg
+    deadline = time.monotonic() + 60
+    while abs(np.degrees(viewer.q[2]) - 0.5) > 1e-9 and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert np.degrees(viewer.q[2]) == pytest.approx(0.5, abs=1e-9)
+    shown = _wait_for_matrix(page, viewer.robot.fk(viewer.q))
+    np.testing.assert_allclose(shown, viewer.robot.fk(viewer.q), atol=1.5e-6)
+
+
+def test_setting_q_from_python_updates_the_page(session):
+    viewer, page, _ = session
+    q = np.array([0.5, -0.4, 0.3, 0.2, 1.0, -0.6])
+    viewer.q = q
+    np.testing.assert_allclose(_wait_for_matrix(page, viewer.robot.fk(q)), viewer.robot.fk(q), atol=1.5e-6)
+    assert _slider_number_input(page, viewer._sliders[4]).input_value() == f"{np.degrees(1.0):.1f}"
+
+
+def test_report_000s_first_target_shows_four_in_limit_and_four_out_of_limit_ghosts(session):
+    viewer, page, _ = session
+    T = transform_from_pose(np.array(published.PROBOT_IK[0][0]), "xyz-fixed")
+    found = viewer.show_solutions(T)
+    page.wait_for_function("document.querySelectorAll('[data-armkit=solution]').length == 8")
+    assert page.locator("[data-armkit=solution][data-within=true]").count() == 4
+    assert page.locator("[data-armkit=solution][data-within=false]").count() == 4
+    assert sum(g.visible for g in viewer._ghosts) == 8
+    # the report's four in-range solutions are the four in-limit ghosts
+    inside = found.q[found.within_limits]
+    for q_report in published.PROBOT_IK[0][1]:
+        assert np.abs(inside - np.array(q_report)).max(axis=1).min() < 1e-4
+    shown = _wait_for_matrix(page, T)              # the arm followed: its tool is on the target
+    np.testing.assert_allclose(shown, T, atol=1.5e-6)
+    shot = ARTIFACTS / "view_ik_ghosts.png"
+    page.locator("#webgl-software-rendering button").first.click(timeout=5000)
+    page.screenshot(path=shot, timeout=WAIT_MS)
+    assert _distinct_colours(shot) > 200
+
+
+def test_picking_a_solution_in_the_page_moves_the_arm_to_it(session):
+    viewer, page, _ = session
+    found = viewer.solutions
+    k = int(np.flatnonzero(found.within_limits)[2])      # the third in-limit solution
+    page.locator(f'[id="{viewer._solution_pick._impl.uuid}"]').click()
+    page.get_by_role("option", name=f"{k + 1}: in limits").click()
+    deadline = time.monotonic() + 60
+    while np.abs(viewer.q - found.q[k]).max() > 1e-12 and time.monotonic() < deadline:
+        time.sleep(0.2)
+    np.testing.assert_allclose(viewer.q, found.q[k], atol=1e-12)
+    page.wait_for_selector(f"[data-armkit=solution]:nth-child({k + 1}) >> text=◀ arm")
+
+
+def test_teach_plan_play_and_save_through_the_page(session):
+    viewer, page, folder = session
+    _button(page, viewer._teach_button).click()      # W1: the picked solution of the target
+    taught_deg = [[20, -10, 30, 0, 45, 0], [-25, 15, 40, 30, 70, 20], [0, 0, 0, 0, 0, 0]]
+    for q_deg in taught_deg:                          # W2..W4: typed into the joint boxes
+        for slider, value in zip(viewer._sliders, q_deg, strict=True):
+            box = _slider_number_input(page, slider)
+            box.fill(str(value))
+            box.press("Enter")
+        deadline = time.monotonic() + 60
+        while np.abs(viewer.q - np.radians(q_deg)).max() > 1e-9 and time.monotonic() < deadline:
+            time.sleep(0.2)
+        _button(page, viewer._teach_button).click()
+    page.wait_for_function("document.querySelectorAll('[data-armkit=waypoint]').length == 4")
+    np.testing.assert_allclose(viewer.waypoints[1:], np.radians(taught_deg), atol=1e-12)
+    _button(page, viewer._plan_button).click()
+    deadline = time.monotonic() + 60
+    while viewer.playback is None and time.monotonic() < deadline:
+        time.sleep(0.2)
+    playback = viewer.playback
+    assert playback is not None
+    assert np.all(np.abs(playback.qd).max(axis=0) <= viewer.robot.max_velocity * (1 + 1e-6))
+    assert np.all(np.abs(playback.qdd).max(axis=0) <= viewer.robot.max_acceleration * (1 + 1e-3))
+    _button(page, viewer._play_button).click()
+    page.wait_for_function("Number(document.querySelector('[data-armkit=time]').innerText) > 0.5")
+    _button(page, viewer._play_button).click()       # pause
+    # an auto-timed trajectory runs some joint at a limit: at that moment the page names the joint
+    ratios = {"velocity": np.abs(playback.qd) / viewer.robot.max_velocity,
+              "acceleration": np.abs(playback.qdd) / viewer.robot.max_acceleration}
+    kind = max(ratios, key=lambda name: ratios[name].max())
+    k, j = np.unravel_index(np.argmax(ratios[kind]), ratios[kind].shape)
+    assert ratios[kind][k, j] > 0.999
+    viewer.time = float(playback.t[k])
+    name = viewer.robot.joint_names[j]
+    page.wait_for_selector(f"[data-armkit=at-limit] >> text={name} at its {kind} limit")
+    shot = ARTIFACTS / "view_trajectory.png"
+    page.screenshot(path=shot, timeout=WAIT_MS)
+    assert _distinct_colours(shot) > 200
+    target = folder / "taught.csv"
+    file_box = page.locator(f'[id="{viewer._waypoint_file._impl.uuid}"]')
+    file_box.fill(str(target))
+    file_box.press("Enter")
+    _button(page, viewer._save_button).click()
+    page.wait_for_selector("[data-armkit=saved]")
+    np.testing.assert_allclose(read_waypoints(target, 6), viewer.waypoints, atol=0)
+    # saving again asks before replacing the file
+    before = target.read_text()
+    viewer.clear_waypoints()
+    viewer.q = [0.1] * 6
+    viewer.teach()
+    viewer.q = [0.2] * 6
+    viewer.teach()
+    _button(page, viewer._save_button).click()
+    page.get_by_text("Replace the file?").wait_for()
+    assert target.read_text() == before
+    page.get_by_role("button", name="replace").click()
+    deadline = time.monotonic() + 60
+    while target.read_text() == before and time.monotonic() < deadline:
+        time.sleep(0.2)
+    np.testing.assert_allclose(read_waypoints(target, 6), [[0.1] * 6, [0.2] * 6], atol=0)
+
