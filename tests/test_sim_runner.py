@@ -109,7 +109,7 @@ def test_trajectory_with_too_many_columns_is_rejected():
 @pytest.mark.parametrize(("t", "q", "message"), [
     ([0.0, 0.0], np.zeros((2, 4)), "strictly increasing"),
     ([0.0, 1.0, 2.0], np.zeros((2, 4)), "expected 2 times"),
-    ([0.0, 1.0], np.full((2, 4), np.nan), "NaN"),
+    ([0.0, 1.0], np.full((2, 4), np.nan), "expected finite joint values, got nan"),
 ])
 def test_bad_trajectories_are_rejected(t, q, message):
     with pytest.raises(InputError, match=message):

@@ -304,13 +304,6 @@ def plan_closed_form(chain: Chain, tol: float = 1e-9) -> SolverPlan:
         the distance below which axes count as meeting.
     """
     poe = poe_from_chain(chain)
-    rank = generic_rank(chain)
-    if rank < min(6, chain.n):
-        why = (f"the Jacobian has rank {rank} at every configuration tried (not {min(6, chain.n)}): "
-               f"the {chain.n} joints move the tool in only {rank} independent directions, so the "
-               f"arm reaches a {rank}-dimensional set of poses and has no closed form here; use "
-               f"numeric IK")
-        return SolverPlan(ArmStructure("rank-deficient", False, 0, why), poe)
     g = _Geometry(poe, tol)
     for i in range(chain.n - 1):
         if not poe.prismatic[i] and not poe.prismatic[i + 1] and g.parallel(i, i + 1) \
@@ -318,6 +311,13 @@ def plan_closed_form(chain: Chain, tol: float = 1e-9) -> SolverPlan:
             why = (f"axes {i + 1} and {i + 2} are the same line: the arm has fewer degrees of "
                    f"freedom than joints, no closed form; use numeric IK")
             return SolverPlan(ArmStructure("none", False, 0, why), poe)
+    rank = generic_rank(chain)
+    if rank < min(6, chain.n):
+        why = (f"the Jacobian has rank {rank} at every configuration tried (not {min(6, chain.n)}): "
+               f"the {chain.n} joints move the tool in only {rank} independent directions, so the "
+               f"arm reaches a {rank}-dimensional set of poses and has no closed form here; use "
+               f"numeric IK")
+        return SolverPlan(ArmStructure("rank-deficient", False, 0, why), poe)
     if chain.n == 6:
         plan = _spherical(poe, tol, "spherical-wrist")
         if plan is None or not plan.structure.closed_form:
