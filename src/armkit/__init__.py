@@ -6,14 +6,9 @@
 (4, 4)
 """
 
-from __future__ import annotations
+from armkit._lazy import lazy_exports
 
-import importlib
-from typing import Any
-
-# Public names and the module each lives in. They are imported on first use (PEP 562), so
-# ``import armkit`` stays light: a command that only needs FK never loads the trajectory,
-# control, export or simulation code, nor scipy and matplotlib.
+# Public names and the module each lives in, imported on first use (see armkit._lazy).
 _MODULES = {
     "armkit.chain": ["Chain", "DHRow", "Joint", "chain_from_dh"],
     "armkit.control": ["MotionResult", "ResolvedRate", "cartesian_line", "move_linear",
@@ -27,23 +22,6 @@ _MODULES = {
     "armkit.robot_file": ["builtin_robots", "load", "robot_from_dict", "robot_to_toml"],
     "armkit.trajectory": ["JointTrajectory", "auto_time", "min_jerk", "plan_trajectory", "quintic"],
 }
-_EXPORTS = {name: module for module, names in _MODULES.items() for name in names}
-
-
-def __getattr__(name: str) -> Any:
-    """Import a public name's module on first use (``armkit.load``, ``from armkit import Robot``)."""
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'armkit' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*globals(), *_EXPORTS])
-
+__getattr__, __dir__, __all__ = lazy_exports(__name__, _MODULES)
 
 __version__ = "0.1.0"
-
-__all__ = sorted(_EXPORTS)

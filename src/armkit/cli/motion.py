@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import numpy as np
 import typer
@@ -24,10 +24,12 @@ from armkit.cli.app import (
     print_json,
     to_si,
 )
-from armkit.control.motions import DEFAULT_DT, MotionResult, move_linear, rotate_about_tool_point
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.spatial.transforms import pose_from_transform
+
+if TYPE_CHECKING:
+    from armkit.control.motions import MotionResult
 
 StartValues = Annotated[list[str] | None, typer.Argument(
     metavar="[Q...]", help="The rest of the --from joint values.", show_default=False)]
@@ -36,7 +38,9 @@ FromOpt = Annotated[str | None, typer.Option(
                                    "(rad and m; deg with --deg; default all zeros).", show_default=False)]
 FrameOpt = Annotated[str, typer.Option(help="base or tool: the frame the vector is written in "
                                             "(tool = the start tool frame).")]
-DtOpt = Annotated[float, typer.Option("--dt", help="Control period in seconds.")]
+DtOpt = Annotated[float | None, typer.Option(
+    "--dt", help="Control period in seconds [default: 0.002, armkit.control.DEFAULT_DT].",
+    show_default=False)]
 DegOpt = Annotated[bool, typer.Option("--deg", help="Revolute joint values and angles (also the "
                                                     "printed ones) in degrees.")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of tables.")]
@@ -103,7 +107,7 @@ def move_command(
         "--by", help="Tool displacement DX DY DZ, in metres.", show_default=False)] = ...,
     duration: Annotated[float, typer.Option(help="Duration in seconds (quintic time law).")] = 5.0,
     frame: FrameOpt = "base",
-    dt: DtOpt = DEFAULT_DT,
+    dt: DtOpt = None,
     deg: DegOpt = False,
     json_output: JsonOpt = False,
     base: BaseOpt = None,
@@ -116,9 +120,11 @@ def move_command(
 
     Example: armkit move probot-anno --from 0 0 0 0 0 0 --by 0.15 0 -0.15 --duration 3
     """
+    from armkit.control.motions import DEFAULT_DT, move_linear
+
     arm = load_robot(robot, base, tip, lock)
     q0 = _start(arm, start, start_values, deg)
-    result = move_linear(arm, q0, np.array(by), duration, frame=frame, dt=dt)
+    result = move_linear(arm, q0, np.array(by), duration, frame=frame, dt=DEFAULT_DT if dt is None else dt)
     _report(arm, result, f"straight move by {list(by)} m ({frame} frame)", deg, json_output)
 
 
@@ -138,7 +144,7 @@ def rotate_command(
         help="Duration in seconds of a smooth (quintic) turn, instead of --rate.",
         show_default=False)] = None,
     frame: FrameOpt = "base",
-    dt: DtOpt = DEFAULT_DT,
+    dt: DtOpt = None,
     deg: DegOpt = False,
     json_output: JsonOpt = False,
     base: BaseOpt = None,
@@ -151,6 +157,8 @@ def rotate_command(
 
     Example: armkit rotate probot-anno --from 0 0 0 0 0 0 --axis 1 0 0 --angle -180 --rate 11.46 --deg
     """
+    from armkit.control.motions import DEFAULT_DT, rotate_about_tool_point
+
     arm = load_robot(robot, base, tip, lock)
     q0 = _start(arm, start, start_values, deg)
     scale = np.pi / 180 if deg else 1.0
@@ -162,6 +170,6 @@ def rotate_command(
         rate = 0.2 / scale
     result = rotate_about_tool_point(arm, q0, np.array(axis), angle * scale,
                                      rate=None if rate is None else rate * scale,
-                                     duration=duration, frame=frame, dt=dt)
+                                     duration=duration, frame=frame, dt=DEFAULT_DT if dt is None else dt)
     _report(arm, result, f"turn about {list(axis)} ({frame} frame) through the tool point", deg,
             json_output)

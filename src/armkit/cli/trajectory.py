@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import numpy as np
 import typer
@@ -28,8 +28,12 @@ from armkit.cli.app import (
 )
 from armkit.errors import InputError
 from armkit.robot import Robot
-from armkit.trajectory import JointTrajectory, durations_from_times, plan_trajectory, read_waypoints
+from armkit.trajectory._checks import durations_from_times
 from armkit.trajectory.export import write_csv, write_npz
+from armkit.trajectory.waypoints import read_waypoints
+
+if TYPE_CHECKING:  # the trajectory object and its planner load SciPy: imported where a plan is made
+    from armkit.trajectory.joint_trajectory import JointTrajectory
 
 
 def _check_output(path: Path | None, suffixes: tuple[str, ...], force: bool, what: str) -> None:
@@ -173,6 +177,8 @@ def traj_command(
         wanted = (f"{len(rows) - 1} segment durations" if durations else f"{len(rows)} waypoint times")
         raise InputError(f"{'--durations' if durations else '--times'}: {len(rows)} waypoints need "
                          f"{wanted}, got {len(duration_values)}")
+    from armkit.trajectory.plan import plan_trajectory
+
     traj = plan_trajectory(arm, rows, segment_durations, poses=poses, convention=euler)
     samples = traj.sample(rate) if out is not None else None
     warnings = [*traj.position_limit_violations(arm, deg)]

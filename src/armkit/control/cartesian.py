@@ -24,14 +24,13 @@ from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial.transform import Rotation
 
 from armkit._time import even_time_grid
 from armkit.control.motions import DEFAULT_DT, _check_positive, _check_start, track_poses
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.robot import Robot
-from armkit.spatial.rotations import axis_angle_from_matrix
+from armkit.spatial.rotations import axis_angle_from_matrix, matrix_from_axis_angle
 from armkit.spatial.transforms import check_transform
 from armkit.trajectory import export
 from armkit.trajectory.polynomial import quintic
@@ -110,7 +109,7 @@ def line_poses(T_start: ArrayLike, T_goal: ArrayLike, t: ArrayLike,
     dp = T_goal[:3, 3] - T_start[:3, 3]
     rotvec = axis_angle_from_matrix(T_goal[:3, :3] @ T_start[:3, :3].T)
     poses = np.broadcast_to(np.eye(4), (s.size, 4, 4)).copy()
-    poses[:, :3, :3] = Rotation.from_rotvec(np.outer(s, rotvec)).as_matrix() @ T_start[:3, :3]
+    poses[:, :3, :3] = matrix_from_axis_angle(np.outer(s, rotvec)) @ T_start[:3, :3]
     poses[:, :3, 3] = T_start[:3, 3] + np.outer(s, dp)
     direction = np.concatenate([dp, rotvec])
     return poses, np.outer(sd, direction), np.outer(sdd, direction)

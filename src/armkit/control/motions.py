@@ -29,14 +29,13 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial.transform import Rotation
 
 from armkit._time import even_time_grid
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError
 from armkit.kinematics import pose_error
 from armkit.robot import LIMIT_TOLERANCE, Robot
-from armkit.spatial.rotations import rotation_angle_between
+from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
 from armkit.trajectory.polynomial import quintic
 
 __all__ = ["DEFAULT_DT", "MotionResult", "move_linear", "rotate_about_tool_point", "track_poses"]
@@ -405,6 +404,6 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     t = even_time_grid(total_time, dt)
     s = t / total_time if constant_rate else quintic(0.0, 1.0, total_time).sample(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
-    turns = Rotation.from_rotvec(np.outer(s * signed_angle, axis)).as_matrix()
+    turns = matrix_from_axis_angle(np.outer(s * signed_angle, axis))
     reference[:, :3, :3] = turns @ T0[:3, :3]
     return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits)

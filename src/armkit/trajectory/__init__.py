@@ -9,33 +9,17 @@ object), :mod:`~armkit.trajectory.timing` (fitting durations to limits),
 (a robot's trajectory within its limits).
 """
 
-from armkit.trajectory._checks import durations_from_times
-from armkit.trajectory.export import read_trajectory
-from armkit.trajectory.joint_trajectory import JointTrajectory, TrajectorySamples
-from armkit.trajectory.min_jerk import min_jerk
-from armkit.trajectory.plan import plan_trajectory
-from armkit.trajectory.polynomial import PolynomialSegment, cubic, quintic
-from armkit.trajectory.timing import auto_time, limit_ratio, limit_ratios, stretch_to_limits
-from armkit.trajectory.trapezoid import TrapezoidSegment, lspb
-from armkit.trajectory.waypoints import joint_waypoints, joint_waypoints_from_poses, read_waypoints
+from armkit._lazy import lazy_exports
 
-__all__ = [
-    "JointTrajectory",
-    "PolynomialSegment",
-    "TrajectorySamples",
-    "TrapezoidSegment",
-    "auto_time",
-    "cubic",
-    "durations_from_times",
-    "joint_waypoints",
-    "joint_waypoints_from_poses",
-    "limit_ratio",
-    "limit_ratios",
-    "lspb",
-    "min_jerk",
-    "plan_trajectory",
-    "quintic",
-    "read_trajectory",
-    "read_waypoints",
-    "stretch_to_limits",
-]
+__getattr__, __dir__, __all__ = lazy_exports(__name__, {
+    "armkit.trajectory._checks": ["durations_from_times"],
+    "armkit.trajectory.export": ["read_trajectory"],
+    "armkit.trajectory.joint_trajectory": ["JointTrajectory", "TrajectorySamples"],
+    "armkit.trajectory.min_jerk": ["min_jerk"],
+    "armkit.trajectory.plan": ["plan_trajectory"],
+    "armkit.trajectory.polynomial": ["PolynomialSegment", "cubic", "quintic"],
+    "armkit.trajectory.timing": ["auto_time", "limit_ratio", "limit_ratios", "stretch_to_limits"],
+    "armkit.trajectory.trapezoid": ["TrapezoidSegment", "lspb"],
+    "armkit.trajectory.waypoints": ["joint_waypoints", "joint_waypoints_from_poses", "read_waypoints",
+                                   "write_waypoints"],
+})
