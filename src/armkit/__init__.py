@@ -24,7 +24,15 @@ from armkit.errors import (
     UnreachableError,
 )
 from armkit.export import mjcf_from_robot, urdf_from_robot, write_mjcf, write_urdf
-from armkit.ik import IKResult, IKSolutions, NumericIK, analyze_structure, ik_solutions, numeric_ik
+from armkit.ik import (
+    IKResult,
+    IKResultBatch,
+    IKSolutions,
+    NumericIK,
+    analyze_structure,
+    ik_solutions,
+    numeric_ik,
+)
 from armkit.kinematics import ChainKernel
 from armkit.robot import Robot
 from armkit.robot_file import builtin_robots, load, robot_from_dict, robot_to_toml
@@ -39,6 +47,7 @@ __all__ = [
     "ConvergenceError",
     "DHRow",
     "IKResult",
+    "IKResultBatch",
     "IKSolutions",
     "InputError",
     "Joint",
