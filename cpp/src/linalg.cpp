@@ -63,7 +63,7 @@ bool solve_normal_equations(const double* Jm, int m, int n, const double* em, do
 
 void damped_step(const double* J, int n, const double* e, const int* rows, int m, const double* sides,
                  double damping, double* dq) {
-    double Jm[6 * kMaxJoints], em[6], x[kMaxJoints];
+    double Jm[6 * kMaxJoints] = {}, em[6] = {}, x[kMaxJoints] = {};
     for (int k = 0; k < m; ++k) em[k] = e[rows[k]];
     double trace = 0.0;
     for (int i = 0; i < n; ++i) {

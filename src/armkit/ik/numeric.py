@@ -116,14 +116,15 @@ class IKResultBatch:
                         float(self.position_error[i]), float(self.orientation_error[i]))
 
 
-def _check_mask(mask: ArrayLike | None) -> NDArray[np.bool_]:
+def _task_rows(mask: ArrayLike | None) -> list[int]:
+    """The rows of the pose error ``x y z rx ry rz`` that the 0/1 ``mask`` keeps."""
     if mask is None:
-        return np.ones(6, dtype=bool)
+        return [0, 1, 2, 3, 4, 5]
     m = np.asarray(mask, dtype=float)
     if m.shape != (6,) or not np.all((m == 0) | (m == 1)) or not m.any():
         raise InputError(f"mask: expected 6 values of 0 or 1 (x y z rx ry rz, at least one 1), "
                          f"got {np.asarray(mask).tolist()}")
-    return m == 1
+    return np.flatnonzero(m).tolist()
 
 
 def _float_array(value: Any, label: str, expected: str) -> NDArray[np.float64]:
@@ -233,11 +234,11 @@ class NumericIK:
         if not time_budget >= 0.0:
             raise InputError(f"time_budget: expected a wall-clock budget >= 0 s, got {time_budget}")
         self.chain = chain
-        self.rows = np.flatnonzero(_check_mask(mask))
+        self.rows = _task_rows(mask)
         self.max_iterations, self.max_restarts = int(max_iterations), int(max_restarts)
         self.time_budget, self.respect_limits = float(time_budget), bool(respect_limits)
         self._solver = _core.NumericSolver(
-            chain._core, self.rows.tolist(), float(position_tolerance), float(orientation_tolerance),
+            chain._core, self.rows, float(position_tolerance), float(orientation_tolerance),
             float(damping_gain), float(damping), self.max_iterations, self.max_restarts, self.time_budget,
             self.respect_limits)
 
