@@ -68,7 +68,8 @@ def test_ctrl_c_keeps_the_chunks_done_and_resume_gives_the_uninterrupted_counts(
         real_add(self, result)
 
     monkeypatch.setattr(reachability_module._Hits, "add", add_then_interrupt)
-    with pytest.raises(workspace.InterruptedRun, match="interrupted after 3 of 10 chunks"):
+    with pytest.raises(workspace.InterruptedRun,
+                       match="interrupted after 3 of 10 chunks of reachability; the store keeps them"):
         workspace.reachability(puma, grid=grid, samples=40_000, chunk_size=4_000, engine=2, store=store)
     monkeypatch.setattr(reachability_module._Hits, "add", real_add)
     saved = store["reachability"].attrs
