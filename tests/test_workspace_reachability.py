@@ -96,3 +96,21 @@ def test_planar_arm_gets_one_voxel_layer():
 def test_bad_settings_are_named(kwargs, match):
     with pytest.raises(InputError, match=match):
         reachability(planar_2r(0.3, 0.2), **{"resolution": 0.1, "samples": 10, **kwargs})
+
+
+def test_outer_boundary_of_the_annulus_lies_on_its_outer_circle():
+    result = reachability(planar_2r(0.3, 0.2), resolution=0.01, samples=200_000)
+    outer, every = result.outer_boundary, result.boundary
+    assert (outer <= every).all() and 0 < outer.sum() < every.sum()
+    radius = np.linalg.norm(result.grid.centres(np.flatnonzero(outer))[:, :2], axis=1)
+    assert radius.min() > 0.5 - 2 * 0.01 * np.sqrt(2)     # none on the inner circle (r = 0.1)
+
+
+def test_import_armkit_and_armkit_workspace_load_no_zarr_dask_or_matplotlib():
+    import subprocess
+    import sys
+
+    code = ("import sys, armkit, armkit.workspace; heavy = [m for m in ('zarr', 'dask', 'distributed', "
+            "'matplotlib') if m in sys.modules]; print(heavy)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"

@@ -130,8 +130,17 @@ class ReachabilityMap:
 
     @property
     def boundary(self) -> NDArray[np.bool_]:
-        """The outer (and inner) boundary of the reachable region: occupied voxels next to empty ones."""
+        """The outer and inner boundaries of the reachable region: occupied voxels next to empty ones."""
         return boundary_mask(self.occupied, self.grid)
+
+    @property
+    def outer_boundary(self) -> NDArray[np.bool_]:
+        """The outer boundary only: the boundary of the reached region with its holes filled."""
+        from scipy.ndimage import binary_fill_holes
+
+        kept = tuple(slice(None) if not f else 0 for f in self.grid.flat)  # holes within the arm's plane
+        filled = binary_fill_holes(self.occupied[kept]).reshape(self.grid.shape)
+        return boundary_mask(filled, self.grid)
 
     def volume(self) -> VolumeEstimate:
         """The reachable volume with its error (see the module notes).
