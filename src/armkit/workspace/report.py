@@ -26,9 +26,10 @@ def _summary_table(summary: dict) -> Table:
     rows = [["robot", summary["robot"]], ["resolution", f"{summary['resolution_m']:g} m"],
             ["grid", f"{' x '.join(map(str, summary['grid_shape']))} = {summary['voxels']} voxels"]]
     if "samples" in summary:
+        rows.append(["samples", f"{summary['samples']:,} ({summary['method']}, seed {summary['seed']})"])
+    if "volume" in summary:
         v = summary["volume"]
-        rows += [["samples", f"{summary['samples']:,} ({summary['method']}, seed {summary['seed']})"],
-                 ["reachable volume", f"{v['value']:.4g} ± {v['error']:.2g} {v['unit']}"],
+        rows += [["reachable volume", f"{v['value']:.4g} ± {v['error']:.2g} {v['unit']}"],
                  ["  of which voxelisation / sampling",
                   f"± {v['voxelisation_error']:.2g} / ± {v['sampling_error']:.2g} {v['unit']}"],
                  ["reached voxels (boundary)", f"{v['occupied_voxels']:,} ({v['boundary_voxels']:,})"]]
@@ -100,7 +101,10 @@ def write_workspace_report(result: Workspace | Sweep, folder: str | Path, force:
                                          "reachability index, per value.")]))
         shown = [(f"{result.parameter} = {v:.4g}", ws, f"value{k}-") for k, (v, ws)
                  in enumerate(zip(result.values, result.maps, strict=True))]
-        summary = result.maps[0].summary() | {"seconds": result.seconds}
+        first = result.maps[0].summary()
+        shared = ("resolution_m", "grid_shape", "voxels", "samples", "method", "seed")
+        summary = {key: first[key] for key in shared}
+        summary |= {"robot": result.robot.name, "seconds": result.seconds, "store": result.path}
     else:
         shown, summary = [(result.robot.name, result, "")], result.summary()
     for k, (title, ws, prefix) in enumerate(shown):
