@@ -114,3 +114,15 @@ def test_import_armkit_and_armkit_workspace_load_no_zarr_dask_or_matplotlib():
             "'matplotlib') if m in sys.modules]; print(heavy)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_doubling_gain_counts_the_voxels_only_the_second_half_of_the_samples_reached():
+    result = reachability(planar_2r(0.3, 0.2), resolution=0.005, samples=40_000, chunk_size=10_000)
+    volume = result.volume()
+    first_half_only = result.hits_even > 0
+    assert (first_half_only <= result.occupied).all()
+    expected = (result.occupied & ~first_half_only).sum() * result.grid.cell_measure
+    assert volume.doubling_gain == expected > 0
+    assert volume.sampling_error >= volume.doubling_gain
+    single = reachability(planar_2r(0.3, 0.2), resolution=0.005, samples=40_000, chunk_size=40_000)
+    assert single.volume().doubling_gain == 0.0      # one chunk: no second half to compare
