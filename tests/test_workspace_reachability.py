@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 import armkit
 from armkit.errors import InputError
@@ -126,3 +128,15 @@ def test_doubling_gain_counts_the_voxels_only_the_second_half_of_the_samples_rea
     assert volume.sampling_error >= volume.doubling_gain
     single = reachability(planar_2r(0.3, 0.2), resolution=0.005, samples=40_000, chunk_size=40_000)
     assert single.volume().doubling_gain == 0.0      # one chunk: no second half to compare
+
+
+@given(st.tuples(*[st.floats(-0.6, 0.6)] * 3), st.floats(0.005, 0.2))
+def test_a_point_lies_in_the_voxel_whose_centre_the_grid_gives_back(point, resolution):
+    grid = grid_for(wrist_centre_arm(), resolution)
+    p = np.array([point])
+    flat = grid.flat_index(p)
+    if flat[0] < 0:   # outside: then some coordinate is beyond the grid's faces
+        upper = np.add(grid.lower, np.multiply(grid.shape, resolution))
+        assert ((p < grid.lower) | (p >= upper)).any()
+    else:
+        assert np.abs(grid.centres(flat) - p).max() <= resolution / 2 * (1 + 1e-9)
