@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 import armkit
 from armkit.errors import InputError
@@ -96,3 +98,45 @@ def test_planar_arm_gets_one_voxel_layer():
 def test_bad_settings_are_named(kwargs, match):
     with pytest.raises(InputError, match=match):
         reachability(planar_2r(0.3, 0.2), **{"resolution": 0.1, "samples": 10, **kwargs})
+
+
+def test_outer_boundary_of_the_annulus_lies_on_its_outer_circle():
+    result = reachability(planar_2r(0.3, 0.2), resolution=0.01, samples=200_000)
+    outer, every = result.outer_boundary, result.boundary
+    assert (outer <= every).all() and 0 < outer.sum() < every.sum()
+    radius = np.linalg.norm(result.grid.centres(np.flatnonzero(outer))[:, :2], axis=1)
+    assert radius.min() > 0.5 - 2 * 0.01 * np.sqrt(2)     # none on the inner circle (r = 0.1)
+
+
+def test_import_armkit_and_armkit_workspace_load_no_zarr_dask_or_matplotlib():
+    import subprocess
+    import sys
+
+    code = ("import sys, armkit, armkit.workspace; heavy = [m for m in ('zarr', 'dask', 'distributed', "
+            "'matplotlib') if m in sys.modules]; print(heavy)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
+
+
+def test_doubling_gain_counts_the_voxels_only_the_second_half_of_the_samples_reached():
+    result = reachability(planar_2r(0.3, 0.2), resolution=0.005, samples=40_000, chunk_size=10_000)
+    volume = result.volume()
+    first_half_only = result.hits_even > 0
+    assert (first_half_only <= result.occupied).all()
+    expected = (result.occupied & ~first_half_only).sum() * result.grid.cell_measure
+    assert volume.doubling_gain == expected > 0
+    assert volume.sampling_error >= volume.doubling_gain
+    single = reachability(planar_2r(0.3, 0.2), resolution=0.005, samples=40_000, chunk_size=40_000)
+    assert single.volume().doubling_gain == 0.0      # one chunk: no second half to compare
+
+
+@given(st.tuples(*[st.floats(-0.6, 0.6)] * 3), st.floats(0.005, 0.2))
+def test_a_point_lies_in_the_voxel_whose_centre_the_grid_gives_back(point, resolution):
+    grid = grid_for(wrist_centre_arm(), resolution)
+    p = np.array([point])
+    flat = grid.flat_index(p)
+    if flat[0] < 0:   # outside: then some coordinate is beyond the grid's faces
+        upper = np.add(grid.lower, np.multiply(grid.shape, resolution))
+        assert ((p < grid.lower) | (p >= upper)).any()
+    else:
+        assert np.abs(grid.centres(flat) - p).max() <= resolution / 2 * (1 + 1e-9)

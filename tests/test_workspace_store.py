@@ -68,7 +68,8 @@ def test_ctrl_c_keeps_the_chunks_done_and_resume_gives_the_uninterrupted_counts(
         real_add(self, result)
 
     monkeypatch.setattr(reachability_module._Hits, "add", add_then_interrupt)
-    with pytest.raises(workspace.InterruptedRun, match="interrupted after 3 of 10 chunks"):
+    with pytest.raises(workspace.InterruptedRun,
+                       match="interrupted after 3 of 10 chunks of reachability; the store keeps them"):
         workspace.reachability(puma, grid=grid, samples=40_000, chunk_size=4_000, engine=2, store=store)
     monkeypatch.setattr(reachability_module._Hits, "add", real_add)
     saved = store["reachability"].attrs
@@ -130,3 +131,17 @@ def test_cli_errors_are_one_line(args, message, capsys):
     assert main(["workspace", "puma560", "--resolution", "0.2", "--samples", "100", "--quiet", *args]) == 1
     err = capsys.readouterr().err
     assert message in err and "Traceback" not in err
+
+
+def test_cli_sweep_report_names_the_arm_and_shows_every_value(tmp_path, capsys):
+    code = main(["workspace", "probot-anno", "--sweep", "a3=0.15:0.3:2", "--resolution", "0.1",
+                 "--samples", "1e4", "--orientations", "2", "--out", str(tmp_path / "s.zarr"), "--report",
+                 "--json"])
+    assert code == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["robot"] == "PROBOT Anno" and len(summary["values"]) == 2
+    page = (tmp_path / "s-report" / "index.html").read_text()
+    assert "armkit workspace: PROBOT Anno<" in page and "Maps: a3 = 0.3" in page
+    again = workspace.open(tmp_path / "s.zarr")
+    assert [round(v, 3) for v in again.values] == [0.15, 0.3]
+    assert again.table()[1]["reachable_volume"] == summary["values"][1]["reachable_volume"]

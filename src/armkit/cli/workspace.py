@@ -70,7 +70,7 @@ def _print_summary(summary: dict) -> None:
 @app.command("workspace")
 def workspace_command(
     robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
-    resolution: Annotated[float, typer.Option(help="Voxel edge [m].")] = 0.02,
+    resolution: Annotated[float, typer.Option(help="Voxel edge in metres.")] = 0.02,
     samples: Annotated[str, typer.Option(help="Configurations for the reachability map, e.g. 1e8.")] = "1e6",
     method: Annotated[str, typer.Option(help="Sampling: uniform or sobol.")] = "uniform",
     seed: Annotated[int, typer.Option(help="The same seed gives the same counts on any engine.")] = 0,

@@ -60,7 +60,8 @@ class Workspace:
                     "complete": reach.complete, "method": reach.plan.method, "seed": reach.plan.seed,
                     "reachable_volume": volume.value, "reachable_volume_error": volume.error,
                     "volume_unit": volume.unit, "volume": volume.as_dict(),
-                    "mean_hits_per_reached_voxel": reach.samples / max(volume.occupied, 1)}
+                    "mean_hits_per_reached_voxel": reach.samples / max(volume.occupied, 1),
+                    "outer_boundary_voxels": int(reach.outer_boundary.sum())}
         if self.manipulability is not None:
             manip = self.manipulability
             out["manipulability"] = {"samples": manip.samples,

@@ -26,9 +26,10 @@ def _summary_table(summary: dict) -> Table:
     rows = [["robot", summary["robot"]], ["resolution", f"{summary['resolution_m']:g} m"],
             ["grid", f"{' x '.join(map(str, summary['grid_shape']))} = {summary['voxels']} voxels"]]
     if "samples" in summary:
+        rows.append(["samples", f"{summary['samples']:,} ({summary['method']}, seed {summary['seed']})"])
+    if "volume" in summary:
         v = summary["volume"]
-        rows += [["samples", f"{summary['samples']:,} ({summary['method']}, seed {summary['seed']})"],
-                 ["reachable volume", f"{v['value']:.4g} ± {v['error']:.2g} {v['unit']}"],
+        rows += [["reachable volume", f"{v['value']:.4g} ± {v['error']:.2g} {v['unit']}"],
                  ["  of which voxelisation / sampling",
                   f"± {v['voxelisation_error']:.2g} / ± {v['sampling_error']:.2g} {v['unit']}"],
                  ["reached voxels (boundary)", f"{v['occupied_voxels']:,} ({v['boundary_voxels']:,})"]]
@@ -65,7 +66,8 @@ _INTRO = ("Configurations drawn inside the joint limits put the tool in the voxe
           "voxel). "
           "The reachable volume counts the reached voxels, minus half of those on the boundary; its error is "
           "half the boundary voxels (voxelisation) plus the reachable voxels expected to be still unhit "
-          "(Chao1 from the voxels hit once and twice).\n\n"
+          "(the larger of Chao1, from the voxels hit once and twice, and what the second half of the samples "
+          "added).\n\n"
           "The reachability index of a voxel (Zacharias et al. 2007) is the fraction of a fixed near-uniform "
           "set of tool orientations with an IK solution inside the limits; the inverse condition number "
           "s_min/s_max of the Jacobian is 1 where the arm moves equally well in every direction and 0 at a "
@@ -100,7 +102,10 @@ def write_workspace_report(result: Workspace | Sweep, folder: str | Path, force:
                                          "reachability index, per value.")]))
         shown = [(f"{result.parameter} = {v:.4g}", ws, f"value{k}-") for k, (v, ws)
                  in enumerate(zip(result.values, result.maps, strict=True))]
-        summary = result.maps[0].summary() | {"seconds": result.seconds}
+        first = result.maps[0].summary()
+        shared = ("resolution_m", "grid_shape", "voxels", "samples", "method", "seed")
+        summary = {key: first[key] for key in shared}
+        summary |= {"robot": result.robot.name, "seconds": result.seconds, "store": result.path}
     else:
         shown, summary = [(result.robot.name, result, "")], result.summary()
     for k, (title, ws, prefix) in enumerate(shown):

@@ -33,6 +33,8 @@ __all__ = ["METHODS", "SamplePlan", "configurations", "has_closed_form", "ik_sol
            "robot_from_toml", "singular_values", "tool_positions"]
 
 METHODS = ("uniform", "sobol")
+#: Wall-clock budget [s] of one numeric IK solve (restarts from random seeds until then).
+NUMERIC_BUDGET = 0.05
 #: Travel [m] sampled for a prismatic joint without limits (as :meth:`armkit.Robot.random_q`).
 UNBOUNDED_TRAVEL = 1.0
 
@@ -130,10 +132,11 @@ def ik_solution_counts(robot: Robot, T_base_tool: NDArray[np.float64]) -> NDArra
     """Distinct IK solutions inside the joint limits of each target pose ``(N, 4, 4)``: ``(N,)``.
 
     Closed form: every solution (a singular family counts once). Without a closed form, a
-    numeric solve per pose (slow, ~1 ms each) that can only say 1 (solved) or 0.
+    numeric solve per pose (slow: ~1 ms for a reachable pose, up to :data:`NUMERIC_BUDGET` for
+    one out of reach) that can only say 1 (solved) or 0.
     """
     if not has_closed_form(robot):
-        return np.array([int(numeric_ik(robot.chain, T, rng=0, max_restarts=20).success)
+        return np.array([int(numeric_ik(robot.chain, T, rng=0, time_budget=NUMERIC_BUDGET).success)
                          for T in T_base_tool], dtype=np.int64)
     found = ik_solutions(robot.chain, T_base_tool)
     kept = np.arange(found.within_limits.shape[1]) < found.counts[:, None]

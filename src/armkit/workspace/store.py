@@ -20,7 +20,7 @@ mid-write (killed, not Ctrl-C, which waits for the write) and is not resumed fro
 from __future__ import annotations
 
 import shutil
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit.errors import InputError
-from armkit.workspace.engine import run_chunks
+from armkit.workspace.engine import InterruptedRun, run_chunks
 
 __all__ = ["FORMAT", "Accumulator", "create_store", "load_section", "open_store", "run_resumable",
            "save_section"]
@@ -161,15 +161,12 @@ def run_resumable(task: Callable[[int], Any], n_chunks: int, accumulator: Accumu
             save_section(store, name, accumulator.arrays(),
                          {**attrs, "chunks_done": done[0], "n_chunks": n_chunks})
 
-    run_chunks(task, range(start, n_chunks), consume, engine=engine, progress=progress,
-               description=description, checkpoint=checkpoint)
+    try:
+        run_chunks(task, range(start, n_chunks), consume, engine=engine, progress=progress,
+                   description=description, checkpoint=checkpoint)
+    except InterruptedRun as exc:
+        if store is None:
+            raise
+        raise InterruptedRun(f"{exc}; the store keeps them: continue with --resume (resume=True)") from None
     return done[0]
 
-
-def sections(group: Any, prefix: str = "") -> Iterator[str]:
-    """Names of the map groups below ``group`` (``reachability``, ``sweep/0/dexterity`` ...)."""
-    for key, sub in group.groups():
-        name = f"{prefix}{key}"
-        if "writing" in sub.attrs:
-            yield name
-        yield from sections(sub, f"{name}/")

@@ -80,6 +80,8 @@ class Sweep:
 
     Attributes
     ----------
+    robot : Robot
+        The arm as given (each map holds its variant).
     parameter : str
         E.g. ``"a2"``.
     values : ndarray (k,)
@@ -90,6 +92,7 @@ class Sweep:
     path : str or None
     """
 
+    robot: Robot
     parameter: str
     values: NDArray[np.float64]
     maps: list[Workspace]
@@ -109,7 +112,7 @@ class Sweep:
 
     def summary(self) -> dict[str, Any]:
         first = self.maps[0]
-        return {"robot": first.robot.name, "parameter": self.parameter, "resolution_m": first.grid.resolution,
+        return {"robot": self.robot.name, "parameter": self.parameter, "resolution_m": first.grid.resolution,
                 "voxels": first.grid.size, "samples": first.reachability.samples, "seconds": self.seconds,
                 "store": self.path, "values": self.table()}
 
@@ -123,7 +126,7 @@ class Sweep:
                 for k, v in enumerate(values) if f"sweep/{k}" in group]
         seconds = group.attrs.get("summary", {}).get("seconds")
         seconds = float("nan") if seconds is None else seconds
-        return cls(f"{name}{row}", values[:len(maps)], maps, seconds, path)
+        return cls(robot, f"{name}{row}", values[:len(maps)], maps, seconds, path)
 
 
 def sweep(robot: Robot, spec: str, *, resolution: float = 0.02, samples: int = 1_000_000, seed: int = 0,
@@ -166,7 +169,7 @@ def sweep(robot: Robot, spec: str, *, resolution: float = 0.02, samples: int = 1
                          **common) if orientations else None)
         maps.append(Workspace(variant, grid, reach, None, dex))
     path = None if out is None else str(out)
-    result = Sweep(f"{name}{row}", values, maps, time.perf_counter() - start, path)
+    result = Sweep(robot, f"{name}{row}", values, maps, time.perf_counter() - start, path)
     if store is not None:
         store.attrs["summary"] = json_safe(result.summary())
     return result
