@@ -239,10 +239,14 @@ def test_all_solutions_of_a_chain_without_closed_form():
 def test_bad_near_and_weights():
     robot = armkit.load("ur5")
     T = robot.fk(np.zeros(6))
-    with pytest.raises(InputError, match=r"near: expected 6 finite joint values"):
+    with pytest.raises(InputError, match=r"near: expected 6 joint values, got 3 \(UR5 has 6 joints\)"):
         robot.ik(T, near=[0, 0, 0])
-    with pytest.raises(InputError, match=r"near: shape \(3, 6\) does not match 2 target poses"):
+    with pytest.raises(InputError, match=r"near: expected 6 finite joint values"):
+        ik_solutions(robot.chain, T, near=[0, 0, 0])
+    with pytest.raises(InputError, match=r"near: shape \(3, 6\) for target poses of shape \(2, 4, 4\)"):
         robot.ik(np.stack([T, T]), near=np.zeros((3, 6)))
+    with pytest.raises(InputError, match=r"near: shape \(3, 6\) does not match 2 target poses"):
+        ik_solutions(robot.chain, np.stack([T, T]), near=np.zeros((3, 6)))
     with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
         robot.ik(T, weights=[1, 1, 1, 1, 1, -1])
 

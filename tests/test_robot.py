@@ -96,7 +96,7 @@ def test_analytic_jacobian_of_a_batch_of_three_is_each_one():
     ("abc", "near: expected 6 numbers, got 'abc'"),
     ([np.zeros(6), 1], "near: expected 6 numbers"),
     (np.zeros((2, 6)), r"near: shape \(2, 6\) for one target pose"),
-    ([0, 0, np.nan, 0, 0, 0], "near: contains NaN"),
+    ([0, 0, np.nan, 0, 0, 0], "near: expected finite joint values, got nan at index 2"),
 ])
 def test_ik_with_a_bad_near_is_one_input_error(near, message):
     robot = armkit.load("probot-anno")

@@ -73,7 +73,7 @@ def test_locking_a_locked_robot_locks_more_joints_of_the_full_one():
     ({True: 0.1}, InputError, "joint True to lock"),
     ({"q2": 0.1, 1: 0.2}, InputError, "joint q2 is locked twice"),
     ({"q2": "x"}, InputError, r"joint q2: lock value 'x' is not a number"),
-    ({"q2": float("nan")}, InputError, "locked joint values: contains NaN"),
+    ({"q2": float("nan")}, InputError, "locked joint values: expected finite joint values, got nan"),
     ({"q2": 4.0}, JointLimitError,
      r"cannot lock joint q2 = 4 rad is outside its limits \[-0.785398, 3.92699\] rad"),
     ({f"q{i}": 0.0 for i in range(1, 7)}, InputError, "locking all 6 joints leaves no robot"),
