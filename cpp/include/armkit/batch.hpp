@@ -16,7 +16,10 @@ constexpr std::size_t kItemsPerThread = 2048;
 // Calls body(begin, end) on blocks of [0, N) in up to `threads` threads (0: all cores).
 template <class Body>
 void parallel_for(std::size_t N, int threads, Body&& body) {
-    std::size_t T = threads > 0 ? std::size_t(threads) : std::max(1u, std::thread::hardware_concurrency());
+    // (hardware_concurrency reads /sys on every call, ~10 us: not asked for small batches)
+    std::size_t T = N < 2 * kItemsPerThread ? 1
+                    : threads > 0           ? std::size_t(threads)
+                                            : std::max(1u, std::thread::hardware_concurrency());
     T = std::max<std::size_t>(1, std::min(T, N / kItemsPerThread));
     if (T == 1) {
         body(std::size_t(0), N);
