@@ -32,9 +32,9 @@ __all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solu
 
 
 def _plain(v: object, n: int) -> bool:
-    """``v`` is None or a float64 C-ordered ``(n,)`` array (the core checks its values)."""
-    return v is None or (type(v) is np.ndarray and v.dtype == np.float64 and v.shape == (n,)
-                         and v.flags.c_contiguous)
+    """``v`` is a float64 ``(n,)`` array (the core checks its values; the binding makes a
+    C-ordered copy of a strided one)."""
+    return type(v) is np.ndarray and v.shape == (n,) and v.dtype.char == "d"
 
 
 class _Targets:
@@ -217,8 +217,8 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
     True
     """
     T = T_base_tool
-    if (not numeric_options and type(T) is np.ndarray and T.shape == (4, 4) and T.dtype == np.float64
-            and T.flags.c_contiguous and _plain(near, chain.n) and _plain(weights, chain.n)):
+    if (type(T) is np.ndarray and T.shape == (4, 4) and T.dtype.char == "d" and not numeric_options
+            and (near is None or _plain(near, chain.n)) and (weights is None or _plain(weights, chain.n))):
         # one pose as float64 arrays: checked and solved in one core call (None: take the general path)
         solver = solver_or_reason(chain)
         if type(solver) is ClosedFormSolver:
