@@ -190,6 +190,10 @@ def test_non_rigid_matrix_and_nan():
     T[0, 3] = np.nan
     with pytest.raises(InputError, match="NaN"):
         robot.ik(T)
+    with pytest.raises(InputError, match="NaN"):
+        robot.ik(T, all=True)
+    with pytest.raises(InputError, match="NaN"):
+        robot.ik(np.stack([robot.fk(np.zeros(6)), T]))  # a batch: checked by the core, then explained
     with pytest.raises(InputError, match=r"expected shape \(\.\.\., 4, 4\)"):
         robot.ik(np.eye(3))
 
@@ -249,6 +253,13 @@ def test_bad_near_and_weights():
         ik_solutions(robot.chain, np.stack([T, T]), near=np.zeros((3, 6)))
     with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
         robot.ik(T, weights=[1, 1, 1, 1, 1, -1])
+    # float64 arrays take the one-call path for one pose: the same errors
+    with pytest.raises(InputError, match=r"near: expected 6 finite joint values"):
+        robot.ik(T, near=np.array([0, 0, np.nan, 0, 0, 0]))
+    with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
+        robot.ik(T, all=True, weights=np.array([1, 1, 1, 1, 0.0, 1]))
+    with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
+        robot.ik(T, all=True, weights=np.array([1, 1, 1, 1, np.inf, 1]))
 
 
 def _residuals(robot, q, T):

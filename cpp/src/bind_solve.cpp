@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
@@ -112,6 +114,37 @@ nb::tuple solve_batch(const ClosedForm& cf, In T, In near, In weights, bool with
     return nb::make_tuple(rough, empty);
 }
 
+// One pose, the common case in one call: the usable solutions (count, n), nearest first, or
+// with nearest the nearest one (n,); None where the general path must take over (a target
+// not exactly rigid, near not finite, weights not positive, a candidate to refine, no
+// usable candidate: the caller's errors and repairs).
+nb::object solve_one(const ClosedForm& cf, In T, In near, In weights, bool within_limits, bool nearest,
+                     double rigid_tolerance) {
+    const std::size_t n = std::size_t(cf.chain.n);
+    if (T.size() != 16) throw std::invalid_argument("solve_one: expected one pose (4, 4)");
+    if ((near.is_valid() && near.size() != n) || (weights.is_valid() && weights.size() != n))
+        throw std::invalid_argument("solve_one: expected near and weights (n,)");
+    const References ref(cf, 1, near, weights);
+    for (std::size_t j = 0; j < n; ++j)
+        if (!std::isfinite(ref.near[j]) || !(std::isfinite(ref.weights[j]) && ref.weights[j] > 0.0)) return nb::none();
+    const Rigidity r = rigidity(T.data(), 1);
+    if (!(r.finite && r.last_row <= rigid_tolerance && r.orthonormal <= rigid_tolerance && r.rough == 0))
+        return nb::none();
+    double q[kMaxCandidates * kMaxJoints], errors[kMaxCandidates * 2];
+    bool flags[kMaxCandidates * kFlags];
+    std::int64_t count = 0;
+    const Found f{cf.k, cf.chain.n, q, errors, flags, &count};
+    const SolveCounts c = solve_poses(cf, T.data(), ref.near, 0, ref.weights, within_limits, nearest, f, 0, 1);
+    if (c.rough || c.empty) return nb::none();
+    const std::size_t rows = nearest ? 1 : std::size_t(count);
+    double* out = new double[rows * n];
+    std::copy(q, q + rows * n, out);
+    nb::capsule owner(out, [](void* p) noexcept { delete[] static_cast<double*>(p); });
+    const std::size_t shape[2] = {rows, n};
+    if (nearest) return nb::cast(nb::ndarray<nb::numpy, double>(out, 1, shape + 1, owner));
+    return nb::cast(nb::ndarray<nb::numpy, double>(out, 2, shape, owner));
+}
+
 void rank(const ClosedForm& cf, InIndex which, In near, In weights, bool within_limits, Out q, Out errors,
           OutBool flags, OutIndex count) {
     const std::size_t N = count.size();
@@ -177,6 +210,11 @@ void bind_solve(nb::module_& m) {
           "rigid_tolerance >= 0: first check that every T is exactly rigid (as check_transform would return "
           "it unchanged); if not, solve nothing and return rough = -1. Returns (rough: valid candidates "
           "above 1e-10 to refine, empty: poses without a usable candidate).");
+    m.def("solve_one", &solve_one, nb::arg("closed_form"), nb::arg("T"), nb::arg("near").none(),
+          nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("nearest"), nb::arg("rigid_tolerance"),
+          "One pose (4, 4): its usable solutions (count, n) nearest to near first, or with nearest the "
+          "nearest one (n,); None if the target is not exactly rigid, near or weights are bad, a candidate "
+          "needs refinement or none is usable (then solve_batch and the Python layer take over).");
     m.def("rank", &rank, nb::arg("closed_form"), nb::arg("poses"), nb::arg("near").none(),
           nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("q"), nb::arg("errors"), nb::arg("flags"),
           nb::arg("count"), "Flag, count and sort again the candidates of the given poses (in place).");

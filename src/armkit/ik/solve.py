@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armkit import _core
 from armkit.chain import Chain
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
@@ -28,6 +29,12 @@ from armkit.ik.results import VERIFY_TOLERANCE, IKSolutions, IKSolutionsBatch
 from armkit.spatial.transforms import RIGID_TOLERANCE, check_transform
 
 __all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
+
+
+def _plain(v: object, n: int) -> bool:
+    """``v`` is a float64 ``(n,)`` array (the core checks its values; the binding makes a
+    C-ordered copy of a strided one)."""
+    return type(v) is np.ndarray and v.shape == (n,) and v.dtype.char == "d"
 
 
 class _Targets:
@@ -209,6 +216,15 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
     >>> bool(np.allclose(ik(robot.chain, robot.fk(q), near=q), q))
     True
     """
+    T = T_base_tool
+    if (type(T) is np.ndarray and T.shape == (4, 4) and T.dtype.char == "d" and not numeric_options
+            and (near is None or _plain(near, chain.n)) and (weights is None or _plain(weights, chain.n))):
+        # one pose as float64 arrays: checked and solved in one core call (None: take the general path)
+        solver = solver_or_reason(chain)
+        if type(solver) is ClosedFormSolver:
+            q = _core.solve_one(solver.core, T, near, weights, within_limits, not all, RIGID_TOLERANCE)
+            if q is not None:
+                return q
     targets = _Targets(chain, T_base_tool, near, weights)
     solver = solver_or_reason(chain)
     closed = "mask" not in numeric_options and not isinstance(solver, NoClosedFormError)
