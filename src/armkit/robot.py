@@ -256,8 +256,15 @@ class Robot:
 
     def random_q(self, size: int | tuple[int, ...] | None = None,
                  rng: np.random.Generator | int | None = None) -> NDArray[np.float64]:
-        """Uniform random configurations inside the limits (unbounded joints: ±1 m)."""
-        rng = np.random.default_rng(rng)
+        """Uniform random configurations inside the limits (unbounded joints: ±1 m).
+
+        ``rng``: a generator, a non-negative integer seed, or ``None`` (fresh entropy).
+        """
+        try:
+            rng = np.random.default_rng(rng)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"rng: expected a numpy Generator, a non-negative integer seed or None, "
+                             f"got {rng!r}") from exc
         lim = np.where(np.isfinite(self.limits), self.limits, [[-1.0, 1.0]])
         shape = (() if size is None else (size,) if isinstance(size, int) else tuple(size))
         return rng.uniform(lim[:, 0], lim[:, 1], size=(*shape, self.n))
