@@ -56,3 +56,19 @@ def test_an_unknown_option_among_values_is_named_as_such(capsys, argv):
 def test_show_prints_no_negative_zero(capsys):
     code, out, _ = run(capsys, "show", "probot-anno")
     assert code == 0 and "tool at q = 0: position [0.228900, 0.000000, 0.454000] m" in out
+
+
+def test_ctrl_c_while_armkit_is_still_importing_is_one_line_and_exit_130():
+    """The console script imports armkit inside its own try: a traceback there was item 10's 8 s case."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    process = subprocess.Popen([sys.executable, "-c", "from _armkit_entry import run; run()", "robots"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    time.sleep(0.15)  # after Python starts (~0.02 s), while it imports NumPy, SciPy, numba (seconds)
+    process.send_signal(signal.SIGINT)
+    out, err = process.communicate(timeout=60)
+    assert process.returncode == 130 and err == "interrupted (Ctrl-C)\n" and out == ""

@@ -108,3 +108,9 @@ def test_ik_of_no_poses_is_empty():
     robot = armkit.load("probot-anno")
     assert robot.ik(np.zeros((0, 4, 4))).shape == (0, 6)
     assert robot.ik(np.zeros((0, 4, 4)), all=True) == []
+
+
+def test_random_q_with_a_negative_seed_is_one_input_error():
+    """Found by the CLI fuzz: 'armkit sim probot-anno --seed -1' ended in numpy's ValueError."""
+    with pytest.raises(InputError, match="non-negative integer seed"):
+        armkit.load("probot-anno").random_q(3, rng=-1)

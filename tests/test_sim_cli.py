@@ -169,3 +169,8 @@ def _scara_waypoints(folder):
     path = folder / "w.csv"
     path.write_text("0 0 0 0\n0.5 0.4 0.03 0.3\n")
     return path
+
+
+def test_sim_with_a_negative_seed_is_a_usage_error(capsys):
+    code, _, err = run(capsys, "sim", "probot-anno", "--seed", "-1")
+    assert code == 2 and "Traceback" not in err and "--seed" in err

@@ -332,9 +332,14 @@ class Robot:
         """Uniform random configurations inside the limits.
 
         An unbounded revolute joint (URDF ``continuous``) is drawn from ``[-pi, pi]`` (one
-        whole turn), an unbounded prismatic one from ``[-1, 1]`` m.
+        whole turn), an unbounded prismatic one from ``[-1, 1]`` m. ``rng``: a generator, a
+        non-negative integer seed, or ``None`` (fresh entropy).
         """
-        rng = np.random.default_rng(rng)
+        try:
+            rng = np.random.default_rng(rng)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"rng: expected a numpy Generator, a non-negative integer seed or None, "
+                             f"got {rng!r}") from exc
         unbounded = np.where(self.chain.prismatic, 1.0, np.pi)[:, None] * [[-1.0, 1.0]]
         lim = np.where(np.isfinite(self.limits), self.limits, unbounded)
         shape = (() if size is None else (size,) if isinstance(size, int) else tuple(size))

@@ -152,7 +152,7 @@ def ik_command(
     unit = "deg" if deg else "rad"
     shown = np.where(arm.chain.prismatic, q, np.degrees(q) if deg else q)
     digits = np.where(arm.chain.prismatic, 4, 2 if deg else 4)
-    table = Table(title=f"{arm.name}: {len(q)} IK solution{'s' * (len(q) != 1)}, {method}",
+    table = Table(title=escape(f"{arm.name}: {len(q)} IK solution{'s' * (len(q) != 1)}, {method}"),
                   caption="# = the solution's number (in-limit ones first, nearest --near first); FK "
                           "residual of each solution", box=box.SIMPLE_HEAD)
     table.add_column("#", justify="right")

@@ -6,6 +6,7 @@ from typing import Annotated
 
 import numpy as np
 import typer
+from rich.markup import escape
 from rich.table import Table
 
 from armkit.cli.app import (
@@ -40,11 +41,11 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON instead of tab
 
 def _matrix_table(matrix: np.ndarray, title: str, row_names: list[str] | None = None,
                   column_names: list[str] | None = None) -> Table:
-    table = Table(title=title, show_header=column_names is not None)
+    table = Table(title=escape(title), show_header=column_names is not None)
     if row_names:
         table.add_column("")
     for name in column_names or [""] * matrix.shape[1]:
-        table.add_column(name, justify="right")
+        table.add_column(escape(name), justify="right")
     for i, row in enumerate(matrix):
         table.add_row(*([row_names[i]] if row_names else []), *(fmt_number(v, 6) for v in row))
     return table

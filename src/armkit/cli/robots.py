@@ -64,8 +64,8 @@ def dh_table(robot: Robot) -> Table:
              else ["theta_i", "d_i", "a_i", "alpha_i"])
     keys = ["alpha", "a", "theta", "d"] if dh.convention == "modified" else [
         "theta", "d", "a", "alpha"]
-    table = Table(title=f"{robot.name}: {dh.convention} DH "
-                        f"(lengths in {dh.length_unit}, angles in {dh.angle_unit})")
+    table = Table(title=escape(f"{robot.name}: {dh.convention} DH "
+                               f"(lengths in {dh.length_unit}, angles in {dh.angle_unit})"))
     for column in ["joint", "type", *names, "limits", "max vel", "max acc"]:
         table.add_column(column, justify="right")
     rows = [(f"base {k + 1}", None, r) for k, r in enumerate(dh.base_rows)]
@@ -80,10 +80,10 @@ def dh_table(robot: Robot) -> Table:
             offset = "" if value == "0" else (f" - {value[1:]}" if value.startswith("-") else f" + {value}")
             cells.append(f"q{offset}" if variable else value)
         if joint is None:
-            table.add_row(label, "fixed", *cells, "", "", "")
+            table.add_row(escape(label), "fixed", *cells, "", "", "")
             continue
         unit = angle if joint.kind == "revolute" else length
-        table.add_row(label, joint.kind, *cells,
+        table.add_row(escape(label), joint.kind, *cells,
                       f"[{_fmt(joint.lower, unit)}, {_fmt(joint.upper, unit)}]",
                       "" if joint.max_velocity is None else _fmt(joint.max_velocity, unit),
                       "" if joint.max_acceleration is None else _fmt(joint.max_acceleration, unit))

@@ -127,7 +127,7 @@ def sim_command(
     q: Annotated[list[float] | None, typer.Argument(help="Joint values q1 ... qn to check.",
                                                     show_default=False)] = None,
     random: Annotated[int, typer.Option(help="Check this many random configurations (no Q).")] = 5,
-    seed: Annotated[int, typer.Option(help="Seed of the random configurations.")] = 0,
+    seed: Annotated[int, typer.Option(min=0, help="Seed of the random configurations (0 or more).")] = 0,
     trajectory: Annotated[Path | None, typer.Option(
         help="Drive this trajectory (CSV or NPZ: t, q1..qn[, qd1..qdn]) instead.",
         show_default=False)] = None,
