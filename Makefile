@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench clean clean-cache
+.PHONY: demo test fuzz bench clean clean-cache
 
 $(BIN)/activate:
 	$(PYTHON) -m venv $(VENV)
@@ -23,6 +23,9 @@ demo: $(VENV)/.installed-demo
 test: $(VENV)/.installed-test
 	$(BIN)/ruff check src tests benchmarks examples
 	$(BIN)/python -m pytest -q
+
+fuzz: $(VENV)/.installed-test  # the parser fuzz tests (robot files, URDF) with 20,000 examples each
+	ARMKIT_FUZZ_EXAMPLES=20000 $(BIN)/python -m pytest -q tests/test_robot_file_fuzz.py tests/test_urdf.py -k "documents or mutated"
 
 bench: $(VENV)/.installed-test
 	$(BIN)/python -m pip install --quiet -e ".[bench]"
