@@ -27,8 +27,9 @@ test: $(VENV)/.installed-test
 	$(BIN)/ruff check src tests benchmarks examples
 	$(BIN)/python -m pytest -q
 
-fuzz: $(VENV)/.installed-test  # the CLI fuzz tests with many more random argument lists
-	HYPOTHESIS_PROFILE=fuzz $(BIN)/python -m pytest -q tests/test_cli_fuzz.py
+fuzz: $(VENV)/.installed-test  # the fuzz tests (CLI arguments, robot files, URDF) with many more examples
+	HYPOTHESIS_PROFILE=fuzz ARMKIT_FUZZ_EXAMPLES=20000 $(BIN)/python -m pytest -q tests/test_cli_fuzz.py \
+		tests/test_robot_file_fuzz.py tests/test_urdf.py -k "fuzz or documents or mutated"
 
 bench: $(VENV)/.installed-test
 	$(BIN)/python -m pip install --quiet -e ".[bench]"

@@ -6,6 +6,7 @@ files; anything but a robot with finite FK or armkit's own error fails them.
 
 from __future__ import annotations
 
+import os
 import re
 from importlib import resources
 
@@ -16,6 +17,11 @@ from hypothesis import strategies as st
 
 import armkit
 from armkit.errors import RobotDefinitionError
+
+#: Examples per fuzz test; `make fuzz` runs many more (ARMKIT_FUZZ_EXAMPLES).
+FUZZ_EXAMPLES = int(os.environ.get("ARMKIT_FUZZ_EXAMPLES", "300"))
+FUZZ = settings(max_examples=FUZZ_EXAMPLES, deadline=None,
+                suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 
 GOOD = """convention = "standard"
 length_unit = "mm"
@@ -148,8 +154,7 @@ def toml_documents(draw):
     return "\n".join(lines) + "\n"
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture,
-                                                                     HealthCheck.too_slow])
+@FUZZ
 @given(toml_documents())
 def test_random_toml_documents_load_or_get_armkit_errors(tmp_path, document):
     check_loads_or_refuses(tmp_path, document.encode())
@@ -189,8 +194,7 @@ def mutated_shipped_files(draw):
     return text.encode()
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture,
-                                                                     HealthCheck.too_slow])
+@FUZZ
 @given(mutated_shipped_files())
 def test_mutated_shipped_files_load_or_get_armkit_errors(tmp_path, data):
     check_loads_or_refuses(tmp_path, data)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 
@@ -15,6 +16,9 @@ import armkit
 from armkit.errors import RobotDefinitionError
 from armkit.export import urdf_from_robot, write_urdf
 from armkit.urdf import robot_from_urdf
+
+#: Examples per fuzz test; `make fuzz` runs many more (ARMKIT_FUZZ_EXAMPLES).
+FUZZ_EXAMPLES = int(os.environ.get("ARMKIT_FUZZ_EXAMPLES", "300"))
 
 pinocchio = pytest.importorskip("pinocchio")
 
@@ -288,7 +292,7 @@ def mutated_urdfs(draw):
     return text.encode(), draw(st.sampled_from([None, "tool", "l3"]))
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=FUZZ_EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(mutated_urdfs())
 def test_mutated_urdfs_load_or_get_armkit_errors(case):
     data, tip = case

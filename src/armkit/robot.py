@@ -381,9 +381,9 @@ class Robot:
         >>> bool(np.allclose(arm.fk(np.zeros(5)), armkit.load("puma560").fk([0, 0, 0, 0, 0, 0.5])))
         True
         """
-        return LockedRobot(self, self._joint_values(values))
+        return LockedRobot(self, self._lock_values(values))
 
-    def _joint_values(self, values: Mapping[int | str, float]) -> dict[int, float]:
+    def _lock_values(self, values: Mapping[int | str, float]) -> dict[int, float]:
         """``{index: value}`` from names or indices, checked (see :meth:`lock`)."""
         if not isinstance(values, Mapping) or not values:
             raise InputError(f"joints to lock: expected a mapping such as {{'{self.joint_names[0]}': 0.3}}, "

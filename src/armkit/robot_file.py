@@ -68,6 +68,7 @@ from armkit.poe import poe_from_chain
 from armkit.robot import Robot
 from armkit.spatial.rotations import euler_from_matrix, matrix_from_euler
 from armkit.spatial.transforms import check_transform, transform_from
+from armkit.urdf import robot_from_urdf
 
 __all__ = ["builtin_robots", "load", "robot_from_dict", "robot_to_toml"]
 
@@ -126,8 +127,6 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
     except OSError as exc:
         raise RobotDefinitionError(f"{path}: cannot be read ({exc.strerror or exc})") from exc
     if path.suffix.lower() == ".urdf" or data.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<"):
-        from armkit.urdf import robot_from_urdf  # URDF import needs this module's load only as entry
-
         return robot_from_urdf(data, str(path), base=base, tip=tip)
     _no_links(base, tip, str(path))
     return _load_text(data, str(path))

@@ -389,7 +389,8 @@ def _meshes(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], li
     frame = 0
     for joint in path:
         if joint.kind == "fixed":
-            placed.append((joint.child, frame, placed[-1][2] @ _origin(joint.element, source)))
+            origin = _origin(joint.element, f"{source}, joint {joint.name!r}")
+            placed.append((joint.child, frame, placed[-1][2] @ origin))
         else:
             frame += 1
             placed.append((joint.child, frame, np.eye(4)))
@@ -406,5 +407,6 @@ def _meshes(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], li
                                     (float(scale[0]), float(scale[1]), float(scale[2]))))
         for joint in children.get(link, []):  # fixed side branches move with this frame
             if joint.kind == "fixed" and joint.child not in on_path:
-                stack.append((joint.child, frame, T_frame_link @ _origin(joint.element, source)))
+                where = f"{source}, joint {joint.name!r}"
+                stack.append((joint.child, frame, T_frame_link @ _origin(joint.element, where)))
     return tuple(sorted(out, key=lambda m: (m.frame, m.link)))

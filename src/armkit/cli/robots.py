@@ -26,6 +26,7 @@ from armkit.ik.structure import analyze_structure
 from armkit.poe import poe_from_chain
 from armkit.robot import LockedRobot, Robot
 from armkit.robot_file import builtin_robots, load
+from armkit.spatial.rotations import euler_from_matrix
 
 
 @app.command("robots")
@@ -139,6 +140,11 @@ def show_command(
                     "structure": dataclasses.asdict(structure)})
         return
     console.print(dh_table(arm) if arm.dh is not None else joint_line_table(arm))
+    for label, T in (("base", arm.dh and arm.dh.T_base), ("tool", arm.dh and arm.dh.T_tool)):
+        if T is not None:
+            rpy = euler_from_matrix(T[:3, :3], "xyz-fixed")
+            console.print(f"{label} transform: xyz {np.round(T[:3, 3], 6).tolist()} m, "
+                          f"rpy {np.round(rpy, 6).tolist()} rad", highlight=False)
     if arm.urdf is not None:
         console.print(f"URDF {arm.urdf.path}: links {arm.urdf.base} to {arm.urdf.tip}, "
                       f"{len(arm.urdf.meshes)} visual meshes", highlight=False)

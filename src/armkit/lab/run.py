@@ -31,6 +31,7 @@ from armkit.lab.report import (
     status_label,
     write_report,
 )
+from armkit.poe import poe_from_chain
 from armkit.robot import Robot
 from armkit.robot_file import load
 
@@ -49,9 +50,12 @@ class LabResult:
 
 
 def _dh_section(robots: list[Robot]) -> Section:
-    section = Section("dh", "DH tables", "The robots as armkit read them; lengths and angles in the units "
-                                         "of the robot file, q = the joint variable.", badge=False)
+    section = Section("dh", "DH tables and joint axes", "The robots as armkit read them; DH lengths and "
+                      "angles in the units of the robot file, q = the joint variable.", badge=False)
     for robot in robots:
+        if robot.dh is None:
+            section.tables.append(_joint_axes_table(robot))
+            continue
         dh = robot.dh
         length = 1e-3 if dh.length_unit == "mm" else 1.0
         angle = np.pi / 180 if dh.angle_unit == "deg" else 1.0
@@ -77,6 +81,16 @@ def _dh_section(robots: list[Robot]) -> Section:
         section.tables.append(Table(f"{robot.name}: {dh.convention} DH ({dh.length_unit}, {dh.angle_unit})",
                                     ["joint", "type", *[names[k] for k in keys], "limits"], rows))
     return section
+
+
+def _joint_axes_table(robot: Robot) -> Table:
+    """A robot without a DH table (URDF, joint lines, locked joints): its joint axes at q = 0."""
+    poe = poe_from_chain(robot.chain)
+    rows = [[joint.name, joint.kind, " ".join(f"{v:.6g}" for v in np.round(axis, 9) + 0.0),
+             " ".join(f"{v:.6g}" for v in np.round(point, 9) + 0.0), f"[{joint.lower:g}, {joint.upper:g}]"]
+            for joint, axis, point in zip(robot.chain.joints, poe.axes, poe.points, strict=True)]
+    return Table(f"{robot.name}: joint axes at q = 0, base frame (m, rad)",
+                 ["joint", "type", "axis", "point", "limits"], rows)
 
 
 def _run_one(experiment: Experiment, ctx: LabContext) -> Section:
@@ -162,7 +176,7 @@ def _run_stages(ctx: LabContext, started: float, progress: bool) -> list[Section
             bar.advance(task)
         bar.update(task, description="writing the report")
         robots = [arm, load("zju-i"), load("grb400-scara")] if seeds else [arm]
-        sections.append(_dh_section([r for r in robots if r.dh is not None]))
+        sections.append(_dh_section(robots))
         seconds = time.perf_counter() - started
         title = "armkit lab: " + ("the seed experiments in MuJoCo" if seeds else f"{arm.name} in MuJoCo")
         subtitle = (f"armkit {armkit.__version__}, MuJoCo simulation at 1 kHz with gravity, "
