@@ -399,7 +399,7 @@ class Viewer:
         with self._server.atomic():
             self._waypoint_markers.batched_positions = positions
             self._waypoint_markers.batched_wxyzs = np.tile([1.0, 0, 0, 0], (len(positions), 1))
-            self._waypoint_markers.batched_scales = np.full(len(positions), 1.2 * self._radius)
+            self._waypoint_markers.batched_scales = np.full(len(positions), 0.8 * self._radius)
         for label in self._waypoint_labels:
             label.remove()
         self._waypoint_labels = [self._server.scene.add_label(f"/waypoint_labels/{k}", f"W{k + 1}",
