@@ -19,6 +19,7 @@ from armkit.lab import published as seeds
 from armkit.lab.context import LabContext
 from armkit.lab.motion import rotation_axes
 from armkit.lab.report import _CSS, MARKER, Table, _table_html, prepare_folder
+from armkit.spatial.transforms import transform_from_pose
 from armkit.trajectory import read_trajectory, read_waypoints
 
 PNGS = ["fk_configuration.png", "ik_solutions.png", "line_tracking.png", "trajectory_pva.png",
@@ -86,7 +87,8 @@ def test_the_trajectory_and_its_waypoints_are_saved_for_the_viewer(seed_report):
     robot = armkit.load("probot-anno")
     t, q, qd = read_trajectory(folder / motion.TRAJECTORY_FILE, robot)
     waypoints = read_waypoints(folder / motion.WAYPOINTS_FILE, robot.n)
-    np.testing.assert_allclose(waypoints, seeds.PROBOT_WAYPOINT_JOINTS, atol=1e-5)
+    T_goal = transform_from_pose(np.array(seeds.PROBOT_WAYPOINT_POSES))       # the report's poses
+    np.testing.assert_allclose(robot.fk(waypoints), T_goal, atol=1e-9)
     np.testing.assert_allclose(q[[0, -1]], waypoints[[0, -1]], atol=1e-12)
     assert np.all(np.abs(qd) <= robot.max_velocity * (1 + 1e-9)) and t[-1] > 0
     assert "armkit lab --view" in seed_report.index.read_text()
@@ -200,7 +202,8 @@ def test_lab_view_opens_the_viewer_with_the_trajectory_and_its_waypoints(seed_re
     _view("probot-anno", seed_report.index.parent, 0, open_browser=False)
     viewer = served[0]
     try:
-        np.testing.assert_allclose(viewer.waypoints, seeds.PROBOT_WAYPOINT_JOINTS, atol=1e-5)
+        waypoints = read_waypoints(seed_report.index.parent / motion.WAYPOINTS_FILE, viewer.robot.n)
+        np.testing.assert_array_equal(viewer.waypoints, waypoints)
         assert viewer.playback.source == motion.TRAJECTORY_FILE
         t, q, _ = read_trajectory(seed_report.index.parent / motion.TRAJECTORY_FILE, viewer.robot)
         np.testing.assert_array_equal(viewer.playback.q, q)
