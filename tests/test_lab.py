@@ -15,14 +15,18 @@ from armkit.animation import animate_trajectory
 from armkit.cli.main import main
 from armkit.errors import InputError
 from armkit.lab import motion, run_lab
+from armkit.lab import published as seeds
 from armkit.lab.context import LabContext
 from armkit.lab.motion import rotation_axes
 from armkit.lab.report import _CSS, MARKER, Table, _table_html, prepare_folder
+from armkit.spatial.transforms import transform_from_pose
+from armkit.trajectory import read_trajectory, read_waypoints
 
 PNGS = ["fk_configuration.png", "ik_solutions.png", "line_tracking.png", "trajectory_pva.png",
         "trajectory_tracking.png", "rotation.png", "zju_configuration.png", "scara_configuration.png"]
 EXAMPLE_ARM = Path(__file__).parents[1] / "examples" / "data" / "my_arm.toml"
 GIFS = ["ik_solutions.gif", "line.gif", "trajectory.gif", "rotation.gif"]
+DATA = [motion.TRAJECTORY_FILE, motion.WAYPOINTS_FILE]
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +79,19 @@ def test_report_tables_show_published_computed_and_simulated_values(seed_report)
 def test_marker_lists_what_was_written(seed_report):
     folder = seed_report.index.parent
     manifest = json.loads((folder / MARKER).read_text())
-    assert sorted(manifest["files"]) == sorted([*PNGS, *GIFS, "index.html"])
+    assert sorted(manifest["files"]) == sorted([*PNGS, *GIFS, *DATA, "index.html"])
+
+
+def test_the_trajectory_and_its_waypoints_are_saved_for_the_viewer(seed_report):
+    folder = seed_report.index.parent
+    robot = armkit.load("probot-anno")
+    t, q, qd = read_trajectory(folder / motion.TRAJECTORY_FILE, robot)
+    waypoints = read_waypoints(folder / motion.WAYPOINTS_FILE, robot.n)
+    T_goal = transform_from_pose(np.array(seeds.PROBOT_WAYPOINT_POSES))       # the report's poses
+    np.testing.assert_allclose(robot.fk(waypoints), T_goal, atol=1e-9)
+    np.testing.assert_allclose(q[[0, -1]], waypoints[[0, -1]], atol=1e-12)
+    assert np.all(np.abs(qd) <= robot.max_velocity * (1 + 1e-9)) and t[-1] > 0
+    assert "armkit lab --view" in seed_report.index.read_text()
 
 
 def test_rerun_replaces_its_own_report_and_keeps_other_files(tmp_path):
@@ -257,3 +273,23 @@ def test_full_run_animations_are_480_px(tmp_path):
     with Image.open(gif) as image:
         assert image.size == (480, 480) and image.n_frames == 3
     assert LabContext(robot=robot, folder=tmp_path, quick=True, seeds=False).gif_dpi < ctx.gif_dpi
+
+
+def test_lab_view_opens_the_viewer_with_the_trajectory_and_its_waypoints(seed_report, monkeypatch):
+    pytest.importorskip("viser")
+    import armkit.cli.view
+    from armkit.cli.lab import _view
+
+    served = []
+    monkeypatch.setattr(armkit.cli.view, "serve", lambda viewer, open_browser: served.append(viewer))
+    _view("probot-anno", seed_report.index.parent, 0, open_browser=False)
+    viewer = served[0]
+    try:
+        waypoints = read_waypoints(seed_report.index.parent / motion.WAYPOINTS_FILE, viewer.robot.n)
+        np.testing.assert_array_equal(viewer.waypoints, waypoints)
+        assert viewer.playback.source == motion.TRAJECTORY_FILE
+        t, q, _ = read_trajectory(seed_report.index.parent / motion.TRAJECTORY_FILE, viewer.robot)
+        np.testing.assert_array_equal(viewer.playback.q, q)
+        assert viewer.playback.duration == t[-1] > 0
+    finally:
+        viewer.close()

@@ -21,6 +21,7 @@ from armkit.trajectory import read_waypoints
 from armkit.view.geometry import arm_placement, arm_size, ellipsoid_axes, rotations_z_to, unit_cylinder
 from armkit.view.playback import Playback
 from armkit.view.readout import pose_html
+from armkit.view.scene import Colours
 
 viser = pytest.importorskip("viser")
 
@@ -212,3 +213,15 @@ def test_cli_view_of_an_unknown_robot_is_one_error_line():
     assert result.returncode == 1
     assert result.stderr.strip().startswith("error: unknown robot 'no-such-arm'")
     assert len(result.stderr.strip().splitlines()) == 1
+
+
+def test_a_wrist_singular_target_flags_its_families():
+    with Viewer("puma560", port=0) as viewer:
+        robot = viewer.robot
+        q = np.array([0.3, -0.4, 0.5, 0.2, 0.0, -0.1])                 # q5 = 0: joint axes 4 and 6 align
+        found = viewer.show_solutions(robot.fk(q), follow=False)
+        assert found.family.any()
+        family = int(np.flatnonzero(found.family & found.within_limits)[0])
+        assert viewer._ghosts[family].handle.batched_colors[0].tolist() == list(Colours.GHOST_FAMILY)
+        assert "singular family" in viewer._ik_status.content
+        np.testing.assert_allclose(robot.fk(found.q[family]), robot.fk(q), atol=1e-12)

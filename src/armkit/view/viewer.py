@@ -79,11 +79,15 @@ class Viewer:
 
     Examples
     --------
-    >>> from armkit.view import Viewer                        # doctest: +SKIP
-    >>> viewer = Viewer("probot-anno", port=8080)             # open viewer.url in a browser
+    >>> from armkit.view import Viewer
+    >>> viewer = Viewer("probot-anno", port=0)                # open viewer.url in a browser
     >>> viewer.q = [0.9, -0.9, -0.35, 0.96, 2.97, -0.24]      # the arm and the read-out move
     >>> found = viewer.show_solutions(viewer.robot.fk(viewer.q))   # ghosts of all 8 solutions
-    >>> viewer.pick(1); viewer.teach()
+    >>> len(found.q), int(found.within_limits.sum())
+    (8, 4)
+    >>> q = viewer.pick(1)                                    # the arm takes solution 1
+    >>> viewer.teach()                                        # one waypoint taught
+    1
     >>> viewer.close()
     """
 
@@ -399,7 +403,7 @@ class Viewer:
         with self._server.atomic():
             self._waypoint_markers.batched_positions = positions
             self._waypoint_markers.batched_wxyzs = np.tile([1.0, 0, 0, 0], (len(positions), 1))
-            self._waypoint_markers.batched_scales = np.full(len(positions), 1.2 * self._radius)
+            self._waypoint_markers.batched_scales = np.full(len(positions), 0.8 * self._radius)
         for label in self._waypoint_labels:
             label.remove()
         self._waypoint_labels = [self._server.scene.add_label(f"/waypoint_labels/{k}", f"W{k + 1}",
