@@ -1,6 +1,6 @@
 """The ``armkit`` console script: Ctrl-C while armkit is still being imported is one line too.
 
-Importing armkit (NumPy, SciPy, numba, and the command modules) takes seconds, and a
+Importing armkit (NumPy, rich, Typer and the command modules) takes a moment, and a
 KeyboardInterrupt then would print Python's traceback before :func:`armkit.cli.main.main`
 can catch anything. This module lives outside the ``armkit`` package so that importing it
 imports nothing heavy; it imports the CLI inside the ``try``.
