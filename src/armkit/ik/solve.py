@@ -145,10 +145,12 @@ def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None
     solver = solver_or_reason(chain)
     if isinstance(solver, NoClosedFormError):
         raise solver
-    c, _ = targets.solve(solver, threads=threads)
-    found = IKSolutionsBatch(c.q, c.keep.sum(axis=1), c.inside, c.family & c.keep, c.position_error,
-                             c.orientation_error)
-    return found if targets.batch else found[0]
+    c, _ = targets.solve(solver, threads=threads)  # outside the limits too: the kept ones are counted
+    if not targets.batch:
+        k = int(c.count[0])
+        return IKSolutions(c.q[0, :k], c.inside[0, :k], c.family[0, :k], c.position_error[0, :k],
+                           c.orientation_error[0, :k])
+    return IKSolutionsBatch(c.q, c.count, c.inside, c.family & c.keep, c.position_error, c.orientation_error)
 
 
 def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
