@@ -47,6 +47,11 @@ class DHDescription:
     T_tool: NDArray[np.float64] | None = None
 
 
+def _one_pose_ready(T: object) -> bool:
+    """Whether ``T`` is one C-ordered float64 (4, 4) array (the IK fast path's input)."""
+    return type(T) is np.ndarray and T.shape == (4, 4) and T.dtype == np.float64 and T.flags.c_contiguous
+
+
 class Robot:
     """A serial arm: FK, Jacobians, limits (and IK, motion, simulation in later modules).
 
@@ -316,6 +321,9 @@ class Robot:
         """
         from armkit.ik.solve import ik  # here, not at the top: armkit.ik imports this module
 
+        if _one_pose_ready(T_base_tool) and (near is None or kinematics.is_ready(near, self.n)):
+            # the usual call: the core checks the pose and near itself (errors: ik's messages)
+            return ik(self.chain, T_base_tool, all=all, near=near, within_limits=within_limits, **options)
         T = check_transform(T_base_tool, "target pose")
         if near is not None:
             near = self.check_q(near, "near")
