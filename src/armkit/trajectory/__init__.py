@@ -11,11 +11,14 @@ object), :mod:`~armkit.trajectory.timing` (fitting durations to limits),
 
 from armkit._lazy import lazy_exports
 
-__getattr__, __dir__, __all__ = lazy_exports(__name__, {
+# ``min_jerk`` is also a submodule's name: importing the submodule would put the module in
+# the package's namespace, so the function is imported now (the module itself is light).
+from armkit.trajectory.min_jerk import min_jerk  # noqa: E402, F401
+
+__getattr__, __dir__, _lazy_names = lazy_exports(__name__, {
     "armkit.trajectory._checks": ["durations_from_times"],
     "armkit.trajectory.export": ["read_trajectory"],
     "armkit.trajectory.joint_trajectory": ["JointTrajectory", "TrajectorySamples"],
-    "armkit.trajectory.min_jerk": ["min_jerk"],
     "armkit.trajectory.plan": ["plan_trajectory"],
     "armkit.trajectory.polynomial": ["PolynomialSegment", "cubic", "quintic"],
     "armkit.trajectory.timing": ["auto_time", "limit_ratio", "limit_ratios", "stretch_to_limits"],
@@ -23,3 +26,4 @@ __getattr__, __dir__, __all__ = lazy_exports(__name__, {
     "armkit.trajectory.waypoints": ["joint_waypoints", "joint_waypoints_from_poses", "read_waypoints",
                                    "write_waypoints"],
 })
+__all__ = sorted([*_lazy_names, "min_jerk"])

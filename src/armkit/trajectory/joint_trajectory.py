@@ -16,7 +16,6 @@ from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.interpolate import PPoly
 
 from armkit._time import rate_time_grid
 from armkit.chain import LIMIT_TOLERANCE
@@ -73,6 +72,8 @@ class JointTrajectory:
         for array in (self.durations, self.coefficients, self.waypoints, self.requested_durations):
             array.setflags(write=False)
         self._breaks = np.concatenate([[0.0], np.cumsum(self.durations)])
+        from scipy.interpolate import PPoly  # here: scipy.interpolate costs ~0.5 s at start-up
+
         self._ppoly = PPoly(self.coefficients[::-1], self._breaks, extrapolate=False)
 
     def __repr__(self) -> str:

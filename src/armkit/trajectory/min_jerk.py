@@ -22,7 +22,6 @@ from functools import cache
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.linalg import solveh_banded
 
 from armkit.trajectory._checks import check_durations, check_finite, check_waypoints
 from armkit.trajectory.joint_trajectory import JointTrajectory
@@ -79,6 +78,8 @@ def min_jerk_boundary_values(waypoints: NDArray[np.float64], durations: NDArray[
             + np.einsum("kij,kjn->kin", right[:, 1:3, [0, 3]], np.stack([q[1:-1], q[2:]], axis=1)))
     rhs[0] -= H[0, 4:6, 1:3] @ np.stack(start)
     rhs[-1] -= H[-1, 1:3, 4:6] @ np.stack(end)
+    from scipy.linalg import solveh_banded  # here: importing scipy.linalg costs ~0.2 s at start-up
+
     solution = solveh_banded(banded, rhs.reshape(K, n), check_finite=False).reshape(M - 2, 2, n)
     velocity[1:-1], acceleration[1:-1] = solution[:, 0], solution[:, 1]
     return velocity, acceleration
