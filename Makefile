@@ -27,8 +27,8 @@ test: $(VENV)/.installed-test
 	$(BIN)/ruff check src tests benchmarks examples
 	$(BIN)/python -m pytest -q
 
-fuzz: $(VENV)/.installed-test  # the CLI fuzz tests with many more random argument lists
-	HYPOTHESIS_PROFILE=fuzz $(BIN)/python -m pytest -q tests/test_cli_fuzz.py
+fuzz: $(VENV)/.installed-test  # the fuzz and property tests with many more random examples
+	HYPOTHESIS_PROFILE=fuzz $(BIN)/python -m pytest -q tests/test_cli_fuzz.py tests/test_ik_property.py
 
 bench: $(VENV)/.installed-test
 	$(BIN)/python -m pip install --quiet -e ".[bench]"

@@ -80,7 +80,7 @@ inline Angle1 sp1(Vec3 p, Vec3 q, Vec3 k, double scale = 0.0) {
 }
 
 // All t with a cos t + b sin t = c; size: the size of the terms. snap: within
-// kTangentTolerance of tangency return the double root once; without it both branches are
+// kTangentTolerance (of size) of tangency return the double root once; without it both branches are
 // returned (for a caller that refines the angle itself). free: a = b = c = 0.
 inline Angles2 solve_trig_linear(double a, double b, double c, double size, bool snap = true) {
     const double r = std::sqrt(a * a + b * b);
@@ -88,10 +88,13 @@ inline Angles2 solve_trig_linear(double a, double b, double c, double size, bool
         const bool free = std::abs(c) <= kOutTolerance * size;
         return {{0.0, 0.0}, {free, false}, free};
     }
-    const double x = c / r;
-    if (std::abs(x) > 1.0 + kOutTolerance) return {{0.0, 0.0}, {false, false}, false};
+    // c carries rounding errors of the size of the terms, so x = c / r those over r: a small
+    // r (a small circle) must not turn a tangent instance into two roots ~sqrt(eps size / r)
+    // apart, nor into an impossible one
+    const double x = c / r, rounding = size / r;
+    if (std::abs(x) > 1.0 + kOutTolerance * rounding) return {{0.0, 0.0}, {false, false}, false};
     const double phi = std::atan2(b, a);
-    if (snap && std::abs(x) >= 1.0 - kTangentTolerance) {
+    if (snap && std::abs(x) >= 1.0 - kTangentTolerance * rounding) {
         const double delta = x > 0 ? 0.0 : kPi;
         return {{phi + delta, phi - delta}, {true, false}, false};
     }
