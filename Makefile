@@ -27,9 +27,10 @@ test: $(VENV)/.installed-test
 	$(BIN)/ruff check src tests benchmarks examples
 	$(BIN)/python -m pytest -q
 
-fuzz: $(VENV)/.installed-test  # the fuzz tests (CLI arguments, robot files, URDF) with many more examples
+fuzz: $(VENV)/.installed-test  # the fuzz and property tests (CLI, robot files, URDF, IK) with many more examples
 	HYPOTHESIS_PROFILE=fuzz ARMKIT_FUZZ_EXAMPLES=20000 $(BIN)/python -m pytest -q tests/test_cli_fuzz.py \
-		tests/test_robot_file_fuzz.py tests/test_urdf.py -k "fuzz or documents or mutated"
+		tests/test_ik_property.py tests/test_robot_file_fuzz.py tests/test_urdf.py \
+		-k "fuzz or property or documents or mutated"
 
 bench: $(VENV)/.installed-test
 	$(BIN)/python -m pip install --quiet -e ".[bench]"

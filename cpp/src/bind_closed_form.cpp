@@ -1,6 +1,7 @@
 // Bindings of the subproblems and the case solvers: _core.CaseGeometry (built once per chain
 // by armkit/ik/closed_form.py), _core.solve_pose (one pose, for tests) and the subproblems
 // themselves (for the chain preparation and tests).
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <stdexcept>
@@ -111,6 +112,7 @@ CaseGeometry make_geometry(const nb::kwargs& kw) {
         g.h.push_back({h[3 * j], h[3 * j + 1], h[3 * j + 2]});
         g.p.push_back({p[3 * j], p[3 * j + 1], p[3 * j + 2]});
     }
+    for (double v : p) g.size = std::max(g.size, 1.0 + std::abs(v));
     for (double v : doubles(kw, "prismatic", std::size_t(g.n))) g.prismatic.push_back(v != 0.0);
     g.c = vec_field(kw, "c");
     g.o = vec_field(kw, "o");

@@ -179,13 +179,16 @@ AngleCandidates two_angle_system(const CaseGeometry& g, const Mat2& P, const dou
 
 // ------------------------------------------------------------- spherical wrist
 
-// Both s with |v + s h| = d, and whether each is a real root.
+// Both s with |v + s h| = d, and whether each is a real root. Within kTangentTolerance of
+// tangency (the line touches the sphere) the double root once: the square root of a
+// rounding error (~1e-8 |v|) would split it.
 Angles2 slide_to_sphere(Vec3 v, Vec3 h, double d) {
-    const double b = dot(v, h);
+    const double b = dot(v, h), size = dot(v, v) + d * d;
     const double disc = b * b - dot(v, v) + d * d;
-    const bool exists = disc >= -1e-9 * (dot(v, v) + d * d);
-    const double root = std::sqrt(std::max(disc, 0.0));
-    return {{-b + root, -b - root}, {exists, exists && disc > 0}, false};
+    const bool exists = disc >= -kOutTolerance * size;
+    const bool touch = disc <= kTangentTolerance * size;
+    const double root = touch ? 0.0 : std::sqrt(disc);
+    return {{-b + root, -b - root}, {exists, exists && !touch}, false};
 }
 
 // Joints 1-3 for general axes: a two-angle system in q1, q3 (g.a1, g.a2 are the closest
@@ -205,7 +208,7 @@ ArmCandidates general_position(const CaseGeometry& g, Vec3 w) {
     for (int i = 0; i < 4; ++i) {
         const Vec3 y = p0 + rotate(-h0, pair.t1[i], u);
         const Vec3 x = o3 + rotate(h2, pair.t2[i], c - o3);
-        const Angle1 q2 = sp1(x - o2, y - o2, h1);
+        const Angle1 q2 = sp1(x - o2, y - o2, h1, g.size);
         out.q[i][0] = pair.t1[i];
         out.q[i][1] = q2.t;
         out.q[i][2] = pair.t2[i];
@@ -254,7 +257,7 @@ ArmCandidates wrist_centre_joints(const CaseGeometry& g, Vec3 w) {
             const Angles2 q1 = sp3(w - p0, o - p0, -h0, norm(c - o));
             for (int i = 0; i < 2; ++i) {
                 const Vec3 y = p0 + rotate(-h0, q1.t[i], w - p0);
-                const AnglePairs2 q23 = sp2(y - o, c - o, -h1, h2);
+                const AnglePairs2 q23 = sp2(y - o, c - o, -h1, h2, g.size);
                 for (int j = 0; j < 2; ++j)
                     put(2 * i + j, q1.t[i], q23.t1[j], q23.t2[j], q1.ok[i] && q23.ok[j],
                         q1.free || q23.free1 || q23.free2);
@@ -267,7 +270,7 @@ ArmCandidates wrist_centre_joints(const CaseGeometry& g, Vec3 w) {
             const Angles2 q3 = slide ? slide_to_sphere(c - o, h2, d) : sp3(c - p2, o - p2, h2, d);
             for (int i = 0; i < 2; ++i) {
                 const Vec3 x = slide ? c + q3.t[i] * h2 : p2 + rotate(h2, q3.t[i], c - p2);
-                const AnglePairs2 q12 = sp2(w - o, x - o, -h0, h1);
+                const AnglePairs2 q12 = sp2(w - o, x - o, -h0, h1, g.size);
                 for (int j = 0; j < 2; ++j)
                     put(2 * i + j, q12.t1[j], q12.t2[j], q3.t[i], q3.ok[i] && q12.ok[j],
                         q3.free || q12.free1 || q12.free2);

@@ -44,6 +44,7 @@ struct CaseGeometry {
     std::vector<int> revolute_joints;  // planar: the revolute joints (2 or 3)
     int prismatic_joint = -1;          // planar: the prismatic joint, or -1
     int k = 8;                         // candidates per pose (8, or 2 for planar)
+    double size = 1.0;                 // length scale [m]: 1 + the largest coordinate of p
 };
 
 // Every candidate for the joint motion G = (R, t): into q (g.k x g.n, row-major, internal

@@ -2,8 +2,9 @@
 // (port of armkit/ik/family.py's walk). Header-only: used by ik_solve.hpp.
 //
 // At a singular pose the closed form returns one member of a family (e.g. q4 = 0 for an
-// aligned wrist, where only q4 + q6 is defined). The family runs along the null space of
-// the Jacobian: first the point of that line (two whole turns of its fastest joint, either
+// aligned wrist, where only q4 + q6 is defined). Where two revolute axes are one line the
+// family is exactly a line in joint space, walked to its point nearest to near first. The
+// family runs along the null space of the Jacobian: then the point of that line (two whole turns of its fastest joint, either
 // way) nearest to near after the 2 pi wrap into the limits, then steps along the null
 // space (weighted), each put back exactly on the solution set by Levenberg-Marquardt steps,
 // while the distance falls. A move that would leave the limits a representative was inside
@@ -123,11 +124,55 @@ inline double family_distance(const Chain& chain, const double* q, const double*
     return chain.within_limits(moved) || !keep_inside ? far : std::numeric_limits<double>::infinity();
 }
 
+// Two revolute joints i < j whose axes are one line at q (s = +1 along, -1 against) leave
+// the pose unchanged along q + t (e_i - s e_j), for every t: turning joint i about that line
+// keeps joint j's axis on it, so the two turns cancel. Moves q (n) along each such line to
+// its point nearest to near (over the whole turns of both joints); exact, no projection.
+// This is the family of an aligned wrist even where the line search below cannot see it
+// (a second singular direction at q makes the null space two-dimensional).
+inline void move_along_collinear_pairs(const Chain& chain, double* q, const double* near, const double* weights,
+                                       bool inside) {
+    const int n = chain.n;
+    Vec3 axes[kMaxJoints], points[kMaxJoints];
+    joint_axes(chain, q, axes, points);
+    double size = 1.0;
+    for (int j = 0; j < n; ++j) size = std::fmax(size, 1.0 + norm(points[j]));
+    for (int i = 0; i < n; ++i) {
+        for (int j = i + 1; j < n; ++j) {
+            if (chain.prismatic[i] || chain.prismatic[j]) continue;
+            const Vec3 d = points[j] - points[i];
+            if (norm(cross(axes[i], axes[j])) > kNullSpace || norm(cross(axes[i], d)) > kNullSpace * size) continue;
+            const double sj = dot(axes[i], axes[j]) > 0 ? 1.0 : -1.0;
+            // minimise wi^2 (t - a)^2 + wj^2 (t - b)^2 over whole turns of a and b
+            const double wi = weights[i] * weights[i], wj = weights[j] * weights[j];
+            double best = family_distance(chain, q, near, weights, inside), best_t = 0.0;
+            for (int ki = -2; ki <= 2; ++ki)
+                for (int kj = -2; kj <= 2; ++kj) {
+                    const double a = near[i] + kTwoPi * ki - q[i], b = sj * (q[j] - near[j] - kTwoPi * kj);
+                    const double t = (wi * a + wj * b) / (wi + wj);
+                    double point[kMaxJoints];
+                    for (int m = 0; m < n; ++m) point[m] = q[m];
+                    point[i] += t;
+                    point[j] -= sj * t;
+                    const double far = family_distance(chain, point, near, weights, inside);
+                    if (far < best - 1e-24) best = far, best_t = t;
+                }
+            if (best_t == 0.0) continue;
+            double moved[kMaxJoints];
+            q[i] += best_t;
+            q[j] -= sj * best_t;
+            wrap_towards(chain, q, near, moved);
+            for (int m = 0; m < n; ++m) q[m] = moved[m];
+        }
+    }
+}
+
 // Moves q (n, a solution of T at a singular pose) to the member of its family nearest to
 // near (n), weights (n).
 inline void walk_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights) {
     const int n = chain.n;
     const bool inside = chain.within_limits(q);
+    move_along_collinear_pairs(chain, q, near, weights, inside);
     for (int step = 0; step < kFamilySteps; ++step) {
         Vec3 axes[kMaxJoints], points[kMaxJoints];
         double J[6 * kMaxJoints], s[kMaxJoints], V[kMaxJoints * kMaxJoints];

@@ -4,8 +4,14 @@
 // struct. Axes k are unit vectors; rotations R(k, t) are active, right-handed, about an
 // axis through the origin. A subproblem with two solutions returns both with a pair of
 // ok flags: a tangent (double) solution comes once (second branch not ok), an instance
-// impossible by at most kOutTolerance (rounding) counts as tangent, and an instance whose
-// solutions form a whole circle returns the representative t = 0 with free = true.
+// impossible by at most kOutTolerance (rounding) counts as tangent, one within
+// kTangentTolerance of tangency is solved as tangent (its double root exactly, not split by
+// the square root of a rounding error), and an instance whose solutions form a whole circle
+// returns the representative t = 0 with free = true.
+//
+// SP1 and SP2 take a length scale: a point counts as on an axis (free) within
+// kFreeTolerance of the larger of its own length and the scale, so a point that is zero up
+// to rounding (the wrist centre at the shoulder's centre) is free, not a random direction.
 //
 //   SP1  R(k, t) p = q                              1 (least squares)
 //   SP2  R(k1, t1) p1 = R(k2, t2) p2                0, 1 or 2 pairs
@@ -63,17 +69,18 @@ inline TrigCoeffs trig_coeffs(Vec3 h, Vec3 k, Vec3 v) {
 }
 
 // SP1: the angle t with R(k, t) p = q (least squares if |p| != |q|); free where p (or q)
-// lies on the axis.
-inline Angle1 sp1(Vec3 p, Vec3 q, Vec3 k) {
+// lies on the axis (scale: the length scale of p and q, 0 for none).
+inline Angle1 sp1(Vec3 p, Vec3 q, Vec3 k, double scale = 0.0) {
     const Vec3 kxp = cross(k, p), kxq = cross(k, q);  // their lengths: distances from the axis
-    const double free2 = kFreeTolerance * kFreeTolerance;
-    if (dot(kxp, kxp) <= free2 * dot(p, p) || dot(kxq, kxq) <= free2 * dot(q, q)) return {0.0, true};
+    const double free2 = kFreeTolerance * kFreeTolerance, scale2 = scale * scale;
+    if (dot(kxp, kxp) <= free2 * std::max(dot(p, p), scale2) || dot(kxq, kxq) <= free2 * std::max(dot(q, q), scale2))
+        return {0.0, true};
     const Vec3 p_perp = p - dot(k, p) * k;
     return {std::atan2(dot(kxp, q), dot(p_perp, q)), false};
 }
 
 // All t with a cos t + b sin t = c; size: the size of the terms. snap: within
-// kTangentTolerance of tangency return the double root once; without it both branches are
+// kTangentTolerance (of size) of tangency return the double root once; without it both branches are
 // returned (for a caller that refines the angle itself). free: a = b = c = 0.
 inline Angles2 solve_trig_linear(double a, double b, double c, double size, bool snap = true) {
     const double r = std::sqrt(a * a + b * b);
@@ -81,10 +88,13 @@ inline Angles2 solve_trig_linear(double a, double b, double c, double size, bool
         const bool free = std::abs(c) <= kOutTolerance * size;
         return {{0.0, 0.0}, {free, false}, free};
     }
-    const double x = c / r;
-    if (std::abs(x) > 1.0 + kOutTolerance) return {{0.0, 0.0}, {false, false}, false};
+    // c carries rounding errors of the size of the terms, so x = c / r those over r: a small
+    // r (a small circle) must not turn a tangent instance into two roots ~sqrt(eps size / r)
+    // apart, nor into an impossible one
+    const double x = c / r, rounding = size / r;
+    if (std::abs(x) > 1.0 + kOutTolerance * rounding) return {{0.0, 0.0}, {false, false}, false};
     const double phi = std::atan2(b, a);
-    if (snap && std::abs(x) >= 1.0 - kTangentTolerance) {
+    if (snap && std::abs(x) >= 1.0 - kTangentTolerance * rounding) {
         const double delta = x > 0 ? 0.0 : kPi;
         return {{phi + delta, phi - delta}, {true, false}, false};
     }
@@ -121,16 +131,17 @@ inline Vec3 in_plane(Vec3 v, Vec3 h) { return v - dot(v, h) * h; }
 
 }  // namespace detail
 
-// SP2: all (t1, t2) with R(k1, t1) p1 = R(k2, t2) p2 for non-parallel k1, k2. The common
-// point is x = alpha k1 + beta k2 +- gamma (k1 x k2).
-inline AnglePairs2 sp2(Vec3 p1, Vec3 p2, Vec3 k1, Vec3 k2) {
+// SP2: all (t1, t2) with R(k1, t1) p1 = R(k2, t2) p2 for non-parallel k1, k2 (scale: the
+// length scale of p1 and p2, 0 for none). The common point is x = alpha k1 + beta k2 +-
+// gamma (k1 x k2); where the circles touch (gamma^2 within rounding of 0) the one pair.
+inline AnglePairs2 sp2(Vec3 p1, Vec3 p2, Vec3 k1, Vec3 k2, double scale = 0.0) {
     const double c12 = dot(k1, k2);
     const double a1 = dot(k1, p1), a2 = dot(k2, p2);
     const double det = 1.0 - c12 * c12;
     Vec3 base = ((a1 - c12 * a2) / det) * k1 + ((a2 - c12 * a1) / det) * k2;
     const Vec3 n = cross(k1, k2);
     const double n1 = dot(p1, p1), n2 = dot(p2, p2);
-    const double norm2 = 0.5 * (n1 + n2);
+    const double norm2 = std::max(0.5 * (n1 + n2), scale * scale);
     // gamma^2 det^2 = r1^2 det - (a2 - c12 a1)^2 with r1 = |k1 x p1| the radius of p1's
     // circle (or 1 <-> 2): no cancellation against |p|^2, so a tiny circle (a wrist near its
     // singularity) keeps its relative accuracy. Use the smaller circle.
@@ -146,8 +157,13 @@ inline AnglePairs2 sp2(Vec3 p1, Vec3 p2, Vec3 k1, Vec3 k2) {
     }
     const bool exists = gamma2 >= -kOutTolerance * norm2 && std::abs(n1 - n2) <= kOutTolerance * norm2;
     const double free2 = kFreeTolerance * kFreeTolerance;
-    const bool free1 = r1 <= free2 * n1, free2_ = r2 <= free2 * n2;
-    double gamma = std::sqrt(std::max(gamma2, 0.0));
+    const bool free1 = r1 <= free2 * std::max(n1, scale * scale), free2_ = r2 <= free2 * std::max(n2, scale * scale);
+    // gamma^2 carries rounding errors of about eps |p| r / det (r: the smaller radius): within
+    // kTangentTolerance of that the circles touch, and gamma = sqrt(rounding) ~ 1e-8 |p| would
+    // split the double root. Snapping moves the common point off the circles by gamma^2 / r,
+    // to rounding: a tiny circle (a wrist near its singularity) keeps its two branches.
+    const bool touch = gamma2 <= kTangentTolerance * std::sqrt(norm2 * std::min(r1, r2)) / det;
+    double gamma = touch ? 0.0 : std::sqrt(gamma2);
     if (free1 || free2_) {  // a point on its axis stays put: the common point is that point
         base = free1 ? p1 : p2;
         gamma = 0.0;
@@ -155,7 +171,7 @@ inline AnglePairs2 sp2(Vec3 p1, Vec3 p2, Vec3 k1, Vec3 k2) {
     AnglePairs2 s{{0.0, 0.0}, {0.0, 0.0}, {false, false}, free1, free2_};
     if (!free1) detail::angles_to_branches(c1, p1 - a1 * k1, base, n, gamma, s.t1);
     if (!free2_) detail::angles_to_branches(c2, p2 - a2 * k2, base, n, gamma, s.t2);
-    const bool single = gamma2 <= 0.0 || free1 || free2_;
+    const bool single = touch || free1 || free2_;
     s.ok[0] = exists;
     s.ok[1] = exists && !single;
     return s;

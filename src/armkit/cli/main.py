@@ -45,7 +45,10 @@ def _caused_by_interrupt(exc: BaseException) -> bool:
     while exc is not None:
         if isinstance(exc, KeyboardInterrupt):
             return True
-        exc = exc.__cause__ or exc.__context__
+        if exc.__cause__ is not None:
+            exc = exc.__cause__
+        else:
+            exc = None if exc.__suppress_context__ else exc.__context__
     return False
 
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 import webbrowser
 from pathlib import Path
 from typing import Annotated
@@ -25,7 +24,7 @@ def serve(viewer, open_browser: bool) -> None:
     except KeyboardInterrupt:
         viewer.close()
         err_console.print("armkit view: stopped", highlight=False)
-        sys.exit(INTERRUPTED)
+        raise SystemExit(INTERRUPTED) from None  # said in one line already
 
 
 @app.command("view")

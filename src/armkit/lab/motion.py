@@ -271,8 +271,8 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     result = ctx.sim.run(samples.t, samples.q, samples.qd)
     trajectory.to_csv(ctx.path(TRAJECTORY_FILE), rate_hz=100.0, overwrite=True)
     write_waypoints(ctx.path(WAYPOINTS_FILE), robot, q, overwrite=True)
-    section.notes.append(f"The trajectory (100 Hz samples) and its waypoints are in the report folder as "
-                         f"{TRAJECTORY_FILE} and {WAYPOINTS_FILE}; play them in the 3-D viewer with "
+    section.notes.append(f"The trajectory (100 Hz samples) and its waypoints are saved next to this page "
+                         f"as {TRAJECTORY_FILE} and {WAYPOINTS_FILE}; play them in the 3-D viewer with "
                          f"'armkit lab --view' or 'armkit view ROBOT --trajectory {TRAJECTORY_FILE}'.")
     section.tables.append(_waypoint_table(ctx, q, poses, report_q, trajectory.waypoint_times, result))
     limit_rows = []

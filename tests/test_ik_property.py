@@ -1,0 +1,209 @@
+"""IK property test over random arms of every closed-form class, degenerate ones included.
+
+For every arm kind (spherical wrist with each way joints 1-3 place the wrist centre, a
+prismatic joint 3 among them; spherical base; three parallel axes 1-3, 2-4, 3-5, 4-6;
+SCARA; planar 2R / 3R), with generic or degenerate geometry (twists on multiples of 90
+degrees, zero offsets, joint offsets and joint values on the pi/2 grid, exactly singular
+poses such as an aligned wrist): every solution returned reproduces the pose by forward
+kinematics, and the configuration that made the pose is found, by ``ik(T, near=q)`` and
+among (or in a flagged family of) ``ik_solutions``. Where EAIK (nobody here wrote it)
+solves the arm, our solutions and its exact ones agree at generic poses.
+
+``make test`` runs a few examples per class (derandomized in CI); ``make fuzz`` many more.
+"""
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from test_ik_closed_form import _assert_same_as_eaik, _joint_distance, _random_transform, random_arm
+
+from armkit.chain import DHRow, chain_from_dh
+from armkit.ik import ik, ik_solutions
+from armkit.ik.structure import analyze_structure
+from armkit.kinematics import fk, singular_values
+from armkit.spatial.rotations import matrix_from_axis_angle
+
+pi = np.pi
+GRID = np.array([0.0, pi / 2, -pi / 2, pi])
+#: Joint distance [rad or m, after the 2 pi wrap] within which the generating q counts as found.
+FOUND = 1e-6
+#: Every solution reproduces the pose to this [m, rad] (the pipeline's verify tolerance).
+REPRODUCED = 1e-9
+
+SIX_JOINT_CLASSES = ([("spherical-wrist", case) for case in range(5)]
+                     + [("spherical-wrist", "prismatic3"), ("spherical-base", None)]
+                     + [("three-parallel", b) for b in (1, 2, 3, 4)])
+PLANAR_CLASSES = [("revolute", "revolute", "prismatic", "revolute"), ("revolute",) * 3,
+                  ("revolute", "prismatic", "revolute"), ("revolute",) * 2]
+
+
+def _grid_transform(rng):
+    """A base or tool transform: identity, a quarter-turn grid rotation, or random."""
+    choice = rng.integers(3)
+    T = np.eye(4)
+    if choice == 1:
+        axis = np.eye(3)[rng.integers(3)]
+        T[:3, :3] = np.round(matrix_from_axis_angle(axis * rng.choice(GRID)))
+        T[:3, 3] = np.where(rng.random(3) < 0.5, 0.0, rng.uniform(-0.3, 0.3, 3))
+    elif choice == 2:
+        T = _random_transform(rng)
+    return T
+
+
+def degenerate_six_joint_arm(rng, kind, case, convention):
+    """A 6-joint DH arm of ``kind`` with twists on multiples of 90 degrees, offsets that are
+    zero half of the time and joint offsets on the pi/2 grid (see ``random_arm``)."""
+    a = np.where(rng.random(7) < 0.5, 0.0, rng.uniform(-0.4, 0.4, 7))
+    d = np.where(rng.random(7) < 0.5, 0.0, rng.uniform(-0.4, 0.4, 7))
+    alpha = rng.choice([-pi / 2, pi / 2], 7)
+    theta = rng.choice(GRID, 7)
+    prismatic3 = case == "prismatic3"
+    if kind in ("spherical-wrist", "spherical-base"):
+        first, last = (4, 5) if kind == "spherical-wrist" else (1, 2)
+        a[first] = a[last] = d[last] = 0.0
+        side = [1, 2] if kind == "spherical-wrist" else [4, 5]
+        case = 0 if prismatic3 else case
+        if case == 0:
+            a[side[0]] = 0.0
+        elif case == 1:
+            alpha[side[1]] = 0.0
+        elif case == 2:
+            a[side[1]] = 0.0
+        elif case == 3:
+            alpha[side[0]] = 0.0
+    else:
+        alpha[case] = alpha[case + 1] = 0.0
+    kinds = ["revolute"] * 6
+    if prismatic3:
+        kinds[2] = "prismatic"
+    if convention == "standard":
+        rows = [DHRow(alpha[i], a[i], d[i], theta[i], kinds[i - 1]) for i in range(1, 7)]
+    else:
+        rows = [DHRow(alpha[i - 1], a[i - 1], d[i], theta[i], kinds[i - 1]) for i in range(1, 7)]
+    limits = [(-pi, pi) if k == "revolute" else (-0.6, 0.6) for k in kinds]
+    return chain_from_dh(rows, convention, limits=limits, T_base=_grid_transform(rng),
+                         T_tool=_grid_transform(rng))
+
+
+def planar_arm(rng, kinds, convention, degenerate):
+    """A SCARA or planar arm (all twists 0), degenerate: offsets on the grid, zero heights."""
+    rows = []
+    for k in kinds:
+        d = 0.0 if degenerate and rng.random() < 0.5 else rng.uniform(-0.2, 0.2)
+        theta = rng.choice(GRID) if degenerate else rng.uniform(-pi, pi)
+        rows.append(DHRow(0.0, rng.uniform(0.1, 0.4), d, theta, k))
+    limits = [(-pi, pi) if k == "revolute" else (-0.2, 0.2) for k in kinds]
+    T_base, T_tool = (_grid_transform(rng), _grid_transform(rng)) if degenerate else \
+        (_random_transform(rng), _random_transform(rng))
+    return chain_from_dh(rows, convention, limits=limits, T_base=T_base, T_tool=T_tool)
+
+
+def _poses(rng, chain, count, degenerate):
+    """Joint values: on the pi/2 grid with q5 in {0, pi} (degenerate), else uniform; prismatic
+    ones on a grid of lengths including 0 (a wrist centre on the shoulder's centre)."""
+    if not degenerate:
+        return rng.uniform(chain.lower, chain.upper, (count, chain.n))
+    q = rng.choice(GRID, (count, chain.n))
+    if chain.n == 6:
+        q[:, 4] = rng.choice([0.0, pi], count)
+    lengths = np.array([0.0, -0.1, 0.15]) if chain.n < 6 else np.array([0.0, -0.3, 0.2, 0.5])
+    q[:, chain.prismatic] = rng.choice(lengths, (count, int(chain.prismatic.sum())))
+    return q
+
+
+def _nullity(chain, q):
+    S = singular_values(chain, q)
+    return int((S <= 1e-8 * S[0]).sum() + max(0, min(6, chain.n) - len(S)))
+
+
+def _assert_ik_properties(chain, q_all):
+    """Every returned solution reproduces T; the generating q is found (see the module)."""
+    structure = analyze_structure(chain)
+    size = 1.0 + np.abs(fk(chain, np.zeros(chain.n))[:3, 3]).max()
+    T_all = fk(chain, q_all)
+    # the over-determined planar arms reach only poses of their plane; fk(q) is one
+    for q, T in zip(q_all, T_all, strict=True):
+        found = ik_solutions(chain, T, near=q)
+        assert 1 <= len(found.q) <= structure.max_solutions or found.family.any()
+        F = fk(chain, found.q)
+        assert np.abs(F - T).max() <= REPRODUCED * size, f"q = {q.tolist()}: a solution misses T"
+        near = ik(chain, T, near=q, within_limits=False)
+        assert np.abs(fk(chain, near) - T).max() <= REPRODUCED * size
+        listed = (_joint_distance(chain, found.q, q) <= FOUND).any()
+        nearest = _joint_distance(chain, near, q) <= FOUND
+        if listed and nearest:
+            continue
+        # A family of two or more parameters (a prismatic joint 3 placing the wrist centre on
+        # the shoulder's centre: q1, q2 and the wrist all free) is walked locally only: there
+        # the pose must be answered by a flagged family member.
+        assert _nullity(chain, q) >= 2 and found.family.any(), (
+            f"q = {q.tolist()} not found: nearest {near.tolist()}, listed {found.q.tolist()}, "
+            f"family {found.family.tolist()}")
+
+
+#: Degenerate classes where the generating q is still lost (issue 10 item 3, open): the
+#: quartic paths (axes 1-3 or 4-6 general) reach a multiple root only to ~1e-5 by Newton
+#: steps, so the aligned wrist's family is not recognised; three parallel axes lose the
+#: pose (no solution) or the generating configuration at some grid poses.
+OPEN = {("spherical-wrist", 4): "quartic path: multiple roots to ~1e-5 only",
+        ("spherical-base", None): "quartic path (general axes 4-6): multiple roots to ~1e-5 only",
+        **{("three-parallel", block): "three parallel axes: pose or configuration lost at grid poses"
+           for block in (1, 2, 3, 4)}}
+DEGENERATE_CLASSES = [pytest.param(kind, case, marks=pytest.mark.xfail(reason=OPEN[kind, case], strict=False))
+                      if (kind, case) in OPEN else (kind, case) for kind, case in SIX_JOINT_CLASSES]
+
+
+@pytest.mark.parametrize(("kind", "case"), SIX_JOINT_CLASSES)
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2**32 - 1))
+def test_six_joint_arms(kind, case, seed):
+    _check_six_joint_arm(kind, case, seed, degenerate=False)
+
+
+@pytest.mark.parametrize(("kind", "case"), DEGENERATE_CLASSES)
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2**32 - 1))
+def test_degenerate_six_joint_arms(kind, case, seed):
+    _check_six_joint_arm(kind, case, seed, degenerate=True)
+
+
+def _check_six_joint_arm(kind, case, seed, degenerate):
+    rng = np.random.default_rng(seed)
+    convention = ["standard", "modified"][seed % 2]
+    if degenerate:
+        chain = degenerate_six_joint_arm(rng, kind, case, convention)
+    elif kind == "three-parallel":
+        chain = random_arm(rng, kind, convention)
+    else:
+        chain = random_arm(rng, kind, convention, prismatic3=case == "prismatic3")
+    if not analyze_structure(chain).closed_form:  # a degenerate arm may lose its closed form
+        assert degenerate
+        return
+    _assert_ik_properties(chain, _poses(rng, chain, 6, degenerate))
+    if not degenerate and not chain.prismatic.any():  # EAIK's arms are revolute
+        _assert_same_as_eaik(chain, _poses(rng, chain, 6, False))
+
+
+@pytest.mark.parametrize("kinds", PLANAR_CLASSES, ids=lambda k: "-".join(x[0] for x in k))
+@settings(max_examples=6, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), degenerate=st.booleans())
+def test_scara_and_planar_arms(kinds, seed, degenerate):
+    rng = np.random.default_rng(seed)
+    chain = planar_arm(rng, list(kinds), ["standard", "modified"][seed % 2], degenerate)
+    assert analyze_structure(chain).closed_form
+    _assert_ik_properties(chain, _poses(rng, chain, 6, degenerate))
+
+
+def test_stanford_like_arm_at_an_aligned_wrist_on_the_grid():
+    """Issue 10 item 3: before, 8 isolated solutions within 1e-8 of a family (an SP2 double
+    root split by the square root of a rounding error), none the generating q, no flag."""
+    rows = [DHRow(-pi / 2, 0.0, -0.2497, pi), DHRow(pi / 2, 0.0, 0.1364, pi),
+            DHRow(pi / 2, 0.0, 0.3573, 0.0, "prismatic"), DHRow(-pi / 2, 0.0, 0.3382, pi / 2),
+            DHRow(pi / 2, 0.0, 0.0, pi), DHRow(-pi / 2, 0.1364, 0.0, -pi / 2)]
+    chain = chain_from_dh(rows, "standard", limits=[(-pi, pi)] * 2 + [(-0.6, 0.6)] + [(-pi, pi)] * 3)
+    q = np.array([pi, pi, -0.3, pi, 0.0, pi])
+    T = fk(chain, q)
+    found = ik_solutions(chain, T, near=q)
+    assert found.family.any() and (_joint_distance(chain, found.q, q) <= FOUND).any()
+    assert _joint_distance(chain, ik(chain, T, near=q, within_limits=False), q) <= FOUND
