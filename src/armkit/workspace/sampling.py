@@ -1,8 +1,9 @@
 """The workspace maps' only contact with the kinematics: configurations in, positions, IK counts out.
 
-Every map computes through the batch functions here (:func:`voxel_hits`, :func:`tool_positions`,
-:func:`singular_values`, :func:`ik_solution_counts`), so a faster kernel replaces them in
-one place. They run one thread each (:data:`KERNEL_THREADS`): the engine runs a chunk per core. Configurations come in chunks, each drawn from its own seed
+Every map computes through the batch functions here (:func:`voxel_hits`,
+:func:`tool_positions`, :func:`singular_values`, :func:`ik_solution_counts`), so a faster
+kernel replaces them in one place. They run one thread each (:data:`KERNEL_THREADS`): the
+engine runs a chunk per core. Configurations come in chunks, each drawn from its own seed
 (``SeedSequence(seed, spawn_key=(chunk,))``, the ``chunk``-th child of ``SeedSequence(seed)``),
 so a chunk's samples do not depend on which worker draws it, or when.
 
@@ -114,7 +115,8 @@ def configurations(robot: Robot, plan: SamplePlan, chunk: int) -> NDArray[np.flo
     count, box = plan.chunk_count(chunk), joint_box(robot)
     if plan.method == "uniform":
         q = np.empty((count, robot.n))
-        _core.sample_uniform(robot.chain._core, *_box_edges(box), chunk_seed(plan, chunk), 0, q, KERNEL_THREADS)
+        seed = chunk_seed(plan, chunk)
+        _core.sample_uniform(robot.chain._core, *_box_edges(box), seed, 0, q, KERNEL_THREADS)
         return q
     from scipy.stats import qmc
 
@@ -126,7 +128,8 @@ def configurations(robot: Robot, plan: SamplePlan, chunk: int) -> NDArray[np.flo
 
 
 def chunk_seed(plan: SamplePlan, chunk: int) -> int:
-    """The 64-bit seed of chunk ``chunk``'s uniform samples: from ``SeedSequence(seed, spawn_key=(chunk,))``."""
+    """The 64-bit seed of chunk ``chunk``'s uniform samples, from the chunk-th child of the seed
+    (``SeedSequence(seed, spawn_key=(chunk,))``)."""
     state = np.random.SeedSequence(int(plan.seed), spawn_key=(int(chunk),)).generate_state(1, np.uint64)
     return int(state[0])
 
@@ -143,10 +146,12 @@ def voxel_hits(robot: Robot, grid: Grid, plan: SamplePlan, chunk: int) -> tuple[
     counted by the same kernel.
     """
     hits = np.zeros(grid.size, dtype=np.int64)
-    where = (np.ascontiguousarray(grid.lower, dtype=np.float64), float(grid.resolution), *map(int, grid.shape))
+    lower = np.ascontiguousarray(grid.lower, dtype=np.float64)
+    where = (lower, float(grid.resolution), *map(int, grid.shape))
     if plan.method == "uniform":
-        outside = _core.reach_uniform(robot.chain._core, *_box_edges(joint_box(robot)), chunk_seed(plan, chunk),
-                                      0, plan.chunk_count(chunk), *where, hits, KERNEL_THREADS)
+        seed, box = chunk_seed(plan, chunk), _box_edges(joint_box(robot))
+        outside = _core.reach_uniform(robot.chain._core, *box, seed, 0, plan.chunk_count(chunk), *where, hits,
+                                      KERNEL_THREADS)
     else:
         outside = _core.reach_given(robot.chain._core, configurations(robot, plan, chunk), *where, hits,
                                     KERNEL_THREADS)
