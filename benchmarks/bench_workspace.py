@@ -1,6 +1,6 @@
 """Workspace maps at scale: reachability samples/s, dexterity IK solves/s, Dask overhead vs local threads.
 
-Targets of issue 13 (on this 2-core machine, once the compiled batch FK lands): 1e8
+Targets of issue 13 (on this 2-core machine): 1e8
 reachability samples of a 6R arm in under 60 s; 1e6 dexterity IK solves (1e4 voxels x 100
 orientations) in under 30 s; a 2-worker Dask LocalCluster within 20 % of the local threads.
 This prints what the current kernels do; sizes are scaled down by default (``--samples``,
@@ -42,7 +42,7 @@ def main() -> None:
     samples, voxels = (int(2e5), 200) if args.quick else (int(args.samples), int(args.voxels))
     robot = armkit.load("probot-anno")
     cores = os.cpu_count()
-    print(f"PROBOT Anno (6R), resolution 0.02 m, {cores} local cores; numba kernels warmed first")
+    print(f"PROBOT Anno (6R), resolution 0.02 m, {cores} local cores; compiled core, warmed first")
     workspace.compute(robot, resolution=0.1, samples=2000, manipulability_samples=200, orientations=2)
 
     local_seconds, local = _run("reachability, local threads", lambda: workspace.reachability(

@@ -8,10 +8,11 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import armkit
+from armkit import _core
 from armkit.errors import InputError
 from armkit.workspace import grid_for, reachability
 from armkit.workspace.grid import reach_bound
-from armkit.workspace.sampling import SamplePlan, configurations
+from armkit.workspace.sampling import SamplePlan, chunk_seed, configurations, voxel_hits
 
 
 def planar_2r(l1: float, l2: float) -> armkit.Robot:
@@ -140,3 +141,41 @@ def test_a_point_lies_in_the_voxel_whose_centre_the_grid_gives_back(point, resol
         assert ((p < grid.lower) | (p >= upper)).any()
     else:
         assert np.abs(grid.centres(flat) - p).max() <= resolution / 2 * (1 + 1e-9)
+
+
+@pytest.mark.parametrize("method", ["uniform", "sobol"])
+def test_fused_counts_are_those_of_fk_positions_put_in_the_grid(method):
+    robot = armkit.load("probot-anno")
+    grid = grid_for(robot, 0.03)
+    plan = SamplePlan(25_003, chunk_size=12_001, seed=11, method=method)
+    for chunk in range(plan.n_chunks):
+        hits, outside = voxel_hits(robot, grid, plan, chunk)
+        flat = grid.flat_index(robot.fk(configurations(robot, plan, chunk))[:, :3, 3])
+        np.testing.assert_array_equal(hits, np.bincount(flat[flat >= 0], minlength=grid.size))
+        assert outside == int((flat < 0).sum()) == 0
+
+
+def test_uniform_samples_fill_the_joint_box_evenly_and_do_not_depend_on_threads():
+    robot = armkit.load("ur5")
+    plan = SamplePlan(50_000, seed=5)
+    q = configurations(robot, plan, 0)
+    box = robot.limits
+    unit = (q - box[:, 0]) / (box[:, 1] - box[:, 0])
+    assert unit.min() >= 0 and unit.max() < 1
+    np.testing.assert_allclose(unit.mean(axis=0), 0.5, atol=0.01)        # sd of a mean: 0.0013
+    np.testing.assert_allclose(np.corrcoef(unit.T), np.eye(6), atol=0.02)  # joints independent
+    low, high = np.ascontiguousarray(box[:, 0]), np.ascontiguousarray(box[:, 1])
+    grid = grid_for(robot, 0.1)
+    where = (np.asarray(grid.lower, dtype=float), grid.resolution, *grid.shape)
+    counts = []
+    for threads in (1, 2, 3):
+        again = np.empty_like(q)
+        _core.sample_uniform(robot.chain._core, low, high, chunk_seed(plan, 0), 0, again, threads)
+        np.testing.assert_array_equal(again, q)
+        hits = np.zeros(grid.size, dtype=np.int64)
+        seed = chunk_seed(plan, 0)
+        _core.reach_uniform(robot.chain._core, low, high, seed, 0, len(q), *where, hits, threads)
+        counts.append(hits)
+    np.testing.assert_array_equal(counts[0], counts[1])
+    np.testing.assert_array_equal(counts[0], counts[2])
+    assert counts[0].sum() == len(q)

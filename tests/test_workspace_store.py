@@ -12,6 +12,7 @@ import armkit
 from armkit import workspace
 from armkit.cli.main import main
 from armkit.errors import InputError
+from armkit.lab.report import MARKER
 from armkit.workspace.maps import store_meta
 from armkit.workspace.store import create_store
 
@@ -117,6 +118,7 @@ def test_cli_json_summary_and_report(tmp_path, capsys):
     assert summary["dexterity"]["ik_solves"] == 4 * summary["dexterity"]["voxels_tested"]
     page = (tmp_path / "anno-report" / "index.html").read_text()
     assert "reachable volume" in page and page.count("data:image/png;base64") == 4
+    assert json.loads((tmp_path / "anno-report" / MARKER).read_text())["generator"] == "armkit workspace"
     assert workspace.open(out).reachability.samples == 20_000
 
 

@@ -20,5 +20,6 @@ void bind_kinematics(nb::module_& m);   // Chain, FK, frames, Jacobians, pose er
 void bind_closed_form(nb::module_& m);  // subproblems, case solvers, closed-form candidates
 void bind_numeric(nb::module_& m);      // Levenberg-Marquardt
 void bind_solve(nb::module_& m);        // the IK pipeline: wrap, verify, rank
+void bind_workspace(nb::module_& m);    // reachability: sampling, FK positions, voxel counts in one pass
 
 }  // namespace armkit::bindings

@@ -6,4 +6,5 @@ NB_MODULE(_core, m) {
     armkit::bindings::bind_closed_form(m);
     armkit::bindings::bind_numeric(m);
     armkit::bindings::bind_solve(m);
+    armkit::bindings::bind_workspace(m);
 }

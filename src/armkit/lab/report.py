@@ -199,11 +199,11 @@ figcaption{font-size:12px;color:#555;max-width:560px}nav a{margin-right:14px;fon
 
 
 def write_report(folder: Path, title: str, subtitle: str, summary: Table, sections: list[Section],
-                 files: list[str], seeds: bool = True) -> Path:
+                 files: list[str], seeds: bool = True, generator: str = "armkit lab") -> Path:
     """Write ``index.html`` (everything embedded) and the marker listing ``files``; return the page.
 
     ``seeds``: the sections reproduce the seed reports (badge "reproduced") rather than check a
-    user's arm (badge "checked").
+    user's arm (badge "checked"). ``generator``: the command the marker names as the page's author.
     """
     nav = "".join(f'<a href="#{s.key}">{_cell(s.title)}</a>' for s in sections)
     page = (f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{_cell(title)}</title>"
@@ -213,7 +213,7 @@ def write_report(folder: Path, title: str, subtitle: str, summary: Table, sectio
             + "".join(_section_html(folder, s, seeds) for s in sections) + "</body></html>\n")
     index = folder / "index.html"
     index.write_text(page, encoding="utf-8")
-    manifest = {"generator": "armkit lab", "files": sorted({*files, "index.html"})}
+    manifest = {"generator": generator, "files": sorted({*files, "index.html"})}
     (folder / MARKER).write_text(json.dumps(manifest, indent=1) + "\n", encoding="utf-8")
     return index
 

@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 from armkit.robot import Robot
 from armkit.robot_file import robot_to_toml
 from armkit.workspace.grid import Grid, grid_for
-from armkit.workspace.sampling import SamplePlan, configurations, robot_from_toml, tool_positions
+from armkit.workspace.sampling import SamplePlan, robot_from_toml, voxel_hits
 from armkit.workspace.store import run_resumable
 
 __all__ = ["ReachabilityMap", "VolumeEstimate", "boundary_mask", "reachability"]
@@ -190,10 +190,9 @@ class _Task:
 def _hits_of_chunk(task: _Task, chunk: int) -> tuple[NDArray[np.int64], NDArray[np.int64], int, int]:
     """Voxels hit by chunk ``chunk`` (raveled indices), how often, how many samples missed the grid,
     and the chunk."""
-    robot = robot_from_toml(task.robot_toml)
-    flat = task.grid.flat_index(tool_positions(robot, configurations(robot, task.plan, chunk)))
-    voxels, counts = np.unique(flat[flat >= 0], return_counts=True)
-    return voxels, counts.astype(np.int64), int((flat < 0).sum()), chunk
+    hits, outside = voxel_hits(robot_from_toml(task.robot_toml), task.grid, task.plan, chunk)
+    voxels = np.flatnonzero(hits)
+    return voxels, hits[voxels], outside, chunk
 
 
 class _Hits:

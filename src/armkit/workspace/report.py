@@ -116,4 +116,4 @@ def write_workspace_report(result: Workspace | Sweep, folder: str | Path, force:
     subtitle = (f"armkit {armkit.__version__}, {datetime.now(UTC):%Y-%m-%d %H:%M} UTC"
                 + (f", store {summary['store']}" if summary.get("store") else "") + ".")
     return write_report(folder, f"armkit workspace: {summary['robot']}", subtitle, _summary_table(summary),
-                        sections, files, seeds=False)
+                        sections, files, seeds=False, generator="armkit workspace")

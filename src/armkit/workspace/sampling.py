@@ -1,12 +1,17 @@
 """The workspace maps' only contact with the kinematics: configurations in, positions, IK counts out.
 
-Every map computes through the three batch functions here (:func:`tool_positions`,
-:func:`singular_values`, :func:`ik_solution_counts`), so a faster kernel replaces them in
-one place. Configurations come in chunks, each drawn from its own seed
+Every map computes through the batch functions here (:func:`voxel_hits`,
+:func:`tool_positions`, :func:`singular_values`, :func:`ik_solution_counts`), so a faster
+kernel replaces them in one place. They run one thread each (:data:`KERNEL_THREADS`): the
+engine runs a chunk per core. Configurations come in chunks, each drawn from its own seed
 (``SeedSequence(seed, spawn_key=(chunk,))``, the ``chunk``-th child of ``SeedSequence(seed)``),
 so a chunk's samples do not depend on which worker draws it, or when.
 
-``method="uniform"``: independent uniform configurations in the joint box.
+``method="uniform"``: independent uniform configurations in the joint box, drawn in the
+compiled core by a counter-based generator (configuration ``i`` of a chunk from splitmix64
+started at ``item_seed(chunk_seed, i)``, ``cpp/include/armkit/reach.hpp``), so
+:func:`voxel_hits` samples, computes positions and counts in one pass without arrays per
+configuration, and the samples do not depend on the thread count.
 ``method="sobol"``: each chunk is a scrambled Sobol point set of the chunk's size, scrambled
 by the chunk's own seed (independent randomised quasi-Monte Carlo replicates; a chunk size
 that is a power of two keeps Sobol's balance). One long sequence split by ``fast_forward``
@@ -19,24 +24,31 @@ import tomllib
 import warnings
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
+from armkit import _core
 from armkit.errors import InputError
 from armkit.ik import analyze_structure, ik_solutions, numeric_ik
 from armkit.kinematics import fk
 from armkit.robot import Robot
 from armkit.robot_file import robot_from_dict
 
+if TYPE_CHECKING:
+    from armkit.workspace.grid import Grid
+
 __all__ = ["METHODS", "SamplePlan", "configurations", "has_closed_form", "ik_solution_counts", "joint_box",
-           "robot_from_toml", "singular_values", "tool_positions"]
+           "robot_from_toml", "singular_values", "tool_positions", "voxel_hits"]
 
 METHODS = ("uniform", "sobol")
 #: Wall-clock budget [s] of one numeric IK solve (restarts from random seeds until then).
 NUMERIC_BUDGET = 0.05
 #: Travel [m] sampled for a prismatic joint without limits (as :meth:`armkit.Robot.random_q`).
 UNBOUNDED_TRAVEL = 1.0
+#: Threads of one kernel call inside a chunk (the engine already runs a chunk per core).
+KERNEL_THREADS = 1
 
 
 @dataclass(frozen=True)
@@ -100,22 +112,55 @@ def configurations(robot: Robot, plan: SamplePlan, chunk: int) -> NDArray[np.flo
     >>> bool((configurations(robot, plan, 1) == configurations(robot, plan, 1)).all())
     True
     """
-    rng = np.random.default_rng(np.random.SeedSequence(int(plan.seed), spawn_key=(int(chunk),)))
     count, box = plan.chunk_count(chunk), joint_box(robot)
-    if plan.method == "sobol":
-        from scipy.stats import qmc
+    if plan.method == "uniform":
+        q = np.empty((count, robot.n))
+        seed = chunk_seed(plan, chunk)
+        _core.sample_uniform(robot.chain._core, *_box_edges(box), seed, 0, q, KERNEL_THREADS)
+        return q
+    from scipy.stats import qmc
 
-        with warnings.catch_warnings():  # a short last chunk is not a power of two: known, see above
-            warnings.filterwarnings("ignore", "The balance properties", UserWarning)
-            unit = qmc.Sobol(robot.n, scramble=True, rng=rng).random(count)
-    else:
-        unit = rng.random((count, robot.n))
+    rng = np.random.default_rng(np.random.SeedSequence(int(plan.seed), spawn_key=(int(chunk),)))
+    with warnings.catch_warnings():  # a short last chunk is not a power of two: known, see above
+        warnings.filterwarnings("ignore", "The balance properties", UserWarning)
+        unit = qmc.Sobol(robot.n, scramble=True, rng=rng).random(count)
     return box[:, 0] + unit * (box[:, 1] - box[:, 0])
+
+
+def chunk_seed(plan: SamplePlan, chunk: int) -> int:
+    """The 64-bit seed of chunk ``chunk``'s uniform samples, from the chunk-th child of the seed
+    (``SeedSequence(seed, spawn_key=(chunk,))``)."""
+    state = np.random.SeedSequence(int(plan.seed), spawn_key=(int(chunk),)).generate_state(1, np.uint64)
+    return int(state[0])
+
+
+def _box_edges(box: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    return np.ascontiguousarray(box[:, 0]), np.ascontiguousarray(box[:, 1])
+
+
+def voxel_hits(robot: Robot, grid: Grid, plan: SamplePlan, chunk: int) -> tuple[NDArray[np.int64], int]:
+    """Chunk ``chunk``'s tool positions counted per voxel: hits ``(grid.size,)`` and the samples outside.
+
+    ``uniform``: sampled, moved through FK (position only) and counted in one compiled pass,
+    with no array per configuration; ``sobol``: the configurations of :func:`configurations`
+    counted by the same kernel.
+    """
+    hits = np.zeros(grid.size, dtype=np.int64)
+    lower = np.ascontiguousarray(grid.lower, dtype=np.float64)
+    where = (lower, float(grid.resolution), *map(int, grid.shape))
+    if plan.method == "uniform":
+        seed, box = chunk_seed(plan, chunk), _box_edges(joint_box(robot))
+        outside = _core.reach_uniform(robot.chain._core, *box, seed, 0, plan.chunk_count(chunk), *where, hits,
+                                      KERNEL_THREADS)
+    else:
+        outside = _core.reach_given(robot.chain._core, configurations(robot, plan, chunk), *where, hits,
+                                    KERNEL_THREADS)
+    return hits, int(outside)
 
 
 def tool_positions(robot: Robot, q: NDArray[np.float64]) -> NDArray[np.float64]:
     """Tool positions ``(N, 3)`` [m] in the base frame of configurations ``(N, n)``."""
-    return fk(robot.chain, q)[..., :3, 3]
+    return fk(robot.chain, q, threads=KERNEL_THREADS)[..., :3, 3]
 
 
 def singular_values(robot: Robot, q: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -138,6 +183,6 @@ def ik_solution_counts(robot: Robot, T_base_tool: NDArray[np.float64]) -> NDArra
     if not has_closed_form(robot):
         return np.array([int(numeric_ik(robot.chain, T, rng=0, time_budget=NUMERIC_BUDGET).success)
                          for T in T_base_tool], dtype=np.int64)
-    found = ik_solutions(robot.chain, T_base_tool)
+    found = ik_solutions(robot.chain, T_base_tool, threads=KERNEL_THREADS)
     kept = np.arange(found.within_limits.shape[1]) < found.counts[:, None]
     return (found.within_limits & kept).sum(axis=1).astype(np.int64)
