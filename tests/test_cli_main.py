@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pytest
 
-from armkit.cli.app import app
 from armkit.cli.main import INTERRUPTED, main
 
 
@@ -42,8 +41,7 @@ def test_ctrl_c_in_a_running_command_is_one_line_and_exit_130(capsys, argv):
 
 def test_a_system_error_is_one_line_naming_the_file(capsys, monkeypatch):
     denied = PermissionError(13, "Permission denied", "/x/arm.toml")
-    fk = next(command.callback for command in app.registered_commands if command.name == "fk")
-    monkeypatch.setitem(fk.__globals__, "load_robot", _raise(denied))  # the module the command runs in
+    monkeypatch.setattr("armkit.cli.app.load", _raise(denied))  # what load_robot reads the file with
     code, _, err = run(capsys, "fk", "probot-anno", "0", "0", "0", "0", "0", "0")
     assert code == 1 and err.strip() == "error: file '/x/arm.toml': Permission denied"
 
