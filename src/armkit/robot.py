@@ -321,7 +321,8 @@ class Robot:
         """
         from armkit.ik.solve import ik  # here, not at the top: armkit.ik imports this module
 
-        if _one_pose_ready(T_base_tool) and (near is None or kinematics.is_ready(near, self.n)):
+        one_near = near is None or (kinematics.is_ready(near, self.n) and near.ndim == 1)
+        if _one_pose_ready(T_base_tool) and one_near:
             # the usual call: the core checks the pose and near itself (errors: ik's messages)
             return ik(self.chain, T_base_tool, all=all, near=near, within_limits=within_limits, **options)
         T = check_transform(T_base_tool, "target pose")
