@@ -207,3 +207,20 @@ def test_stanford_like_arm_at_an_aligned_wrist_on_the_grid():
     found = ik_solutions(chain, T, near=q)
     assert found.family.any() and (_joint_distance(chain, found.q, q) <= FOUND).any()
     assert _joint_distance(chain, ik(chain, T, near=q, within_limits=False), q) <= FOUND
+
+
+@pytest.mark.parametrize(("kind", "case", "seed"), [("spherical-wrist", 2, 3236), ("spherical-wrist", 0, 56)])
+def test_families_that_cross(kind, case, seed):
+    """Two lines of solutions that cross (two pairs of collinear axes, e.g. axes 2 and 5 at one
+    end of the aligned wrist's line q4 - q6): the generating q lies on the other line. Before,
+    the walk stopped where the distance to q, taken after the 2 pi wrap, has a saddle (seed
+    3236, a CI failure), or moved along the second pair with the axes of the first position
+    (seed 56)."""
+    _check_six_joint_arm(kind, case, seed, degenerate=True)
+
+
+def test_curved_family_is_traced():
+    """A family that is a curve in joint space (three parallel axes 2-4 on the grid, seed 4):
+    the null vector turns along it, so neither its tangent line nor local steps from the
+    closed form's member reach q; tracing the curve does."""
+    _check_six_joint_arm("three-parallel", 1, 4, degenerate=True)

@@ -1,14 +1,17 @@
-// Singular poses: the member of a one-parameter family of solutions nearest to a reference
-// (port of armkit/ik/family.py's walk). Header-only: used by ik_solve.hpp.
+// Singular poses: the member of a family of solutions nearest to a reference.
+// Header-only: used by ik_solve.hpp.
 //
 // At a singular pose the closed form returns one member of a family (e.g. q4 = 0 for an
 // aligned wrist, where only q4 + q6 is defined). Where two revolute axes are one line the
 // family is exactly a line in joint space, walked to its point nearest to near first. The
-// family runs along the null space of the Jacobian: then the point of that line (two whole turns of its fastest joint, either
-// way) nearest to near after the 2 pi wrap into the limits, then steps along the null
-// space (weighted), each put back exactly on the solution set by Levenberg-Marquardt steps,
-// while the distance falls. A move that would leave the limits a representative was inside
-// is not taken.
+// family runs along the null space of the Jacobian. A one-parameter family is then searched
+// whole: the line through q along its null vector (two whole turns of its fastest joint,
+// either way), and the curve itself, traced both ways by predictor (tangent step) and corrector
+// (Levenberg-Marquardt projection) steps until it closes or has run several turns (a joint
+// axis through a spherical wrist's centre frees that joint, and the wrist follows it: a curved
+// family). Last, local steps along the null space (weighted), each put back exactly on the
+// solution set, while the distance to near falls. Distances are taken after the 2 pi wrap
+// into the limits; a point that would leave the limits a representative was inside is not taken.
 #pragma once
 
 #include <cmath>
@@ -30,6 +33,11 @@ constexpr int kFamilySamples = 257;
 //: The projection back onto the solution set: iterations, and the residual [m, rad] it must reach.
 constexpr int kProjectionIterations = 10;
 constexpr double kProjectionTolerance = 1e-13;
+//: Tracing a curved family: the step along its tangent [rad or m], the smallest step tried
+//: before a direction is given up, and the length traced either way (several whole turns).
+constexpr double kTraceStep = 0.1;
+constexpr double kTraceSmallestStep = 1e-3;
+constexpr double kTraceLength = 6.0 * kTwoPi;
 
 // Singular values s (n) and right singular vectors V (n x n, row-major, column j for s[j])
 // of J (6 x n, row-major, n <= 6) by one-sided (Hestenes) Jacobi rotations of J's columns.
@@ -163,16 +171,90 @@ inline void move_along_collinear_pairs(const Chain& chain, double* q, const doub
             q[j] -= sj * best_t;
             wrap_towards(chain, q, near, moved);
             for (int m = 0; m < n; ++m) q[m] = moved[m];
+            joint_axes(chain, q, axes, points);  // the move turned the axes after joint i
         }
     }
 }
 
-// Moves q (n, a solution of T at a singular pose) to the member of its family nearest to
-// near (n), weights (n).
-inline void walk_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights) {
+// The unit null vector of the Jacobian at q (n) into v, when the null space is one line
+// (false otherwise).
+inline bool family_tangent(const Chain& chain, const double* q, double* v) {
     const int n = chain.n;
-    const bool inside = chain.within_limits(q);
-    move_along_collinear_pairs(chain, q, near, weights, inside);
+    Vec3 axes[kMaxJoints], points[kMaxJoints];
+    double J[6 * kMaxJoints], s[kMaxJoints], V[kMaxJoints * kMaxJoints];
+    jacobian_from_axes(joint_axes(chain, q, axes, points), axes, points, chain.prismatic.data(), n, J);
+    jacobi_svd(J, n, s, V);
+    double largest = 0.0;
+    int null = -1, count = 0;
+    for (int j = 0; j < n; ++j) largest = std::fmax(largest, s[j]);
+    for (int j = 0; j < n; ++j)
+        if (s[j] <= kNullSpace * largest) null = j, ++count;
+    if (count != 1) return false;
+    for (int j = 0; j < n; ++j) v[j] = V[j * n + null];
+    return true;
+}
+
+// Traces the one-parameter family through q (n, on the solution set of T) both ways and
+// moves q to the traced point nearest to near (weighted, after the wrap). Each step goes
+// kTraceStep along the tangent (its sign kept from the step before) and is projected back
+// onto the solution set; a failed projection halves the step. A direction ends where the
+// curve closes (back within a step of q), after kTraceLength, or where the step falls
+// below kTraceSmallestStep or the null space stops being one line.
+inline void trace_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights,
+                         bool inside) {
+    const int n = chain.n;
+    double start_tangent[kMaxJoints];
+    if (!family_tangent(chain, q, start_tangent)) return;
+    double best_q[kMaxJoints];
+    for (int j = 0; j < n; ++j) best_q[j] = q[j];
+    double best = family_distance(chain, q, near, weights, inside);
+    for (const double way : {1.0, -1.0}) {
+        double at[kMaxJoints], tangent[kMaxJoints];
+        for (int j = 0; j < n; ++j) at[j] = q[j], tangent[j] = way * start_tangent[j];
+        double step = kTraceStep, travelled = 0.0;
+        while (travelled < kTraceLength && step >= kTraceSmallestStep) {
+            double next[kMaxJoints];
+            for (int j = 0; j < n; ++j) next[j] = at[j] + step * tangent[j];
+            double v[kMaxJoints];
+            if (!project_onto_solutions(chain, T, next) || !family_tangent(chain, next, v)) {
+                step *= 0.5;
+                continue;
+            }
+            double along = 0.0, moved = 0.0, home = 0.0;
+            for (int j = 0; j < n; ++j) {
+                along += v[j] * tangent[j];
+                moved += (next[j] - at[j]) * (next[j] - at[j]);
+            }
+            if (std::sqrt(moved) > 2.0 * step || along == 0.0) {  // jumped to another branch
+                step *= 0.5;
+                continue;
+            }
+            for (int j = 0; j < n; ++j) {
+                tangent[j] = along > 0.0 ? v[j] : -v[j];
+                at[j] = next[j];
+                const double d = wrap_angle(at[j] - q[j]);
+                home += (chain.prismatic[j] ? at[j] - q[j] : d) * (chain.prismatic[j] ? at[j] - q[j] : d);
+            }
+            travelled += std::sqrt(moved);
+            const double far = family_distance(chain, at, near, weights, inside);
+            if (far < best) {
+                best = far;
+                for (int j = 0; j < n; ++j) best_q[j] = at[j];
+            }
+            if (travelled > 2.0 * kTraceStep && std::sqrt(home) < 0.5 * kTraceStep) break;  // closed
+            step = std::fmin(kTraceStep, 2.0 * step);
+        }
+    }
+    wrap_towards(chain, best_q, near, q);
+}
+
+// Moves q (n, on the solution set of T) towards near: the line through q along a one-line
+// null space (sampled), then local null-space steps while the distance falls, then the
+// collinear pairs' lines again (the local steps may end on another pair's line: two
+// families that cross).
+inline void descend_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights,
+                           bool inside) {
+    const int n = chain.n;
     for (int step = 0; step < kFamilySteps; ++step) {
         Vec3 axes[kMaxJoints], points[kMaxJoints];
         double J[6 * kMaxJoints], s[kMaxJoints], V[kMaxJoints * kMaxJoints];
@@ -231,6 +313,27 @@ inline void walk_family(const Chain& chain, const Pose& T, double* q, const doub
         }
         wrap_towards(chain, target, near, q);
     }
+    move_along_collinear_pairs(chain, q, near, weights, inside);
+}
+
+// Moves q (n, a solution of T at a singular pose) to the member of its family nearest to
+// near (n), weights (n): along the lines of collinear axis pairs, then the better of the
+// descent from there and the descent from the nearest point of the traced curve (a local
+// descent alone stops at the first local minimum of the wrapped distance; the trace alone
+// stops where the family branches).
+inline void walk_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights) {
+    const int n = chain.n;
+    const bool inside = chain.within_limits(q);
+    move_along_collinear_pairs(chain, q, near, weights, inside);
+    double traced[kMaxJoints];
+    for (int j = 0; j < n; ++j) traced[j] = q[j];
+    trace_family(chain, T, traced, near, weights, inside);
+    descend_family(chain, T, q, near, weights, inside);
+    descend_family(chain, T, traced, near, weights, inside);
+    if (family_distance(chain, traced, near, weights, inside) < family_distance(chain, q, near, weights, inside))
+        for (int j = 0; j < n; ++j) q[j] = traced[j];
 }
 
 }  // namespace armkit
+
+
