@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "armkit/fk.hpp"
+#include "armkit/ik_family.hpp"
 
 namespace armkit {
 
@@ -56,6 +57,26 @@ void mark_duplicates(const double* q, int k, int n, const bool* valid, const std
     }
 }
 
+void flag_close_singular_candidates(const Chain& chain, const double* q, int k, const bool* valid, bool* family) {
+    const int n = chain.n;
+    for (int a = 0; a < k; ++a) {
+        if (!valid[a]) continue;
+        for (int b = a + 1; b < k; ++b) {
+            if (!valid[b] || (family[a] && family[b])) continue;
+            bool close = true;
+            for (int j = 0; j < n && close; ++j) {
+                const double d = q[b * n + j] - q[a * n + j];
+                close = std::fabs(chain.prismatic[j] ? d : wrap_angle(d)) <= kCloseCandidates;
+            }
+            if (!close) continue;
+            double V[kMaxJoints * kMaxJoints];
+            int null[kMaxJoints];
+            if (null_space(chain, q + a * n, V, null) > 0 || null_space(chain, q + b * n, V, null) > 0)
+                family[a] = family[b] = true;
+        }
+    }
+}
+
 void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family) {
     const int k = cf.k, n = cf.chain.n;
     double q_int[kMaxCandidates * kMaxJoints];
@@ -78,10 +99,9 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
     }
     bool duplicate[kMaxCandidates];
     mark_duplicates(q, k, n, valid, cf.chain.prismatic.data(), duplicate);
-    for (int s = 0; s < k; ++s) {
-        valid[s] = valid[s] && !duplicate[s];
-        family[s] = family[s] && valid[s];
-    }
+    for (int s = 0; s < k; ++s) valid[s] = valid[s] && !duplicate[s];
+    flag_close_singular_candidates(cf.chain, q, k, valid, family);
+    for (int s = 0; s < k; ++s) family[s] = family[s] && valid[s];
 }
 
 }  // namespace armkit

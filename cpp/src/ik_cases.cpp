@@ -80,8 +80,24 @@ void quartic_equation(const double* A, double t, double& F, double& dF) {
     dF = -A[1] * s + A[2] * c - 2.0 * A[3] * s2 + 2.0 * A[4] * c2;
 }
 
-// Roots of the quartic in exp(i t1), with t2 from Q^-1.
-void quartic(const CaseGeometry& g, const Mat2& P, const double* r, AngleCandidates& out) {
+// The k-th derivative of F (A as in quartic_equation) at t:
+// d^k/dt^k (a cos mt + b sin mt) = m^k (a cos(mt + k pi/2) + b sin(mt + k pi/2)).
+double trig_derivative(const double* A, double t, int k) {
+    const double shift = 0.5 * k * 3.141592653589793, m2 = std::pow(2.0, k);
+    return (k == 0 ? A[0] : 0.0) + A[1] * std::cos(t + shift) + A[2] * std::sin(t + shift) +
+           m2 * (A[3] * std::cos(2.0 * t + shift) + A[4] * std::sin(2.0 * t + shift));
+}
+
+// t2 of the two-angle system for t1: x(t2) = Q^-1 (P x(t1) - r), its direction.
+double second_angle(const CaseGeometry& g, const Mat2& P, const double* r, double t1) {
+    const auto& Qi = g.Q_inv;
+    const double c = std::cos(t1), s = std::sin(t1);
+    const double v0 = P.m[0][0] * c + P.m[0][1] * s - r[0], v1 = P.m[1][0] * c + P.m[1][1] * s - r[1];
+    return std::atan2(Qi[1][0] * v0 + Qi[1][1] * v1, Qi[0][0] * v0 + Qi[0][1] * v1);
+}
+
+// Roots of the quartic in exp(i t1), with t2 from Q^-1; F's coefficients into A (5).
+void quartic(const CaseGeometry& g, const Mat2& P, const double* r, AngleCandidates& out, double* A) {
     const auto& Qi = g.Q_inv;
     const double W00 = Qi[0][0] * P.m[0][0] + Qi[0][1] * P.m[1][0];
     const double W01 = Qi[0][0] * P.m[0][1] + Qi[0][1] * P.m[1][1];
@@ -91,9 +107,9 @@ void quartic(const CaseGeometry& g, const Mat2& P, const double* r, AngleCandida
     const double S00 = W00 * W00 + W10 * W10, S11 = W01 * W01 + W11 * W11, S01 = W00 * W01 + W10 * W11;
     const double m0 = W00 * w0[0] + W10 * w0[1], m1 = W01 * w0[0] + W11 * w0[1];
     // F(t) = |W x(t) - w0|^2 - 1 = A0 + A1 cos t + B1 sin t + A2 cos 2t + B2 sin 2t
-    const double A[5] = {0.5 * (S00 + S11) + w0[0] * w0[0] + w0[1] * w0[1] - 1.0,  // A0
-                         -2.0 * m0, -2.0 * m1,                                      // A1, B1
-                         0.5 * (S00 - S11), S01};                                   // A2, B2
+    A[0] = 0.5 * (S00 + S11) + w0[0] * w0[0] + w0[1] * w0[1] - 1.0;
+    A[1] = -2.0 * m0, A[2] = -2.0 * m1;       // A1, B1
+    A[3] = 0.5 * (S00 - S11), A[4] = S01;     // A2, B2
     // z^2 F in z = exp(i t): coefficients of z^4 ... z^0
     const Complex coeffs[5] = {Complex(A[3], -A[4]) / 2.0, Complex(A[1], -A[2]) / 2.0, Complex(A[0], 0.0),
                                Complex(A[1], A[2]) / 2.0, Complex(A[3], A[4]) / 2.0};
@@ -119,10 +135,7 @@ void quartic(const CaseGeometry& g, const Mat2& P, const double* r, AngleCandida
             out.valid[i] = i < 2 ? lin.ok[i] : false;
         }
     }
-    for (int i = 0; i < 4; ++i) {
-        const double c = std::cos(out.t1[i]), s = std::sin(out.t1[i]);
-        out.t2[i] = std::atan2(W10 * c + W11 * s - w0[1], W00 * c + W01 * s - w0[0]);
-    }
+    for (int i = 0; i < 4; ++i) out.t2[i] = second_angle(g, P, r, out.t1[i]);
 }
 
 // P x(t1) - Q x(t2) - r (F) and its derivatives by t1 (d1) and t2 (d2).
@@ -155,6 +168,36 @@ double polish(const double (&Q)[2][2], const Mat2& P, const double* r, double& t
     return std::max(std::abs(F[0]), std::abs(F[1]));
 }
 
+// A multiple root of the system near (t1, t2) (residual: its residual), put there exactly.
+// Newton steps reach a root of F of multiplicity m only to about eps^(1/m) (1e-8 double,
+// 1e-4 quadruple; F's coefficients carry Q^-1's condition too); there F^(m-1) has a simple
+// root, which Newton steps on it reach to eps. For m = 4, 3, 2 within 1e-3 of t1: taken
+// where it solves P x(t1) - Q x(t2) = r no worse than (t1, t2) or to the rounding level of
+// terms of size (the m roots are then one, as far as the equations can tell).
+void merge_multiple_root(const CaseGeometry& g, const Mat2& P, const double* r, const double* A, double size,
+                         double& t1, double& t2, double& residual) {
+    const double rounding = 8.0 * std::numeric_limits<double>::epsilon() * size;
+    for (int m = 4; m >= 2; --m) {
+        double c = t1;
+        bool near = true;
+        for (int step = 0; step < 6 && near; ++step) {
+            const double slope = trig_derivative(A, c, m);
+            if (!(std::abs(slope) > 1e-300)) break;
+            c -= trig_derivative(A, c, m - 1) / slope;
+            near = std::abs(c - t1) <= 1e-3;
+        }
+        if (!near) continue;
+        const double c2 = second_angle(g, P, r, c);
+        double F[2], d1[2], d2[2];
+        system_residual(g.Q, P, r, c, c2, F, d1, d2);
+        const double at_c = std::max(std::abs(F[0]), std::abs(F[1]));
+        if (at_c <= std::max(residual, rounding)) {
+            t1 = c, t2 = c2, residual = at_c;
+            return;
+        }
+    }
+}
+
 // All (t1, t2) with P x(t1) - Q x(t2) = r (Q = g.Q fixed by the chain; P, r by the pose).
 // Q of rank 1: a combination of the equations holds t1 alone, then t2 the same way (up to
 // 2 x 2 pairs). Otherwise x(t2) = Q^-1 (P x(t1) - r) on the unit circle is a quartic in
@@ -168,9 +211,11 @@ AngleCandidates two_angle_system(const CaseGeometry& g, const Mat2& P, const dou
         rank1(g, P, r, size, out);
         return out;
     }
-    quartic(g, P, r, out);
+    double A[5];
+    quartic(g, P, r, out, A);
     for (int i = 0; i < 4; ++i) {
-        const double residual = polish(g.Q, P, r, out.t1[i], out.t2[i]);
+        double residual = polish(g.Q, P, r, out.t1[i], out.t2[i]);
+        merge_multiple_root(g, P, r, A, size, out.t1[i], out.t2[i], residual);
         out.valid[i] = out.valid[i] && residual <= 1e-10 * size;
         out.free[i] = false;
     }
@@ -281,6 +326,10 @@ ArmCandidates wrist_centre_joints(const CaseGeometry& g, Vec3 w) {
     return out;
 }
 
+//: Angle [rad] between axis 6's target direction and axis 4 within which a spherical
+//: wrist counts as aligned for the family flag (the values themselves are not moved).
+constexpr double kNearlyAligned = 1e-7;
+
 // Spherical wrist: joints 1-3 for the wrist centre, then the wrist: 8 candidates.
 void spherical(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
     const Vec3 h3 = g.h[3], h4 = g.h[4], h5 = g.h[5], u = g.u;
@@ -296,6 +345,9 @@ void spherical(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* va
             b = rotate(k, arm.q[i][j], b);
         }
         const AnglePairs2 q45 = sp2(a, h5, -h3, h4);
+        // the wrist within kNearlyAligned of aligned: its family may be exact (q1-q3 carry
+        // errors of up to ~1e-8 from a double root), walked later
+        const bool nearly_aligned = norm(cross(a, h3)) <= kNearlyAligned;
         for (int m = 0; m < 2; ++m) {
             // R6 u = R5^T R4^T R_w u
             const Vec3 target = rotate(-h4, q45.t2[m], rotate(-h3, q45.t1[m], b));
@@ -309,7 +361,7 @@ void spherical(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* va
             qs[4] = q45.t2[m];
             qs[5] = q6.t;
             valid[s] = arm.valid[i] && q45.ok[m];
-            family[s] = arm.free[i] || q45.free1 || q45.free2 || q6.free;
+            family[s] = arm.free[i] || q45.free1 || q45.free2 || q6.free || nearly_aligned;
         }
     }
 }

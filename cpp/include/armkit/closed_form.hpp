@@ -19,6 +19,9 @@ constexpr int kMaxCandidates = 8;
 //: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution
 //: (armkit.ik.closed_form.DUPLICATE_TOLERANCE).
 constexpr double kDuplicateTolerance = 1e-9;
+//: Two candidates closer than this in every joint [rad or m, modulo 2 pi] are looked at
+//: together (flag_close_singular_candidates).
+constexpr double kCloseCandidates = 1e-3;
 
 // What the per-pose loop needs of one chain, made once by ClosedFormSolver (Python). It
 // holds copies of the chain and the case geometry, so it outlives neither's Python object.
@@ -51,6 +54,12 @@ double fk_difference(const Chain& chain, const Pose& T, const double* q);
 // and to kDuplicateTolerance, an earlier valid candidate.
 void mark_duplicates(const double* q, int k, int n, const bool* valid, const std::uint8_t* prismatic,
                      bool* duplicate);
+
+// Two valid candidates (rows of q, k x n) within kCloseCandidates of each other where the
+// Jacobian at either is singular: members of a family the case solver did not see (two
+// exact solutions 1e-5 apart where a double root meets a second singularity), both flagged
+// family, to be walked towards near later. Two close roots of a regular pose are left alone.
+void flag_close_singular_candidates(const Chain& chain, const double* q, int k, const bool* valid, bool* family);
 
 // Every candidate of one target T into q (cf.k x n, user's joints), valid and family
 // (cf.k); duplicates are invalid, and family implies valid.

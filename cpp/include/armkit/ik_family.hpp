@@ -176,30 +176,40 @@ inline void move_along_collinear_pairs(const Chain& chain, double* q, const doub
     }
 }
 
-// The unit null vector of the Jacobian at q (n) into v, when the null space is one line
-// (false otherwise).
-inline bool family_tangent(const Chain& chain, const double* q, double* v) {
+// The null space of the Jacobian at q (n): the right singular vectors V (n x n, row-major)
+// and the columns null (count returned) whose singular values are within kNullSpace of the
+// largest.
+inline int null_space(const Chain& chain, const double* q, double* V, int* null) {
     const int n = chain.n;
     Vec3 axes[kMaxJoints], points[kMaxJoints];
-    double J[6 * kMaxJoints], s[kMaxJoints], V[kMaxJoints * kMaxJoints];
+    double J[6 * kMaxJoints], s[kMaxJoints];
     jacobian_from_axes(joint_axes(chain, q, axes, points), axes, points, chain.prismatic.data(), n, J);
     jacobi_svd(J, n, s, V);
     double largest = 0.0;
-    int null = -1, count = 0;
+    int count = 0;
     for (int j = 0; j < n; ++j) largest = std::fmax(largest, s[j]);
     for (int j = 0; j < n; ++j)
-        if (s[j] <= kNullSpace * largest) null = j, ++count;
-    if (count != 1) return false;
-    for (int j = 0; j < n; ++j) v[j] = V[j * n + null];
+        if (s[j] <= kNullSpace * largest) null[count++] = j;
+    return count;
+}
+
+// The unit null vector of the Jacobian at q (n) into v, when the null space is one line
+// (false otherwise).
+inline bool family_tangent(const Chain& chain, const double* q, double* v) {
+    double V[kMaxJoints * kMaxJoints];
+    int null[kMaxJoints];
+    if (null_space(chain, q, V, null) != 1) return false;
+    for (int j = 0; j < chain.n; ++j) v[j] = V[j * chain.n + null[0]];
     return true;
 }
 
 // Traces the one-parameter family through q (n, on the solution set of T) both ways and
-// moves q to the traced point nearest to near (weighted, after the wrap). Each step goes
-// kTraceStep along the tangent (its sign kept from the step before) and is projected back
-// onto the solution set; a failed projection halves the step. A direction ends where the
-// curve closes (back within a step of q), after kTraceLength, or where the step falls
-// below kTraceSmallestStep or the null space stops being one line.
+// moves q to the traced point nearest to near (weighted, after the wrap). The first step
+// goes along the null vector at q, each later one along the secant of the last step; each
+// is projected back onto the solution set, and a failed projection (or one that jumps
+// more than twice the step, or back) halves the step. A direction ends where the curve
+// closes (back within a step of q: the other direction is then not needed), after
+// kTraceLength, or where the step falls below kTraceSmallestStep.
 inline void trace_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights,
                          bool inside) {
     const int n = chain.n;
@@ -208,40 +218,44 @@ inline void trace_family(const Chain& chain, const Pose& T, double* q, const dou
     double best_q[kMaxJoints];
     for (int j = 0; j < n; ++j) best_q[j] = q[j];
     double best = family_distance(chain, q, near, weights, inside);
+    bool closed = false;
     for (const double way : {1.0, -1.0}) {
+        if (closed) break;
         double at[kMaxJoints], tangent[kMaxJoints];
         for (int j = 0; j < n; ++j) at[j] = q[j], tangent[j] = way * start_tangent[j];
         double step = kTraceStep, travelled = 0.0;
         while (travelled < kTraceLength && step >= kTraceSmallestStep) {
             double next[kMaxJoints];
             for (int j = 0; j < n; ++j) next[j] = at[j] + step * tangent[j];
-            double v[kMaxJoints];
-            if (!project_onto_solutions(chain, T, next) || !family_tangent(chain, next, v)) {
+            if (!project_onto_solutions(chain, T, next)) {
                 step *= 0.5;
                 continue;
             }
-            double along = 0.0, moved = 0.0, home = 0.0;
+            double along = 0.0, moved = 0.0;
             for (int j = 0; j < n; ++j) {
-                along += v[j] * tangent[j];
+                along += (next[j] - at[j]) * tangent[j];
                 moved += (next[j] - at[j]) * (next[j] - at[j]);
             }
-            if (std::sqrt(moved) > 2.0 * step || along == 0.0) {  // jumped to another branch
+            moved = std::sqrt(moved);
+            if (moved > 2.0 * step || along <= 0.0) {  // jumped to another branch, or back
                 step *= 0.5;
                 continue;
             }
+            double home = 0.0;
             for (int j = 0; j < n; ++j) {
-                tangent[j] = along > 0.0 ? v[j] : -v[j];
+                tangent[j] = (next[j] - at[j]) / moved;
                 at[j] = next[j];
-                const double d = wrap_angle(at[j] - q[j]);
-                home += (chain.prismatic[j] ? at[j] - q[j] : d) * (chain.prismatic[j] ? at[j] - q[j] : d);
+                const double d = chain.prismatic[j] ? at[j] - q[j] : wrap_angle(at[j] - q[j]);
+                home += d * d;
             }
-            travelled += std::sqrt(moved);
+            travelled += moved;
             const double far = family_distance(chain, at, near, weights, inside);
             if (far < best) {
                 best = far;
                 for (int j = 0; j < n; ++j) best_q[j] = at[j];
             }
-            if (travelled > 2.0 * kTraceStep && std::sqrt(home) < 0.5 * kTraceStep) break;  // closed
+            closed = travelled > 2.0 * kTraceStep && std::sqrt(home) < kTraceStep;
+            if (closed) break;
             step = std::fmin(kTraceStep, 2.0 * step);
         }
     }
@@ -256,15 +270,9 @@ inline void descend_family(const Chain& chain, const Pose& T, double* q, const d
                            bool inside) {
     const int n = chain.n;
     for (int step = 0; step < kFamilySteps; ++step) {
-        Vec3 axes[kMaxJoints], points[kMaxJoints];
-        double J[6 * kMaxJoints], s[kMaxJoints], V[kMaxJoints * kMaxJoints];
-        jacobian_from_axes(joint_axes(chain, q, axes, points), axes, points, chain.prismatic.data(), n, J);
-        jacobi_svd(J, n, s, V);
-        double largest = 0.0;
-        for (int j = 0; j < n; ++j) largest = std::fmax(largest, s[j]);
-        int null[kMaxJoints], c = 0;  // the columns of V spanning the null space
-        for (int j = 0; j < n; ++j)
-            if (s[j] <= kNullSpace * largest) null[c++] = j;
+        double V[kMaxJoints * kMaxJoints];
+        int null[kMaxJoints];  // the columns of V spanning the null space
+        const int c = null_space(chain, q, V, null);
         if (c == 0) break;
         const bool line = step == 0 && c == 1;
         double target[kMaxJoints];
