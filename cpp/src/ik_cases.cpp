@@ -168,6 +168,27 @@ double polish(const double (&Q)[2][2], const Mat2& P, const double* r, double& t
     return std::max(std::abs(F[0]), std::abs(F[1]));
 }
 
+// The size of the terms of P x(t1) - Q x(t2) = r that depend on the pose.
+double system_size(const Mat2& P, const double* r) {
+    return 1.0 + std::max(std::max(std::abs(P.m[0][0]), std::abs(P.m[0][1])),
+                          std::max(std::abs(P.m[1][0]), std::abs(P.m[1][1]))) +
+           std::max(std::abs(r[0]), std::abs(r[1]));
+}
+
+// t2 for t1 of a candidate of the two-angle system whose t1 is free (branch: candidate
+// index i, whose t2 branch is i % 2 when Q has rank 1); ok: that t2 exists.
+double family_t2(const CaseGeometry& g, const Mat2& P, const double* r, double t1, int i, double size, bool& ok) {
+    ok = true;
+    if (!g.rank1) return second_angle(g, P, r, t1);
+    const double m0 = g.mu[0], m1 = g.mu[1];
+    const double mP0 = m0 * P.m[0][0] + m1 * P.m[1][0], mP1 = m0 * P.m[0][1] + m1 * P.m[1][1];
+    const double mQ0 = m0 * g.Q[0][0] + m1 * g.Q[1][0], mQ1 = m0 * g.Q[0][1] + m1 * g.Q[1][1];
+    const double rhs = mP0 * std::cos(t1) + mP1 * std::sin(t1) - (r[0] * m0 + r[1] * m1);
+    const Angles2 second = solve_trig_linear(mQ0, mQ1, rhs, size, g.snap_t2);
+    ok = second.ok[i % 2];
+    return second.t[i % 2];
+}
+
 // A multiple root of the system near (t1, t2) (residual: its residual), put there exactly.
 // Newton steps reach a root of F of multiplicity m only to about eps^(1/m) (1e-8 double,
 // 1e-4 quadruple; F's coefficients carry Q^-1's condition too); there F^(m-1) has a simple
@@ -198,14 +219,17 @@ void merge_multiple_root(const CaseGeometry& g, const Mat2& P, const double* r, 
     }
 }
 
+//: F's coefficients below this in sum are zero (its terms include the 1 of the unit
+//: circle): the system's two equations are one.
+constexpr double kIdentityTolerance = 1e-12;
+
 // All (t1, t2) with P x(t1) - Q x(t2) = r (Q = g.Q fixed by the chain; P, r by the pose).
 // Q of rank 1: a combination of the equations holds t1 alone, then t2 the same way (up to
 // 2 x 2 pairs). Otherwise x(t2) = Q^-1 (P x(t1) - r) on the unit circle is a quartic in
-// exp(i t1) (then Newton steps on the equations themselves). free: t1 (or t2) arbitrary.
+// exp(i t1) (then Newton steps on the equations themselves); where it vanishes, every t1
+// (candidate 0, t1 = 0). free: t1 (or t2) arbitrary (family_t2 then gives t2 for any t1).
 AngleCandidates two_angle_system(const CaseGeometry& g, const Mat2& P, const double* r) {
-    const double size = 1.0 + std::max(std::max(std::abs(P.m[0][0]), std::abs(P.m[0][1])),
-                                       std::max(std::abs(P.m[1][0]), std::abs(P.m[1][1]))) +
-                        std::max(std::abs(r[0]), std::abs(r[1]));
+    const double size = system_size(P, r);
     AngleCandidates out{};
     if (g.rank1) {
         rank1(g, P, r, size, out);
@@ -213,6 +237,16 @@ AngleCandidates two_angle_system(const CaseGeometry& g, const Mat2& P, const dou
     }
     double A[5];
     quartic(g, P, r, out, A);
+    if (std::abs(A[0]) + std::abs(A[1]) + std::abs(A[2]) + std::abs(A[3]) + std::abs(A[4]) <= kIdentityTolerance) {
+        // F vanishes: the two equations are one, every t1 has its t2 (a family)
+        for (int i = 0; i < 4; ++i) {
+            out.t1[i] = 0.0;
+            out.t2[i] = second_angle(g, P, r, 0.0);
+            out.valid[i] = i == 0;
+            out.free[i] = true;
+        }
+        return out;
+    }
     for (int i = 0; i < 4; ++i) {
         double residual = polish(g.Q, P, r, out.t1[i], out.t2[i]);
         merge_multiple_root(g, P, r, A, size, out.t1[i], out.t2[i], residual);
@@ -429,21 +463,28 @@ void snap_to_aligned_wrist(const CaseGeometry& g, const Mat2& P, const double* r
     }
 }
 
-// Axis 6 parallel to axes 2-4: the q6 of the family that is best reachable. Along the
-// family q2 + q3 + q4 = theta - s q6 (s = +-1: axis 6 along or against h) the planar
-// target A - R(h, theta) B turns on a circle; choose the angle that puts its length where
-// the planar 2R reaches best (|v|^2 = |a|^2 + |b|^2). Returns q6 and theta.
-void wrist_family_representative(const CaseGeometry& g, double s6, double& q6, double& theta, Vec3 A, Vec3 B) {
+// A wrist axis parallel to the three parallel axes (axis 6 to axes 2-4, or axis 5 to axes
+// 1-3): the member of the family that is best reachable. Along the family the angle sum
+// theta of the three parallel joints changes against the wrist joint's angle qw (theta + s qw
+// constant, s = +-1: the wrist axis along or against h), and the planar target A - R(h,
+// theta) B turns on a circle; choose the angle that puts its length where the planar 2R
+// of links a, b reaches best (|v|^2 = |a|^2 + |b|^2). |v|^2 is a sinusoid in theta, so the
+// 2R reaches it on at most two intervals of theta, each a separate loop of the family: the
+// two angles where it crosses that middle value (side = +1 or -1) lie one in each. Returns
+// qw and theta.
+void wrist_family_representative(const CaseGeometry& g, double s, double& qw, double& theta, Vec3 A, Vec3 B,
+                                 Vec3 a, Vec3 b, double side) {
     const Vec3 h = g.hp;
     A = detail::in_plane(A, h);
     B = detail::in_plane(B, h);
-    const Vec3 a = detail::in_plane(g.p[2] - g.p[1], h), b = detail::in_plane(g.p[3] - g.p[2], h);
+    a = detail::in_plane(a, h);
+    b = detail::in_plane(b, h);
     const double wanted = 0.5 * (dot(A, A) + dot(B, B) - dot(a, a) - dot(b, b));  // A . R(h, phi) B
     const double cos_part = dot(A, B), sin_part = dot(A, cross(h, B));
     const double r = std::sqrt(cos_part * cos_part + sin_part * sin_part);
     if (r == 0.0) return;
-    const double phi = std::atan2(sin_part, cos_part) + std::acos(std::min(std::max(wanted / r, -1.0), 1.0));
-    q6 = q6 + s6 * (theta - phi);
+    const double phi = std::atan2(sin_part, cos_part) + side * std::acos(std::min(std::max(wanted / r, -1.0), 1.0));
+    qw = qw + s * (theta - phi);
     theta = phi;
 }
 
@@ -476,10 +517,16 @@ void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, boo
         // planar part: e2 e3 e4 y = z with y = e5 p6, z = e1^-1 G p6
         const Vec3 y = p5 + rotate(h4, q5, p6 - p5);
         const Vec3 z = p0 + rotate(-h0, q1, G_p6 - p0);
-        if (q6.free) wrist_family_representative(g, sign_of(dot(v, h5)), q6.t, theta, z - p1, y - p3);
-        const Vec3 target = (z - p1) - rotate(h, theta, y - p3);
-        const Planar2 q23 = planar_2r(h, p2 - p1, p3 - p2, target);
+        const double q6_0 = q6.t, theta_0 = theta;
+        Planar2 q23{};
         for (int b = 0; b < 2; ++b) {
+            // a family of q6 (axis 6 parallel to h): one loop of it per elbow slot
+            if (q6.free) {
+                q6.t = q6_0, theta = theta_0;
+                wrist_family_representative(g, sign_of(dot(v, h5)), q6.t, theta, z - p1, y - p3, p2 - p1, p3 - p2,
+                                            b == 0 ? 1.0 : -1.0);
+            }
+            if (b == 0 || q6.free) q23 = planar_2r(h, p2 - p1, p3 - p2, (z - p1) - rotate(h, theta, y - p3));
             const int s = 2 * i + b;
             double* qs = q + n * s;
             qs[0] = q1;
@@ -491,6 +538,37 @@ void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, boo
             valid[s] = pair.valid[i] && q23.ok[b];
             family[s] = pair.free[i] || q6.free || q23.free;
         }
+    }
+}
+
+//: Members of a family of the two-angle system tried for its representative.
+constexpr int kFamilyMembers = 64;
+
+// Candidate i of pair has a free t1 (a family of the two-angle system): the member (t1,
+// t2) whose planar target (target_of(t2, t1, ...), for the 2R of links a, b) the 2R reaches
+// best (|v|^2 nearest |a|^2 + |b|^2), among kFamilyMembers values of t1 round the circle.
+// Every member solves the system exactly; which one stands for the family only decides
+// whether the rest of the chain can follow (the walk to near comes later).
+template <class Target>
+void choose_family_member(const CaseGeometry& g, const Mat2& P, const double* r, int i, AngleCandidates& pair,
+                          Target target_of, Vec3 a, Vec3 b) {
+    const Vec3 h = g.hp;
+    a = detail::in_plane(a, h);
+    b = detail::in_plane(b, h);
+    const double middle = dot(a, a) + dot(b, b), half_width = 2.0 * std::sqrt(dot(a, a) * dot(b, b));
+    const double size = system_size(P, r);
+    double best = std::numeric_limits<double>::infinity();
+    const double start = pair.t1[i];
+    for (int m = 0; m < kFamilyMembers; ++m) {
+        const double t1 = start + m * (6.283185307179586 / kFamilyMembers);
+        bool ok;
+        const double t2 = family_t2(g, P, r, t1, i, size, ok);
+        if (!ok) continue;
+        Angle1 wrist;
+        double theta;
+        const Vec3 v = detail::in_plane(target_of(t2, t1, wrist, theta, 1.0), h);
+        const double score = std::abs(dot(v, v) - middle) / std::max(half_width, 1e-300);
+        if (score < best) best = score, pair.t1[i] = t1, pair.t2[i] = t2;
     }
 }
 
@@ -511,22 +589,36 @@ void parallel_base(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool
     e2.constant += dot(R * o6 + t, h);
     const Mat2 P{{{e1.cos_coeff, e1.sin_coeff}, {e2.cos_coeff, e2.sin_coeff}}};
     const double r[2] = {g.f[0] - e1.constant, g.f[1] - e2.constant};
-    const AngleCandidates pair = two_angle_system(g, P, r);  // t1 = q6, t2 = q4
+    AngleCandidates pair = two_angle_system(g, P, r);  // t1 = q6, t2 = q4
     const Vec3 z = R * o4 + t;
-    for (int i = 0; i < 4; ++i) {
-        const double q4 = pair.t2[i], q6 = pair.t1[i];
+    // q5, q1 + q2 + q3 and the planar 2R's target for (q4, q6)
+    auto wrist = [&](double q4, double q6, Angle1& q5, double& theta, double side) {
         // q5: R5^T (R4^T h) = R6 R_G^T h
-        const Angle1 q5 = sp1(rotate(-h3, q4, h), rotate(h5, q6, gh), -h4);
+        q5 = sp1(rotate(-h3, q4, h), rotate(h5, q6, gh), -h4);
         // q1 + q2 + q3: R123 = R_G R6^T R5^T R4^T, applied to a normal of h
         const Vec3 turned = rotate(-h5, q6, rotate(-h4, q5.t, rotate(-h3, q4, g.u)));
-        const double theta = sp1(g.u, R * turned, h).t;
+        theta = sp1(g.u, R * turned, h).t;
         // planar part: e1 e2 e3 y = z with y = e4 e5 e6 o4, z = G o4
-        Vec3 y = o6 + rotate(h5, q6, o4 - o6);
-        y = o5 + rotate(h4, q5.t, y - o5);
+        const Vec3 y6 = o6 + rotate(h5, q6, o4 - o6);
+        if (q5.free) {  // axis 5 parallel to h: y = c5 + R(h, s5 q5) w, theta + s5 q5 constant
+            const double s5 = sign_of(dot(rotate(h3, q4, h4), h));
+            const Vec3 c5 = o4 + rotate(h3, q4, o5 - o4), w = rotate(h3, q4, y6 - o5);
+            const Vec3 A = (z - p0) - rotate(h, theta + s5 * q5.t, w);
+            wrist_family_representative(g, s5, q5.t, theta, A, c5 - p2, p1 - p0, p2 - p1, side);
+        }
+        Vec3 y = o5 + rotate(h4, q5.t, y6 - o5);
         y = o4 + rotate(h3, q4, y - o4);
-        const Vec3 target = (z - p0) - rotate(h, theta, y - p2);
-        const Planar2 q12 = planar_2r(h, p1 - p0, p2 - p1, target);
+        return (z - p0) - rotate(h, theta, y - p2);
+    };
+    for (int i = 0; i < 4; ++i) {
+        if (pair.free[i] && pair.valid[i]) choose_family_member(g, P, r, i, pair, wrist, p1 - p0, p2 - p1);
+        const double q4 = pair.t2[i], q6 = pair.t1[i];
+        Angle1 q5;
+        double theta;
+        Planar2 q12 = planar_2r(h, p1 - p0, p2 - p1, wrist(q4, q6, q5, theta, 1.0));
         for (int b = 0; b < 2; ++b) {
+            // a family of q5 (axis 5 parallel to h): one loop of it per elbow slot
+            if (b == 1 && q5.free) q12 = planar_2r(h, p1 - p0, p2 - p1, wrist(q4, q6, q5, theta, -1.0));
             const int s = 2 * i + b;
             double* qs = q + n * s;
             qs[0] = q12.ta[b];

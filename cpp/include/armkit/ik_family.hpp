@@ -132,6 +132,17 @@ inline double family_distance(const Chain& chain, const double* q, const double*
     return chain.within_limits(moved) || !keep_inside ? far : std::numeric_limits<double>::infinity();
 }
 
+// Weighted squared distance of q (n) to near with revolute differences taken modulo 2 pi,
+// the limits aside.
+inline double circular_distance(const Chain& chain, const double* q, const double* near, const double* weights) {
+    double far = 0.0;
+    for (int j = 0; j < chain.n; ++j) {
+        const double d = weights[j] * (chain.prismatic[j] ? q[j] - near[j] : wrap_angle(q[j] - near[j]));
+        far += d * d;
+    }
+    return far;
+}
+
 // Two revolute joints i < j whose axes are one line at q (s = +1 along, -1 against) leave
 // the pose unchanged along q + t (e_i - s e_j), for every t: turning joint i about that line
 // keeps joint j's axis on it, so the two turns cancel. Moves q (n) along each such line to
@@ -204,20 +215,21 @@ inline bool family_tangent(const Chain& chain, const double* q, double* v) {
 }
 
 // Traces the one-parameter family through q (n, on the solution set of T) both ways and
-// moves q to the traced point nearest to near (weighted, after the wrap). The first step
+// moves q to the traced point nearest to near (weighted, circular_distance: the limits
+// aside, so that a member on a limit, where the wrapped distance jumps, is approached from
+// both sides; its revolute joints within pi of near's, for the descent that follows). The first step
 // goes along the null vector at q, each later one along the secant of the last step; each
 // is projected back onto the solution set, and a failed projection (or one that jumps
 // more than twice the step, or back) halves the step. A direction ends where the curve
 // closes (back within a step of q: the other direction is then not needed), after
 // kTraceLength, or where the step falls below kTraceSmallestStep.
-inline void trace_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights,
-                         bool inside) {
+inline void trace_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights) {
     const int n = chain.n;
     double start_tangent[kMaxJoints];
     if (!family_tangent(chain, q, start_tangent)) return;
     double best_q[kMaxJoints];
     for (int j = 0; j < n; ++j) best_q[j] = q[j];
-    double best = family_distance(chain, q, near, weights, inside);
+    double best = circular_distance(chain, q, near, weights);
     bool closed = false;
     for (const double way : {1.0, -1.0}) {
         if (closed) break;
@@ -249,7 +261,7 @@ inline void trace_family(const Chain& chain, const Pose& T, double* q, const dou
                 home += d * d;
             }
             travelled += moved;
-            const double far = family_distance(chain, at, near, weights, inside);
+            const double far = circular_distance(chain, at, near, weights);
             if (far < best) {
                 best = far;
                 for (int j = 0; j < n; ++j) best_q[j] = at[j];
@@ -259,22 +271,22 @@ inline void trace_family(const Chain& chain, const Pose& T, double* q, const dou
             step = std::fmin(kTraceStep, 2.0 * step);
         }
     }
-    wrap_towards(chain, best_q, near, q);
+    for (int j = 0; j < n; ++j) q[j] = chain.prismatic[j] ? best_q[j] : near[j] + wrap_angle(best_q[j] - near[j]);
 }
 
 // Moves q (n, on the solution set of T) towards near: the line through q along a one-line
-// null space (sampled), then local null-space steps while the distance falls, then the
-// collinear pairs' lines again (the local steps may end on another pair's line: two
-// families that cross).
+// null space (sampled, if sample_line: not after the trace, which has searched the curve),
+// then local null-space steps while the distance falls, then the collinear pairs' lines
+// again (the local steps may end on another pair's line: two families that cross).
 inline void descend_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights,
-                           bool inside) {
+                           bool inside, bool sample_line) {
     const int n = chain.n;
     for (int step = 0; step < kFamilySteps; ++step) {
         double V[kMaxJoints * kMaxJoints];
         int null[kMaxJoints];  // the columns of V spanning the null space
         const int c = null_space(chain, q, V, null);
         if (c == 0) break;
-        const bool line = step == 0 && c == 1;
+        const bool line = sample_line && step == 0 && c == 1;
         double target[kMaxJoints];
         if (line) {  // the line through q, up to two whole turns of its fastest joint either way
             double v[kMaxJoints], biggest = 0.0;
@@ -335,9 +347,9 @@ inline void walk_family(const Chain& chain, const Pose& T, double* q, const doub
     move_along_collinear_pairs(chain, q, near, weights, inside);
     double traced[kMaxJoints];
     for (int j = 0; j < n; ++j) traced[j] = q[j];
-    trace_family(chain, T, traced, near, weights, inside);
-    descend_family(chain, T, q, near, weights, inside);
-    descend_family(chain, T, traced, near, weights, inside);
+    trace_family(chain, T, traced, near, weights);
+    descend_family(chain, T, q, near, weights, inside, true);
+    descend_family(chain, T, traced, near, weights, inside, false);  // the trace has searched the curve
     if (family_distance(chain, traced, near, weights, inside) < family_distance(chain, q, near, weights, inside))
         for (int j = 0; j < n; ++j) q[j] = traced[j];
 }
