@@ -130,15 +130,15 @@ def bench_closed_form(name: str, one: int, batch: int) -> None:
     T_one = robot.fk(robot.random_q(one, rng=rng))
     T_batch = robot.fk(robot.random_q(batch, rng=rng))
     near = np.zeros((batch, robot.n))
-    mine = {"armkit ik_solutions": (lambda T: ik_solutions(robot.chain, T).q,
-                                    lambda Ts: ik_solutions(robot.chain, Ts)),
+    mine = {"armkit ik_solutions": (lambda T: ik_solutions(robot, T).q,
+                                    lambda Ts: ik_solutions(robot, Ts)),
             "armkit robot.ik(all=True)": (lambda T: robot.ik(T, all=True, within_limits=False),
                                           lambda Ts: robot.ik(Ts, all=True, within_limits=False)),
             "armkit robot.ik(near=) (nearest only)": (
                 lambda T: robot.ik(T, within_limits=False),
                 lambda Ts: robot.ik(Ts, near=near, within_limits=False)),
-            "armkit closed_form_ik (raw)": (lambda T: valid_rows(closed_form_ik(robot.chain, T)),
-                                            lambda Ts: closed_form_ik(robot.chain, Ts))}
+            "armkit closed_form_ik (raw)": (lambda T: valid_rows(closed_form_ik(robot, T)),
+                                            lambda Ts: closed_form_ik(robot, Ts))}
     solvers = {**mine, **closed_form_peers(robot, name)}
     results = {}
     for label, (solve_one, solve_batch) in solvers.items():

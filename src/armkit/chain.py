@@ -18,17 +18,20 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Literal, TypeVar
+from typing import TYPE_CHECKING, Literal, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from armkit import _core
-from armkit.errors import RobotDefinitionError
+from armkit.errors import InputError, RobotDefinitionError
 from armkit.spatial.transforms import rot_x, rot_z, trans_x, trans_z
 
+if TYPE_CHECKING:  # armkit.robot imports this module
+    from armkit.robot import Robot
+
 __all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERANCE", "MAX_VALUE",
-           "chain_from_dh", "chain_from_frames"]
+           "as_chain", "chain_from_dh", "chain_from_frames"]
 
 #: Slack [rad or m] allowed beyond a joint limit before a value counts as outside it.
 LIMIT_TOLERANCE = 1e-9
@@ -187,6 +190,37 @@ class Chain:
         array([ True, False])
         """
         return np.all((q >= self.lower - LIMIT_TOLERANCE) & (q <= self.upper + LIMIT_TOLERANCE), axis=-1)
+
+
+def as_chain(robot: Robot | Chain) -> Chain:
+    """The chain of ``robot``: what every public function that takes a robot computes with.
+
+    Public functions take a :class:`~armkit.robot.Robot` (what :func:`armkit.load` returns)
+    and accept its bare :class:`Chain` too; they all turn it into the chain with this one
+    helper (``robot.chain``, or the chain itself).
+
+    Raises
+    ------
+    InputError
+        If ``robot`` is neither a Robot nor a Chain.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("ur5")
+    >>> as_chain(robot) is robot.chain is as_chain(robot.chain)
+    True
+    """
+    if type(robot) is Chain:
+        return robot
+    chain = getattr(robot, "chain", None)
+    if isinstance(chain, Chain):
+        return chain
+    if isinstance(robot, Chain):
+        return robot
+    shown = repr(robot)
+    raise InputError(f"robot: expected an armkit Robot (e.g. armkit.load('ur5')) or its Chain, got "
+                     f"{type(robot).__name__} {shown[:60] + '...' if len(shown) > 60 else shown}")
 
 
 def chain_from_dh(rows: Sequence[DHRow], convention: DHConvention, *,

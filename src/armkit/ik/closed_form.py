@@ -13,9 +13,8 @@ threads.
 Example
 -------
 >>> import numpy as np, armkit
->>> chain = armkit.load("probot-anno").chain
->>> from armkit.kinematics import fk
->>> sol = closed_form_ik(chain, fk(chain, np.array([0.3, -0.5, 0.4, 0.2, 0.6, -0.1])))
+>>> robot = armkit.load("probot-anno")
+>>> sol = closed_form_ik(robot, robot.fk([0.3, -0.5, 0.4, 0.2, 0.6, -0.1]))
 >>> int(sol.valid.sum())
 8
 """
@@ -23,12 +22,13 @@ Example
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit.chain import Chain
+from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.cases import (
     PARALLEL_BASE,
@@ -41,6 +41,9 @@ from armkit.ik.cases import (
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
 from armkit.ik.subproblems import sp4, trig_coeffs
 from armkit.spatial.transforms import check_transform
+
+if TYPE_CHECKING:
+    from armkit.robot import Robot
 
 __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
            "solver_or_reason", "VERIFY_TOLERANCE", "DUPLICATE_TOLERANCE"]
@@ -244,22 +247,24 @@ class ClosedFormSolver:
                 "revolute_joints": np.array(rev, dtype=np.int64), "prismatic_joint": pri[0] if pri else -1}
 
 
-def closed_form_solver(chain: Chain) -> ClosedFormSolver:
-    """The closed-form solver of ``chain`` (made once per chain and kept with it).
+def closed_form_solver(robot: Robot | Chain) -> ClosedFormSolver:
+    """The closed-form solver of ``robot`` (made once per chain and kept with it; a
+    :class:`~armkit.chain.Chain` is accepted too).
 
     Raises
     ------
     NoClosedFormError
         If the chain's geometry has no closed form here (the message says why).
     """
-    solver = solver_or_reason(chain)
+    solver = solver_or_reason(robot)
     if isinstance(solver, NoClosedFormError):
         raise solver
     return solver
 
 
-def solver_or_reason(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
+def solver_or_reason(robot: Robot | Chain) -> ClosedFormSolver | NoClosedFormError:
     """The chain's closed-form solver, or the error saying why it has none (made once)."""
+    chain = as_chain(robot)
     return chain.derived("closed_form_solver", lambda: _make_solver(chain))
 
 
@@ -270,13 +275,14 @@ def _make_solver(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
     return ClosedFormSolver(chain, plan)
 
 
-def closed_form_ik(chain: Chain, T_base_tool: ArrayLike) -> ClosedFormSolutions:
-    """Every closed-form IK solution of ``chain`` for one pose or a batch of poses.
+def closed_form_ik(robot: Robot | Chain, T_base_tool: ArrayLike) -> ClosedFormSolutions:
+    """Every closed-form IK solution of ``robot`` for one pose or a batch of poses.
 
     Parameters
     ----------
-    chain : Chain
-        A chain with a closed form (see :func:`armkit.ik.analyze_structure`).
+    robot : Robot or Chain
+        An arm with a closed form (see :func:`armkit.ik.analyze_structure`); a
+        :class:`~armkit.chain.Chain` is accepted too.
     T_base_tool : array_like (4, 4) or (N, 4, 4)
         Target tool pose(s) in the base frame [m].
 
@@ -298,8 +304,8 @@ def closed_form_ik(chain: Chain, T_base_tool: ArrayLike) -> ClosedFormSolutions:
     --------
     >>> import armkit
     >>> robot = armkit.load("ur5")
-    >>> sol = closed_form_ik(robot.chain, robot.fk(np.full(6, 0.3)))
+    >>> sol = closed_form_ik(robot, robot.fk(np.full(6, 0.3)))
     >>> sol.q.shape, int(sol.valid.sum())
     ((8, 6), 8)
     """
-    return closed_form_solver(chain).solve(T_base_tool)
+    return closed_form_solver(robot).solve(T_base_tool)

@@ -44,14 +44,17 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit.chain import Chain
+from armkit.chain import Chain, as_chain
 from armkit.errors import InputError
+
+if TYPE_CHECKING:
+    from armkit.robot import Robot
 
 __all__ = ["IKResult", "IKResultBatch", "NumericIK", "numeric_ik", "wrap_into_limits"]
 
@@ -174,7 +177,7 @@ def _seed(rng: np.random.Generator | int | None) -> int:
                          f"got {rng!r}") from exc
 
 
-def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArray[np.float64]:
+def wrap_into_limits(robot: Robot | Chain, q: ArrayLike, reference: ArrayLike) -> NDArray[np.float64]:
     """Shift revolute angles ``(..., n)`` by multiples of ``2 pi`` into the joint limits.
 
     Among several shifts that fit (limits wider than ``2 pi``) the one closest to
@@ -185,9 +188,10 @@ def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArra
     --------
     >>> import armkit
     >>> panda = armkit.load("panda")   # joint 6 in [-0.0175, 3.7525]
-    >>> float(wrap_into_limits(panda.chain, [0, 0, 0, -1, 0, -3.0, 0], 0.0)[5].round(4))
+    >>> float(wrap_into_limits(panda, [0, 0, 0, -1, 0, -3.0, 0], 0.0)[5].round(4))
     3.2832
     """
+    chain = as_chain(robot)
     q = np.asarray(q, dtype=np.float64)
     reference = np.asarray(reference, dtype=np.float64)
     try:
@@ -216,14 +220,14 @@ class NumericIK:
     --------
     >>> import armkit
     >>> panda = armkit.load("panda")
-    >>> solver = NumericIK(panda.chain, position_tolerance=1e-10)
+    >>> solver = NumericIK(panda, position_tolerance=1e-10)
     >>> T = panda.fk([0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5])
     >>> result = solver.solve(T, rng=0)
     >>> result.success, bool(result.position_error < 1e-10), bool(panda.within_limits(result.q))
     (True, True, True)
     """
 
-    def __init__(self, chain: Chain, *, position_tolerance: float = 1e-9,
+    def __init__(self, robot: Robot | Chain, *, position_tolerance: float = 1e-9,
                  orientation_tolerance: float = 1e-9, mask: ArrayLike | None = None,
                  damping_gain: float = 0.1, damping: float = 1e-9, max_iterations: int = 30,
                  max_restarts: int = 100, time_budget: float = 0.5, respect_limits: bool = True) -> None:
@@ -233,7 +237,7 @@ class NumericIK:
             raise InputError(f"max_restarts: expected 0 or more random restarts, got {max_restarts}")
         if not time_budget >= 0.0:
             raise InputError(f"time_budget: expected a wall-clock budget >= 0 s, got {time_budget}")
-        self.chain = chain
+        self.chain = chain = as_chain(robot)
         self.rows = _task_rows(mask)
         self.max_iterations, self.max_restarts = int(max_iterations), int(max_restarts)
         self.time_budget, self.respect_limits = float(time_budget), bool(respect_limits)
@@ -301,7 +305,7 @@ class NumericIK:
         >>> import armkit
         >>> panda = armkit.load("panda")
         >>> T = panda.fk(panda.random_q(20, rng=1))
-        >>> result = NumericIK(panda.chain).solve_batch(T, rng=0)
+        >>> result = NumericIK(panda).solve_batch(T, rng=0)
         >>> bool(result.success.all()), result.q.shape
         (True, (20, 7))
         """
@@ -342,7 +346,7 @@ class NumericIK:
         return q, [(i, float(sides[i])) for i in np.flatnonzero(sides).tolist()]
 
 
-def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike | None = None,
+def numeric_ik(robot: Robot | Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike | None = None,
                position_tolerance: float = 1e-9, orientation_tolerance: float = 1e-9,
                mask: ArrayLike | None = None, damping_gain: float = 0.1, damping: float = 1e-9,
                max_iterations: int = 30, max_restarts: int = 100, time_budget: float = 0.5,
@@ -358,7 +362,8 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
 
     Parameters
     ----------
-    chain : Chain
+    robot : Robot or Chain
+        The arm (a :class:`~armkit.chain.Chain` is accepted too, see :func:`armkit.chain.as_chain`).
     T_base_tool : ndarray, shape (4, 4)
         Target tool pose [m], assumed rigid (see :func:`armkit.spatial.check_transform`).
     q0 : array_like, shape (n,), optional
@@ -395,11 +400,11 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
     >>> import armkit
     >>> panda = armkit.load("panda")
     >>> T = panda.fk([0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5])
-    >>> result = numeric_ik(panda.chain, T, rng=0)
+    >>> result = numeric_ik(panda, T, rng=0)
     >>> result.success, bool(result.position_error < 1e-9)
     (True, True)
     """
-    solver = NumericIK(chain, position_tolerance=position_tolerance,
+    solver = NumericIK(robot, position_tolerance=position_tolerance,
                        orientation_tolerance=orientation_tolerance, mask=mask,
                        damping_gain=damping_gain, damping=damping, max_iterations=max_iterations,
                        max_restarts=max_restarts, time_budget=time_budget, respect_limits=respect_limits)

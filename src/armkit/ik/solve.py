@@ -15,11 +15,13 @@ differences in radians and metres (weights ``w`` default 1), after the ``2 pi`` 
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit.chain import Chain
+from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
 from armkit.ik.messages import Labels, numeric_failure, outside_limits, raise_if_unusable
@@ -27,6 +29,9 @@ from armkit.ik.numeric import numeric_ik, wrap_into_limits
 from armkit.ik.pipeline import Found, verified_solutions
 from armkit.ik.results import VERIFY_TOLERANCE, IKSolutions, IKSolutionsBatch
 from armkit.spatial.transforms import RIGID_TOLERANCE, check_transform
+
+if TYPE_CHECKING:
+    from armkit.robot import Robot
 
 __all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
 
@@ -102,13 +107,14 @@ class _Targets:
         return verified_solutions(solver, self.T, *args)
 
 
-def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
+def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
                  weights: ArrayLike | None = None, threads: int = 0) -> IKSolutions | IKSolutionsBatch:
     """Every closed-form solution of a target pose, inside the limits or not, with flags.
 
     Parameters
     ----------
-    chain : Chain
+    robot : Robot or Chain
+        The arm (its :class:`~armkit.chain.Chain` is accepted too, see :func:`armkit.chain.as_chain`).
     T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
         Target tool pose(s) [m].
     near : array_like, shape (n,) or (N, n), optional
@@ -137,10 +143,11 @@ def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None
     >>> import armkit
     >>> from armkit.ik import ik_solutions
     >>> robot = armkit.load("probot-anno")
-    >>> found = ik_solutions(robot.chain, robot.fk([0.927, -0.687, -0.396, 0, 1.083, 0.927]))
+    >>> found = ik_solutions(robot, robot.fk([0.927, -0.687, -0.396, 0, 1.083, 0.927]))
     >>> len(found.q), int(found.within_limits.sum()), bool(found.position_error.max() < 1e-12)
     (8, 4, True)
     """
+    chain = as_chain(robot)
     targets = _Targets(chain, T_base_tool, near, weights)
     solver = solver_or_reason(chain)
     if isinstance(solver, NoClosedFormError):
@@ -165,7 +172,7 @@ def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64]
     raise numeric_failure(chain, result, label, "mask" in options)
 
 
-def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
+def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all: bool = False,
        near: ArrayLike | None = None, within_limits: bool = True,
        weights: ArrayLike | None = None, threads: int = 0,
        **numeric_options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
@@ -173,7 +180,8 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
 
     Parameters
     ----------
-    chain : Chain
+    robot : Robot or Chain
+        The arm (its :class:`~armkit.chain.Chain` is accepted too).
     T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
         Target tool pose(s) [m].
     all : bool
@@ -215,9 +223,10 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
     >>> import armkit
     >>> robot = armkit.load("puma560")
     >>> q = [0.1, -0.4, 0.3, 0.2, 0.5, -0.1]
-    >>> bool(np.allclose(ik(robot.chain, robot.fk(q), near=q), q))
+    >>> bool(np.allclose(ik(robot, robot.fk(q), near=q), q))
     True
     """
+    chain = as_chain(robot)
     T = T_base_tool
     if (type(T) is np.ndarray and T.shape == (4, 4) and T.dtype.char == "d" and not numeric_options
             and (near is None or _plain(near, chain.n)) and (weights is None or _plain(weights, chain.n))):
