@@ -70,3 +70,57 @@ def test_kinematics_functions_take_a_robot():
     np.testing.assert_array_equal(kinematics.analytic_jacobian(robot, Q_PANDA),
                                   robot.analytic_jacobian(Q_PANDA))
     np.testing.assert_array_equal(kinematics.ChainKernel(robot).pose(Q_PANDA), robot.fk(Q_PANDA))
+
+
+# ------------------------------------------------------------------ "it worked": success
+def test_every_result_says_it_worked_with_success():
+    robot = armkit.load("probot-anno")
+    motion = armkit.move_linear(robot, np.zeros(6), [0.05, 0, -0.05], duration=1.0)
+    assert motion.success is True and motion.message == "completed"
+    blocked = armkit.rotate_about_tool_point(robot, np.zeros(6), [1, 0, 0], -np.radians(200),
+                                             angular_velocity=0.5)
+    assert blocked.success is False and "limit" in blocked.message
+
+    T = robot.fk([0.3, -0.5, 0.4, 0.2, 0.6, -0.1])
+    assert closed_form_ik(robot, T).success is True
+    far = np.eye(4)
+    far[:3, 3] = [5.0, 0.0, 0.0]
+    assert closed_form_ik(robot, far).success is False
+    np.testing.assert_array_equal(closed_form_ik(robot, np.stack([T, far])).success, [True, False])
+    assert ik_solutions(robot, T).success and not ik_solutions(robot, far).success
+    np.testing.assert_array_equal(ik_solutions(robot, np.stack([T, far, T])).success, [True, False, True])
+    assert numeric_ik(robot, T, rng=0).success
+
+
+def test_completed_is_a_deprecated_alias_of_success():
+    robot = armkit.load("probot-anno")
+    motion = armkit.move_linear(robot, np.zeros(6), [0.05, 0, -0.05], duration=1.0)
+    with pytest.warns(DeprecationWarning, match=r"MotionResult.completed is deprecated in armkit 0.2: "
+                                                r"use .success instead"):
+        assert motion.completed is motion.success is True
+
+
+# ------------------------------------------------------------ rates: rate_hz [Hz], angular_velocity [rad/s]
+def test_cartesian_line_samples_at_rate_hz_and_rate_is_a_deprecated_alias():
+    robot = armkit.load("probot-anno")
+    T_goal = robot.fk([0.3, -0.5, 0.4, 0.2, 1.2, -0.3])
+    line = armkit.cartesian_line(robot, np.zeros(6), T_goal, 2.0, rate_hz=10)
+    np.testing.assert_allclose(line.t, np.linspace(0, 2, 21))
+    with pytest.warns(DeprecationWarning, match=r"cartesian_line\(rate=...\) is deprecated in armkit 0.2: "
+                                                r"use rate_hz=... instead"):
+        old = armkit.cartesian_line(robot, np.zeros(6), T_goal, 2.0, rate=10)
+    np.testing.assert_array_equal(old.q, line.q)
+    with pytest.warns(DeprecationWarning), pytest.raises(InputError, match="got both rate=10 and rate_hz=20"):
+        armkit.cartesian_line(robot, np.zeros(6), T_goal, 2.0, rate=10, rate_hz=20)
+
+
+def test_rotation_takes_angular_velocity_in_rad_per_s_and_rate_is_a_deprecated_alias():
+    robot = armkit.load("probot-anno")
+    turn = armkit.rotate_about_tool_point(robot, np.zeros(6), [1, 0, 0], angular_velocity=-0.2, duration=1.0)
+    assert turn.t[-1] == pytest.approx(1.0) and turn.success
+    with pytest.warns(DeprecationWarning, match=r"rotate_about_tool_point\(rate=...\) is deprecated in "
+                                                r"armkit 0.2: use angular_velocity=... instead"):
+        old = armkit.rotate_about_tool_point(robot, np.zeros(6), [1, 0, 0], rate=-0.2, duration=1.0)
+    np.testing.assert_array_equal(old.q, turn.q)
+    with pytest.raises(InputError, match="give two of angle, angular_velocity and duration"):
+        armkit.rotate_about_tool_point(robot, np.zeros(6), [1, 0, 0], 1.0)

@@ -69,7 +69,9 @@ class ClosedFormSolutions:
         Candidate joint values [rad or m]; revolute ones in ``[-pi, pi]``, not fitted to
         the joint limits and not filtered by them.
     valid : ndarray of bool (..., k_max)
-        The candidate is a solution (reproduces the pose; duplicates are invalid).
+        Per candidate: it is a solution (reproduces the pose; duplicates are invalid). A
+        mask over the candidates like :attr:`family` (not "it worked": that is
+        :attr:`success`), so it keeps its name.
     family : ndarray of bool (..., k_max)
         The candidate is a representative of a one-parameter family of solutions (wrist
         singularity: only ``q4 + q6`` defined; shoulder singularity: ``q1`` free, ...).
@@ -78,6 +80,18 @@ class ClosedFormSolutions:
     q: Array
     valid: Mask
     family: Mask
+
+    @property
+    def success(self) -> bool | Mask:
+        """Whether the pose has at least one solution: a bool for one pose, ``(N,)`` for a batch.
+
+        >>> import armkit
+        >>> robot = armkit.load("ur5")
+        >>> closed_form_ik(robot, robot.fk([0.3] * 6)).success, closed_form_ik(robot, np.eye(4)).success
+        (True, False)
+        """
+        found = self.valid.any(axis=-1)
+        return bool(found) if found.ndim == 0 else found
 
 
 # ------------------------------------------------------------- preparation

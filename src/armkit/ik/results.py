@@ -46,6 +46,11 @@ class IKSolutions:
     position_error: NDArray[np.float64]
     orientation_error: NDArray[np.float64]
 
+    @property
+    def success(self) -> bool:
+        """Whether the pose has a solution (``k > 0``), inside the limits or not."""
+        return len(self.q) > 0
+
 
 @dataclass(frozen=True)
 class IKSolutionsBatch(Sequence[IKSolutions]):
@@ -77,6 +82,11 @@ class IKSolutionsBatch(Sequence[IKSolutions]):
     family: NDArray[np.bool_]
     position_error: NDArray[np.float64]
     orientation_error: NDArray[np.float64]
+
+    @property
+    def success(self) -> NDArray[np.bool_]:
+        """Per pose, whether it has a solution (``counts > 0``), ``(N,)``."""
+        return self.counts > 0
 
     def __len__(self) -> int:
         return len(self.q)
