@@ -124,3 +124,30 @@ def test_rotation_takes_angular_velocity_in_rad_per_s_and_rate_is_a_deprecated_a
     np.testing.assert_array_equal(old.q, turn.q)
     with pytest.raises(InputError, match="give two of angle, angular_velocity and duration"):
         armkit.rotate_about_tool_point(robot, np.zeros(6), [1, 0, 0], 1.0)
+
+
+# ------------------------------------------------------------ at_time(t) [s], sample(rate_hz) [Hz]; n
+def test_segments_answer_at_time_and_their_sample_of_times_is_deprecated():
+    from armkit.trajectory import lspb, quintic
+
+    for segment, name in ((quintic([0.0, 1.0], [1.0, -1.0], 2.0), "PolynomialSegment"),
+                          (lspb([0.0, 1.0], [1.0, -1.0], 2.0), "TrapezoidSegment")):
+        q, qd, qdd, qddd = segment.at_time([0.0, 1.0, 2.0])
+        np.testing.assert_allclose(q[[0, 2]], [[0.0, 1.0], [1.0, -1.0]], atol=1e-14)
+        np.testing.assert_allclose(q[1], [0.5, 0.0], atol=1e-14)
+        with pytest.warns(DeprecationWarning, match=rf"{name}.sample\(t\) is deprecated in armkit 0.2: "
+                                                    r"use .at_time\(t\) instead"):
+            old = segment.sample([0.0, 1.0, 2.0])
+        for a, b in zip(old, (q, qd, qdd, qddd), strict=True):
+            np.testing.assert_array_equal(a, b)
+        assert segment.n == 2
+        with pytest.warns(DeprecationWarning, match=rf"{name}.dof is deprecated in armkit 0.2: use .n"):
+            assert segment.dof == 2
+
+
+def test_joint_trajectory_has_n_and_dof_is_a_deprecated_alias():
+    traj = armkit.min_jerk([[0.0, 0.0, 0.0], [1.0, -1.0, 0.5]], [2.0])
+    assert traj.n == 3 and traj.sample(10.0).q.shape == (21, 3) and traj.at_time(1.0)[0].shape == (3,)
+    assert armkit.load("ur5").n == traj.n + 3
+    with pytest.warns(DeprecationWarning, match=r"JointTrajectory.dof is deprecated in armkit 0.2: use .n"):
+        assert traj.dof == 3

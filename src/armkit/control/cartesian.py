@@ -106,7 +106,7 @@ def line_poses(T_start: ArrayLike, T_goal: ArrayLike, t: ArrayLike,
     (array([0.  , 0.05, 0.1 ]), array([0.    , 0.1875, 0.    ]))
     """
     T_start, T_goal = check_transform(T_start, "T_start"), check_transform(T_goal, "T_goal")
-    s, sd, sdd = (x[:, 0] for x in quintic(0.0, 1.0, duration).sample(t)[:3])
+    s, sd, sdd = (x[:, 0] for x in quintic(0.0, 1.0, duration).at_time(t)[:3])
     dp = T_goal[:3, 3] - T_start[:3, 3]
     rotvec = axis_angle_from_matrix(T_goal[:3, :3] @ T_start[:3, :3].T)
     poses = np.broadcast_to(np.eye(4), (s.size, 4, 4)).copy()

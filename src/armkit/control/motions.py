@@ -314,7 +314,7 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     elif frame != "base":
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
     t = even_time_grid(duration, dt)
-    s = quintic(0.0, 1.0, duration).sample(t)[0][:, 0]
+    s = quintic(0.0, 1.0, duration).at_time(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     reference[:, :3, 3] += s[:, None] * displacement
     return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits)
@@ -416,7 +416,7 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     elif frame != "base":
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
     t = even_time_grid(total_time, dt)
-    s = t / total_time if constant_rate else quintic(0.0, 1.0, total_time).sample(t)[0][:, 0]
+    s = t / total_time if constant_rate else quintic(0.0, 1.0, total_time).at_time(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     turns = matrix_from_axis_angle(np.outer(s * signed_angle, axis))
     reference[:, :3, :3] = turns @ T0[:3, :3]
