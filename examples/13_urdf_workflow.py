@@ -38,7 +38,7 @@ print("joint axes at q = 0:\n", lines.axes.round(6) + 0.0)
 # Every closed-form IK solution of a pose, each checked by FK.
 q_true = np.array([0.3, -1.2, 1.5, -0.7, 1.1, 0.4])
 T = robot.fk(q_true)
-solutions = robot.ik(T, all=True)
+solutions = robot.ik(T, all_solutions=True)
 errors = np.linalg.norm(robot.fk(solutions)[:, :3, 3] - T[:3, 3], axis=-1)
 print(f"{len(solutions)} IK solutions inside the limits, position errors <= {errors.max():.1e} m;",
       "the generating q is solution", int(np.argmin(np.abs(solutions - q_true).max(axis=1))) + 1)
@@ -60,6 +60,6 @@ if ROBOTS is not None:
     panda = armkit.load(ROBOTS / "panda_description/urdf/panda.urdf", tip="panda_hand_tcp")
     arm = panda.lock({"panda_joint7": 0.785})            # CLI: --lock panda_joint7=0.785
     print(arm, "kind:", armkit.analyze_structure(arm).kind)
-    q6 = arm.ik(panda.fk(arm.full_q(arm.home + 0.2)), all=True)
+    q6 = arm.ik(panda.fk(arm.full_q(arm.home + 0.2)), all_solutions=True)
     print(f"{len(q6)} closed-form solution(s) inside the limits, as full Panda configurations:\n",
           arm.full_q(q6).round(3))

@@ -151,3 +151,24 @@ def test_joint_trajectory_has_n_and_dof_is_a_deprecated_alias():
     assert armkit.load("ur5").n == traj.n + 3
     with pytest.warns(DeprecationWarning, match=r"JointTrajectory.dof is deprecated in armkit 0.2: use .n"):
         assert traj.dof == 3
+
+
+# ------------------------------------------------------------ all_solutions, not the builtin's name
+def test_ik_all_solutions_and_the_deprecated_all():
+    robot = armkit.load("probot-anno")
+    T = robot.fk([0.927, -0.687, -0.396, 0, 1.083, 0.927])
+    every = robot.ik(T, all_solutions=True, within_limits=False)
+    assert every.shape == (8, 6)
+    np.testing.assert_array_equal(ik(robot, T, all_solutions=True, within_limits=False), every)
+    with pytest.warns(DeprecationWarning, match=r"Robot.ik\(all=...\) is deprecated in armkit 0.2: "
+                                                r"use all_solutions=... instead") as caught:
+        old = robot.ik(T, all=True, within_limits=False)
+    assert caught[0].filename == __file__  # the warning points at the caller's line
+    np.testing.assert_array_equal(old, every)
+    with pytest.warns(DeprecationWarning, match=r"^ik\(all=...\) is deprecated"):
+        np.testing.assert_array_equal(ik(robot, T, all=True, within_limits=False), every)
+    with pytest.warns(DeprecationWarning):  # batch path too
+        assert len(robot.ik(np.stack([T, T]), all=True)) == 2
+    with pytest.warns(DeprecationWarning), pytest.raises(InputError, match="got both all=True and "
+                                                                           "all_solutions=True"):
+        robot.ik(T, all=True, all_solutions=True)

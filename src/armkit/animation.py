@@ -172,7 +172,8 @@ def plot_configurations(robot: Robot, q: ArrayLike, path: str | Path | None = No
     --------
     >>> import armkit
     >>> robot = armkit.load("probot-anno")
-    >>> figure = plot_configurations(robot, robot.ik(robot.fk([0.9, -0.7, -0.4, 0, 1.1, 0.9]), all=True))
+    >>> T = robot.fk([0.9, -0.7, -0.4, 0, 1.1, 0.9])
+    >>> figure = plot_configurations(robot, robot.ik(T, all_solutions=True))
     >>> len(figure.axes)
     4
     """
