@@ -3,6 +3,8 @@ kept as deprecated aliases that warn."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -172,3 +174,60 @@ def test_ik_all_solutions_and_the_deprecated_all():
     with pytest.warns(DeprecationWarning), pytest.raises(InputError, match="got both all=True and "
                                                                            "all_solutions=True"):
         robot.ik(T, all=True, all_solutions=True)
+
+
+# ------------------------------------------------------------ one name per tolerance
+def test_the_two_ik_tolerances_have_two_names_and_the_old_one_warns():
+    import armkit.ik.closed_form as closed_form
+    import armkit.ik.results as results
+    import armkit.ik.solve as solve
+    from armkit import _core
+
+    # what IK returns reproduces its target to SOLUTION_TOLERANCE (m and rad), the core's constant
+    assert results.SOLUTION_TOLERANCE == solve.SOLUTION_TOLERANCE == _core.SOLUTION_TOLERANCE == 1e-9
+    robot = armkit.load("ur5")
+    found = ik_solutions(robot, robot.fk(Q_UR5))
+    assert found.position_error.max() <= results.SOLUTION_TOLERANCE
+    # a closed-form candidate is kept if its FK matrix matches to CANDIDATE_TOLERANCE * (1 + size)
+    assert closed_form.CANDIDATE_TOLERANCE == 1e-8
+    for module, new in ((closed_form, "CANDIDATE_TOLERANCE"), (results, "SOLUTION_TOLERANCE"),
+                        (solve, "SOLUTION_TOLERANCE")):
+        with pytest.warns(DeprecationWarning, match=rf"{module.__name__}.VERIFY_TOLERANCE is deprecated in "
+                                                    rf"armkit 0.2: use {module.__name__}.{new} instead"):
+            assert module.VERIFY_TOLERANCE == getattr(module, new)
+        assert "VERIFY_TOLERANCE" not in module.__all__
+        with pytest.raises(AttributeError):
+            module.NO_SUCH_TOLERANCE  # noqa: B018
+
+
+# ------------------------------------------------------------ the joint-limit test, once, on the chain
+def test_every_limit_check_gives_the_chains_one_message():
+    from armkit import _core
+    from armkit.chain import LIMIT_TOLERANCE
+    from armkit.errors import JointLimitError
+
+    assert LIMIT_TOLERANCE == _core.LIMIT_TOLERANCE
+    robot = armkit.load("probot-anno")          # q2 within +-115 deg (2.00713 rad)
+    upper = robot.chain.upper[1]
+    q = np.zeros(6)
+    q[1] = upper + 0.5 * LIMIT_TOLERANCE
+    assert not robot.chain.outside_limits(q).any() and robot.within_limits(q)
+    q[1] = upper + 2 * LIMIT_TOLERANCE
+    np.testing.assert_array_equal(robot.chain.outside_limits(q), [False, True, False, False, False, False])
+    assert not robot.within_limits(q)
+    q[1] = 2.5
+    message = "joint q2 = 2.5 rad is outside its limits [-2.00713, 2.00713] rad"
+    assert robot.limit_violations(q) == robot.chain.limit_violations(q) == [message]
+    with pytest.raises(JointLimitError, match="^" + re.escape(message) + "$"):
+        robot.check_limits(q)
+    traj = armkit.min_jerk([np.zeros(6), q, np.zeros(6)], [1.0, 1.0])
+    assert traj.position_limit_violations(robot)[0].startswith("joint q2 = 0 .. 2.5") and \
+        traj.position_limit_violations(robot)[0].endswith(" rad between waypoints is outside its limits "
+                                                          "[-2.00713, 2.00713] rad")
+    # IK's error for a pose reachable only outside the limits names the joints the same way
+    narrow = armkit.Robot.from_dh(robot.dh.rows, robot.dh.convention,
+                                  limits=[(-0.1, 0.1)] + [tuple(lim) for lim in robot.limits[1:]])
+    T = narrow.fk([0.5, 0.2, -0.3, 0.1, 0.6, 0.2])
+    with pytest.raises(JointLimitError, match=r"only outside the joint limits \(e.g. joint q1 = -?[\d.]+ rad "
+                                              r"is outside its limits \[-0.1, 0.1\] rad"):
+        narrow.ik(T, near=[0.5, 0.2, -0.3, 0.1, 0.6, 0.2])

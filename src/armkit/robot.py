@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import kinematics
 from armkit._deprecation import renamed_argument
-from armkit.chain import LIMIT_TOLERANCE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
+from armkit.chain import Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
 
@@ -216,19 +216,13 @@ class Robot:
     def limit_violations(self, q: ArrayLike, degrees: bool = False) -> list[str]:
         """One message per joint value of a single configuration outside its limits.
 
-        With ``degrees`` the messages show revolute values and limits in degrees.
+        With ``degrees`` the messages show revolute values and limits in degrees; see
+        :meth:`armkit.chain.Chain.limit_violations` (the test and the message, once).
         """
         q = self.check_q(q)
         if q.ndim != 1:
             raise InputError(f"q: expected one configuration of {self.n} values, got {q.shape}")
-        messages = []
-        for joint, value in zip(self.chain.joints, q, strict=True):
-            if not joint.lower - LIMIT_TOLERANCE <= value <= joint.upper + LIMIT_TOLERANCE:
-                scale, unit = ((180 / np.pi, " deg") if degrees and joint.kind == "revolute"
-                               else (1.0, " rad" if joint.kind == "revolute" else " m"))
-                messages.append(f"joint {joint.name} = {value * scale:.6g}{unit} is outside its limits "
-                                f"[{joint.lower * scale:.6g}, {joint.upper * scale:.6g}]{unit}")
-        return messages
+        return self.chain.limit_violations(q, degrees)
 
     def check_limits(self, q: ArrayLike, degrees: bool = False) -> NDArray[np.float64]:
         """Return ``q`` if every value is inside its limits, else raise :class:`JointLimitError`."""

@@ -32,10 +32,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit._deprecation import deprecated_property, renamed_argument
 from armkit._time import even_time_grid
+from armkit.chain import Chain
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError
 from armkit.kinematics import pose_error
-from armkit.robot import LIMIT_TOLERANCE, Robot
+from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
 from armkit.trajectory.polynomial import quintic
 
@@ -145,14 +146,12 @@ def _check_vector(value: ArrayLike, name: str, unit: str) -> NDArray[np.float64]
     return v
 
 
-def _limit_stop(lower: NDArray[np.float64], upper: NDArray[np.float64], q: NDArray[np.float64],
-                step: NDArray[np.float64]) -> tuple[float, int]:
+def _limit_stop(chain: Chain, q: NDArray[np.float64], step: NDArray[np.float64]) -> tuple[float, int]:
     """Fraction of ``step`` that keeps ``q`` inside the limits, and the joint that bounds it (-1: none)."""
-    q_next = q + step
-    outside = (q_next < lower - LIMIT_TOLERANCE) | (q_next > upper + LIMIT_TOLERANCE)
+    outside = chain.outside_limits(q + step)
     if not outside.any():
         return 1.0, -1
-    bound = np.where(step < 0, lower, upper)
+    bound = np.where(step < 0, chain.lower, chain.upper)
     with np.errstate(divide="ignore", invalid="ignore"):
         fraction = np.where(outside, (bound - q) / step, np.inf)
     joint = int(np.argmin(fraction))
@@ -233,7 +232,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
         feedforward = pose_error(reference[k + 1], reference[k]) / dt
         rate = control._solve(J, feedforward + gain * pose_error(reference[k], T))
         sigma[k], scale[k] = rate.sigma_min, rate.scale
-        fraction, joint = _limit_stop(lower, upper, q, rate.qd * dt)
+        fraction, joint = _limit_stop(robot.chain, q, rate.qd * dt)
         qds[k] = rate.qd * fraction
         q = q + qds[k] * dt
         if joint >= 0:

@@ -6,7 +6,7 @@ then the compiled core (``armkit._core``, ``cpp/src/closed_form.cpp``) handles e
 the case solver's candidates are mapped to the user's joints, polished by two Newton
 steps on the full pose where they come from a quartic, wrapped into ``[-pi, pi]``,
 checked by forward kinematics where the chain is over-determined (SCARA, planar) or a
-quartic was solved (``VERIFY_TOLERANCE``), and duplicates are merged. Nothing is
+quartic was solved (``CANDIDATE_TOLERANCE``), and duplicates are merged. Nothing is
 allocated per pose, so one pose costs about a microsecond and a batch splits over
 threads.
 
@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
+from armkit._deprecation import deprecated_constants
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.cases import (
@@ -46,12 +47,14 @@ if TYPE_CHECKING:
     from armkit.robot import Robot
 
 __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
-           "solver_or_reason", "VERIFY_TOLERANCE", "DUPLICATE_TOLERANCE"]
+           "solver_or_reason", "CANDIDATE_TOLERANCE", "DUPLICATE_TOLERANCE"]
 
 #: A candidate counts only if its FK matches the target to this, times ``1 + arm size``
 #: (entries of the 4x4 matrix, metres / dimensionless). It only rejects non-solutions:
-#: the solutions themselves reproduce reachable poses to about 1e-13.
-VERIFY_TOLERANCE = 1e-8
+#: the solutions themselves reproduce reachable poses to about 1e-13, and what IK returns
+#: is checked again, to :data:`armkit.ik.results.SOLUTION_TOLERANCE`. (Its old name
+#: ``VERIFY_TOLERANCE`` was also the old name of that one; it still works, with a warning.)
+CANDIDATE_TOLERANCE = 1e-8
 #: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution.
 DUPLICATE_TOLERANCE = 1e-9
 
@@ -169,7 +172,7 @@ class ClosedFormSolver:
         self.core = _core.ClosedForm(chain._core, self.geometry,
                                      np.ascontiguousarray(poe.index, np.int64),
                                      np.ascontiguousarray(poe.sign, np.float64), M_inv, bool(poe.inverted),
-                                     self.k, verify or polish, polish, VERIFY_TOLERANCE * size)
+                                     self.k, verify or polish, polish, CANDIDATE_TOLERANCE * size)
 
     # ------------------------------------------------------------------ public
     def solve(self, T_base_tool: ArrayLike) -> ClosedFormSolutions:
@@ -323,3 +326,7 @@ def closed_form_ik(robot: Robot | Chain, T_base_tool: ArrayLike) -> ClosedFormSo
     ((8, 6), 8)
     """
     return closed_form_solver(robot).solve(T_base_tool)
+
+
+__getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "CANDIDATE_TOLERANCE"},
+                                   {"CANDIDATE_TOLERANCE": CANDIDATE_TOLERANCE})

@@ -6,7 +6,7 @@ takes every candidate of the closed form (:mod:`armkit.ik.closed_form`) and
 1. wraps it into the joint limits: a revolute angle is shifted by a multiple of ``2 pi``
    when that makes it fit (among several fitting shifts, the one closest to ``near``);
 2. verifies it by forward kinematics: it must reproduce the target within
-   :data:`~armkit.ik.results.VERIFY_TOLERANCE`;
+   :data:`~armkit.ik.results.SOLUTION_TOLERANCE`;
 3. flags it inside or outside the limits and sorts the usable ones first, by distance to
    ``near`` (``|w * (q - near)|``, weights ``w``);
 4. at a singular pose, moves each family representative to the member of its family
@@ -66,7 +66,7 @@ class Found(NamedTuple):
 
     @property
     def keep(self) -> NDArray[np.bool_]:
-        """Also reproduces the pose to ``VERIFY_TOLERANCE``."""
+        """Also reproduces the pose to ``SOLUTION_TOLERANCE``."""
         return self.flags[..., 1]
 
     @property

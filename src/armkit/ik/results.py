@@ -1,6 +1,6 @@
 """What :func:`armkit.ik.ik_solutions` returns: every solution of a pose, with flags.
 
-Every returned solution reproduces its target to :data:`VERIFY_TOLERANCE` (checked by
+Every returned solution reproduces its target to :data:`SOLUTION_TOLERANCE` (checked by
 forward kinematics in the compiled core, ``cpp/include/armkit/ik_solve.hpp``).
 """
 
@@ -13,11 +13,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit import _core
+from armkit._deprecation import deprecated_constants
 
-__all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "residuals"]
+__all__ = ["SOLUTION_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "residuals"]
 
-#: Position [m] and angle [rad] within which every returned solution reproduces the target.
-VERIFY_TOLERANCE = 1e-9
+#: Position [m] and angle [rad] within which every returned solution reproduces the target
+#: (the compiled core's ``kSolutionTolerance``; ``VERIFY_TOLERANCE`` is its deprecated old
+#: name, which :mod:`armkit.ik.closed_form` used for its candidate test too).
+SOLUTION_TOLERANCE: float = _core.SOLUTION_TOLERANCE
+__getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "SOLUTION_TOLERANCE"},
+                                   {"SOLUTION_TOLERANCE": SOLUTION_TOLERANCE})
 
 
 @dataclass(frozen=True)

@@ -21,20 +21,22 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit._deprecation import renamed_argument
+from armkit._deprecation import deprecated_constants, renamed_argument
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
 from armkit.ik.messages import Labels, numeric_failure, outside_limits, raise_if_unusable
 from armkit.ik.numeric import numeric_ik, wrap_into_limits
 from armkit.ik.pipeline import Found, verified_solutions
-from armkit.ik.results import VERIFY_TOLERANCE, IKSolutions, IKSolutionsBatch
+from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions, IKSolutionsBatch
 from armkit.spatial.transforms import RIGID_TOLERANCE, check_transform
 
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
-__all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
+__all__ = ["SOLUTION_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
+__getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "SOLUTION_TOLERANCE"},
+                                   {"SOLUTION_TOLERANCE": SOLUTION_TOLERANCE})
 
 
 def _plain(v: object, n: int) -> bool:

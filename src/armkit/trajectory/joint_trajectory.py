@@ -19,7 +19,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit._deprecation import deprecated_property
 from armkit._time import rate_time_grid
-from armkit.chain import LIMIT_TOLERANCE
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.trajectory import export
@@ -168,7 +167,8 @@ class JointTrajectory:
     def position_limit_violations(self, robot: Robot, degrees: bool = False) -> list[str]:
         """One message per joint whose exact range leaves ``robot``'s position limits.
 
-        Uses the same tolerance as :meth:`Robot.within_limits` (``LIMIT_TOLERANCE``).
+        The test and the message are :meth:`armkit.chain.Chain.limit_violations`' (as for
+        one configuration, :meth:`Robot.limit_violations`).
 
         Parameters
         ----------
@@ -190,17 +190,8 @@ class JointTrajectory:
         """
         if robot.n != self.n:
             raise InputError(f"robot: {robot.name} has {robot.n} joints, the trajectory {self.n}")
-        messages = []
-        for joint, low, high in zip(robot.chain.joints, *self.position_range, strict=True):
-            if joint.lower - LIMIT_TOLERANCE <= low and high <= joint.upper + LIMIT_TOLERANCE:
-                continue
-            scale, unit = ((180 / np.pi, " deg") if degrees and joint.kind == "revolute"
-                           else (1.0, " rad" if joint.kind == "revolute" else " m"))
-            low, high = np.round([low * scale, high * scale], 9) + 0.0  # no -1e-14 from the root finder
-            messages.append(f"joint {joint.name} reaches {low:.6g} .. {high:.6g}{unit} "
-                            f"between waypoints, outside its limits "
-                            f"[{joint.lower * scale:.6g}, {joint.upper * scale:.6g}]{unit}")
-        return messages
+        low, high = self.position_range
+        return robot.chain.limit_violations(low, degrees, q_max=high, where=" between waypoints")
 
     @property
     def peak_velocity(self) -> NDArray[np.float64]:
