@@ -231,3 +231,19 @@ def test_every_limit_check_gives_the_chains_one_message():
     with pytest.raises(JointLimitError, match=r"only outside the joint limits \(e.g. joint q1 = -?[\d.]+ rad "
                                               r"is outside its limits \[-0.1, 0.1\] rad"):
         narrow.ik(T, near=[0.5, 0.2, -0.3, 0.1, 0.6, 0.2])
+
+
+def test_numeric_ik_says_within_limits_as_robot_ik_does():
+    panda = armkit.load("panda")
+    T = panda.fk(Q_PANDA)
+    new = numeric_ik(panda, T, q0=Q_PANDA + 1e-3, within_limits=False, max_restarts=0)
+    with pytest.warns(DeprecationWarning, match=r"numeric_ik\(respect_limits=...\) is deprecated in armkit "
+                                                r"0.2: use within_limits=... instead"):
+        old = numeric_ik(panda, T, q0=Q_PANDA + 1e-3, respect_limits=False, max_restarts=0)
+    np.testing.assert_array_equal(old.q, new.q)
+    solver = NumericIK(panda, within_limits=False)
+    assert solver.within_limits is False
+    with pytest.warns(DeprecationWarning, match=r"NumericIK.respect_limits is deprecated"):
+        assert solver.respect_limits is False
+    with pytest.warns(DeprecationWarning, match=r"NumericIK\(respect_limits=...\) is deprecated"):
+        assert NumericIK(panda, respect_limits=False).within_limits is False

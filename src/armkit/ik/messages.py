@@ -31,7 +31,7 @@ def angle_text(angle: float) -> str:
 
 def unreachable(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
                 label: str) -> UnreachableError:
-    closest = numeric_ik(chain, T, q0=seed, respect_limits=False,
+    closest = numeric_ik(chain, T, q0=seed, within_limits=False,
                          max_restarts=_CLOSEST_POSE_RESTARTS, rng=0)
     return UnreachableError(
         f"{label}the target pose is out of reach: the closest pose found is "

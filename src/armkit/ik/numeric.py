@@ -50,6 +50,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
+from armkit._deprecation import deprecated_property, renamed_argument
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError
 
@@ -67,7 +68,7 @@ class IKResult:
     ----------
     q : ndarray, shape (n,)
         The best configuration found [rad or m]; inside the joint limits unless the solver
-        was called with ``respect_limits=False``.
+        was called with ``within_limits=False``.
     success : bool
         Whether the masked position and orientation errors are within the tolerances.
     iterations : int
@@ -214,7 +215,8 @@ class NumericIK:
 
     Holds the chain and settings in the compiled core (an ``_core.NumericSolver``), so that a
     loop over targets pays for them once; :meth:`solve_batch` solves many targets at once.
-    Parameters are those of :func:`numeric_ik`.
+    Parameters are those of :func:`numeric_ik`; ``within_limits`` is kept as an attribute
+    (``respect_limits``, its old name, still reads it, with a warning).
 
     Examples
     --------
@@ -230,7 +232,10 @@ class NumericIK:
     def __init__(self, robot: Robot | Chain, *, position_tolerance: float = 1e-9,
                  orientation_tolerance: float = 1e-9, mask: ArrayLike | None = None,
                  damping_gain: float = 0.1, damping: float = 1e-9, max_iterations: int = 30,
-                 max_restarts: int = 100, time_budget: float = 0.5, respect_limits: bool = True) -> None:
+                 max_restarts: int = 100, time_budget: float = 0.5, within_limits: bool = True,
+                 respect_limits: bool | None = None) -> None:
+        within_limits = renamed_argument("NumericIK", "respect_limits", "within_limits", respect_limits,
+                                         within_limits, True)
         if max_iterations < 1:
             raise InputError(f"max_iterations: expected at least 1 step per attempt, got {max_iterations}")
         if max_restarts < 0:
@@ -240,11 +245,13 @@ class NumericIK:
         self.chain = chain = as_chain(robot)
         self.rows = _task_rows(mask)
         self.max_iterations, self.max_restarts = int(max_iterations), int(max_restarts)
-        self.time_budget, self.respect_limits = float(time_budget), bool(respect_limits)
+        self.time_budget, self.within_limits = float(time_budget), bool(within_limits)
         self._solver = _core.NumericSolver(
             chain._core, self.rows, float(position_tolerance), float(orientation_tolerance),
             float(damping_gain), float(damping), self.max_iterations, self.max_restarts, self.time_budget,
-            self.respect_limits)
+            self.within_limits)
+
+    respect_limits = deprecated_property("respect_limits", "within_limits")
 
     def solve(self, T_base_tool: NDArray[np.float64], q0: ArrayLike | None = None,
               rng: np.random.Generator | int | None = None) -> IKResult:
@@ -339,7 +346,7 @@ class NumericIK:
         """``q`` moved into the limits (a copy, the core's ``project``) and the joints at a
         bound as ``(index, -1.0 at the lower / +1.0 at the upper)``: the projection of every
         step, callable from Python."""
-        if not self.respect_limits:
+        if not self.within_limits:
             return q, []
         q, sides = np.array(q, dtype=np.float64), np.zeros(self.chain.n)
         self._solver.project(q, sides)
@@ -350,7 +357,8 @@ def numeric_ik(robot: Robot | Chain, T_base_tool: NDArray[np.float64], *, q0: Ar
                position_tolerance: float = 1e-9, orientation_tolerance: float = 1e-9,
                mask: ArrayLike | None = None, damping_gain: float = 0.1, damping: float = 1e-9,
                max_iterations: int = 30, max_restarts: int = 100, time_budget: float = 0.5,
-               respect_limits: bool = True, rng: np.random.Generator | int | None = None) -> IKResult:
+               within_limits: bool = True, rng: np.random.Generator | int | None = None,
+               respect_limits: bool | None = None) -> IKResult:
     """Solve ``fk(q) = T_base_tool`` numerically inside the joint limits.
 
     Levenberg-Marquardt from ``q0`` (moved into the limits); an attempt that stops
@@ -381,19 +389,21 @@ def numeric_ik(robot: Robot | Chain, T_base_tool: NDArray[np.float64], *, q0: Ar
         Random seeds drawn after the first attempt at most.
     time_budget : float
         Wall-clock budget [s], checked between attempts.
-    respect_limits : bool
+    within_limits : bool
         Keep every step inside the joint limits (default). ``False`` accepts any solution,
-        e.g. to refine a known one.
+        e.g. to refine a known one. The same word as :meth:`armkit.Robot.ik`'s.
     rng : numpy Generator or int, optional
         Source of the random restart seeds: an int in ``[0, 2**64)`` is the seed itself, a
         Generator gives one draw per solve; the same ``rng`` gives the same answer (except a
         solve cut short by ``time_budget``). Default fresh entropy.
+    respect_limits : bool, optional
+        Deprecated name of ``within_limits``; warns.
 
     Returns
     -------
     IKResult
         The solution, or (``success=False``) the configuration with the smallest error
-        seen (inside the limits when ``respect_limits``).
+        seen (inside the limits when ``within_limits``).
 
     Examples
     --------
@@ -404,8 +414,10 @@ def numeric_ik(robot: Robot | Chain, T_base_tool: NDArray[np.float64], *, q0: Ar
     >>> result.success, bool(result.position_error < 1e-9)
     (True, True)
     """
+    within_limits = renamed_argument("numeric_ik", "respect_limits", "within_limits", respect_limits,
+                                     within_limits, True)
     solver = NumericIK(robot, position_tolerance=position_tolerance,
                        orientation_tolerance=orientation_tolerance, mask=mask,
                        damping_gain=damping_gain, damping=damping, max_iterations=max_iterations,
-                       max_restarts=max_restarts, time_budget=time_budget, respect_limits=respect_limits)
+                       max_restarts=max_restarts, time_budget=time_budget, within_limits=within_limits)
     return solver.solve(T_base_tool, q0, rng)

@@ -96,7 +96,7 @@ def refine(chain: Chain, found: Found, T_target: NDArray[np.float64]) -> NDArray
         q = found.q[index]
         result = numeric_ik(chain, T_target[index[0]], q0=q, max_iterations=8, max_restarts=0,
                             position_tolerance=1e-13, orientation_tolerance=1e-13,
-                            respect_limits=False)
+                            within_limits=False)
         better = (result.position_error + result.orientation_error
                   < found.position_error[index] + found.orientation_error[index])
         if better and np.abs(result.q - q).max() < _REFINE_MAX_MOVE:

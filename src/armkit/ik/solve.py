@@ -165,11 +165,11 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
 
 def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
                  within_limits: bool, label: str, options: dict) -> NDArray[np.float64]:
-    result = numeric_ik(chain, T, q0=seed, respect_limits=within_limits, **options)
+    result = numeric_ik(chain, T, q0=seed, within_limits=within_limits, **options)
     if result.success:
         return wrap_into_limits(chain, result.q, seed)
     if within_limits:
-        outside = numeric_ik(chain, T, q0=seed, respect_limits=False, **options)
+        outside = numeric_ik(chain, T, q0=seed, within_limits=False, **options)
         if outside.success:
             raise outside_limits(chain, wrap_into_limits(chain, outside.q, seed), label)
     raise numeric_failure(chain, result, label, "mask" in options)
