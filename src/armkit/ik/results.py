@@ -76,7 +76,7 @@ class IKSolutionsBatch(Sequence[IKSolutions]):
     >>> import armkit
     >>> robot = armkit.load("ur5")
     >>> from armkit.ik import ik_solutions
-    >>> found = ik_solutions(robot.chain, robot.fk(robot.random_q(3, rng=0)))
+    >>> found = ik_solutions(robot, robot.fk(robot.random_q(3, rng=0)))
     >>> len(found), found.q.shape, found[0].q.shape == (found.counts[0], 6)
     (3, (3, 8, 6), True)
     """
