@@ -5,7 +5,7 @@ Run: python benchmarks/bench_ik.py [--quick]
 (a) All-solutions closed-form IK for the PROBOT Anno and the UR5: median time per pose,
     one pose at a time and batched (N = 10,000), and the mean number of solutions per
     pose that reproduce the pose to 1e-6 by armkit's FK. armkit's user-facing paths too:
-    every solution with flags (ik_solutions), every solution as arrays (robot.ik(all=True)),
+    every solution with flags (ik_solutions), every solution as arrays (robot.ik(all_solutions=True)),
     and the nearest solution only (robot.ik(near=), one verified solution per pose).
 (b) Numeric IK on the Panda with joint limits from the same random seed per pose: success
     rate and median / mean time over random reachable poses (a batch: time per pose of one
@@ -130,15 +130,16 @@ def bench_closed_form(name: str, one: int, batch: int) -> None:
     T_one = robot.fk(robot.random_q(one, rng=rng))
     T_batch = robot.fk(robot.random_q(batch, rng=rng))
     near = np.zeros((batch, robot.n))
-    mine = {"armkit ik_solutions": (lambda T: ik_solutions(robot.chain, T).q,
-                                    lambda Ts: ik_solutions(robot.chain, Ts)),
-            "armkit robot.ik(all=True)": (lambda T: robot.ik(T, all=True, within_limits=False),
-                                          lambda Ts: robot.ik(Ts, all=True, within_limits=False)),
+    mine = {"armkit ik_solutions": (lambda T: ik_solutions(robot, T).q,
+                                    lambda Ts: ik_solutions(robot, Ts)),
+            "armkit robot.ik(all_solutions=True)": (
+                lambda T: robot.ik(T, all_solutions=True, within_limits=False),
+                lambda Ts: robot.ik(Ts, all_solutions=True, within_limits=False)),
             "armkit robot.ik(near=) (nearest only)": (
                 lambda T: robot.ik(T, within_limits=False),
                 lambda Ts: robot.ik(Ts, near=near, within_limits=False)),
-            "armkit closed_form_ik (raw)": (lambda T: valid_rows(closed_form_ik(robot.chain, T)),
-                                            lambda Ts: closed_form_ik(robot.chain, Ts))}
+            "armkit closed_form_ik (raw)": (lambda T: valid_rows(closed_form_ik(robot, T)),
+                                            lambda Ts: closed_form_ik(robot, Ts))}
     solvers = {**mine, **closed_form_peers(robot, name)}
     results = {}
     for label, (solve_one, solve_batch) in solvers.items():

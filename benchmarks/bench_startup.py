@@ -22,7 +22,7 @@ import armkit
 robot = armkit.load("probot-anno")
 T = robot.fk(np.array([0.927, -0.687, -0.396, 0.0, 1.083, 0.927]))
 loaded = time.perf_counter()
-robot.ik(T, all=True)
+robot.ik(T, all_solutions=True)
 print(time.perf_counter() - loaded)
 """
 
@@ -67,7 +67,7 @@ def main() -> None:
         ("armkit ik probot-anno --pose 0.2 0.2 0.2007 1.5708 -1.5708 0 --all",
          wall_seconds([armkit_cli, "ik", "probot-anno", "--pose", "0.2", "0.2", "0.2007", "1.5708", "-1.5708",
                        "0", "--all"], runs), "s"),
-        ("first robot.ik(T, all=True) in a fresh process", printed_value(FIRST_IK, runs), "s"),
+        ("first robot.ik(T, all_solutions=True) in a fresh process", printed_value(FIRST_IK, runs), "s"),
         ("memory after import armkit + load + fk",
          printed_value(MEMORY.format(module="armkit; armkit.load('ur5').fk([0] * 6)"), runs), "MB"),
         ("memory after import pinocchio", printed_value(MEMORY.format(module="pinocchio"), runs), "MB"),

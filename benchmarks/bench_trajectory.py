@@ -81,7 +81,7 @@ def solve_times(quick: bool) -> None:
               f"{ruck / full:>13.1f}")
     q0, q1 = rng.uniform(-1, 1, (2, 6))
     t = np.linspace(0, 1, 100)
-    ours = median_seconds(lambda: quintic(q0, q1, 1.0).sample(t), 50 if quick else 2000)
+    ours = median_seconds(lambda: quintic(q0, q1, 1.0).at_time(t), 50 if quick else 2000)
     theirs = median_seconds(lambda: rtb.jtraj(q0, q1, t), 50 if quick else 2000)
     print(f"{2:>9}  {'quintic + 100 samples  vs  rtb jtraj':<44}{fmt(ours):>13}{fmt(theirs):>13}"
           f"{theirs / ours:>13.1f}")

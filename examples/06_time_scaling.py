@@ -20,7 +20,7 @@ robot = armkit.load("probot-anno")
 t = np.linspace(0.0, 2.0, 2001)
 for name, segment in (("quintic", quintic(0.0, 1.0, 2.0)), ("cubic", cubic(0.0, 1.0, 2.0)),
                       ("lspb", lspb(0.0, 1.0, 2.0))):
-    _, qd, qdd, _ = segment.sample(t)
+    _, qd, qdd, _ = segment.at_time(t)
     print(f"{name:8s} peak qd {np.abs(qd).max():.4f} rad/s, peak |qdd| {np.abs(qdd).max():.4f} rad/s^2, "
           f"qdd at the ends {qdd[0, 0]:+.3f} / {qdd[-1, 0]:+.3f}")
 

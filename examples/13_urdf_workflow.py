@@ -31,14 +31,14 @@ print(robot, "from", Path(urdf).name, "links", robot.urdf.base, "->", robot.urdf
 print("joints:", robot.joint_names)
 print("limits [rad]:", robot.limits[:, 1].round(4).tolist(), "max velocity [rad/s]:",
       robot.max_velocity.round(2).tolist())
-print("kind:", armkit.analyze_structure(robot.chain).description)   # found from the joint axes
+print("kind:", armkit.analyze_structure(robot).description)   # found from the joint axes
 lines = poe_from_chain(robot.chain)                       # the joint axes at q = 0, base frame
 print("joint axes at q = 0:\n", lines.axes.round(6) + 0.0)
 
 # Every closed-form IK solution of a pose, each checked by FK.
 q_true = np.array([0.3, -1.2, 1.5, -0.7, 1.1, 0.4])
 T = robot.fk(q_true)
-solutions = robot.ik(T, all=True)
+solutions = robot.ik(T, all_solutions=True)
 errors = np.linalg.norm(robot.fk(solutions)[:, :3, 3] - T[:3, 3], axis=-1)
 print(f"{len(solutions)} IK solutions inside the limits, position errors <= {errors.max():.1e} m;",
       "the generating q is solution", int(np.argmin(np.abs(solutions - q_true).max(axis=1))) + 1)
@@ -59,7 +59,7 @@ print(f"MuJoCo tracked it with max tool error {tool_error.max() * 1000:.1f} mm o
 if ROBOTS is not None:
     panda = armkit.load(ROBOTS / "panda_description/urdf/panda.urdf", tip="panda_hand_tcp")
     arm = panda.lock({"panda_joint7": 0.785})            # CLI: --lock panda_joint7=0.785
-    print(arm, "kind:", armkit.analyze_structure(arm.chain).kind)
-    q6 = arm.ik(panda.fk(arm.full_q(arm.home + 0.2)), all=True)
+    print(arm, "kind:", armkit.analyze_structure(arm).kind)
+    q6 = arm.ik(panda.fk(arm.full_q(arm.home + 0.2)), all_solutions=True)
     print(f"{len(q6)} closed-form solution(s) inside the limits, as full Panda configurations:\n",
           arm.full_q(q6).round(3))

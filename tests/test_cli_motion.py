@@ -20,7 +20,7 @@ def test_move_seed_case_json(capsys):
                        "--duration", "3", "--json")
     assert code == 0
     data = json.loads(out)
-    assert data["completed"]
+    assert data["success"]
     assert np.linalg.norm(np.array(data["position_final"]) - [0.3789, 0, 0.304]) < 1e-5
     np.testing.assert_allclose(data["rpy_final"], [np.pi / 2, 0, 0], atol=1e-8)
     assert data["position_error"] < 1e-6 and data["max_joint_speed_ratio"] <= 1.0
@@ -40,7 +40,7 @@ def test_rotate_seed_case_reaches_180_degrees(capsys):
                        "--angle", "-3.141592653589793", "--rate", "0.2", "--json")
     assert code == 0
     data = json.loads(out)
-    assert data["completed"] and data["max_position_error"] < 1e-4
+    assert data["success"] and data["max_position_error"] < 1e-4
     assert abs(data["q_final"][3] + np.pi) < 1e-6
     assert abs(data["duration"] - np.pi / 0.2) < 1e-9
 

@@ -133,7 +133,7 @@ def test_overshoot_past_a_position_limit_is_reported(capsys, tmp_path):
     path.write_text("0,0,0,0,0,0\n0,1.0,0,0,0,0\n0,2.0,0,0,0,0\n0,1.0,0,0,0,0\n")   # q2 limit 2.0071
     code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", path, "--durations", "10", "10", "10")
     assert code == 0
-    assert re.search(r"joint q2 reaches 0 \.\. 2\.10\d* rad between waypoints, outside its limits "
+    assert re.search(r"joint q2 = 0 \.\. 2\.10\d* rad between waypoints is outside its limits "
                      r"\[-2\.00713, 2\.00713\] rad",
                      " ".join(err.split())), err
 

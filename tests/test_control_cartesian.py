@@ -31,7 +31,7 @@ def test_line_poses_are_a_line_and_a_slerp():
 
 
 def test_ik_line_reproduces_every_pose_with_consistent_derivatives():
-    line = cartesian_line(PROBOT, Q0, T_GOAL, 4.0, rate=200)
+    line = cartesian_line(PROBOT, Q0, T_GOAL, 4.0, rate_hz=200)
     assert line.q.shape == (801, 6) and line.t[-1] == 4.0
     np.testing.assert_allclose(PROBOT.fk(line.q), line.poses, atol=1e-9)
     np.testing.assert_allclose(PROBOT.fk(line.q[-1]), T_GOAL, atol=1e-9)
@@ -44,8 +44,8 @@ def test_ik_line_reproduces_every_pose_with_consistent_derivatives():
 
 
 def test_closed_loop_line_agrees_with_the_ik_line():
-    by_ik = cartesian_line(PROBOT, Q0, T_GOAL, 4.0, rate=50)
-    by_loop = cartesian_line(PROBOT, Q0, T_GOAL, 4.0, rate=50, method="closed-loop")
+    by_ik = cartesian_line(PROBOT, Q0, T_GOAL, 4.0, rate_hz=50)
+    by_loop = cartesian_line(PROBOT, Q0, T_GOAL, 4.0, rate_hz=50, method="closed-loop")
     np.testing.assert_allclose(by_loop.q, by_ik.q, atol=1e-4)
     assert by_loop.method == "closed-loop"
 
@@ -58,7 +58,7 @@ def test_unreachable_point_is_named(method):
 
 
 def test_csv_export(tmp_path):
-    line = cartesian_line(PROBOT, Q0, T_GOAL, 1.0, rate=20)
+    line = cartesian_line(PROBOT, Q0, T_GOAL, 1.0, rate_hz=20)
     path = line.to_csv(tmp_path / "line.csv")
     header = path.read_text().splitlines()[0]
     assert header == "t," + ",".join(f"{p}{j}" for p in ("q", "qd", "qdd") for j in range(1, 7))
@@ -70,7 +70,7 @@ def test_csv_export(tmp_path):
 @pytest.mark.parametrize(("kwargs", "match"), [
     ({"duration": -1.0}, "duration = -1.0"),
     ({"method": "spline"}, "expected 'ik' or 'closed-loop'"),
-    ({"rate": 0.0}, "rate = 0.0"),
+    ({"rate_hz": 0.0}, "rate_hz = 0.0"),
     ({"T_goal": np.full((4, 4), np.nan)}, "NaN"),
     ({"q0": [0.0] * 5}, "6 joints"),
 ])
@@ -85,6 +85,6 @@ def test_a_line_through_the_wrist_singularity_fails_clearly():
     q0 = np.array([0.0, 0.3, 0.5, 0.2, np.pi / 2 - 0.15, 0.1])
     T_goal = PROBOT.fk([0.0, 0.3, 0.5, -0.2, np.pi / 2 + 0.15, -0.1])
     with pytest.raises(UnreachableError, match=r"t = 1 s, .* joint q\d jumps by [0-9.]+ between samples"):
-        cartesian_line(PROBOT, q0, T_goal, 2.0, rate=50)
+        cartesian_line(PROBOT, q0, T_goal, 2.0, rate_hz=50)
     with pytest.raises(UnreachableError, match="not reached by the closed loop .* near a singularity"):
-        cartesian_line(PROBOT, q0, T_goal, 2.0, rate=50, method="closed-loop")
+        cartesian_line(PROBOT, q0, T_goal, 2.0, rate_hz=50, method="closed-loop")

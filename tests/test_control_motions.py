@@ -20,7 +20,7 @@ Q0 = np.zeros(6)
 
 def test_seed_straight_move():
     result = move_linear(PROBOT, Q0, [0.15, 0.0, -0.15], duration=3.0)
-    assert result.completed, result.message
+    assert result.success, result.message
     start = PROBOT.fk(Q0)
     end = result.pose_final
     assert np.linalg.norm(end[:3, 3] - [0.3789, 0.0, 0.304]) < 1e-5
@@ -40,7 +40,7 @@ def test_seed_straight_move():
 
 def test_too_fast_a_move_is_held_back_by_the_velocity_limits_and_says_so():
     result = move_linear(PROBOT, Q0, [0.15, 0.0, -0.15], duration=0.5)
-    assert not result.completed
+    assert not result.success
     assert "the joint velocity limits held it back" in result.message
     assert result.position_error > 0.1 and result.scale.min() < 0.1
     assert np.all(np.abs(result.qd) <= PROBOT.max_velocity * (1 + 1e-12))
@@ -57,8 +57,8 @@ def test_straight_move_in_the_tool_frame():
 
 def test_seed_fixed_point_rotation_turns_180_degrees():
     # Base x axis at -0.2 rad/s, i.e. the twist [0, 0, 0, -0.2, 0, 0], for 180 degrees.
-    result = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], rate=-0.2, angle=-np.pi)
-    assert result.completed, result.message
+    result = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=-0.2, angle=-np.pi)
+    assert result.success, result.message
     assert result.t[-1] == pytest.approx(np.pi / 0.2)
     drift = np.linalg.norm(result.poses[:, :3, 3] - PROBOT.fk(Q0)[:3, 3], axis=-1)
     assert drift.max() < 1e-6  # README: ~1e-7 m over the half turn (measured 1.15e-7; margin for other BLAS)
@@ -70,8 +70,8 @@ def test_seed_fixed_point_rotation_turns_180_degrees():
 
 
 def test_rotation_asked_for_more_stops_at_the_joint_limit():
-    result = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], rate=-0.2, angle=-np.radians(200))
-    assert not result.completed
+    result = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=-0.2, angle=-np.radians(200))
+    assert not result.success
     assert "joint q4 reached its lower limit" in result.message
     assert result.q[:, 3].min() >= -np.pi - 1e-12
     assert PROBOT.within_limits(result.q).all()
@@ -79,7 +79,7 @@ def test_rotation_asked_for_more_stops_at_the_joint_limit():
     assert np.degrees(turned) == pytest.approx(180.0, abs=0.01)
     assert result.orientation_error == pytest.approx(np.radians(20), abs=1e-3)  # short of the target
     with pytest.raises(JointLimitError, match="joint q4 reached its lower limit"):
-        rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], rate=-0.2, angle=-np.radians(200),
+        rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=-0.2, angle=-np.radians(200),
                                 stop_at_limits=False)
 
 
@@ -93,11 +93,11 @@ def test_rotation_through_a_wrist_singularity_keeps_velocities_smooth_and_limite
     assert np.all(np.abs(damped.qd) <= PROBOT.max_velocity * (1 + 1e-12))
     jumps = np.abs(np.diff(damped.qd[:-1], axis=0)) / PROBOT.max_velocity
     assert jumps.max() < 0.01  # per 2 ms step: no jumps
-    assert damped.completed and damped.position_error < 1e-6  # it catches up afterwards
+    assert damped.success and damped.position_error < 1e-6  # it catches up afterwards
 
 
 def test_closed_loop_does_not_drift_like_open_loop():
-    result = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], rate=-0.2, angle=-np.pi / 2)
+    result = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=-0.2, angle=-np.pi / 2)
     control, q = ResolvedRate(PROBOT), Q0.copy()
     twist = np.array([0.0, 0.0, 0.0, -0.2, 0.0, 0.0])
     for dt in np.diff(result.t):
@@ -123,13 +123,15 @@ def test_track_poses_follows_a_given_reference():
     (lambda: move_linear(PROBOT, [0] * 5, [0.1, 0, 0], 1.0), "6 joints"),
     (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], 1.0, frame="world"), "expected 'base' or 'tool'"),
     (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], 1.0, dt=0.1, gain=20), "gain \\* dt <= 1"),
-    (lambda: rotate_about_tool_point(PROBOT, Q0, [0, 0, 0], angle=1.0, rate=0.1), "non-zero direction"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [0, 0, 0], angle=1.0, angular_velocity=0.1),
+     "non-zero direction"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0), "give two of"),
-    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, rate=0.1, duration=2.0),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, angular_velocity=0.1, duration=2.0),
      "give two of"),
-    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, rate=-0.1), "opposite signs"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, angular_velocity=-0.1),
+     "opposite signs"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=0.0, duration=1.0), "non-zero"),
-    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], rate=0.1, duration=-2.0), "positive"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=0.1, duration=-2.0), "positive"),
     (lambda: track_poses(PROBOT, Q0, [0.0, 0.0], np.stack([np.eye(4)] * 2)), "increasing"),
 ])
 def test_bad_input(call, match):
@@ -148,7 +150,7 @@ def test_straight_move_on_every_arm(name):
     candidates = robot.random_q(200, rng=3)
     q0 = candidates[np.argmax(robot.singular_values(candidates)[:, -1])]  # well away from singular
     result = move_linear(robot, q0, [0.03, -0.02, 0.02], 2.0)
-    assert result.completed, result.message
+    assert result.success, result.message
     assert result.position_error < 1e-8 and result.orientation_error < 1e-8
 
 
@@ -156,7 +158,7 @@ def test_straight_move_of_the_four_joint_scara():
     scara = armkit.load("grb400-scara")  # n < 6: the J^T J form of the damped solve
     q0 = np.array([np.radians(60), np.radians(50), 0.0, 0.0])
     result = move_linear(scara, q0, [0.03, -0.02, 0.01], 2.0)
-    assert result.completed, result.message
+    assert result.success, result.message
     np.testing.assert_allclose(result.pose_final[:3, 3], scara.fk(q0)[:3, 3] + [0.03, -0.02, 0.01], atol=1e-8)
 
 
@@ -170,7 +172,7 @@ def test_property_turn_and_turn_back_returns_to_the_start(seed, axis, angle, fra
     q0 = candidates[np.argmax(PROBOT.singular_values(candidates)[:, -1])]
     # 3 s keeps the joint rates inside PROBOT's velocity limits (0.7-0.96 rad/s) from any start.
     there = rotate_about_tool_point(PROBOT, q0, axis, angle, duration=3.0, frame=frame)
-    assert there.completed, there.message
+    assert there.success, there.message
     T0, T1 = PROBOT.fk(q0), there.pose_final
     expected = (matrix_from_axis_angle(angle * np.array(axis) / np.linalg.norm(axis))
                 @ T0[:3, :3] if frame == "base" else
@@ -188,11 +190,11 @@ def test_property_turn_and_turn_back_returns_to_the_start(seed, axis, angle, fra
 
 def test_target_beyond_reach_is_called_out_of_reach():
     result = move_linear(PROBOT, np.zeros(6), [1.0, 0.0, 0.0], 2.0)
-    assert not result.completed
+    assert not result.success
     assert "singularity" in result.message and "probably out of reach" in result.message
 
 
 def test_an_arm_with_fewer_than_six_joints_is_told_why_it_missed():
     arm = armkit.load(Path(__file__).parent.parent / "examples" / "data" / "my_arm.toml")
     result = move_linear(arm, np.radians([10, 20, 30]), [0.05, 0.0, 0.0], 2.0)
-    assert not result.completed and "an arm with 3 joints cannot follow every pose path" in result.message
+    assert not result.success and "an arm with 3 joints cannot follow every pose path" in result.message

@@ -312,7 +312,7 @@ def _eaik_exact_solutions(chain, T):
 
 def _newton_refined(chain, T, q):
     """``q`` moved onto the exact solution next to it (at most 1e-3 rad or m away), else ``q``."""
-    result = numeric_ik(chain, T, q0=q, respect_limits=False, max_restarts=0, max_iterations=20,
+    result = numeric_ik(chain, T, q0=q, within_limits=False, max_restarts=0, max_iterations=20,
                         position_tolerance=1e-12, orientation_tolerance=1e-12)
     return result.q if result.success and np.abs(result.q - q).max() < 1e-3 else q
 

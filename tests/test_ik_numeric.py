@@ -124,7 +124,7 @@ def test_without_limits_a_known_solution_outside_them_is_refined():
     q = panda.random_q(rng=15)
     q[3] = 0.3  # beyond joint 4's upper limit -0.0698
     T = panda.fk(q)
-    result = numeric_ik(panda.chain, T, q0=q + 1e-4, respect_limits=False, max_restarts=0)
+    result = numeric_ik(panda.chain, T, q0=q + 1e-4, within_limits=False, max_restarts=0)
     assert result.success and result.restarts == 0
     assert result.q[3] > panda.limits[3, 1] + 0.2  # stayed near q, outside the limits
     assert_transform_close(panda.fk(result.q), T, 1e-9, 1e-9)

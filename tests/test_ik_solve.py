@@ -53,7 +53,7 @@ REPORT_CASES = [
 @pytest.mark.parametrize(("T", "listed", "count"), REPORT_CASES)
 def test_report_000_ik_cases(T, listed, count):
     robot = armkit.load("probot-anno")
-    found = robot.ik(T, all=True)
+    found = robot.ik(T, all_solutions=True)
     for q in listed:
         assert contains(robot, found, q, atol=REPORT_DIGITS), q
     if count is not None:
@@ -67,7 +67,7 @@ def test_report_000_first_case_has_eight_solutions_in_all():
     every = ik_solutions(robot.chain, REPORT_CASES[0][0])
     assert len(every.q) == 8 and every.within_limits.sum() == 4
     assert np.all(every.position_error < 1e-12) and np.all(every.orientation_error < 1e-12)
-    np.testing.assert_array_equal(robot.ik(REPORT_CASES[0][0], all=True, within_limits=False),
+    np.testing.assert_array_equal(robot.ik(REPORT_CASES[0][0], all_solutions=True, within_limits=False),
                                   every.q)
 
 
@@ -77,7 +77,7 @@ def test_round_trip_all_solutions(name):
     robot = armkit.load(name)
     for q in robot.random_q(15, rng=42):
         T = robot.fk(q)
-        found = robot.ik(T, all=True)
+        found = robot.ik(T, all_solutions=True)
         assert contains(robot, found, q), (q, found)
         assert robot.within_limits(found).all()
         assert_transform_close(robot.fk(found), np.broadcast_to(T, (len(found), 4, 4)), 1e-9, 1e-9)
@@ -137,10 +137,10 @@ def test_batch_equals_one_at_a_time(name):
     assert batch.shape == (12, robot.n)
     one_at_a_time = [robot.ik(t, near=s) for t, s in zip(T, near, strict=True)]
     np.testing.assert_array_equal(batch, np.stack(one_at_a_time))
-    every = robot.ik(T, all=True)
+    every = robot.ik(T, all_solutions=True)
     assert isinstance(every, list) and len(every) == 12
     for found, t in zip(every, T, strict=True):
-        np.testing.assert_array_equal(found, robot.ik(t, all=True))
+        np.testing.assert_array_equal(found, robot.ik(t, all_solutions=True))
 
 
 def test_numeric_batch_equals_one_at_a_time():
@@ -157,11 +157,11 @@ def test_numeric_batch_equals_one_at_a_time():
 def test_near_picks_the_closest_solution_by_weighted_distance():
     robot = armkit.load("probot-anno")
     T = REPORT_CASES[0][0]
-    every = robot.ik(T, all=True)
+    every = robot.ik(T, all_solutions=True)
     for target in every:
         np.testing.assert_allclose(robot.ik(T, near=target + 0.01), target, atol=1e-12)
     distance = np.linalg.norm(every - every[2], axis=-1)
-    np.testing.assert_allclose(robot.ik(T, all=True, near=every[2]), every[np.argsort(distance)])
+    np.testing.assert_allclose(robot.ik(T, all_solutions=True, near=every[2]), every[np.argsort(distance)])
 
 
 def test_revolute_angles_are_wrapped_into_the_limits():
@@ -191,7 +191,7 @@ def test_non_rigid_matrix_and_nan():
     with pytest.raises(InputError, match="NaN"):
         robot.ik(T)
     with pytest.raises(InputError, match="NaN"):
-        robot.ik(T, all=True)
+        robot.ik(T, all_solutions=True)
     with pytest.raises(InputError, match="NaN"):
         robot.ik(np.stack([robot.fk(np.zeros(6)), T]))  # a batch: checked by the core, then explained
     with pytest.raises(InputError, match=r"expected shape \(\.\.\., 4, 4\)"):
@@ -226,8 +226,8 @@ def test_reachable_only_outside_the_limits():
         narrow.ik(T)
     with pytest.raises(JointLimitError, match="outside the limits with within_limits=False or "
                                               "'armkit ik --outside'"):
-        narrow.ik(T, all=True)
-    assert contains(narrow, narrow.ik(T, all=True, within_limits=False), np.full(6, 0.5))
+        narrow.ik(T, all_solutions=True)
+    assert contains(narrow, narrow.ik(T, all_solutions=True, within_limits=False), np.full(6, 0.5))
 
 
 def test_all_solutions_of_a_chain_without_closed_form():
@@ -235,9 +235,9 @@ def test_all_solutions_of_a_chain_without_closed_form():
     with pytest.raises(NoClosedFormError, match="numeric IK returns one solution per seed: solve "
                                                 r"once per seed configuration, near=q_seed or "
                                                 r"'armkit ik --near Q\.\.\.'"):
-        panda.ik(panda.fk(np.zeros(7)), all=True)
+        panda.ik(panda.fk(np.zeros(7)), all_solutions=True)
     with pytest.raises(NoClosedFormError, match="a task mask needs the numeric solver"):
-        armkit.load("ur5").ik(np.eye(4), all=True, mask=[1, 1, 1, 0, 0, 0])
+        armkit.load("ur5").ik(np.eye(4), all_solutions=True, mask=[1, 1, 1, 0, 0, 0])
 
 
 def test_bad_near_and_weights():
@@ -257,9 +257,9 @@ def test_bad_near_and_weights():
     with pytest.raises(InputError, match=r"near: expected 6 finite joint values"):
         robot.ik(T, near=np.array([0, 0, np.nan, 0, 0, 0]))
     with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
-        robot.ik(T, all=True, weights=np.array([1, 1, 1, 1, 0.0, 1]))
+        robot.ik(T, all_solutions=True, weights=np.array([1, 1, 1, 1, 0.0, 1]))
     with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
-        robot.ik(T, all=True, weights=np.array([1, 1, 1, 1, np.inf, 1]))
+        robot.ik(T, all_solutions=True, weights=np.array([1, 1, 1, 1, np.inf, 1]))
 
 
 def _residuals(robot, q, T):
@@ -318,8 +318,8 @@ def test_batches_equal_one_at_a_time(name):
     picked = robot.ik(T, near=near)
     found = ik_solutions(robot.chain, T, near=near)
     assert isinstance(found, IKSolutionsBatch) and len(found) == count
-    every = robot.ik(T, all=True, near=near)
-    singles = [robot.ik(T[i], all=True, near=near[i]) for i in range(count)]
+    every = robot.ik(T, all_solutions=True, near=near)
+    singles = [robot.ik(T[i], all_solutions=True, near=near[i]) for i in range(count)]
     for i in range(count):
         np.testing.assert_allclose(picked[i], robot.ik(T[i], near=near[i]), rtol=0, atol=1e-12)
         one = ik_solutions(robot.chain, T[i], near=near[i])
@@ -330,9 +330,10 @@ def test_batches_equal_one_at_a_time(name):
         np.testing.assert_allclose(every[i], singles[i], rtol=0, atol=1e-12)  # earlier results intact
     assert [len(s.q) for s in found[:3]] == found.counts[:3].tolist()
     # a batch of one pose is a batch: its answers are not overwritten by later calls either
-    first, first_all = robot.ik(T[:1], near=near[:1]), robot.ik(T[:1], all=True, near=near[:1])
+    first, first_all = robot.ik(T[:1], near=near[:1]), robot.ik(T[:1], all_solutions=True, near=near[:1])
     kept, kept_all = first.copy(), [q.copy() for q in first_all]
-    robot.ik(T[1:2], near=near[1:2]), robot.ik(T[1:2], all=True, near=near[1:2]), robot.ik(T[1], all=True)
+    robot.ik(T[1:2], near=near[1:2]), robot.ik(T[1:2], all_solutions=True, near=near[1:2])
+    robot.ik(T[1], all_solutions=True)
     np.testing.assert_array_equal(first, kept)
     np.testing.assert_array_equal(first_all[0], kept_all[0])
 
@@ -443,4 +444,5 @@ def test_near_returns_the_configuration_itself_at_singular_poses(name, joint, si
     nearest = robot.ik(T, near=q)
     assert np.abs(joint_difference(robot, nearest, q)).max() < 1e-7
     for i in range(0, 60, 12):
-        assert np.abs(joint_difference(robot, robot.ik(T[i], all=True, near=q[i])[0], q[i])).max() < 1e-7
+        nearest_first = robot.ik(T[i], all_solutions=True, near=q[i])[0]
+        assert np.abs(joint_difference(robot, nearest_first, q[i])).max() < 1e-7

@@ -107,7 +107,7 @@ def test_ik_with_a_bad_near_is_one_input_error(near, message):
 def test_ik_of_no_poses_is_empty():
     robot = armkit.load("probot-anno")
     assert robot.ik(np.zeros((0, 4, 4))).shape == (0, 6)
-    assert robot.ik(np.zeros((0, 4, 4)), all=True) == []
+    assert robot.ik(np.zeros((0, 4, 4)), all_solutions=True) == []
 
 
 def test_random_q_with_a_negative_seed_is_one_input_error():

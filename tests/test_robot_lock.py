@@ -32,7 +32,7 @@ def test_srs_arm_with_elbow_roll_locked_is_a_spherical_wrist_6r_arm():
     assert armkit.analyze_structure(arm.chain).kind == "spherical-wrist"
     for q in arm.random_q(10, rng=3):
         T = arm.fk(q)
-        solutions = arm.ik(T, all=True)
+        solutions = arm.ik(T, all_solutions=True)
         full_q = arm.full_q(solutions)
         assert_transform_close(full.fk(full_q), np.broadcast_to(T, full_q.shape[:1] + (4, 4)), 1e-9, 1e-9)
         assert np.all(full_q[:, 2] == 0.3) and np.abs(solutions - q).max(axis=1).min() < 1e-6

@@ -72,7 +72,7 @@ def test_position_limit_violations_find_the_overshoot_between_waypoints():
     overshoot = min_jerk([[0] * 6, [0, 1.9, 0, 0, 0, 0], [0] * 6], [1.0, 0.3])
     assert robot.within_limits(overshoot.waypoints).all()
     (message,) = overshoot.position_limit_violations(robot, degrees=True)
-    assert message.startswith("joint q2 reaches 0 .. 209.6") and "limits [-115, 115] deg" in message
+    assert message.startswith("joint q2 = 0 .. 209.6") and "limits [-115, 115] deg" in message
     high = overshoot.position_range[1][1]
     assert high >= overshoot.sample(2000.0).q[:, 1].max()
     upper = robot.limits[0, 1]                          # a waypoint exactly on a limit is allowed

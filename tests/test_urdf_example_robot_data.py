@@ -116,7 +116,7 @@ def test_serial_arms_fk_closed_form_and_ik(file, base, tip, kind):
     for q_k in q[:8]:
         T = robot.fk(q_k)
         if kind != "none":
-            solutions = robot.ik(T, all=True, within_limits=False)
+            solutions = robot.ik(T, all_solutions=True, within_limits=False)
             assert_transform_close(robot.fk(solutions), np.broadcast_to(T, solutions.shape[:1] + (4, 4)),
                                    1e-9, 1e-9)
             gap = np.where(robot.chain.prismatic, solutions - q_k, np.angle(np.exp(1j * (solutions - q_k))))
@@ -132,8 +132,8 @@ def test_ur5_urdf_is_the_dh_ur5_up_to_base_and_tool_frames():
     urdf = armkit.load(ROBOTS / "ur_description/urdf/ur5_robot.urdf", tip="tool0")
     dh = armkit.load("ur5")
     q = dh.random_q(rng=4)
-    assert len(urdf.ik(urdf.fk(q), all=True, within_limits=False)) == len(
-        dh.ik(dh.fk(q), all=True, within_limits=False))
+    assert len(urdf.ik(urdf.fk(q), all_solutions=True, within_limits=False)) == len(
+        dh.ik(dh.fk(q), all_solutions=True, within_limits=False))
 
 
 def test_panda_with_a_wrist_joint_locked_is_a_spherical_base_6r_arm():
@@ -141,7 +141,7 @@ def test_panda_with_a_wrist_joint_locked_is_a_spherical_base_6r_arm():
     locked = panda.lock({"panda_joint7": 0.4})
     assert armkit.analyze_structure(locked.chain).kind == "spherical-base"
     q = locked.random_q(rng=2)
-    solutions = locked.ik(locked.fk(q), all=True, within_limits=False)
+    solutions = locked.ik(locked.fk(q), all_solutions=True, within_limits=False)
     full = locked.full_q(solutions)
     target = np.broadcast_to(locked.fk(q), full.shape[:1] + (4, 4))
     assert_transform_close(panda.fk(full), target, 1e-9, 1e-9)

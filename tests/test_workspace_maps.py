@@ -43,7 +43,7 @@ def test_dexterity_counts_are_those_of_robot_ik_at_each_voxel_centre():
             T = np.eye(4)
             T[:3, :3], T[:3, 3] = Rk, dex.grid.centres(np.array([voxel]))[0]
             try:
-                counts.append(len(robot.ik(T, all=True)))
+                counts.append(len(robot.ik(T, all_solutions=True)))
             except (UnreachableError, JointLimitError):
                 counts.append(0)
         assert dex.reachable_fraction.ravel()[voxel] == np.mean(np.array(counts) > 0)

@@ -178,6 +178,7 @@ void bind_kinematics(nb::module_& m) {
         .def(nb::new_(&make_chain), nb::arg("T_between"), nb::arg("prismatic"), nb::arg("lower"),
              nb::arg("upper"))
         .def_ro("n", &Chain::n);
+    m.attr("LIMIT_TOLERANCE") = kLimitTolerance;
     const auto release = nb::call_guard<nb::gil_scoped_release>();
     m.def("fk", &fk, nb::arg("chain"), nb::arg("q"), nb::arg("T"), nb::arg("threads"), release,
           "Tool poses of q (N, n) into T (N, 4, 4); the flat index of the first non-finite q, or -1.");

@@ -193,6 +193,7 @@ void duplicates(In q, InBool valid, InBool prismatic, OutBool duplicate) {
 }  // namespace
 
 void bind_solve(nb::module_& m) {
+    m.attr("SOLUTION_TOLERANCE") = kSolutionTolerance;
     nb::class_<ClosedForm>(m, "ClosedForm",
                            "A chain's closed-form IK: its chain, case geometry, joint map and checks.")
         .def(nb::new_(&make_closed_form), nb::arg("chain"), nb::arg("geometry"), nb::arg("index"),

@@ -36,7 +36,7 @@ _PATH_COLOR = "#8e44ad"
 
 def _polylines(robot: Robot, model: PhysicalModel, q: NDArray[np.float64]) -> list[NDArray[np.float64]]:
     """World coordinates of every link cylinder: base first, one ``(k, 2, 3)`` array per body."""
-    frames, _ = kinematics.joint_frames(robot.chain, q)
+    frames, _ = kinematics.joint_frames(robot, q)
     lines = [model.base.segments]
     for T, body, q_i, prismatic in zip(frames, model.bodies, q, robot.chain.prismatic, strict=True):
         segments = body.segments @ T[:3, :3].T + T[:3, 3]
@@ -94,7 +94,7 @@ def _draw_arm(ax, robot: Robot, model: PhysicalModel, q: NDArray[np.float64], fl
                     solid_capstyle="round", alpha=0.6)
             color = _JOINT_COLOR if k == 0 else _LINK_COLORS[(k - 1) % 2]
             ax.plot(xs, ys, zs, color=color, linewidth=width, solid_capstyle="round")
-    joints, T_tool = kinematics.joint_frames(robot.chain, q)
+    joints, T_tool = kinematics.joint_frames(robot, q)
     ax.scatter(*joints[:, :3, 3].T, s=70, color=_JOINT_COLOR, depthshade=False, zorder=5)
     if frames:
         for T in robot.link_frames(q)[:-1]:
@@ -172,7 +172,8 @@ def plot_configurations(robot: Robot, q: ArrayLike, path: str | Path | None = No
     --------
     >>> import armkit
     >>> robot = armkit.load("probot-anno")
-    >>> figure = plot_configurations(robot, robot.ik(robot.fk([0.9, -0.7, -0.4, 0, 1.1, 0.9]), all=True))
+    >>> T = robot.fk([0.9, -0.7, -0.4, 0, 1.1, 0.9])
+    >>> figure = plot_configurations(robot, robot.ik(T, all_solutions=True))
     >>> len(figure.axes)
     4
     """

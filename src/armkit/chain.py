@@ -18,20 +18,24 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Literal, TypeVar
+from typing import TYPE_CHECKING, Literal, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from armkit import _core
-from armkit.errors import RobotDefinitionError
+from armkit.errors import InputError, RobotDefinitionError
 from armkit.spatial.transforms import rot_x, rot_z, trans_x, trans_z
 
-__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERANCE", "MAX_VALUE",
-           "chain_from_dh", "chain_from_frames"]
+if TYPE_CHECKING:  # armkit.robot imports this module
+    from armkit.robot import Robot
 
-#: Slack [rad or m] allowed beyond a joint limit before a value counts as outside it.
-LIMIT_TOLERANCE = 1e-9
+__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERANCE", "MAX_VALUE",
+           "as_chain", "chain_from_dh", "chain_from_frames"]
+
+#: Slack [rad or m] allowed beyond a joint limit before a value counts as outside it (the
+#: compiled core's ``kLimitTolerance``, so Python and C++ test limits alike).
+LIMIT_TOLERANCE: float = _core.LIMIT_TOLERANCE
 #: Largest magnitude of a length [m] or angle [rad] a robot description may hold: larger ones
 #: are typos (1000 km) and let FK overflow. Robot files and URDF import refuse them.
 MAX_VALUE = 1e6
@@ -176,6 +180,22 @@ class Chain:
             self.__dict__[key] = make()
         return self.__dict__[key]
 
+    def outside_limits(self, q: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Per joint, whether the values ``q`` ``(..., n)`` (float, not checked) leave its
+        position limits by more than :data:`LIMIT_TOLERANCE`: ``(..., n)``.
+
+        armkit's one joint-limit test in Python (:meth:`within_limits`,
+        :meth:`limit_violations`, the motions' limit stops and IK's messages use it; the
+        compiled core's is ``Chain::within_limit``, with the same tolerance).
+
+        Examples
+        --------
+        >>> chain = chain_from_dh([DHRow(0, 1.0, 0, 0)] * 2, "standard", limits=[(-1.0, 1.0)] * 2)
+        >>> chain.outside_limits(np.array([0.5, 1.0 + 2e-9]))
+        array([False,  True])
+        """
+        return (q < self.lower - LIMIT_TOLERANCE) | (q > self.upper + LIMIT_TOLERANCE)
+
     def within_limits(self, q: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Whether each configuration ``q`` ``(..., n)`` (float, not checked) is inside all
         position limits, to :data:`LIMIT_TOLERANCE`: ``(...)``.
@@ -186,7 +206,79 @@ class Chain:
         >>> chain.within_limits(np.array([[0.5], [1.5]]))
         array([ True, False])
         """
-        return np.all((q >= self.lower - LIMIT_TOLERANCE) & (q <= self.upper + LIMIT_TOLERANCE), axis=-1)
+        return ~np.any(self.outside_limits(q), axis=-1)
+
+    def limit_violations(self, q: NDArray[np.float64], degrees: bool = False, *,
+                         q_max: NDArray[np.float64] | None = None, where: str = "") -> list[str]:
+        """One message per joint outside its limits (:meth:`outside_limits`), all alike:
+        ``joint q2 = 2.5 rad is outside its limits [-2.00713, 2.00713] rad``.
+
+        Parameters
+        ----------
+        q : ndarray, shape (n,)
+            Joint values [rad or m] (float, not checked); with ``q_max``, the smallest value
+            each joint takes.
+        degrees : bool
+            Show revolute values and limits in degrees.
+        q_max : ndarray, shape (n,), optional
+            The largest value each joint takes (a trajectory's range ``q .. q_max``).
+        where : str
+            Said after the value, e.g. ``" between waypoints"``.
+
+        Examples
+        --------
+        >>> chain = chain_from_dh([DHRow(0, 1.0, 0, 0)] * 2, "standard", limits=[(-1.0, 1.0)] * 2)
+        >>> chain.limit_violations(np.array([0.5, 1.5]))
+        ['joint q2 = 1.5 rad is outside its limits [-1, 1] rad']
+        >>> chain.limit_violations(np.array([0.0, -0.5]), True, q_max=np.array([0.5, 1.5]),
+        ...                        where=" on the way")
+        ['joint q2 = -28.6479 .. 85.9437 deg on the way is outside its limits [-57.2958, 57.2958] deg']
+        """
+        high = q if q_max is None else q_max
+        outside = self.outside_limits(q) | self.outside_limits(high)
+        messages = []
+        for j in np.flatnonzero(outside):
+            joint = self.joints[j]
+            revolute = joint.kind == "revolute"
+            scale, unit = ((180 / np.pi, " deg") if degrees and revolute
+                           else (1.0, " rad" if revolute else " m"))
+            # rounded to 1e-9: no -1e-14 from a root finder beside values of 6 digits
+            low_shown, high_shown = np.round([q[j] * scale, high[j] * scale], 9) + 0.0
+            value = f"{low_shown:.6g}" if q_max is None else f"{low_shown:.6g} .. {high_shown:.6g}"
+            messages.append(f"joint {joint.name} = {value}{unit}{where} is outside its limits "
+                            f"[{joint.lower * scale:.6g}, {joint.upper * scale:.6g}]{unit}")
+        return messages
+
+
+def as_chain(robot: Robot | Chain) -> Chain:
+    """The chain of ``robot``: what every public function that takes a robot computes with.
+
+    Public functions take a :class:`~armkit.robot.Robot` (what :func:`armkit.load` returns)
+    and accept its bare :class:`Chain` too; they all turn it into the chain with this one
+    helper (``robot.chain``, or the chain itself).
+
+    Raises
+    ------
+    InputError
+        If ``robot`` is neither a Robot nor a Chain.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("ur5")
+    >>> as_chain(robot) is robot.chain is as_chain(robot.chain)
+    True
+    """
+    if type(robot) is Chain:
+        return robot
+    chain = getattr(robot, "chain", None)
+    if isinstance(chain, Chain):
+        return chain
+    if isinstance(robot, Chain):
+        return robot
+    shown = repr(robot)
+    raise InputError(f"robot: expected an armkit Robot (e.g. armkit.load('ur5')) or its Chain, got "
+                     f"{type(robot).__name__} {shown[:60] + '...' if len(shown) > 60 else shown}")
 
 
 def chain_from_dh(rows: Sequence[DHRow], convention: DHConvention, *,

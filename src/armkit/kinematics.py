@@ -1,4 +1,4 @@
-"""Forward kinematics, Jacobians and manipulability of a :class:`~armkit.chain.Chain`.
+"""Forward kinematics, Jacobians and manipulability of a robot (or its :class:`~armkit.chain.Chain`).
 
 All functions take joint values ``q`` of shape ``(..., n)`` (a single configuration is
 a batch of one) and return batch-first arrays. Jacobian rows are ``[v; w]``: linear
@@ -13,13 +13,18 @@ float64 and C-ordered go straight through) and shapes the outputs.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit.chain import Chain
+from armkit.chain import Chain, as_chain
 from armkit.errors import InputError
 from armkit.spatial.rotations import angular_velocity_matrix, euler_from_matrix
+
+if TYPE_CHECKING:  # armkit.robot imports this module
+    from armkit.robot import Robot
 
 __all__ = [
     "ChainKernel",
@@ -80,12 +85,13 @@ def _threads(threads: int | None) -> int:
     return int(threads)
 
 
-def fk(chain: Chain, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.float64]:
+def fk(robot: Robot | Chain, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.float64]:
     """Tool poses ``T_base_tool`` [m], shape ``(..., 4, 4)``, for joint values ``(..., n)``.
 
     Parameters
     ----------
-    chain : Chain
+    robot : Robot or Chain
+        The arm (every function here takes a Robot or its Chain, see :func:`armkit.chain.as_chain`).
     q : array_like, shape (..., n)
         Joint values [rad or m].
     threads : int, optional
@@ -100,10 +106,10 @@ def fk(chain: Chain, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.
     Examples
     --------
     >>> import armkit
-    >>> chain = armkit.load("ur5").chain
-    >>> fk(chain, np.zeros((1000, 6))).shape
+    >>> fk(armkit.load("ur5"), np.zeros((1000, 6))).shape
     (1000, 4, 4)
     """
+    chain = as_chain(robot)
     q = _joint_values(chain, q)
     return _fk(chain, q, _threads(threads))
 
@@ -115,12 +121,13 @@ def _fk(chain: Chain, q: NDArray[np.float64], threads: int = 0) -> NDArray[np.fl
     return T
 
 
-def joint_frames(chain: Chain, q: ArrayLike, *,
+def joint_frames(robot: Robot | Chain, q: ArrayLike, *,
                  threads: int | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Joint frames (after each motion) ``(..., n, 4, 4)`` and the tool pose ``(..., 4, 4)``.
 
     Joint ``i`` moves about or along the z axis of frame ``i`` of the first result.
     """
+    chain = as_chain(robot)
     return _joint_frames(chain, _joint_values(chain, q), _threads(threads))
 
 
@@ -131,12 +138,13 @@ def _joint_frames(chain: Chain, q: NDArray[np.float64],
     return frames, T
 
 
-def link_frames(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
+def link_frames(robot: Robot | Chain, q: ArrayLike) -> NDArray[np.float64]:
     """Poses of the base, every DH link frame and the tool: ``(..., n + 2, 4, 4)``.
 
     Index 0 is the base frame (after any base rows), ``i`` is link frame ``i`` of the DH
     table (after joint ``i``), and ``n + 1`` is the tool.
     """
+    chain = as_chain(robot)
     return _link_frames(chain, _joint_values(chain, q))
 
 
@@ -147,7 +155,7 @@ def _link_frames(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.concatenate([base, links, T_tool[..., None, :, :]], axis=-3)
 
 
-def geometric_jacobian(chain: Chain, q: ArrayLike, frame: str = "base", *,
+def geometric_jacobian(robot: Robot | Chain, q: ArrayLike, frame: str = "base", *,
                        threads: int | None = None) -> NDArray[np.float64]:
     """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``.
 
@@ -159,6 +167,7 @@ def geometric_jacobian(chain: Chain, q: ArrayLike, frame: str = "base", *,
     threads : int, optional
         Threads for a batch (default: every core); the result does not depend on it.
     """
+    chain = as_chain(robot)
     return _geometric_jacobian(chain, _joint_values(chain, q), frame, _threads(threads))
 
 
@@ -181,7 +190,7 @@ def _geometric_jacobian(chain: Chain, q: NDArray[np.float64], frame: str = "base
     return np.concatenate([R_t @ J[..., :3, :], R_t @ J[..., 3:, :]], axis=-2)
 
 
-def analytic_jacobian(chain: Chain, q: NDArray[np.float64],
+def analytic_jacobian(robot: Robot | Chain, q: NDArray[np.float64],
                       convention: str = "xyz-fixed") -> NDArray[np.float64]:
     """Analytic Jacobian ``(..., 6, n)``: rows ``[p'; angle rates]`` in a named convention.
 
@@ -193,6 +202,7 @@ def analytic_jacobian(chain: Chain, q: NDArray[np.float64],
     InputError
         At a gimbal lock of the convention, where the angle rates are undefined.
     """
+    chain = as_chain(robot)
     q = _joint_values(chain, q)
     J = _geometric_jacobian(chain, q)
     T = _fk(chain, q)
@@ -204,18 +214,18 @@ def analytic_jacobian(chain: Chain, q: NDArray[np.float64],
     return np.concatenate([J[..., :3, :], np.linalg.solve(E, J[..., 3:, :])], axis=-2)
 
 
-def singular_values(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
+def singular_values(robot: Robot | Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     """Singular values of the base-frame geometric Jacobian, ``(..., min(6, n))``, descending."""
-    return np.linalg.svd(geometric_jacobian(chain, q), compute_uv=False)
+    return np.linalg.svd(geometric_jacobian(robot, q), compute_uv=False)
 
 
-def manipulability(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
+def manipulability(robot: Robot | Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
     """Yoshikawa's manipulability ``sqrt(det(J J^T))`` (product of singular values), ``(...)``.
 
     Zero at a singularity. For ``n < 6`` it is the product of the ``n`` singular values,
     i.e. ``sqrt(det(J^T J))``. Linear and angular rows are mixed as they are (m and rad).
     """
-    return np.prod(singular_values(chain, q), axis=-1)
+    return np.prod(singular_values(robot, q), axis=-1)
 
 
 def pose_error(T_target: ArrayLike, T: ArrayLike) -> NDArray[np.float64]:
@@ -250,22 +260,23 @@ class ChainKernel:
 
     Parameters
     ----------
-    chain : Chain
+    robot : Robot or Chain
 
     Examples
     --------
     >>> import armkit
     >>> robot = armkit.load("panda")
-    >>> kernel = ChainKernel(robot.chain)
+    >>> kernel = ChainKernel(robot)
     >>> q = np.array([0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5])
     >>> T, J = kernel.pose_jacobian(q)
-    >>> bool(np.allclose(T, fk(robot.chain, q), atol=1e-14))
+    >>> bool(np.allclose(T, fk(robot, q), atol=1e-14))
     True
     >>> J.shape
     (6, 7)
     """
 
-    def __init__(self, chain: Chain) -> None:
+    def __init__(self, robot: Robot | Chain) -> None:
+        chain = as_chain(robot)
         self.n = chain.n
         self._chain = chain._core
 

@@ -72,7 +72,7 @@ def plot_pva(trajectory: JointTrajectory, robot: Robot | None = None, *, rate_hz
     title : str, optional
     """
     samples = trajectory.sample(_rate(trajectory, rate_hz))
-    n = trajectory.dof
+    n = trajectory.n
     names = robot.joint_names if robot is not None else [f"q{j + 1}" for j in range(n)]
     prismatic = robot.chain.prismatic if robot is not None else [False] * n
     limits = ([None if robot is None else robot.limits,

@@ -17,7 +17,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import kinematics
-from armkit.chain import LIMIT_TOLERANCE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
+from armkit._deprecation import renamed_argument
+from armkit.chain import Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
 
@@ -215,19 +216,13 @@ class Robot:
     def limit_violations(self, q: ArrayLike, degrees: bool = False) -> list[str]:
         """One message per joint value of a single configuration outside its limits.
 
-        With ``degrees`` the messages show revolute values and limits in degrees.
+        With ``degrees`` the messages show revolute values and limits in degrees; see
+        :meth:`armkit.chain.Chain.limit_violations` (the test and the message, once).
         """
         q = self.check_q(q)
         if q.ndim != 1:
             raise InputError(f"q: expected one configuration of {self.n} values, got {q.shape}")
-        messages = []
-        for joint, value in zip(self.chain.joints, q, strict=True):
-            if not joint.lower - LIMIT_TOLERANCE <= value <= joint.upper + LIMIT_TOLERANCE:
-                scale, unit = ((180 / np.pi, " deg") if degrees and joint.kind == "revolute"
-                               else (1.0, " rad" if joint.kind == "revolute" else " m"))
-                messages.append(f"joint {joint.name} = {value * scale:.6g}{unit} is outside its limits "
-                                f"[{joint.lower * scale:.6g}, {joint.upper * scale:.6g}]{unit}")
-        return messages
+        return self.chain.limit_violations(q, degrees)
 
     def check_limits(self, q: ArrayLike, degrees: bool = False) -> NDArray[np.float64]:
         """Return ``q`` if every value is inside its limits, else raise :class:`JointLimitError`."""
@@ -277,7 +272,7 @@ class Robot:
         """Jacobian singular values ``(..., min(6, n))``; the last is the singularity measure."""
         return kinematics.singular_values(self.chain, self.check_q(q))
 
-    def ik(self, T_base_tool: ArrayLike, all: bool = False, near: ArrayLike | None = None,
+    def ik(self, T_base_tool: ArrayLike, all_solutions: bool = False, near: ArrayLike | None = None,
            within_limits: bool = True, **options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
         """Inverse kinematics: every closed-form solution, or the one closest to ``near``.
 
@@ -290,8 +285,9 @@ class Robot:
         ----------
         T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
             Target tool pose(s) [m].
-        all : bool
+        all_solutions : bool
             ``(k, n)``: every solution, nearest to ``near`` first (closed form only).
+            ``all=`` is its deprecated old name (it shadowed the builtin); it warns.
         near : array_like, shape (n,) or (N, n), optional
             Reference configuration [rad or m]; default zeros.
         within_limits : bool
@@ -300,8 +296,8 @@ class Robot:
         Returns
         -------
         ndarray
-            ``(n,)`` or ``(N, n)``; with ``all=True`` ``(k, n)`` (a list for ``N`` poses).
-            An empty batch ``(0, 4, 4)`` gives ``(0, n)`` (``[]`` with ``all=True``).
+            ``(n,)`` or ``(N, n)``; with ``all_solutions=True`` ``(k, n)`` (a list for ``N``
+            poses). An empty batch ``(0, 4, 4)`` gives ``(0, n)`` (``[]`` with ``all_solutions``).
 
         Raises
         ------
@@ -314,17 +310,21 @@ class Robot:
         >>> import armkit
         >>> robot = armkit.load("probot-anno")
         >>> T = robot.fk([0.927, -0.687, -0.396, 0, 1.083, 0.927])
-        >>> robot.ik(T, all=True).shape
+        >>> robot.ik(T, all_solutions=True).shape
         (4, 6)
         >>> robot.ik(T, near=[1, -1, 0, 0, 1, 1]).round(3)
         array([ 0.927, -0.687, -0.396,  0.   ,  1.083,  0.927])
         """
         from armkit.ik.solve import ik  # here, not at the top: armkit.ik imports this module
 
+        if options and "all" in options:
+            all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
+                                             all_solutions, False)
         one_near = near is None or (kinematics.is_ready(near, self.n) and near.ndim == 1)
         if _one_pose_ready(T_base_tool) and one_near:
             # the usual call: the core checks the pose and near itself (errors: ik's messages)
-            return ik(self.chain, T_base_tool, all=all, near=near, within_limits=within_limits, **options)
+            return ik(self.chain, T_base_tool, all_solutions=all_solutions, near=near,
+                      within_limits=within_limits, **options)
         T = check_transform(T_base_tool, "target pose")
         if near is not None:
             near = self.check_q(near, "near")
@@ -333,8 +333,9 @@ class Robot:
                 raise InputError(f"near: shape {near.shape} for {poses}; expected ({self.n},), one set of "
                                  f"joint values for every pose, or {(*T.shape[:-2], self.n)}, one per pose")
         if T.ndim > 2 and T.shape[0] == 0:
-            return [] if all else np.empty((0, self.n))
-        return ik(self.chain, T, all=all, near=near, within_limits=within_limits, **options)
+            return [] if all_solutions else np.empty((0, self.n))
+        return ik(self.chain, T, all_solutions=all_solutions, near=near, within_limits=within_limits,
+                  **options)
 
     def random_q(self, size: int | tuple[int, ...] | None = None,
                  rng: np.random.Generator | int | None = None) -> NDArray[np.float64]:

@@ -13,7 +13,7 @@
 
 namespace armkit {
 
-//: Slack [rad or m] allowed beyond a joint limit (armkit.chain.LIMIT_TOLERANCE).
+//: Slack [rad or m] allowed beyond a joint limit (bound as armkit.chain.LIMIT_TOLERANCE).
 constexpr double kLimitTolerance = 1e-9;
 
 struct Chain {
@@ -22,9 +22,15 @@ struct Chain {
     std::vector<std::uint8_t> prismatic;  // n
     std::vector<double> lower, upper;     // n position limits [rad or m]
 
+    // The core's one joint-limit test: value v of joint j inside its limits, to kLimitTolerance
+    // (the Python layer's is Chain.outside_limits, with the same constant).
+    bool within_limit(int j, double v) const {
+        return lower[j] - kLimitTolerance <= v && v <= upper[j] + kLimitTolerance;
+    }
+
     bool within_limits(const double* q) const {
         for (int j = 0; j < n; ++j)
-            if (!(lower[j] - kLimitTolerance <= q[j] && q[j] <= upper[j] + kLimitTolerance)) return false;
+            if (!within_limit(j, q[j])) return false;
         return true;
     }
 };

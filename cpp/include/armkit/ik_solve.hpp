@@ -16,7 +16,7 @@
 namespace armkit {
 
 //: Position [m] and angle [rad] within which every returned solution reproduces the target
-//: (armkit.ik.solve.VERIFY_TOLERANCE).
+//: (bound as armkit.ik.results.SOLUTION_TOLERANCE).
 constexpr double kSolutionTolerance = 1e-9;
 //: Candidates with a larger FK residual [m or rad] are rough: refined by the caller.
 constexpr double kRefineAbove = 1e-10;
@@ -53,7 +53,7 @@ inline bool inside_and_distance(const Chain& chain, const double* q, const doubl
     bool inside = true;
     double total = 0.0;
     for (int j = 0; j < chain.n; ++j) {
-        inside = inside && chain.lower[j] - kLimitTolerance <= q[j] && q[j] <= chain.upper[j] + kLimitTolerance;
+        inside = inside && chain.within_limit(j, q[j]);
         const double d = weights[j] * (q[j] - near[j]);
         total += d * d;
     }

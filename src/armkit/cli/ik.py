@@ -131,7 +131,8 @@ def ik_command(
     if position is not None and all_solutions:
         raise InputError("--position asks the numeric solver for one solution; drop --all")
     options = {"mask": POSITION_ONLY} if position is not None else {}
-    q = np.atleast_2d(arm.ik(T, all=all_solutions, near=q_near, within_limits=not outside, **options))
+    q = np.atleast_2d(arm.ik(T, all_solutions=all_solutions, near=q_near, within_limits=not outside,
+                             **options))
     closed = structure.closed_form and position is None
     number, family = _numbered(arm, T, q, q_near, closed)
     order = np.argsort(number, kind="stable")

@@ -58,7 +58,7 @@ def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_
     q_shown = np.where(robot.chain.prismatic, result.q_final, result.q_final * angle_scale)
     final, target = result.pose_final, result.target
     if json_output:
-        print_json({"robot": robot.name, "completed": result.completed, "message": result.message,
+        print_json({"robot": robot.name, "success": result.success, "message": result.message,
                     "duration": result.t[-1], "q_start": result.q[0], "q_final": result.q_final,
                     "position_final": final[:3, 3], "rpy_final": pose_from_transform(final)[3:],
                     "position_target": target[:3, 3], "rpy_target": pose_from_transform(target)[3:],
@@ -93,7 +93,7 @@ def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_
                       f"{result.orientation_error * angle_scale:.3g} {unit}; largest along the way: "
                       f"{result.max_position_error:.3g} m, "
                       f"{result.max_orientation_error * angle_scale:.3g} {unit}", markup=False)
-    if not result.completed:
+    if not result.success:
         err_console.print(f"[red]stopped:[/red] {result.message}", highlight=False, soft_wrap=True)
         raise typer.Exit(1)
 
@@ -169,7 +169,7 @@ def rotate_command(
     if rate is None and duration is None:
         rate = 0.2 / scale
     result = rotate_about_tool_point(arm, q0, np.array(axis), angle * scale,
-                                     rate=None if rate is None else rate * scale,
+                                     angular_velocity=None if rate is None else rate * scale,
                                      duration=duration, frame=frame, dt=DEFAULT_DT if dt is None else dt)
     _report(arm, result, f"turn about {list(axis)} ({frame} frame) through the tool point", deg,
             json_output)

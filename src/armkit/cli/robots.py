@@ -125,7 +125,7 @@ def show_command(
 ) -> None:
     """Print a robot's DH table (or joint axes), limits and the kind of arm it is."""
     arm = load_robot(robot, base, tip, lock)
-    structure = analyze_structure(arm.chain)
+    structure = analyze_structure(arm)
     if json_output:
         poe = poe_from_chain(arm.chain)
         print_json({"name": arm.name, "n": arm.n, "joint_names": arm.joint_names,

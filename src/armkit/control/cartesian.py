@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armkit._deprecation import renamed_argument
 from armkit._time import even_time_grid
 from armkit.control.motions import DEFAULT_DT, _check_positive, _check_start, track_poses
 from armkit.control.resolved_rate import ResolvedRate
@@ -105,7 +106,7 @@ def line_poses(T_start: ArrayLike, T_goal: ArrayLike, t: ArrayLike,
     (array([0.  , 0.05, 0.1 ]), array([0.    , 0.1875, 0.    ]))
     """
     T_start, T_goal = check_transform(T_start, "T_start"), check_transform(T_goal, "T_goal")
-    s, sd, sdd = (x[:, 0] for x in quintic(0.0, 1.0, duration).sample(t)[:3])
+    s, sd, sdd = (x[:, 0] for x in quintic(0.0, 1.0, duration).at_time(t)[:3])
     dp = T_goal[:3, 3] - T_start[:3, 3]
     rotvec = axis_angle_from_matrix(T_goal[:3, :3] @ T_start[:3, :3].T)
     poses = np.broadcast_to(np.eye(4), (s.size, 4, 4)).copy()
@@ -177,8 +178,8 @@ def _by_closed_loop(robot: Robot, q0: NDArray[np.float64], poses: NDArray[np.flo
 
 
 def cartesian_line(robot: Robot, q0: ArrayLike, T_goal: ArrayLike, duration: float, *,
-                   rate: float = 100.0, method: str = "ik", dt: float = DEFAULT_DT,
-                   max_joint_step: float = MAX_SAMPLE_STEP) -> CartesianTrajectory:
+                   rate_hz: float = 100.0, method: str = "ik", dt: float = DEFAULT_DT,
+                   max_joint_step: float = MAX_SAMPLE_STEP, rate: float | None = None) -> CartesianTrajectory:
     """A straight tool line from ``robot.fk(q0)`` to ``T_goal``, sampled in joint space.
 
     Parameters
@@ -190,7 +191,7 @@ def cartesian_line(robot: Robot, q0: ArrayLike, T_goal: ArrayLike, duration: flo
         Goal tool pose [m].
     duration : float
         [s], positive.
-    rate : float
+    rate_hz : float
         Sampling rate [Hz]; the last sample is at ``duration``.
     method : {"ik", "closed-loop"}
         How the poses become joint values (see the module docstring).
@@ -199,6 +200,8 @@ def cartesian_line(robot: Robot, q0: ArrayLike, T_goal: ArrayLike, duration: flo
     max_joint_step : float
         Largest change of a joint [rad or m] between two IK samples; more counts as a jump
         of the joint path (an IK branch change) and raises :class:`UnreachableError`.
+    rate : float, optional
+        Deprecated name of ``rate_hz``; warns.
 
     Returns
     -------
@@ -219,15 +222,16 @@ def cartesian_line(robot: Robot, q0: ArrayLike, T_goal: ArrayLike, duration: flo
     >>> import armkit
     >>> robot = armkit.load("probot-anno")
     >>> T_goal = robot.fk([0.3, -0.5, 0.4, 0.2, 1.2, -0.3])
-    >>> line = cartesian_line(robot, [0, 0, 0, 0, 0, 0], T_goal, duration=2.0, rate=50)
+    >>> line = cartesian_line(robot, [0, 0, 0, 0, 0, 0], T_goal, duration=2.0, rate_hz=50)
     >>> line.q.shape, bool(np.allclose(robot.fk(line.q[-1]), T_goal))
     ((101, 6), True)
     """
     q0 = _check_start(robot, q0)
     T_goal = check_transform(T_goal, "T_goal")
     duration = _check_positive(duration, "duration", "s")
-    rate = _check_positive(rate, "rate", "Hz")
-    t = even_time_grid(duration, 1.0 / rate)
+    rate_hz = renamed_argument("cartesian_line", "rate", "rate_hz", rate, rate_hz, 100.0)
+    rate_hz = _check_positive(rate_hz, "rate_hz", "Hz")
+    t = even_time_grid(duration, 1.0 / rate_hz)
     poses, twists, twist_rates = line_poses(robot.fk(q0), T_goal, t, duration)
     if method == "ik":
         q = _by_ik(robot, q0, poses, t, _check_positive(max_joint_step, "max_joint_step", "rad or m"))

@@ -16,11 +16,11 @@ a compromise: a higher gain tracks tighter, but after the velocity limits held t
 back it brakes harder (the joint velocities change more per step).
 
 Joint limits: a step that would carry a joint past a position limit is shortened so the
-joint stops exactly on the limit, and the motion ends there with ``completed = False``
+joint stops exactly on the limit, and the motion ends there with ``success = False``
 and a message naming the joint (``stop_at_limits=False`` raises
 :class:`~armkit.errors.JointLimitError` instead). A motion that runs to its end but
 finishes farther from the target than the tolerances (for example because the velocity
-limits held the tool back) also has ``completed = False`` and a message saying why.
+limits held the tool back) also has ``success = False`` and a message saying why.
 """
 
 from __future__ import annotations
@@ -30,11 +30,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armkit._deprecation import deprecated_property, renamed_argument
 from armkit._time import even_time_grid
+from armkit.chain import Chain
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError
 from armkit.kinematics import pose_error
-from armkit.robot import LIMIT_TOLERANCE, Robot
+from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
 from armkit.trajectory.polynomial import quintic
 
@@ -77,9 +79,10 @@ class MotionResult:
         Smallest Jacobian singular value at each sample (how close to a singularity).
     scale : (N,) array
         Factor in ``(0, 1]`` the joint velocities were scaled by to respect their limits.
-    completed : bool
+    success : bool
         True if the motion ran to its end and finished within the tolerances
-        (``POSITION_TOLERANCE``, ``ORIENTATION_TOLERANCE``) of the target.
+        (``POSITION_TOLERANCE``, ``ORIENTATION_TOLERANCE``) of the target (``completed``
+        is its deprecated old name).
     message : str
         ``"completed"``, or why not: which joint limit stopped the motion (joint, value,
         time), or how far from the target it ended and what held it back.
@@ -97,8 +100,10 @@ class MotionResult:
     max_orientation_error: float
     sigma_min: NDArray[np.float64]
     scale: NDArray[np.float64]
-    completed: bool
+    success: bool
     message: str
+
+    completed = deprecated_property("completed", "success")
 
     @property
     def q_final(self) -> NDArray[np.float64]:
@@ -141,14 +146,12 @@ def _check_vector(value: ArrayLike, name: str, unit: str) -> NDArray[np.float64]
     return v
 
 
-def _limit_stop(lower: NDArray[np.float64], upper: NDArray[np.float64], q: NDArray[np.float64],
-                step: NDArray[np.float64]) -> tuple[float, int]:
+def _limit_stop(chain: Chain, q: NDArray[np.float64], step: NDArray[np.float64]) -> tuple[float, int]:
     """Fraction of ``step`` that keeps ``q`` inside the limits, and the joint that bounds it (-1: none)."""
-    q_next = q + step
-    outside = (q_next < lower - LIMIT_TOLERANCE) | (q_next > upper + LIMIT_TOLERANCE)
+    outside = chain.outside_limits(q + step)
     if not outside.any():
         return 1.0, -1
-    bound = np.where(step < 0, lower, upper)
+    bound = np.where(step < 0, chain.lower, chain.upper)
     with np.errstate(divide="ignore", invalid="ignore"):
         fraction = np.where(outside, (bound - q) / step, np.inf)
     joint = int(np.argmin(fraction))
@@ -229,7 +232,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
         feedforward = pose_error(reference[k + 1], reference[k]) / dt
         rate = control._solve(J, feedforward + gain * pose_error(reference[k], T))
         sigma[k], scale[k] = rate.sigma_min, rate.scale
-        fraction, joint = _limit_stop(lower, upper, q, rate.qd * dt)
+        fraction, joint = _limit_stop(robot.chain, q, rate.qd * dt)
         qds[k] = rate.qd * fraction
         q = q + qds[k] * dt
         if joint >= 0:
@@ -256,7 +259,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
         target=reference[-1].copy(), position_error=errors[0], orientation_error=errors[1],
         max_position_error=float(np.linalg.norm(poses[sl, :3, 3] - reference[sl, :3, 3], axis=-1).max()),
         max_orientation_error=float(rotation_angle_between(poses[sl], reference[sl]).max()),
-        sigma_min=sigma[sl], scale=scale[sl], completed=not message, message=message or "completed")
+        sigma_min=sigma[sl], scale=scale[sl], success=not message, message=message or "completed")
 
 
 def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: float, *,
@@ -310,44 +313,48 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     elif frame != "base":
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
     t = even_time_grid(duration, dt)
-    s = quintic(0.0, 1.0, duration).sample(t)[0][:, 0]
+    s = quintic(0.0, 1.0, duration).at_time(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     reference[:, :3, 3] += s[:, None] * displacement
     return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits)
 
 
-def _turn(angle: float | None, rate: float | None,
+def _turn(angle: float | None, speed: float | None,
           duration: float | None) -> tuple[float, float, bool]:
-    """Signed angle [rad], duration [s] and whether the rate is constant, from the arguments."""
-    given = {k for k, v in (("angle", angle), ("rate", rate), ("duration", duration)) if v is not None}
-    if given not in ({"angle", "rate"}, {"rate", "duration"}, {"angle", "duration"}):
-        raise InputError(f"give two of angle, rate and duration (angle and rate, rate and "
-                         f"duration, or angle and duration), got {sorted(given) or 'none'}")
-    for name, value in (("angle", angle), ("rate", rate)):
+    """Signed angle [rad], duration [s] and whether the angular velocity ``speed`` [rad/s] is
+    constant, from the arguments."""
+    given = {k for k, v in (("angle", angle), ("angular_velocity", speed), ("duration", duration))
+             if v is not None}
+    if given not in ({"angle", "angular_velocity"}, {"angular_velocity", "duration"}, {"angle", "duration"}):
+        raise InputError(f"give two of angle, angular_velocity and duration (angle and angular_velocity, "
+                         f"angular_velocity and duration, or angle and duration), got "
+                         f"{sorted(given) or 'none'}")
+    for name, value in (("angle", angle), ("angular_velocity", speed)):
         if value is not None and not (np.isfinite(value) and value != 0):
             raise InputError(f"{name} = {value}: expected a non-zero finite number")
     if duration is not None:
         duration = _check_positive(duration, "duration", "s")
-    if angle is not None and rate is not None:
-        if np.sign(angle) != np.sign(rate) and rate < 0:
-            raise InputError(f"angle {angle:g} rad and rate {rate:g} rad/s have opposite signs; "
-                             f"give the direction once (the sign of angle, or of rate)")
-        return float(angle), abs(angle / rate), True
-    if rate is not None:
-        return float(rate) * duration, duration, True
+    if angle is not None and speed is not None:
+        if np.sign(angle) != np.sign(speed) and speed < 0:
+            raise InputError(f"angle {angle:g} rad and angular_velocity {speed:g} rad/s have opposite signs; "
+                             f"give the direction once (the sign of angle, or of angular_velocity)")
+        return float(angle), abs(angle / speed), True
+    if speed is not None:
+        return float(speed) * duration, duration, True
     return float(angle), duration, False
 
 
 def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle: float | None = None,
-                            *, rate: float | None = None, duration: float | None = None,
+                            *, angular_velocity: float | None = None, duration: float | None = None,
                             frame: str = "base", dt: float = DEFAULT_DT,
                             control: ResolvedRate | None = None, gain: float = DEFAULT_GAIN,
-                            stop_at_limits: bool = True) -> MotionResult:
+                            stop_at_limits: bool = True, rate: float | None = None) -> MotionResult:
     """Turn the tool about an axis through its own origin, keeping its position.
 
-    Give two of ``angle``, ``rate`` and ``duration``. With a ``rate`` the tool turns at
-    that constant angular speed (the twist ``[0, 0, 0, rate * axis]``); with ``angle`` and
-    ``duration`` only, it follows the quintic time law (starts and ends at rest).
+    Give two of ``angle``, ``angular_velocity`` and ``duration``. With an
+    ``angular_velocity`` the tool turns at that constant rate (the twist
+    ``[0, 0, 0, angular_velocity * axis]``); with ``angle`` and ``duration`` only, it
+    follows the quintic time law (starts and ends at rest).
 
     Parameters
     ----------
@@ -358,9 +365,9 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
         Rotation axis (any non-zero length), in the base frame or the start tool frame.
     angle : float, optional
         Signed angle [rad] about ``axis`` (right-hand rule).
-    rate : float, optional
-        Angular speed [rad/s]. Its sign gives the direction when ``angle`` is not given;
-        a negative rate with a positive angle is an error.
+    angular_velocity : float, optional
+        Angular velocity [rad/s] about ``axis``. Its sign gives the direction when ``angle``
+        is not given; a negative one with a positive angle is an error.
     duration : float, optional
         [s].
     frame : {"base", "tool"}
@@ -371,8 +378,11 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     gain : float
         Feedback gain [1/s] on the pose error (see :func:`track_poses`).
     stop_at_limits : bool
-        At a joint limit stop there, ``completed = False`` and a message naming the joint
+        At a joint limit stop there, ``success = False`` and a message naming the joint
         (True), or raise :class:`JointLimitError` (False).
+    rate : float, optional
+        Deprecated name of ``angular_velocity`` (``rate`` means a frequency in Hz,
+        ``rate_hz``, elsewhere in armkit); warns.
 
     Returns
     -------
@@ -384,8 +394,9 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
 
     >>> import armkit
     >>> robot = armkit.load("probot-anno")
-    >>> result = rotate_about_tool_point(robot, [0] * 6, [1, 0, 0], rate=-0.2, duration=np.pi / 2 / 0.2)
-    >>> bool(result.max_position_error < 1e-4), result.completed
+    >>> result = rotate_about_tool_point(robot, [0] * 6, [1, 0, 0], angular_velocity=-0.2,
+    ...                                  duration=np.pi / 2 / 0.2)
+    >>> bool(result.max_position_error < 1e-4), result.success
     (True, True)
     """
     q0 = _check_start(robot, q0)
@@ -394,7 +405,9 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     if norm < 1e-12:
         raise InputError(f"axis: expected a non-zero direction, got {axis.tolist()}")
     axis = axis / norm
-    signed_angle, total_time, constant_rate = _turn(angle, rate, duration)
+    angular_velocity = renamed_argument("rotate_about_tool_point", "rate", "angular_velocity", rate,
+                                        angular_velocity, None)
+    signed_angle, total_time, constant_rate = _turn(angle, angular_velocity, duration)
     dt = _check_positive(dt, "dt", "s")
     T0 = robot.fk(q0)
     if frame == "tool":
@@ -402,7 +415,7 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     elif frame != "base":
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
     t = even_time_grid(total_time, dt)
-    s = t / total_time if constant_rate else quintic(0.0, 1.0, total_time).sample(t)[0][:, 0]
+    s = t / total_time if constant_rate else quintic(0.0, 1.0, total_time).at_time(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     turns = matrix_from_axis_angle(np.outer(s * signed_angle, axis))
     reference[:, :3, :3] = turns @ T0[:3, :3]

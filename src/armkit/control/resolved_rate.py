@@ -183,7 +183,7 @@ class ResolvedRate:
         self._n = robot.n
         self._inverse_max_velocity = 1.0 / robot.max_velocity
         #: Tool pose and Jacobian of one configuration (:class:`armkit.kinematics.ChainKernel`).
-        self.kernel = ChainKernel(robot.chain)
+        self.kernel = ChainKernel(robot)
 
     # ------------------------------------------------------------------ fast path
     def _solve(self, J: NDArray[np.float64], twist: NDArray[np.float64]) -> RateStep:

@@ -157,7 +157,7 @@ def _check_simulatable(robot: Robot, total_length: float) -> None:
 def _joint_inertias(robot: Robot, bodies: tuple[BodyShape, ...],
                     q: NDArray[np.float64]) -> NDArray[np.float64]:
     """Inertia each joint drives [kg m^2 or kg], ``(m, n)`` for configurations ``(m, n)``."""
-    frames, _ = kinematics.joint_frames(robot.chain, q)
+    frames, _ = kinematics.joint_frames(robot, q)
     R, p = frames[..., :3, :3], frames[..., :3, 3]
     mass = np.array([b.mass for b in bodies])
     com = p + np.einsum("...ij,...j->...i", R, np.stack([b.com for b in bodies]))

@@ -6,16 +6,15 @@ then the compiled core (``armkit._core``, ``cpp/src/closed_form.cpp``) handles e
 the case solver's candidates are mapped to the user's joints, polished by two Newton
 steps on the full pose where they come from a quartic, wrapped into ``[-pi, pi]``,
 checked by forward kinematics where the chain is over-determined (SCARA, planar) or a
-quartic was solved (``VERIFY_TOLERANCE``), and duplicates are merged. Nothing is
+quartic was solved (``CANDIDATE_TOLERANCE``), and duplicates are merged. Nothing is
 allocated per pose, so one pose costs about a microsecond and a batch splits over
 threads.
 
 Example
 -------
 >>> import numpy as np, armkit
->>> chain = armkit.load("probot-anno").chain
->>> from armkit.kinematics import fk
->>> sol = closed_form_ik(chain, fk(chain, np.array([0.3, -0.5, 0.4, 0.2, 0.6, -0.1])))
+>>> robot = armkit.load("probot-anno")
+>>> sol = closed_form_ik(robot, robot.fk([0.3, -0.5, 0.4, 0.2, 0.6, -0.1]))
 >>> int(sol.valid.sum())
 8
 """
@@ -23,12 +22,14 @@ Example
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit.chain import Chain
+from armkit._deprecation import deprecated_constants
+from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.cases import (
     PARALLEL_BASE,
@@ -42,13 +43,18 @@ from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
 from armkit.ik.subproblems import sp4, trig_coeffs
 from armkit.spatial.transforms import check_transform
 
+if TYPE_CHECKING:
+    from armkit.robot import Robot
+
 __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
-           "solver_or_reason", "VERIFY_TOLERANCE", "DUPLICATE_TOLERANCE"]
+           "solver_or_reason", "CANDIDATE_TOLERANCE", "DUPLICATE_TOLERANCE"]
 
 #: A candidate counts only if its FK matches the target to this, times ``1 + arm size``
 #: (entries of the 4x4 matrix, metres / dimensionless). It only rejects non-solutions:
-#: the solutions themselves reproduce reachable poses to about 1e-13.
-VERIFY_TOLERANCE = 1e-8
+#: the solutions themselves reproduce reachable poses to about 1e-13, and what IK returns
+#: is checked again, to :data:`armkit.ik.results.SOLUTION_TOLERANCE`. (Its old name
+#: ``VERIFY_TOLERANCE`` was also the old name of that one; it still works, with a warning.)
+CANDIDATE_TOLERANCE = 1e-8
 #: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution.
 DUPLICATE_TOLERANCE = 1e-9
 
@@ -66,7 +72,9 @@ class ClosedFormSolutions:
         Candidate joint values [rad or m]; revolute ones in ``[-pi, pi]``, not fitted to
         the joint limits and not filtered by them.
     valid : ndarray of bool (..., k_max)
-        The candidate is a solution (reproduces the pose; duplicates are invalid).
+        Per candidate: it is a solution (reproduces the pose; duplicates are invalid). A
+        mask over the candidates like :attr:`family` (not "it worked": that is
+        :attr:`success`), so it keeps its name.
     family : ndarray of bool (..., k_max)
         The candidate is a representative of a one-parameter family of solutions (wrist
         singularity: only ``q4 + q6`` defined; shoulder singularity: ``q1`` free, ...).
@@ -75,6 +83,18 @@ class ClosedFormSolutions:
     q: Array
     valid: Mask
     family: Mask
+
+    @property
+    def success(self) -> bool | Mask:
+        """Whether the pose has at least one solution: a bool for one pose, ``(N,)`` for a batch.
+
+        >>> import armkit
+        >>> robot = armkit.load("ur5")
+        >>> closed_form_ik(robot, robot.fk([0.3] * 6)).success, closed_form_ik(robot, np.eye(4)).success
+        (True, False)
+        """
+        found = self.valid.any(axis=-1)
+        return bool(found) if found.ndim == 0 else found
 
 
 # ------------------------------------------------------------- preparation
@@ -152,7 +172,7 @@ class ClosedFormSolver:
         self.core = _core.ClosedForm(chain._core, self.geometry,
                                      np.ascontiguousarray(poe.index, np.int64),
                                      np.ascontiguousarray(poe.sign, np.float64), M_inv, bool(poe.inverted),
-                                     self.k, verify or polish, polish, VERIFY_TOLERANCE * size)
+                                     self.k, verify or polish, polish, CANDIDATE_TOLERANCE * size)
 
     # ------------------------------------------------------------------ public
     def solve(self, T_base_tool: ArrayLike) -> ClosedFormSolutions:
@@ -244,22 +264,24 @@ class ClosedFormSolver:
                 "revolute_joints": np.array(rev, dtype=np.int64), "prismatic_joint": pri[0] if pri else -1}
 
 
-def closed_form_solver(chain: Chain) -> ClosedFormSolver:
-    """The closed-form solver of ``chain`` (made once per chain and kept with it).
+def closed_form_solver(robot: Robot | Chain) -> ClosedFormSolver:
+    """The closed-form solver of ``robot`` (made once per chain and kept with it; a
+    :class:`~armkit.chain.Chain` is accepted too).
 
     Raises
     ------
     NoClosedFormError
         If the chain's geometry has no closed form here (the message says why).
     """
-    solver = solver_or_reason(chain)
+    solver = solver_or_reason(robot)
     if isinstance(solver, NoClosedFormError):
         raise solver
     return solver
 
 
-def solver_or_reason(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
+def solver_or_reason(robot: Robot | Chain) -> ClosedFormSolver | NoClosedFormError:
     """The chain's closed-form solver, or the error saying why it has none (made once)."""
+    chain = as_chain(robot)
     return chain.derived("closed_form_solver", lambda: _make_solver(chain))
 
 
@@ -270,13 +292,14 @@ def _make_solver(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
     return ClosedFormSolver(chain, plan)
 
 
-def closed_form_ik(chain: Chain, T_base_tool: ArrayLike) -> ClosedFormSolutions:
-    """Every closed-form IK solution of ``chain`` for one pose or a batch of poses.
+def closed_form_ik(robot: Robot | Chain, T_base_tool: ArrayLike) -> ClosedFormSolutions:
+    """Every closed-form IK solution of ``robot`` for one pose or a batch of poses.
 
     Parameters
     ----------
-    chain : Chain
-        A chain with a closed form (see :func:`armkit.ik.analyze_structure`).
+    robot : Robot or Chain
+        An arm with a closed form (see :func:`armkit.ik.analyze_structure`); a
+        :class:`~armkit.chain.Chain` is accepted too.
     T_base_tool : array_like (4, 4) or (N, 4, 4)
         Target tool pose(s) in the base frame [m].
 
@@ -298,8 +321,12 @@ def closed_form_ik(chain: Chain, T_base_tool: ArrayLike) -> ClosedFormSolutions:
     --------
     >>> import armkit
     >>> robot = armkit.load("ur5")
-    >>> sol = closed_form_ik(robot.chain, robot.fk(np.full(6, 0.3)))
+    >>> sol = closed_form_ik(robot, robot.fk(np.full(6, 0.3)))
     >>> sol.q.shape, int(sol.valid.sum())
     ((8, 6), 8)
     """
-    return closed_form_solver(chain).solve(T_base_tool)
+    return closed_form_solver(robot).solve(T_base_tool)
+
+
+__getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "CANDIDATE_TOLERANCE"},
+                                   {"CANDIDATE_TOLERANCE": CANDIDATE_TOLERANCE})

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from armkit.chain import LIMIT_TOLERANCE, Chain
+from armkit.chain import Chain
 from armkit.errors import JointLimitError, UnreachableError
 from armkit.ik.numeric import IKResult, numeric_ik
 
@@ -31,7 +31,7 @@ def angle_text(angle: float) -> str:
 
 def unreachable(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
                 label: str) -> UnreachableError:
-    closest = numeric_ik(chain, T, q0=seed, respect_limits=False,
+    closest = numeric_ik(chain, T, q0=seed, within_limits=False,
                          max_restarts=_CLOSEST_POSE_RESTARTS, rng=0)
     return UnreachableError(
         f"{label}the target pose is out of reach: the closest pose found is "
@@ -40,10 +40,7 @@ def unreachable(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
 
 
 def outside_limits(chain: Chain, q: NDArray[np.float64], label: str) -> JointLimitError:
-    lower, upper = chain.lower, chain.upper
-    bad = [f"{j.name} = {v:.4g} not in [{lo:.4g}, {hi:.4g}]"
-           for j, v, lo, hi in zip(chain.joints, q, lower, upper, strict=True)
-           if not lo - LIMIT_TOLERANCE <= v <= hi + LIMIT_TOLERANCE]
+    bad = chain.limit_violations(q)
     return JointLimitError(
         f"{label}the target pose is reachable, but only outside the joint limits (e.g. "
         f"{', '.join(bad)}): ask for solutions outside the limits with within_limits=False or "

@@ -44,14 +44,18 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit.chain import Chain
+from armkit._deprecation import deprecated_property, renamed_argument
+from armkit.chain import Chain, as_chain
 from armkit.errors import InputError
+
+if TYPE_CHECKING:
+    from armkit.robot import Robot
 
 __all__ = ["IKResult", "IKResultBatch", "NumericIK", "numeric_ik", "wrap_into_limits"]
 
@@ -64,7 +68,7 @@ class IKResult:
     ----------
     q : ndarray, shape (n,)
         The best configuration found [rad or m]; inside the joint limits unless the solver
-        was called with ``respect_limits=False``.
+        was called with ``within_limits=False``.
     success : bool
         Whether the masked position and orientation errors are within the tolerances.
     iterations : int
@@ -174,7 +178,7 @@ def _seed(rng: np.random.Generator | int | None) -> int:
                          f"got {rng!r}") from exc
 
 
-def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArray[np.float64]:
+def wrap_into_limits(robot: Robot | Chain, q: ArrayLike, reference: ArrayLike) -> NDArray[np.float64]:
     """Shift revolute angles ``(..., n)`` by multiples of ``2 pi`` into the joint limits.
 
     Among several shifts that fit (limits wider than ``2 pi``) the one closest to
@@ -185,9 +189,10 @@ def wrap_into_limits(chain: Chain, q: ArrayLike, reference: ArrayLike) -> NDArra
     --------
     >>> import armkit
     >>> panda = armkit.load("panda")   # joint 6 in [-0.0175, 3.7525]
-    >>> float(wrap_into_limits(panda.chain, [0, 0, 0, -1, 0, -3.0, 0], 0.0)[5].round(4))
+    >>> float(wrap_into_limits(panda, [0, 0, 0, -1, 0, -3.0, 0], 0.0)[5].round(4))
     3.2832
     """
+    chain = as_chain(robot)
     q = np.asarray(q, dtype=np.float64)
     reference = np.asarray(reference, dtype=np.float64)
     try:
@@ -210,37 +215,43 @@ class NumericIK:
 
     Holds the chain and settings in the compiled core (an ``_core.NumericSolver``), so that a
     loop over targets pays for them once; :meth:`solve_batch` solves many targets at once.
-    Parameters are those of :func:`numeric_ik`.
+    Parameters are those of :func:`numeric_ik`; ``within_limits`` is kept as an attribute
+    (``respect_limits``, its old name, still reads it, with a warning).
 
     Examples
     --------
     >>> import armkit
     >>> panda = armkit.load("panda")
-    >>> solver = NumericIK(panda.chain, position_tolerance=1e-10)
+    >>> solver = NumericIK(panda, position_tolerance=1e-10)
     >>> T = panda.fk([0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5])
     >>> result = solver.solve(T, rng=0)
     >>> result.success, bool(result.position_error < 1e-10), bool(panda.within_limits(result.q))
     (True, True, True)
     """
 
-    def __init__(self, chain: Chain, *, position_tolerance: float = 1e-9,
+    def __init__(self, robot: Robot | Chain, *, position_tolerance: float = 1e-9,
                  orientation_tolerance: float = 1e-9, mask: ArrayLike | None = None,
                  damping_gain: float = 0.1, damping: float = 1e-9, max_iterations: int = 30,
-                 max_restarts: int = 100, time_budget: float = 0.5, respect_limits: bool = True) -> None:
+                 max_restarts: int = 100, time_budget: float = 0.5, within_limits: bool = True,
+                 respect_limits: bool | None = None) -> None:
+        within_limits = renamed_argument("NumericIK", "respect_limits", "within_limits", respect_limits,
+                                         within_limits, True)
         if max_iterations < 1:
             raise InputError(f"max_iterations: expected at least 1 step per attempt, got {max_iterations}")
         if max_restarts < 0:
             raise InputError(f"max_restarts: expected 0 or more random restarts, got {max_restarts}")
         if not time_budget >= 0.0:
             raise InputError(f"time_budget: expected a wall-clock budget >= 0 s, got {time_budget}")
-        self.chain = chain
+        self.chain = chain = as_chain(robot)
         self.rows = _task_rows(mask)
         self.max_iterations, self.max_restarts = int(max_iterations), int(max_restarts)
-        self.time_budget, self.respect_limits = float(time_budget), bool(respect_limits)
+        self.time_budget, self.within_limits = float(time_budget), bool(within_limits)
         self._solver = _core.NumericSolver(
             chain._core, self.rows, float(position_tolerance), float(orientation_tolerance),
             float(damping_gain), float(damping), self.max_iterations, self.max_restarts, self.time_budget,
-            self.respect_limits)
+            self.within_limits)
+
+    respect_limits = deprecated_property("respect_limits", "within_limits")
 
     def solve(self, T_base_tool: NDArray[np.float64], q0: ArrayLike | None = None,
               rng: np.random.Generator | int | None = None) -> IKResult:
@@ -301,7 +312,7 @@ class NumericIK:
         >>> import armkit
         >>> panda = armkit.load("panda")
         >>> T = panda.fk(panda.random_q(20, rng=1))
-        >>> result = NumericIK(panda.chain).solve_batch(T, rng=0)
+        >>> result = NumericIK(panda).solve_batch(T, rng=0)
         >>> bool(result.success.all()), result.q.shape
         (True, (20, 7))
         """
@@ -335,18 +346,19 @@ class NumericIK:
         """``q`` moved into the limits (a copy, the core's ``project``) and the joints at a
         bound as ``(index, -1.0 at the lower / +1.0 at the upper)``: the projection of every
         step, callable from Python."""
-        if not self.respect_limits:
+        if not self.within_limits:
             return q, []
         q, sides = np.array(q, dtype=np.float64), np.zeros(self.chain.n)
         self._solver.project(q, sides)
         return q, [(i, float(sides[i])) for i in np.flatnonzero(sides).tolist()]
 
 
-def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike | None = None,
+def numeric_ik(robot: Robot | Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike | None = None,
                position_tolerance: float = 1e-9, orientation_tolerance: float = 1e-9,
                mask: ArrayLike | None = None, damping_gain: float = 0.1, damping: float = 1e-9,
                max_iterations: int = 30, max_restarts: int = 100, time_budget: float = 0.5,
-               respect_limits: bool = True, rng: np.random.Generator | int | None = None) -> IKResult:
+               within_limits: bool = True, rng: np.random.Generator | int | None = None,
+               respect_limits: bool | None = None) -> IKResult:
     """Solve ``fk(q) = T_base_tool`` numerically inside the joint limits.
 
     Levenberg-Marquardt from ``q0`` (moved into the limits); an attempt that stops
@@ -358,7 +370,8 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
 
     Parameters
     ----------
-    chain : Chain
+    robot : Robot or Chain
+        The arm (a :class:`~armkit.chain.Chain` is accepted too, see :func:`armkit.chain.as_chain`).
     T_base_tool : ndarray, shape (4, 4)
         Target tool pose [m], assumed rigid (see :func:`armkit.spatial.check_transform`).
     q0 : array_like, shape (n,), optional
@@ -376,31 +389,35 @@ def numeric_ik(chain: Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike 
         Random seeds drawn after the first attempt at most.
     time_budget : float
         Wall-clock budget [s], checked between attempts.
-    respect_limits : bool
+    within_limits : bool
         Keep every step inside the joint limits (default). ``False`` accepts any solution,
-        e.g. to refine a known one.
+        e.g. to refine a known one. The same word as :meth:`armkit.Robot.ik`'s.
     rng : numpy Generator or int, optional
         Source of the random restart seeds: an int in ``[0, 2**64)`` is the seed itself, a
         Generator gives one draw per solve; the same ``rng`` gives the same answer (except a
         solve cut short by ``time_budget``). Default fresh entropy.
+    respect_limits : bool, optional
+        Deprecated name of ``within_limits``; warns.
 
     Returns
     -------
     IKResult
         The solution, or (``success=False``) the configuration with the smallest error
-        seen (inside the limits when ``respect_limits``).
+        seen (inside the limits when ``within_limits``).
 
     Examples
     --------
     >>> import armkit
     >>> panda = armkit.load("panda")
     >>> T = panda.fk([0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5])
-    >>> result = numeric_ik(panda.chain, T, rng=0)
+    >>> result = numeric_ik(panda, T, rng=0)
     >>> result.success, bool(result.position_error < 1e-9)
     (True, True)
     """
-    solver = NumericIK(chain, position_tolerance=position_tolerance,
+    within_limits = renamed_argument("numeric_ik", "respect_limits", "within_limits", respect_limits,
+                                     within_limits, True)
+    solver = NumericIK(robot, position_tolerance=position_tolerance,
                        orientation_tolerance=orientation_tolerance, mask=mask,
                        damping_gain=damping_gain, damping=damping, max_iterations=max_iterations,
-                       max_restarts=max_restarts, time_budget=time_budget, respect_limits=respect_limits)
+                       max_restarts=max_restarts, time_budget=time_budget, within_limits=within_limits)
     return solver.solve(T_base_tool, q0, rng)

@@ -6,7 +6,7 @@ takes every candidate of the closed form (:mod:`armkit.ik.closed_form`) and
 1. wraps it into the joint limits: a revolute angle is shifted by a multiple of ``2 pi``
    when that makes it fit (among several fitting shifts, the one closest to ``near``);
 2. verifies it by forward kinematics: it must reproduce the target within
-   :data:`~armkit.ik.results.VERIFY_TOLERANCE`;
+   :data:`~armkit.ik.results.SOLUTION_TOLERANCE`;
 3. flags it inside or outside the limits and sorts the usable ones first, by distance to
    ``near`` (``|w * (q - near)|``, weights ``w``);
 4. at a singular pose, moves each family representative to the member of its family
@@ -66,7 +66,7 @@ class Found(NamedTuple):
 
     @property
     def keep(self) -> NDArray[np.bool_]:
-        """Also reproduces the pose to ``VERIFY_TOLERANCE``."""
+        """Also reproduces the pose to ``SOLUTION_TOLERANCE``."""
         return self.flags[..., 1]
 
     @property
@@ -96,7 +96,7 @@ def refine(chain: Chain, found: Found, T_target: NDArray[np.float64]) -> NDArray
         q = found.q[index]
         result = numeric_ik(chain, T_target[index[0]], q0=q, max_iterations=8, max_restarts=0,
                             position_tolerance=1e-13, orientation_tolerance=1e-13,
-                            respect_limits=False)
+                            within_limits=False)
         better = (result.position_error + result.orientation_error
                   < found.position_error[index] + found.orientation_error[index])
         if better and np.abs(result.q - q).max() < _REFINE_MAX_MOVE:

@@ -1,6 +1,6 @@
 """What :func:`armkit.ik.ik_solutions` returns: every solution of a pose, with flags.
 
-Every returned solution reproduces its target to :data:`VERIFY_TOLERANCE` (checked by
+Every returned solution reproduces its target to :data:`SOLUTION_TOLERANCE` (checked by
 forward kinematics in the compiled core, ``cpp/include/armkit/ik_solve.hpp``).
 """
 
@@ -13,11 +13,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit import _core
+from armkit._deprecation import deprecated_constants
 
-__all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "residuals"]
+__all__ = ["SOLUTION_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "residuals"]
 
-#: Position [m] and angle [rad] within which every returned solution reproduces the target.
-VERIFY_TOLERANCE = 1e-9
+#: Position [m] and angle [rad] within which every returned solution reproduces the target
+#: (the compiled core's ``kSolutionTolerance``; ``VERIFY_TOLERANCE`` is its deprecated old
+#: name, which :mod:`armkit.ik.closed_form` used for its candidate test too).
+SOLUTION_TOLERANCE: float = _core.SOLUTION_TOLERANCE
+__getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "SOLUTION_TOLERANCE"},
+                                   {"SOLUTION_TOLERANCE": SOLUTION_TOLERANCE})
 
 
 @dataclass(frozen=True)
@@ -46,6 +51,11 @@ class IKSolutions:
     position_error: NDArray[np.float64]
     orientation_error: NDArray[np.float64]
 
+    @property
+    def success(self) -> bool:
+        """Whether the pose has a solution (``k > 0``), inside the limits or not."""
+        return len(self.q) > 0
+
 
 @dataclass(frozen=True)
 class IKSolutionsBatch(Sequence[IKSolutions]):
@@ -66,7 +76,7 @@ class IKSolutionsBatch(Sequence[IKSolutions]):
     >>> import armkit
     >>> robot = armkit.load("ur5")
     >>> from armkit.ik import ik_solutions
-    >>> found = ik_solutions(robot.chain, robot.fk(robot.random_q(3, rng=0)))
+    >>> found = ik_solutions(robot, robot.fk(robot.random_q(3, rng=0)))
     >>> len(found), found.q.shape, found[0].q.shape == (found.counts[0], 6)
     (3, (3, 8, 6), True)
     """
@@ -77,6 +87,11 @@ class IKSolutionsBatch(Sequence[IKSolutions]):
     family: NDArray[np.bool_]
     position_error: NDArray[np.float64]
     orientation_error: NDArray[np.float64]
+
+    @property
+    def success(self) -> NDArray[np.bool_]:
+        """Per pose, whether it has a solution (``counts > 0``), ``(N,)``."""
+        return self.counts > 0
 
     def __len__(self) -> int:
         return len(self.q)

@@ -15,20 +15,28 @@ differences in radians and metres (weights ``w`` default 1), after the ``2 pi`` 
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit.chain import Chain
+from armkit._deprecation import deprecated_constants, renamed_argument
+from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
 from armkit.ik.messages import Labels, numeric_failure, outside_limits, raise_if_unusable
 from armkit.ik.numeric import numeric_ik, wrap_into_limits
 from armkit.ik.pipeline import Found, verified_solutions
-from armkit.ik.results import VERIFY_TOLERANCE, IKSolutions, IKSolutionsBatch
+from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions, IKSolutionsBatch
 from armkit.spatial.transforms import RIGID_TOLERANCE, check_transform
 
-__all__ = ["VERIFY_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
+if TYPE_CHECKING:
+    from armkit.robot import Robot
+
+__all__ = ["SOLUTION_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
+__getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "SOLUTION_TOLERANCE"},
+                                   {"SOLUTION_TOLERANCE": SOLUTION_TOLERANCE})
 
 
 def _plain(v: object, n: int) -> bool:
@@ -102,13 +110,14 @@ class _Targets:
         return verified_solutions(solver, self.T, *args)
 
 
-def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
+def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
                  weights: ArrayLike | None = None, threads: int = 0) -> IKSolutions | IKSolutionsBatch:
     """Every closed-form solution of a target pose, inside the limits or not, with flags.
 
     Parameters
     ----------
-    chain : Chain
+    robot : Robot or Chain
+        The arm (its :class:`~armkit.chain.Chain` is accepted too, see :func:`armkit.chain.as_chain`).
     T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
         Target tool pose(s) [m].
     near : array_like, shape (n,) or (N, n), optional
@@ -137,10 +146,11 @@ def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None
     >>> import armkit
     >>> from armkit.ik import ik_solutions
     >>> robot = armkit.load("probot-anno")
-    >>> found = ik_solutions(robot.chain, robot.fk([0.927, -0.687, -0.396, 0, 1.083, 0.927]))
+    >>> found = ik_solutions(robot, robot.fk([0.927, -0.687, -0.396, 0, 1.083, 0.927]))
     >>> len(found.q), int(found.within_limits.sum()), bool(found.position_error.max() < 1e-12)
     (8, 4, True)
     """
+    chain = as_chain(robot)
     targets = _Targets(chain, T_base_tool, near, weights)
     solver = solver_or_reason(chain)
     if isinstance(solver, NoClosedFormError):
@@ -155,17 +165,17 @@ def ik_solutions(chain: Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None
 
 def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
                  within_limits: bool, label: str, options: dict) -> NDArray[np.float64]:
-    result = numeric_ik(chain, T, q0=seed, respect_limits=within_limits, **options)
+    result = numeric_ik(chain, T, q0=seed, within_limits=within_limits, **options)
     if result.success:
         return wrap_into_limits(chain, result.q, seed)
     if within_limits:
-        outside = numeric_ik(chain, T, q0=seed, respect_limits=False, **options)
+        outside = numeric_ik(chain, T, q0=seed, within_limits=False, **options)
         if outside.success:
             raise outside_limits(chain, wrap_into_limits(chain, outside.q, seed), label)
     raise numeric_failure(chain, result, label, "mask" in options)
 
 
-def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
+def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = False,
        near: ArrayLike | None = None, within_limits: bool = True,
        weights: ArrayLike | None = None, threads: int = 0,
        **numeric_options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
@@ -173,11 +183,13 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
 
     Parameters
     ----------
-    chain : Chain
+    robot : Robot or Chain
+        The arm (its :class:`~armkit.chain.Chain` is accepted too).
     T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
         Target tool pose(s) [m].
-    all : bool
+    all_solutions : bool
         Return every closed-form solution (sorted by distance to ``near``) instead of one.
+        (``all=`` is its deprecated old name, which shadowed the builtin; it warns.)
     near : array_like, shape (n,) or (N, n), optional
         Reference configuration [rad or m], default zeros: the solution closest to it is
         returned (closed form), or the numeric solver starts from it.
@@ -196,8 +208,8 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
     Returns
     -------
     ndarray
-        ``all=False``: shape ``(n,)`` for one pose, ``(N, n)`` for ``N`` poses.
-        ``all=True``: shape ``(k, n)`` for one pose; a list of them for ``N`` poses.
+        ``all_solutions=False``: shape ``(n,)`` for one pose, ``(N, n)`` for ``N`` poses.
+        ``all_solutions=True``: shape ``(k, n)`` for one pose; a list of them for ``N`` poses.
 
     Raises
     ------
@@ -208,33 +220,38 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
     JointLimitError
         If a target is reachable only outside the joint limits (and ``within_limits``).
     NoClosedFormError
-        If ``all=True`` is asked of a chain without a closed-form solution.
+        If ``all_solutions=True`` is asked of a chain without a closed-form solution.
 
     Examples
     --------
     >>> import armkit
     >>> robot = armkit.load("puma560")
     >>> q = [0.1, -0.4, 0.3, 0.2, 0.5, -0.1]
-    >>> bool(np.allclose(ik(robot.chain, robot.fk(q), near=q), q))
+    >>> bool(np.allclose(ik(robot, robot.fk(q), near=q), q))
     True
     """
+    chain = as_chain(robot)
+    if numeric_options and "all" in numeric_options:
+        all_solutions = renamed_argument("ik", "all", "all_solutions", numeric_options.pop("all"),
+                                         all_solutions, False)
     T = T_base_tool
     if (type(T) is np.ndarray and T.shape == (4, 4) and T.dtype.char == "d" and not numeric_options
             and (near is None or _plain(near, chain.n)) and (weights is None or _plain(weights, chain.n))):
         # one pose as float64 arrays: checked and solved in one core call (None: take the general path)
         solver = solver_or_reason(chain)
         if type(solver) is ClosedFormSolver:
-            q = _core.solve_one(solver.core, T, near, weights, within_limits, not all, RIGID_TOLERANCE)
+            q = _core.solve_one(solver.core, T, near, weights, within_limits, not all_solutions,
+                                RIGID_TOLERANCE)
             if q is not None:
                 return q
     targets = _Targets(chain, T_base_tool, near, weights)
     solver = solver_or_reason(chain)
     closed = "mask" not in numeric_options and not isinstance(solver, NoClosedFormError)
-    if all and not closed:
+    if all_solutions and not closed:
         reason = ("a task mask needs the numeric solver" if "mask" in numeric_options
                   else str(solver))
         raise NoClosedFormError(
-            f"all=True asks for every solution, but {reason}; numeric IK returns one "
+            f"all_solutions=True asks for every solution, but {reason}; numeric IK returns one "
             f"solution per seed: solve once per seed configuration, near=q_seed or "
             f"'armkit ik --near Q...'")
     batch = targets.batch
@@ -245,11 +262,11 @@ def ik(chain: Chain, T_base_tool: ArrayLike, *, all: bool = False,
         q = np.stack([_numeric_one(chain, targets.T[i], near_rows[i], within_limits, labels[i],
                                    numeric_options) for i in range(len(targets.T))])
         return q.reshape(*batch, chain.n)
-    c, empty = targets.solve(solver, within_limits, nearest=not all, threads=threads)
+    c, empty = targets.solve(solver, within_limits, nearest=not all_solutions, threads=threads)
     if empty:
         raise_if_unusable(chain, c, targets.T, targets.near_rows(chain.n), labels)
     if not batch:
-        return c.q[0, :c.count[0]] if all else c.q[0, 0]
-    if not all:
+        return c.q[0, :c.count[0]] if all_solutions else c.q[0, 0]
+    if not all_solutions:
         return c.q[:, 0].reshape(*batch, chain.n)
     return [q[:k] for q, k in zip(c.q, c.count.tolist(), strict=True)]

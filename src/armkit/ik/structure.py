@@ -24,19 +24,23 @@ none                anything else (redundant arms, general 6R, ...)            0
 Example
 -------
 >>> import armkit
->>> analyze_structure(armkit.load("ur5").chain).kind
+>>> analyze_structure(armkit.load("ur5")).kind
 'three-parallel'
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from armkit.chain import Chain
+from armkit.chain import Chain, as_chain
 from armkit.kinematics import geometric_jacobian, joint_frames
+
+if TYPE_CHECKING:
+    from armkit.robot import Robot
 
 __all__ = ["ArmStructure", "PoeChain", "SolverPlan", "analyze_structure", "generic_rank", "plan_closed_form",
            "poe_from_chain"]
@@ -336,12 +340,13 @@ def plan_closed_form(chain: Chain, tol: float = 1e-9) -> SolverPlan:
     return SolverPlan(_no_closed_form(chain, poe, tol), poe)
 
 
-def analyze_structure(chain: Chain, tol: float = 1e-9) -> ArmStructure:
-    """Which closed-form IK case applies to ``chain``, decided from its joint axes.
+def analyze_structure(robot: Robot | Chain, tol: float = 1e-9) -> ArmStructure:
+    """Which closed-form IK case applies to ``robot``, decided from its joint axes.
 
     Parameters
     ----------
-    chain : Chain
+    robot : Robot or Chain
+        The arm (its :class:`~armkit.chain.Chain` is accepted too).
     tol : float
         Angle tolerance [rad] for parallel axes (and, scaled by the arm's size, the
         distance [m] for meeting axes).
@@ -353,10 +358,10 @@ def analyze_structure(chain: Chain, tol: float = 1e-9) -> ArmStructure:
     Examples
     --------
     >>> import armkit
-    >>> s = analyze_structure(armkit.load("probot-anno").chain)
+    >>> s = analyze_structure(armkit.load("probot-anno"))
     >>> s.kind, s.closed_form, s.max_solutions
     ('spherical-wrist', True, 8)
-    >>> analyze_structure(armkit.load("panda").chain).closed_form
+    >>> analyze_structure(armkit.load("panda")).closed_form
     False
     """
-    return plan_closed_form(chain, tol).structure
+    return plan_closed_form(as_chain(robot), tol).structure

@@ -100,7 +100,7 @@ def _nearest_published(solution: NDArray, listed: NDArray) -> tuple[int, float]:
 
 def _solutions(robot: Robot, T: NDArray, rng: np.random.Generator) -> tuple[NDArray, str]:
     try:
-        return np.atleast_2d(robot.ik(T, all=True)), "closed form, all solutions inside the limits"
+        return np.atleast_2d(robot.ik(T, all_solutions=True)), "closed form, all solutions inside the limits"
     except NoClosedFormError:
         return np.atleast_2d(robot.ik(T, near=robot.random_q(rng=rng))), "numeric (no closed form)"
 

@@ -116,7 +116,7 @@ def _linear_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object] | None:
         if not twist_possible(robot, q0, np.append(displacement, np.zeros(3))):
             continue
         plan = q0, displacement, move_linear(robot, q0, displacement, LINE_SECONDS)
-        if plan[2].completed and plan[2].max_position_error < 1e-4:
+        if plan[2].success and plan[2].max_position_error < 1e-4:
             break
     return plan
 
@@ -368,7 +368,8 @@ def _rotation_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object, str] | No
         w = np.array(published.PROBOT_ROTATION_TWIST[3:])
         angle = np.radians(45.0) if ctx.quick else 2 * np.pi
         axis = w / np.linalg.norm(w)
-        motion = rotate_about_tool_point(robot, np.zeros(6), axis, angle, rate=float(np.linalg.norm(w)))
+        motion = rotate_about_tool_point(robot, np.zeros(6), axis, angle,
+                                         angular_velocity=float(np.linalg.norm(w)))
         return np.zeros(6), axis, motion, "The axis is the report's: -x of the base frame."
     q0 = ready_configuration(robot, ctx.rng)
     T0 = robot.fk(q0)
@@ -378,17 +379,17 @@ def _rotation_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object, str] | No
         return None
     best, best_turn = None, -1.0
     for axis, why in candidates:
-        motion = rotate_about_tool_point(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE)
+        motion = rotate_about_tool_point(robot, q0, axis, USER_ROTATION_ANGLE, angular_velocity=ROTATION_RATE)
         turn = float(np.abs(_signed_turn(motion.poses, T0, axis)).max())
         held = motion.orientation_error < 1e-3 and motion.max_position_error < 1e-3
-        if motion.completed and held:
+        if motion.success and held:
             return q0, axis, motion, (f"The axis is {why}, the first candidate the arm follows for "
                                       f"{np.degrees(USER_ROTATION_ANGLE):.0f} deg with the tool point held.")
         if held and turn > best_turn:
             best, best_turn = (q0, axis, motion, why), turn
     if best is None:
         axis, why = candidates[0]
-        turn = rotate_about_tool_point(robot, q0, axis, USER_ROTATION_ANGLE, rate=ROTATION_RATE)
+        turn = rotate_about_tool_point(robot, q0, axis, USER_ROTATION_ANGLE, angular_velocity=ROTATION_RATE)
         best = (q0, axis, turn, why)
     q0, axis, motion, why = best
     return q0, axis, motion, (f"No candidate axis (base x, perpendicular to the last joint's axis, base y, "

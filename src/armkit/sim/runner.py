@@ -227,7 +227,7 @@ class Simulation:
             raise InputError(f"duration {duration}, settle {settle}: expected a positive move time "
                              f"and a non-negative settling time [s]")
         t = even_time_grid(duration, self.timestep)
-        q, qd = quintic(q_start, q_goal, duration).sample(t)[:2]
+        q, qd = quintic(q_start, q_goal, duration).at_time(t)[:2]
         if settle > 0:
             t, q, qd = np.append(t, duration + settle), np.vstack([q, q_goal]), np.vstack([qd, 0 * q_goal])
         return self.run(t, q, qd)

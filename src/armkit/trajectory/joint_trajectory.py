@@ -17,8 +17,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armkit._deprecation import deprecated_property
 from armkit._time import rate_time_grid
-from armkit.chain import LIMIT_TOLERANCE
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.trajectory import export
@@ -77,14 +77,16 @@ class JointTrajectory:
         self._ppoly = PPoly(self.coefficients[::-1], self._breaks, extrapolate=False)
 
     def __repr__(self) -> str:
-        return (f"JointTrajectory({self.dof} joints, {self.durations.size} segments, "
+        return (f"JointTrajectory({self.n} joints, {self.durations.size} segments, "
                 f"duration {self.duration:.6g} s)")
 
     # ----------------------------------------------------------------- timing
     @property
-    def dof(self) -> int:
-        """Number of joints."""
+    def n(self) -> int:
+        """Number of joints (as :attr:`armkit.Robot.n`)."""
         return self.coefficients.shape[2]
+
+    dof = deprecated_property("dof", "n")
 
     @property
     def duration(self) -> float:
@@ -112,7 +114,8 @@ class JointTrajectory:
         return tuple(self._ppoly(t, nu) for nu in range(orders))
 
     def at_time(self, t: ArrayLike) -> tuple[NDArray[np.float64], ...]:
-        """Position, velocity and acceleration at ``t`` [s].
+        """Position, velocity and acceleration at ``t`` [s] (``at_time`` takes times, :meth:`sample`
+        a rate, in every armkit trajectory; a single segment's ``at_time`` adds the jerk).
 
         Returns ``q, qd, qdd``, each ``(n,)`` for a scalar ``t`` and ``(K, n)`` for ``(K,)`` times.
         """
@@ -136,7 +139,7 @@ class JointTrajectory:
         if rate <= 0:
             raise InputError(f"rate_hz: expected a positive sampling rate (Hz), got {rate:g}")
         count = self.duration * rate + 2
-        per_sample = (1 + 4 * self.dof) * 8  # bytes: t, q, qd, qdd, qddd
+        per_sample = (1 + 4 * self.n) * 8  # bytes: t, q, qd, qdd, qddd
         if count * per_sample > MAX_SAMPLE_BYTES:
             fits = (MAX_SAMPLE_BYTES / per_sample - 2) / max(self.duration, TIME_TOLERANCE)
             raise InputError(f"rate_hz {rate:g} Hz over {self.duration:.4g} s asks for {count:.4g} samples "
@@ -164,7 +167,8 @@ class JointTrajectory:
     def position_limit_violations(self, robot: Robot, degrees: bool = False) -> list[str]:
         """One message per joint whose exact range leaves ``robot``'s position limits.
 
-        Uses the same tolerance as :meth:`Robot.within_limits` (``LIMIT_TOLERANCE``).
+        The test and the message are :meth:`armkit.chain.Chain.limit_violations`' (as for
+        one configuration, :meth:`Robot.limit_violations`).
 
         Parameters
         ----------
@@ -184,19 +188,10 @@ class JointTrajectory:
         >>> len(traj.position_limit_violations(robot))
         1
         """
-        if robot.n != self.dof:
-            raise InputError(f"robot: {robot.name} has {robot.n} joints, the trajectory {self.dof}")
-        messages = []
-        for joint, low, high in zip(robot.chain.joints, *self.position_range, strict=True):
-            if joint.lower - LIMIT_TOLERANCE <= low and high <= joint.upper + LIMIT_TOLERANCE:
-                continue
-            scale, unit = ((180 / np.pi, " deg") if degrees and joint.kind == "revolute"
-                           else (1.0, " rad" if joint.kind == "revolute" else " m"))
-            low, high = np.round([low * scale, high * scale], 9) + 0.0  # no -1e-14 from the root finder
-            messages.append(f"joint {joint.name} reaches {low:.6g} .. {high:.6g}{unit} "
-                            f"between waypoints, outside its limits "
-                            f"[{joint.lower * scale:.6g}, {joint.upper * scale:.6g}]{unit}")
-        return messages
+        if robot.n != self.n:
+            raise InputError(f"robot: {robot.name} has {robot.n} joints, the trajectory {self.n}")
+        low, high = self.position_range
+        return robot.chain.limit_violations(low, degrees, q_max=high, where=" between waypoints")
 
     @property
     def peak_velocity(self) -> NDArray[np.float64]:
@@ -217,7 +212,7 @@ class JointTrajectory:
         """Integral of the squared jerk per joint [rad^2/s^5 or m^2/s^5], ``(n,)``, exact."""
         k1 = self.coefficients.shape[0]
         if k1 < 4:
-            return np.zeros(self.dof)
+            return np.zeros(self.n)
         powers = np.arange(3, k1)
         factor = (powers * (powers - 1) * (powers - 2)).astype(float)
         jerk = self.coefficients[3:] * factor[:, None, None]          # powers t^0 .. t^(k-3)

@@ -1,10 +1,11 @@
 """Point-to-point polynomial segments: the quintic and the cubic.
 
 A :class:`PolynomialSegment` holds one polynomial per joint on ``[0, duration]``;
-``sample(t)`` returns position, velocity, acceleration and jerk together.
+``at_time(t)`` returns position, velocity, acceleration and jerk together (as every
+armkit trajectory, ``at_time`` takes times [s]; ``sample`` takes a rate [Hz]).
 
 >>> seg = quintic(0.0, 1.0, 2.0)
->>> q, qd, qdd, qddd = seg.sample([0.0, 1.0, 2.0])
+>>> q, qd, qdd, qddd = seg.at_time([0.0, 1.0, 2.0])
 >>> q[:, 0], qd[:, 0]
 (array([0. , 0.5, 1. ]), array([0.    , 0.9375, 0.    ]))
 """
@@ -16,12 +17,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armkit._deprecation import deprecated_property, warn_deprecated
 from armkit.errors import InputError
 from armkit.trajectory._checks import check_durations, check_finite
 
 __all__ = ["PolynomialSegment", "cubic", "quintic", "quintic_coefficients"]
 
-#: Relative slack on ``t`` beyond ``[0, duration]`` accepted by ``sample`` (rounding of ``t``).
+#: Relative slack on ``t`` beyond ``[0, duration]`` accepted by ``at_time`` (rounding of ``t``).
 TIME_TOLERANCE = 1e-9
 
 
@@ -31,7 +33,7 @@ class PolynomialSegment:
 
     Attributes
     ----------
-    coefficients : (degree + 1, dof) array
+    coefficients : (degree + 1, n) array
         Ascending powers of ``t`` [s]: ``q_j(t) = sum_k coefficients[k, j] * t**k``.
     duration : float
         Length of the segment [s].
@@ -41,15 +43,17 @@ class PolynomialSegment:
     duration: float
 
     @property
-    def dof(self) -> int:
-        """Number of joints."""
+    def n(self) -> int:
+        """Number of joints (as :attr:`armkit.Robot.n`)."""
         return self.coefficients.shape[1]
+
+    dof = deprecated_property("dof", "n")
 
     @property
     def degree(self) -> int:
         return self.coefficients.shape[0] - 1
 
-    def sample(self, t: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+    def at_time(self, t: ArrayLike) -> tuple[NDArray[np.float64], ...]:
         """Position, velocity, acceleration and jerk at times ``t`` [s].
 
         Parameters
@@ -59,7 +63,7 @@ class PolynomialSegment:
 
         Returns
         -------
-        q, qd, qdd, qddd : (N, dof) arrays
+        q, qd, qdd, qddd : (N, n) arrays
             In the joints' SI units (rad or m) per second to the power 0, 1, 2, 3.
         """
         t = np.atleast_1d(check_finite(t, "t"))
@@ -71,8 +75,13 @@ class PolynomialSegment:
         out = []
         for order in range(4):
             scaled = self.coefficients[order:] * _falling_factorial(self.degree, order)[:, None]
-            out.append(powers[:, :scaled.shape[0]] @ scaled if scaled.size else np.zeros((t.size, self.dof)))
+            out.append(powers[:, :scaled.shape[0]] @ scaled if scaled.size else np.zeros((t.size, self.n)))
         return tuple(out)
+
+    def sample(self, t: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+        """Deprecated name of :meth:`at_time` (``sample`` takes a rate [Hz] elsewhere); warns."""
+        warn_deprecated("PolynomialSegment.sample(t)", ".at_time(t)")
+        return self.at_time(t)
 
 
 def _falling_factorial(degree: int, order: int) -> NDArray[np.float64]:
@@ -90,7 +99,7 @@ def _boundary(q0: ArrayLike, q1: ArrayLike, duration: float, **derivatives: Arra
         shapes = ", ".join(str(np.shape(a)) for a in arrays)
         raise InputError(f"boundary values have incompatible shapes: {shapes}") from exc
     if len(shape) != 1:
-        raise InputError(f"q0, q1: expected scalars or (dof,) arrays, got shape {shape}")
+        raise InputError(f"q0, q1: expected scalars or (n,) arrays, got shape {shape}")
     return float(check_durations(duration, name="duration")[0]), shape, [np.atleast_1d(a) for a in arrays]
 
 
@@ -114,19 +123,19 @@ def quintic(q0: ArrayLike, q1: ArrayLike, duration: float, v0: ArrayLike = 0.0, 
 
     Parameters
     ----------
-    q0, q1 : float or (dof,) array
+    q0, q1 : float or (n,) array
         Start and end positions [rad or m].
     duration : float
         [s], positive.
-    v0, v1 : float or (dof,) array
+    v0, v1 : float or (n,) array
         Start and end velocities [rad/s or m/s], zero by default.
-    a0, a1 : float or (dof,) array
+    a0, a1 : float or (n,) array
         Start and end accelerations [rad/s^2 or m/s^2], zero by default.
 
     Examples
     --------
     >>> seg = quintic([0.0, 1.0], [1.0, 1.0], 1.0)
-    >>> seg.sample(0.5)[0]
+    >>> seg.at_time(0.5)[0]
     array([[0.5, 1. ]])
     """
     duration, shape, (q0, q1, v0, v1, a0, a1) = _boundary(q0, q1, duration, v0=v0, v1=v1, a0=a0, a1=a1)
@@ -143,7 +152,7 @@ def cubic(q0: ArrayLike, q1: ArrayLike, duration: float, v0: ArrayLike = 0.0,
 
     Examples
     --------
-    >>> cubic(0.0, 1.0, 1.0).sample(0.5)[1]
+    >>> cubic(0.0, 1.0, 1.0).at_time(0.5)[1]
     array([[1.5]])
     """
     duration, shape, (q0, q1, v0, v1) = _boundary(q0, q1, duration, v0=v0, v1=v1)

@@ -75,7 +75,7 @@ def limit_ratios(trajectory: JointTrajectory, max_velocity: ArrayLike,
 
     A ratio above 1 is a violated limit; joints with an infinite limit give 0.
     """
-    n = trajectory.dof
+    n = trajectory.n
     vmax = _limits(max_velocity, n, "max_velocity")
     amax = _limits(max_acceleration, n, "max_acceleration")
     return trajectory.segment_peaks(1) / vmax, trajectory.segment_peaks(2) / amax

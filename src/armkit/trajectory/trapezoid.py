@@ -1,7 +1,7 @@
 """LSPB (linear segment with parabolic blends): the trapezoidal velocity profile.
 
 >>> seg = lspb(0.0, 1.0, 2.0)          # cruise velocity 1.5 * 1 / 2 = 0.75
->>> q, qd, qdd, qddd = seg.sample([0.0, 1.0, 2.0])
+>>> q, qd, qdd, qddd = seg.at_time([0.0, 1.0, 2.0])
 >>> q[:, 0], qd[:, 0]
 (array([0. , 0.5, 1. ]), array([0.  , 0.75, 0.  ]))
 """
@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armkit._deprecation import deprecated_property, warn_deprecated
 from armkit.errors import InputError
 from armkit.trajectory._checks import check_durations, check_finite
 from armkit.trajectory.polynomial import TIME_TOLERANCE
@@ -26,11 +27,11 @@ class TrapezoidSegment:
 
     Attributes
     ----------
-    q0, q1 : (dof,) arrays
+    q0, q1 : (n,) arrays
         Start and end positions [rad or m].
-    velocity : (dof,) array
+    velocity : (n,) array
         Cruise velocity [rad/s or m/s] (sign of ``q1 - q0``).
-    blend_time : (dof,) array
+    blend_time : (n,) array
         Duration of each parabolic blend [s]; zero for joints that do not move.
     duration : float
         [s].
@@ -43,17 +44,25 @@ class TrapezoidSegment:
     duration: float
 
     @property
-    def dof(self) -> int:
+    def n(self) -> int:
+        """Number of joints (as :attr:`armkit.Robot.n`)."""
         return self.q0.size
+
+    dof = deprecated_property("dof", "n")
 
     @property
     def acceleration(self) -> NDArray[np.float64]:
-        """Blend acceleration magnitude with sign [rad/s^2 or m/s^2], ``(dof,)``."""
+        """Blend acceleration magnitude with sign [rad/s^2 or m/s^2], ``(n,)``."""
         moving = self.blend_time > 0
-        return np.divide(self.velocity, self.blend_time, out=np.zeros(self.dof), where=moving)
+        return np.divide(self.velocity, self.blend_time, out=np.zeros(self.n), where=moving)
 
     def sample(self, t: ArrayLike) -> tuple[NDArray[np.float64], ...]:
-        """Position, velocity, acceleration and jerk ``(N, dof)`` at times ``t`` [s].
+        """Deprecated name of :meth:`at_time` (``sample`` takes a rate [Hz] elsewhere); warns."""
+        warn_deprecated("TrapezoidSegment.sample(t)", ".at_time(t)")
+        return self.at_time(t)
+
+    def at_time(self, t: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+        """Position, velocity, acceleration and jerk ``(N, n)`` at times ``t`` [s].
 
         The jerk is zero between the four switching instants, where it is unbounded.
         """
@@ -78,11 +87,11 @@ def lspb(q0: ArrayLike, q1: ArrayLike, duration: float,
 
     Parameters
     ----------
-    q0, q1 : float or (dof,) array
+    q0, q1 : float or (n,) array
         Start and end positions [rad or m]; start and end at rest.
     duration : float
         [s], positive.
-    velocity : float or (dof,) array, optional
+    velocity : float or (n,) array, optional
         Cruise speed magnitude per joint [rad/s or m/s]. It must lie in
         ``(|q1 - q0| / T, 2 |q1 - q0| / T]`` (the upper end is a triangle profile);
         default ``1.5 |q1 - q0| / T``.

@@ -88,7 +88,7 @@ def arm_placement(robot: Robot, q: NDArray[np.float64], radius: float) -> ArmPla
     >>> p.positions.shape[0] == p.link_count + robot.n, p.joint_axes[0].round(6).tolist()
     (True, [0.0, 0.0, 1.0])
     """
-    T_joints, T_tool = kinematics.joint_frames(robot.chain, q)
+    T_joints, T_tool = kinematics.joint_frames(robot, q)
     path = _path(T_joints, T_tool)
     starts, ends = path[:-1], path[1:]
     lengths = np.linalg.norm(ends - starts, axis=-1)
@@ -104,7 +104,7 @@ def arm_placement(robot: Robot, q: NDArray[np.float64], radius: float) -> ArmPla
         wxyzs=quaternion_wxyz_from_matrix(np.concatenate([R_links, R_joints])),
         scales=np.concatenate([link_scales, joint_scales]),
         joint_origins=T_joints[:, :3, 3], joint_axes=axes,
-        link_frames=kinematics.link_frames(robot.chain, q), link_count=len(lengths))
+        link_frames=kinematics.link_frames(robot, q), link_count=len(lengths))
 
 
 def unit_cylinder(segments: int = 24) -> tuple[NDArray[np.float32], NDArray[np.uint32]]:

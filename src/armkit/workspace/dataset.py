@@ -80,7 +80,7 @@ def _rows_of_chunk(task: _Task, chunk: int) -> dict[str, NDArray]:
     robot = robot_from_toml(task.robot_toml)
     q = configurations(robot, task.plan, chunk)
     pose = robot.fk(q)
-    found = ik_solutions(robot.chain, pose, near=q)
+    found = ik_solutions(robot, pose, near=q)
     kept = np.arange(found.q.shape[1]) < found.counts[:, None]
     solutions = np.full((len(q), task.k, robot.n), np.nan)
     within = np.zeros((len(q), task.k), dtype=bool)
@@ -109,7 +109,7 @@ def ik_dataset(robot: Robot, samples: int, out: str | Path, *, seed: int = 0, me
     >>> data["solutions"].shape, data.complete
     ((100, 8, 6), True)
     """
-    structure = analyze_structure(robot.chain)
+    structure = analyze_structure(robot)
     if not structure.closed_form:
         raise NoClosedFormError(f"{robot.name}: an IK data set lists every solution, which needs a closed "
                                 f"form; {structure.description}")

@@ -160,7 +160,7 @@ def voxel_hits(robot: Robot, grid: Grid, plan: SamplePlan, chunk: int) -> tuple[
 
 def tool_positions(robot: Robot, q: NDArray[np.float64]) -> NDArray[np.float64]:
     """Tool positions ``(N, 3)`` [m] in the base frame of configurations ``(N, n)``."""
-    return fk(robot.chain, q, threads=KERNEL_THREADS)[..., :3, 3]
+    return fk(robot, q, threads=KERNEL_THREADS)[..., :3, 3]
 
 
 def singular_values(robot: Robot, q: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -170,7 +170,7 @@ def singular_values(robot: Robot, q: NDArray[np.float64]) -> NDArray[np.float64]
 
 def has_closed_form(robot: Robot) -> bool:
     """Whether armkit solves this arm's IK in closed form (else :func:`ik_solution_counts` is numeric)."""
-    return analyze_structure(robot.chain).closed_form
+    return analyze_structure(robot).closed_form
 
 
 def ik_solution_counts(robot: Robot, T_base_tool: NDArray[np.float64]) -> NDArray[np.int64]:
@@ -181,8 +181,8 @@ def ik_solution_counts(robot: Robot, T_base_tool: NDArray[np.float64]) -> NDArra
     one out of reach) that can only say 1 (solved) or 0.
     """
     if not has_closed_form(robot):
-        return np.array([int(numeric_ik(robot.chain, T, rng=0, time_budget=NUMERIC_BUDGET).success)
+        return np.array([int(numeric_ik(robot, T, rng=0, time_budget=NUMERIC_BUDGET).success)
                          for T in T_base_tool], dtype=np.int64)
-    found = ik_solutions(robot.chain, T_base_tool, threads=KERNEL_THREADS)
+    found = ik_solutions(robot, T_base_tool, threads=KERNEL_THREADS)
     kept = np.arange(found.within_limits.shape[1]) < found.counts[:, None]
     return (found.within_limits & kept).sum(axis=1).astype(np.int64)
