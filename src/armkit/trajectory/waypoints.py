@@ -95,6 +95,10 @@ def joint_waypoints_from_poses(robot: Robot, poses: ArrayLike, convention: str =
                                q_start: ArrayLike | None = None) -> NDArray[np.float64]:
     """Joint waypoints ``(M, n)`` for tool poses, each the IK solution nearest the previous one.
 
+    Where the arm needs numeric IK, its random restarts (when the start from the previous
+    waypoint fails) are seeded by the waypoint's number: the same poses give the same
+    waypoints every run.
+
     Parameters
     ----------
     poses : (M, 6) array
@@ -126,7 +130,7 @@ def joint_waypoints_from_poses(robot: Robot, poses: ArrayLike, convention: str =
     solutions = []
     for k, T in enumerate(transforms, start=1):
         try:
-            q_previous = robot.ik(T, near=q_previous)
+            q_previous = robot.ik(T, near=q_previous, rng=k)  # seeded restarts: the same waypoints every run
         except UnreachableError as exc:
             raise UnreachableError(f"waypoint {k} (pose {_show(poses[k - 1])}): {exc}",
                                    exc.position_error, exc.orientation_error) from exc
