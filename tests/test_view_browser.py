@@ -176,6 +176,8 @@ def test_dragging_the_handle_in_the_page_solves_ik_and_the_arm_follows(session):
     viewer.q = [0.5, -0.4, 0.3, 0.2, 1.0, -0.6]
     client = next(iter(viewer._server.get_clients().values()))
     T0 = viewer.target
+    # the page has the new pose (its handle there too) before the handle is grabbed
+    np.testing.assert_allclose(_wait_for_matrix(page, viewer.robot.fk(viewer.q)), T0, atol=1.5e-6)
     # grab the handle's arrow that looks longest on screen near its tip, and pull 40 px
     arrows = [T0[:3, 3] + 0.9 * viewer._handle.scale * T0[:3, a] for a in range(3)]
     centre = _pixel(page, client, T0[:3, 3])
