@@ -348,10 +348,18 @@ inline void walk_family(const Chain& chain, const Pose& T, double* q, const doub
     double traced[kMaxJoints];
     for (int j = 0; j < n; ++j) traced[j] = q[j];
     trace_family(chain, T, traced, near, weights);
+    // where the curve passes within a step of near, near itself put onto the solution set
+    double projected[kMaxJoints];
+    for (int j = 0; j < n; ++j) projected[j] = near[j];
+    const bool on_curve = circular_distance(chain, traced, near, weights) <= kTraceStep * kTraceStep &&
+                          project_onto_solutions(chain, T, projected) &&
+                          circular_distance(chain, projected, traced, weights) <= 4.0 * kTraceStep * kTraceStep;
     descend_family(chain, T, q, near, weights, inside, true);
     descend_family(chain, T, traced, near, weights, inside, false);  // the trace has searched the curve
     if (family_distance(chain, traced, near, weights, inside) < family_distance(chain, q, near, weights, inside))
         for (int j = 0; j < n; ++j) q[j] = traced[j];
+    if (on_curve && family_distance(chain, projected, near, weights, inside) < family_distance(chain, q, near, weights, inside))
+        wrap_towards(chain, projected, near, q);
 }
 
 }  // namespace armkit
