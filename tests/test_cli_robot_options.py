@@ -100,8 +100,11 @@ def test_ur5_and_panda_urdfs_through_ik_traj_and_sim(capsys, tmp_path):
         solutions = np.array(json.loads(out)["solutions"])
         assert_transform_close(robot.fk(solutions), np.broadcast_to(robot.fk(q), (len(solutions), 4, 4)),
                                1e-9, 1e-9)
-        if all_solutions:
-            assert len(solutions) == 8
+        if all_solutions:  # 8, each with its 2 whole-turn copies in every joint spanning +-360 deg
+            assert len(solutions) == 8 * 2 ** len(robot.chain.spans_turns) == 256
+            code, out, err = run(capsys, "ik", path, "--tip", tip, "--pose", *pose, "--all",
+                                 "--no-turn-copies", "--json")
+            assert code == 0 and len(json.loads(out)["solutions"]) == 8
         waypoints = tmp_path / "poses.csv"
         np.savetxt(waypoints, robot.pose(np.stack([q, q - 0.2, q + 0.1])), delimiter=",")
         out_csv = tmp_path / f"{Path(path).stem}.csv"

@@ -247,3 +247,23 @@ def test_unflagged_families(kind, case, seed):
     configuration (seed 63), and a wrist aligned to ~1e-12 behind the arm joints' rounding
     (seed 99). Both are now flagged and walked to q."""
     _check_six_joint_arm(kind, case, seed, degenerate=True)
+
+
+def test_reachable_pose_of_issue_10_item_1_is_not_called_out_of_reach():
+    """Issue 10 item 1, the instance reported: a modified-DH arm (axes 1-3 parallel) at a
+    configuration with smallest singular value 5e-17. Before, every closed-form candidate was
+    invalid and ``ik(T, near=q, within_limits=False)`` raised UnreachableError "the closest
+    pose found is 0 m and 0 rad away"; now q is returned, and it lies in a flagged family."""
+    rows = [DHRow(0, 0, -0.13004872473233184, pi / 2), DHRow(0, 0.3662878291719564, 0, 0),
+            DHRow(0, -0.333824686289266, 0, pi / 2), DHRow(-pi / 2, -0.5384063781810956, 0, pi),
+            DHRow(-pi / 2, -0.36990051727425505, 0, 0), DHRow(-pi / 2, 0, 0.5542745276812061, 0)]
+    tool = DHRow(pi / 2, -0.26072101981645507, 0.5069489404932912, 0, None)
+    chain = chain_from_dh(rows, "modified", tool_rows=[tool])
+    q = np.array([-pi, -pi / 2, pi / 2, -pi, pi / 2, -pi / 2])
+    assert singular_values(chain, q)[-1] < 1e-15
+    T = fk(chain, q)
+    assert _joint_distance(chain, ik(chain, T, near=q, within_limits=False), q) <= FOUND
+    found = ik_solutions(chain, T, near=q)
+    assert found.family.all() and len(found.q) > 0
+    assert max(found.position_error.max(), found.orientation_error.max()) <= REPRODUCED
+    assert _joint_distance(chain, found.q[0], q) <= FOUND

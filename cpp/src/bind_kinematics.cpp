@@ -10,6 +10,7 @@
 #include "armkit/fk.hpp"
 #include "armkit/linalg.hpp"
 #include "armkit/transform.hpp"
+#include "armkit/turn_copies.hpp"
 #include "bindings.hpp"
 
 namespace armkit::bindings {
@@ -177,7 +178,14 @@ void bind_kinematics(nb::module_& m) {
     nb::class_<Chain>(m, "Chain", "A chain's fixed transforms between joint motions, joint kinds and limits.")
         .def(nb::new_(&make_chain), nb::arg("T_between"), nb::arg("prismatic"), nb::arg("lower"),
              nb::arg("upper"))
-        .def_ro("n", &Chain::n);
+        .def_ro("n", &Chain::n)
+        .def_prop_ro("spans_turns", [](const Chain& chain) {
+            nb::list joints;
+            for (int j = 0; j < chain.n; ++j)
+                if (spans_turns(chain, j)) joints.append(j);
+            return joints;
+        }, "The revolute joints whose finite limits span more than a whole turn (their angles have "
+           "several whole-turn copies inside the limits).");
     m.attr("LIMIT_TOLERANCE") = kLimitTolerance;
     const auto release = nb::call_guard<nb::gil_scoped_release>();
     m.def("fk", &fk, nb::arg("chain"), nb::arg("q"), nb::arg("T"), nb::arg("threads"), release,

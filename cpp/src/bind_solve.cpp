@@ -10,6 +10,7 @@
 #include "armkit/batch.hpp"
 #include "armkit/closed_form.hpp"
 #include "armkit/ik_solve.hpp"
+#include "armkit/turn_copies.hpp"
 #include "bindings.hpp"
 
 namespace armkit::bindings {
@@ -114,6 +115,16 @@ nb::tuple solve_batch(const ClosedForm& cf, In T, In near, In weights, bool with
     return nb::make_tuple(rough, empty);
 }
 
+// A numpy array of the given shape (1 or 2 axes) owning a copy of values.
+template <typename T>
+nb::object owned_array(const T* values, std::size_t rows, std::size_t cols = 0) {
+    const std::size_t size = cols ? rows * cols : rows, shape[2] = {rows, cols};
+    T* data = new T[size];
+    std::copy(values, values + size, data);
+    nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<T*>(p); });
+    return nb::cast(nb::ndarray<nb::numpy, T>(data, cols ? 2 : 1, shape, owner));
+}
+
 // One pose, the common case in one call: the usable solutions (count, n), nearest first, or
 // with nearest the nearest one (n,); None where the general path must take over (a target
 // not exactly rigid, near not finite, weights not positive, a candidate to refine, no
@@ -136,13 +147,7 @@ nb::object solve_one(const ClosedForm& cf, In T, In near, In weights, bool withi
     const Found f{cf.k, cf.chain.n, q, errors, flags, &count};
     const SolveCounts c = solve_poses(cf, T.data(), ref.near, 0, ref.weights, within_limits, nearest, f, 0, 1);
     if (c.rough || c.empty) return nb::none();
-    const std::size_t rows = nearest ? 1 : std::size_t(count);
-    double* out = new double[rows * n];
-    std::copy(q, q + rows * n, out);
-    nb::capsule owner(out, [](void* p) noexcept { delete[] static_cast<double*>(p); });
-    const std::size_t shape[2] = {rows, n};
-    if (nearest) return nb::cast(nb::ndarray<nb::numpy, double>(out, 1, shape + 1, owner));
-    return nb::cast(nb::ndarray<nb::numpy, double>(out, 2, shape, owner));
+    return nearest ? owned_array(q, n) : owned_array(q, std::size_t(count), n);
 }
 
 void rank(const ClosedForm& cf, InIndex which, In near, In weights, bool within_limits, Out q, Out errors,
@@ -190,6 +195,21 @@ void duplicates(In q, InBool valid, InBool prismatic, OutBool duplicate) {
     mark_duplicates(q.data(), int(k), int(n), valid.data(), kinds, duplicate.data());
 }
 
+nb::tuple list_turn_copies(const Chain& chain, In T, In q, InBool expand, In near, In weights, std::size_t limit) {
+    const std::size_t n = std::size_t(chain.n), k = expand.size();
+    if (T.size() != 16 || q.size() != k * n || near.size() != n || weights.size() != n)
+        throw std::invalid_argument("turn_copies: expected T (4, 4), q (k, n), expand (k,), near and weights (n,)");
+    TurnCopies c;
+    {
+        nb::gil_scoped_release release;
+        c = turn_copies(chain, pose_from_matrix(T.data()), q.data(), expand.data(), int(k), near.data(),
+                        weights.data(), limit);
+    }
+    const std::size_t m = c.source.size();
+    return nb::make_tuple(owned_array(c.source.data(), m), owned_array(c.q.data(), m, n),
+                          owned_array(c.errors.data(), m, std::size_t(2)), c.total);
+}
+
 }  // namespace
 
 void bind_solve(nb::module_& m) {
@@ -224,6 +244,12 @@ void bind_solve(nb::module_& m) {
           "Every closed-form candidate of poses T (N, 4, 4) into q (N, k, n), valid and family (N, k).");
     m.def("residuals", &residuals, nb::arg("T_target"), nb::arg("F"), nb::arg("out"),
           "FK residuals (N, 2) of poses F to T_target (N, 4, 4): position [m], rotation angle [rad].");
+    m.def("turn_copies", &list_turn_copies, nb::arg("chain"), nb::arg("T"), nb::arg("q"), nb::arg("expand"),
+          nb::arg("near"), nb::arg("weights"), nb::arg("limit"),
+          "The whole-turn copies of solutions q (k, n) of pose T (4, 4): of rows with expand every copy "
+          "inside the limits of joints spanning more than a whole turn, of the others the row itself; "
+          "nearest to near (n,) first by |weights * (q - near)|, at most limit. Returns (source (m,): the "
+          "row of each copy, q (m, n), errors (m, 2) FK residuals [m, rad], total: how many exist).");
     m.def("duplicates", &duplicates, nb::arg("q"), nb::arg("valid"), nb::arg("prismatic"), nb::arg("duplicate"),
           "Mark the candidates of q (k, n) equal (modulo 2 pi, 1e-9) to an earlier valid one.");
 }

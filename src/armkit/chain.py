@@ -171,6 +171,13 @@ class Chain:
         return _core.Chain(np.ascontiguousarray(self.T_between), np.ascontiguousarray(self.prismatic),
                            np.ascontiguousarray(self.lower), np.ascontiguousarray(self.upper))
 
+    @cached_property
+    def spans_turns(self) -> tuple[int, ...]:
+        """The revolute joints (0-based) whose finite limits span more than a whole turn:
+        an angle of such a joint has several whole-turn copies ``q + 2 pi t`` inside the
+        limits, distinct configurations with the same tool pose (IK lists them all)."""
+        return tuple(self._core.spans_turns)
+
     def derived(self, key: str, make: Callable[[], _Derived]) -> _Derived:
         """``make()``, computed once per chain and kept with it (solvers and the like).
 

@@ -13,6 +13,7 @@ __all__ = [
     "JointLimitError",
     "NoClosedFormError",
     "RobotDefinitionError",
+    "SolutionsLeftOffWarning",
     "UnreachableError",
 ]
 
@@ -57,3 +58,8 @@ class ConvergenceError(ArmkitError):
 
 class NoClosedFormError(ArmkitError):
     """A closed-form solution was asked of a chain whose geometry has none."""
+
+
+class SolutionsLeftOffWarning(UserWarning):
+    """More solutions exist than are listed (e.g. whole-turn copies of joints whose limits
+    span several turns); the nearest ones are listed. Not an error: a warning."""

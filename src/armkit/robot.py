@@ -286,7 +286,9 @@ class Robot:
         T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
             Target tool pose(s) [m].
         all_solutions : bool
-            ``(k, n)``: every solution, nearest to ``near`` first (closed form only).
+            ``(k, n)``: every solution, nearest to ``near`` first (closed form only), with
+            the whole-turn copies inside the limits of joints whose limits span more than a
+            whole turn (``turn_copies=False``: each solution once; see :func:`armkit.ik.ik_solutions`).
             ``all=`` is its deprecated old name (it shadowed the builtin); it warns.
         near : array_like, shape (n,) or (N, n), optional
             Reference configuration [rad or m]; default zeros.

@@ -66,7 +66,7 @@ SAME_SOLUTION = 1e-9
 
 
 def _numbered(robot: Robot, T: np.ndarray, q: np.ndarray, near: np.ndarray,
-              closed_form: bool) -> tuple[np.ndarray, np.ndarray]:
+              closed_form: bool, turn_copies: bool) -> tuple[np.ndarray, np.ndarray]:
     """Each row of ``q``: its number among all solutions, and whether it stands for a family.
 
     The numbers are positions in :func:`ik_solutions`'s list for the same ``near``, in-limit
@@ -76,7 +76,7 @@ def _numbered(robot: Robot, T: np.ndarray, q: np.ndarray, near: np.ndarray,
     """
     if not closed_form:
         return np.arange(1, len(q) + 1), np.zeros(len(q), dtype=bool)
-    found = ik_solutions(robot.chain, T, near=near)
+    found = ik_solutions(robot, T, near=near, turn_copies=turn_copies)
     order = np.argsort(~found.within_limits, kind="stable")
     listed, family = found.q[order], found.family[order]
     distance = np.abs(q[:, None, :] - listed[None, :, :]).max(axis=-1)
@@ -105,6 +105,10 @@ def ik_command(
                                                               "limits (closed form).")] = False,
     outside: Annotated[bool, typer.Option("--outside", help="Also list solutions outside the "
                                                             "joint limits.")] = False,
+    turn_copies: Annotated[bool, typer.Option(
+        "--turn-copies/--no-turn-copies", help="With --all, list the whole-turn copies q + 360 deg of "
+                                               "joints whose limits span more than a turn (e.g. a UR5's "
+                                               "+-360 deg), or each solution once.")] = True,
     near: Annotated[str | None, typer.Option(
         "--near", metavar="Q...", help="Return the solution closest to these joint values, e.g. "
                                        "--near 0 -0.5 0.5 0 1 0 or --near 0,-0.5,0.5,0,1,0 (rad and m; "
@@ -131,10 +135,12 @@ def ik_command(
     if position is not None and all_solutions:
         raise InputError("--position asks the numeric solver for one solution; drop --all")
     options = {"mask": POSITION_ONLY} if position is not None else {}
+    if all_solutions:
+        options["turn_copies"] = turn_copies
     q = np.atleast_2d(arm.ik(T, all_solutions=all_solutions, near=q_near, within_limits=not outside,
                              **options))
     closed = structure.closed_form and position is None
-    number, family = _numbered(arm, T, q, q_near, closed)
+    number, family = _numbered(arm, T, q, q_near, closed, turn_copies)
     order = np.argsort(number, kind="stable")
     q, number, family = q[order], number[order], family[order]
     inside = arm.within_limits(q)
@@ -171,6 +177,10 @@ def ik_command(
     natural = Measurement.get(console, console.options.update_width(1000), table).maximum
     # wider than the terminal rather than truncate a joint value
     Console(width=max(console.width, natural)).print(table)
+    if all_solutions and turn_copies and arm.chain.spans_turns:
+        joints = ", ".join(arm.joint_names[j] for j in arm.chain.spans_turns)
+        console.print(escape(f"Whole-turn copies are listed: the limits of {joints} span more than a turn "
+                             f"(--no-turn-copies lists each solution once)."))
     if family.any():
         console.print("family = yes: a singular pose; the row represents a one-parameter family "
                       "of solutions (e.g. only q4 + q6 is defined at a wrist singularity).")

@@ -16,6 +16,14 @@ takes every candidate of the closed form (:mod:`armkit.ik.closed_form`) and
    by Levenberg-Marquardt steps, while the distance falls; a move that would leave the
    limits a representative was inside is not taken.
 
+Every solution is listed once per whole-turn copy inside the limits
+(:func:`with_turn_copies`): a revolute joint whose finite limits span more than a whole turn
+(a UR5's +-360 degrees) holds an angle ``q`` and ``q + 2 pi t`` for every ``t`` that stays
+inside, distinct configurations with the same tool pose (a UR5 solution has ``2^6``). A
+joint spanning at most a whole turn holds one, and so does an unbounded (continuous) one:
+its copies are endless, and the wrap above picks the nearest to ``near``. Solutions outside
+the limits are listed once.
+
 When only the solution nearest to ``near`` is asked for, the candidates go through FK
 nearest first and the first that reproduces the target is the answer. Then, in Python
 and only where needed: candidates above ``1e-10`` are refined by a few Newton steps of
@@ -25,6 +33,7 @@ are ranked again.
 
 from __future__ import annotations
 
+import warnings
 from typing import NamedTuple
 
 import numpy as np
@@ -32,10 +41,16 @@ from numpy.typing import NDArray
 
 from armkit import _core
 from armkit.chain import Chain
+from armkit.errors import SolutionsLeftOffWarning
 from armkit.ik.closed_form import ClosedFormSolver
 from armkit.ik.numeric import numeric_ik
 
-__all__ = ["Found", "rank", "refine", "verified_solutions"]
+__all__ = ["MAX_SOLUTIONS", "Found", "rank", "refine", "verified_solutions", "with_turn_copies"]
+
+#: At most this many solutions of one pose are listed (whole-turn copies multiply: joints
+#: spanning two turns each give 2^n per solution); beyond it, the nearest to ``near``, with a
+#: :class:`~armkit.errors.SolutionsLeftOffWarning`.
+MAX_SOLUTIONS = 4096
 
 #: Candidates with a larger FK residual [m or rad] are refined by Newton steps (as the core's kRefineAbove).
 _REFINE_ABOVE = 1e-10
@@ -135,3 +150,26 @@ def verified_solutions(solver: ClosedFormSolver, T: NDArray[np.float64], near: N
         rank(solver, found, refine(chain, found, T), near, weights, within_limits)
         empty = int((found.count == 0).sum())
     return found, empty
+
+
+def with_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64], inside: NDArray[np.bool_],
+                     near: NDArray[np.float64] | None, weights: NDArray[np.float64] | None,
+                     ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
+    """The solutions ``q`` ``(k, n)`` of pose ``T`` ``(4, 4)`` with every whole-turn copy
+    inside the limits of those ``inside`` (see the module's docstring), nearest to ``near``
+    first (None: zeros; ``weights`` None: ones), at most :data:`MAX_SOLUTIONS`.
+
+    Returns the row of ``q`` each listed solution is a copy of ``(m,)``, the solutions
+    ``(m, n)`` and their FK residuals ``(m, 2)`` [m, rad] (each copy verified by FK).
+    """
+    n = chain.n
+    source, copies, errors, total = _core.turn_copies(
+        chain._core, np.ascontiguousarray(T, dtype=np.float64), np.ascontiguousarray(q, dtype=np.float64),
+        np.ascontiguousarray(inside, dtype=bool), np.zeros(n) if near is None else near,
+        np.ones(n) if weights is None else weights, MAX_SOLUTIONS)
+    if total > len(source):
+        joints = ", ".join(f"q{j + 1}" for j in chain.spans_turns)
+        warnings.warn(SolutionsLeftOffWarning(
+            f"{total:.0f} solutions inside the limits (whole-turn copies of joints {joints}): "
+            f"the {len(source)} nearest to near are listed"), stacklevel=3)
+    return source, copies, errors

@@ -76,9 +76,12 @@ class IKSolutionsBatch(Sequence[IKSolutions]):
     >>> import armkit
     >>> robot = armkit.load("ur5")
     >>> from armkit.ik import ik_solutions
-    >>> found = ik_solutions(robot, robot.fk(robot.random_q(3, rng=0)))
-    >>> len(found), found.q.shape, found[0].q.shape == (found.counts[0], 6)
-    (3, (3, 8, 6), True)
+    >>> T = robot.fk(robot.random_q(3, rng=0))
+    >>> found = ik_solutions(robot, T, turn_copies=False)
+    >>> len(found), found.q.shape, found.counts, found[1].q.shape
+    (3, (3, 8, 6), array([8, 4, 8]), (4, 6))
+    >>> ik_solutions(robot, T).counts  # with the whole-turn copies inside its +-360 degree limits
+    array([512, 256, 512])
     """
 
     q: NDArray[np.float64]
@@ -87,6 +90,19 @@ class IKSolutionsBatch(Sequence[IKSolutions]):
     family: NDArray[np.bool_]
     position_error: NDArray[np.float64]
     orientation_error: NDArray[np.float64]
+
+    @classmethod
+    def stack(cls, solutions: Sequence[IKSolutions], n: int) -> IKSolutionsBatch:
+        """The solutions of several poses, padded to the largest count (``n`` joints)."""
+        counts = np.array([len(s.q) for s in solutions], dtype=np.int64)
+        k = int(counts.max(initial=0))
+        q, errors = np.zeros((len(solutions), k, n)), np.zeros((len(solutions), k, 2))
+        inside, family = np.zeros((len(solutions), k), dtype=bool), np.zeros((len(solutions), k), dtype=bool)
+        for i, s in enumerate(solutions):
+            m = counts[i]
+            q[i, :m], inside[i, :m], family[i, :m] = s.q, s.within_limits, s.family
+            errors[i, :m, 0], errors[i, :m, 1] = s.position_error, s.orientation_error
+        return cls(q, counts, inside, family, errors[..., 0], errors[..., 1])
 
     @property
     def success(self) -> NDArray[np.bool_]:

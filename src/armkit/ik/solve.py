@@ -27,7 +27,7 @@ from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
 from armkit.ik.messages import Labels, numeric_failure, outside_limits, raise_if_unusable
 from armkit.ik.numeric import numeric_ik, wrap_into_limits
-from armkit.ik.pipeline import Found, verified_solutions
+from armkit.ik.pipeline import Found, verified_solutions, with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions, IKSolutionsBatch
 from armkit.spatial.transforms import RIGID_TOLERANCE, check_transform
 
@@ -87,6 +87,10 @@ class _Targets:
             weights = np.ascontiguousarray(weights)
         self.weights = weights
 
+    def near_of(self, i: int) -> NDArray[np.float64] | None:
+        """Pose ``i``'s reference configuration ``(n,)``, or None (zeros)."""
+        return self.near if self.near is None or self.near.ndim == 1 else self.near[i]
+
     def near_rows(self, n: int) -> NDArray[np.float64]:
         """The reference configuration of every pose, ``(N, n)`` (a read-only view)."""
         return np.broadcast_to(np.zeros(n) if self.near is None else self.near, (len(self.T), n))
@@ -110,9 +114,26 @@ class _Targets:
         return verified_solutions(solver, self.T, *args)
 
 
+def _listed(chain: Chain, targets: _Targets, found: Found, i: int, turn_copies: bool) -> IKSolutions:
+    """Pose ``i``'s usable solutions in ``found``, each inside the limits with its whole-turn
+    copies there if ``turn_copies`` (:func:`~armkit.ik.pipeline.with_turn_copies`)."""
+    k = int(found.count[i])
+    q, inside, family = found.q[i, :k], found.inside[i, :k], found.family[i, :k]
+    if not (turn_copies and chain.spans_turns and k):
+        return IKSolutions(q, inside, family, found.position_error[i, :k], found.orientation_error[i, :k])
+    source, q, errors = with_turn_copies(chain, targets.T[i], q, inside, targets.near_of(i), targets.weights)
+    return IKSolutions(q, inside[source], family[source], errors[:, 0], errors[:, 1])
+
+
 def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
-                 weights: ArrayLike | None = None, threads: int = 0) -> IKSolutions | IKSolutionsBatch:
+                 weights: ArrayLike | None = None, turn_copies: bool = True,
+                 threads: int = 0) -> IKSolutions | IKSolutionsBatch:
     """Every closed-form solution of a target pose, inside the limits or not, with flags.
+
+    A solution inside the limits is listed with each of its whole-turn copies there (joints
+    whose limits span more than a whole turn, e.g. a UR5's +-360 degrees: 2^6 per solution;
+    at most :data:`~armkit.ik.pipeline.MAX_SOLUTIONS`, see :mod:`armkit.ik.pipeline`); one
+    outside the limits once.
 
     Parameters
     ----------
@@ -125,6 +146,9 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
         default zeros.
     weights : array_like, shape (n,), optional
         Per-joint weights of the distance to ``near``; default ones.
+    turn_copies : bool
+        List the whole-turn copies inside the limits (default). ``False``: each solution
+        once, the copy nearest to ``near``.
     threads : int
         Threads a batch of poses is split over (default 0: all cores); the answers do not
         depend on it.
@@ -157,9 +181,9 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
         raise solver
     c, _ = targets.solve(solver, threads=threads)  # outside the limits too: the kept ones are counted
     if not targets.batch:
-        k = int(c.count[0])
-        return IKSolutions(c.q[0, :k], c.inside[0, :k], c.family[0, :k], c.position_error[0, :k],
-                           c.orientation_error[0, :k])
+        return _listed(chain, targets, c, 0, turn_copies)
+    if turn_copies and chain.spans_turns:
+        return IKSolutionsBatch.stack([_listed(chain, targets, c, i, True) for i in range(len(c.q))], chain.n)
     return IKSolutionsBatch(c.q, c.count, c.inside, c.family & c.keep, c.position_error, c.orientation_error)
 
 
@@ -177,7 +201,7 @@ def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64]
 
 def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = False,
        near: ArrayLike | None = None, within_limits: bool = True,
-       weights: ArrayLike | None = None, threads: int = 0,
+       weights: ArrayLike | None = None, turn_copies: bool = True, threads: int = 0,
        **numeric_options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
     """Inverse kinematics: every solution, or the one closest to ``near``.
 
@@ -188,7 +212,8 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
         Target tool pose(s) [m].
     all_solutions : bool
-        Return every closed-form solution (sorted by distance to ``near``) instead of one.
+        Return every closed-form solution (sorted by distance to ``near``) instead of one:
+        each inside the limits with its whole-turn copies there (see :func:`ik_solutions`).
         (``all=`` is its deprecated old name, which shadowed the builtin; it warns.)
     near : array_like, shape (n,) or (N, n), optional
         Reference configuration [rad or m], default zeros: the solution closest to it is
@@ -197,6 +222,9 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
         Only solutions inside the joint limits (default). ``False``: any solution.
     weights : array_like, shape (n,), optional
         Per-joint weights of the distance to ``near`` (default ones).
+    turn_copies : bool
+        With ``all_solutions``: list the whole-turn copies inside the limits of joints whose
+        limits span more than a whole turn (default); ``False``: each solution once.
     threads : int
         Threads a batch of poses is split over (default 0: all cores); the answers do not
         depend on it.
@@ -243,6 +271,9 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
             q = _core.solve_one(solver.core, T, near, weights, within_limits, not all_solutions,
                                 RIGID_TOLERANCE)
             if q is not None:
+                if all_solutions and turn_copies and chain.spans_turns:
+                    inside = np.ones(len(q), dtype=bool) if within_limits else chain.within_limits(q)
+                    return with_turn_copies(chain, T, q, inside, near, weights)[1]
                 return q
     targets = _Targets(chain, T_base_tool, near, weights)
     solver = solver_or_reason(chain)
@@ -265,8 +296,7 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     c, empty = targets.solve(solver, within_limits, nearest=not all_solutions, threads=threads)
     if empty:
         raise_if_unusable(chain, c, targets.T, targets.near_rows(chain.n), labels)
-    if not batch:
-        return c.q[0, :c.count[0]] if all_solutions else c.q[0, 0]
     if not all_solutions:
-        return c.q[:, 0].reshape(*batch, chain.n)
-    return [q[:k] for q, k in zip(c.q, c.count.tolist(), strict=True)]
+        return c.q[0, 0] if not batch else c.q[:, 0].reshape(*batch, chain.n)
+    listed = [_listed(chain, targets, c, i, turn_copies).q for i in range(len(c.q))]
+    return listed if batch else listed[0]

@@ -100,7 +100,10 @@ def _nearest_published(solution: NDArray, listed: NDArray) -> tuple[int, float]:
 
 def _solutions(robot: Robot, T: NDArray, rng: np.random.Generator) -> tuple[NDArray, str]:
     try:
-        return np.atleast_2d(robot.ik(T, all_solutions=True)), "closed form, all solutions inside the limits"
+        method = "closed form, all solutions inside the limits"
+        if robot.chain.spans_turns:  # each once: a UR5's 512 copies would say nothing more
+            method += " (each once, not its whole-turn copies)"
+        return np.atleast_2d(robot.ik(T, all_solutions=True, turn_copies=False)), method
     except NoClosedFormError:
         return np.atleast_2d(robot.ik(T, near=robot.random_q(rng=rng))), "numeric (no closed form)"
 

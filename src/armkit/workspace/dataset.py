@@ -7,6 +7,7 @@ solutions (inside the limits or not). The Zarr store holds, row ``i`` for sample
     q              (N, n)        the sampled configuration [rad or m]
     pose           (N, 4, 4)     T_base_tool(q) [m]
     solutions      (N, k, n)     every IK solution of pose i, nearest to q first; NaN padding
+                                 (each once: the whole-turn copy nearest to q)
     counts         (N,)          solutions of pose i (k = the arm's most)
     within_limits  (N, k)        whether each solution is inside the joint limits
     chunk_done     (n_chunks,)   which chunks are written (a resume writes only the others)
@@ -80,7 +81,7 @@ def _rows_of_chunk(task: _Task, chunk: int) -> dict[str, NDArray]:
     robot = robot_from_toml(task.robot_toml)
     q = configurations(robot, task.plan, chunk)
     pose = robot.fk(q)
-    found = ik_solutions(robot, pose, near=q)
+    found = ik_solutions(robot, pose, near=q, turn_copies=False)
     kept = np.arange(found.q.shape[1]) < found.counts[:, None]
     solutions = np.full((len(q), task.k, robot.n), np.nan)
     within = np.zeros((len(q), task.k), dtype=bool)

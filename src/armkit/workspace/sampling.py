@@ -176,13 +176,14 @@ def has_closed_form(robot: Robot) -> bool:
 def ik_solution_counts(robot: Robot, T_base_tool: NDArray[np.float64]) -> NDArray[np.int64]:
     """Distinct IK solutions inside the joint limits of each target pose ``(N, 4, 4)``: ``(N,)``.
 
-    Closed form: every solution (a singular family counts once). Without a closed form, a
+    Closed form: every solution (a singular family counts once; whole-turn copies of a joint
+    whose limits span more than a turn count once, see :mod:`armkit.ik.pipeline`). Without a closed form, a
     numeric solve per pose (slow: ~1 ms for a reachable pose, up to :data:`NUMERIC_BUDGET` for
     one out of reach) that can only say 1 (solved) or 0.
     """
     if not has_closed_form(robot):
         return np.array([int(numeric_ik(robot, T, rng=0, time_budget=NUMERIC_BUDGET).success)
                          for T in T_base_tool], dtype=np.int64)
-    found = ik_solutions(robot, T_base_tool, threads=KERNEL_THREADS)
+    found = ik_solutions(robot, T_base_tool, turn_copies=False, threads=KERNEL_THREADS)
     kept = np.arange(found.within_limits.shape[1]) < found.counts[:, None]
     return (found.within_limits & kept).sum(axis=1).astype(np.int64)

@@ -1,0 +1,155 @@
+"""All solutions list every whole-turn copy inside the limits (issue 10, item 5).
+
+The expected copies are counted here independently: for each solution (listed once with
+``turn_copies=False``) and each joint, the whole numbers ``t`` with ``q + 2 pi t`` inside
+the limits of a joint that spans more than a turn.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit import Robot
+from armkit.chain import LIMIT_TOLERANCE
+from armkit.cli.main import main
+from armkit.errors import SolutionsLeftOffWarning
+from armkit.ik import ik_solutions
+from armkit.ik.pipeline import MAX_SOLUTIONS
+
+UR5 = armkit.load("ur5")
+Q = np.array([0.3, -1.0, 1.2, 0.4, 0.7, 0.5])
+
+
+def with_limits(robot: Robot, limits) -> Robot:
+    dh = robot.dh
+    return Robot.from_dh(dh.rows, dh.convention, limits=limits, base_rows=dh.base_rows,
+                         tool_rows=dh.tool_rows, T_base=dh.T_base, T_tool=dh.T_tool)
+
+
+def expected_copies(robot: Robot, q: np.ndarray) -> list[list[float]]:
+    """Per joint of one solution, the values its copies take there."""
+    values = []
+    for j, (lower, upper) in enumerate(zip(robot.chain.lower, robot.chain.upper, strict=True)):
+        wide = (not robot.chain.prismatic[j] and math.isfinite(lower) and math.isfinite(upper)
+                and upper - lower > 2 * math.pi + 2 * LIMIT_TOLERANCE)
+        if not wide:
+            values.append([q[j]])
+            continue
+        low, high = lower - LIMIT_TOLERANCE, upper + LIMIT_TOLERANCE
+        turns = range(math.ceil((low - q[j]) / (2 * math.pi)), math.floor((high - q[j]) / (2 * math.pi)) + 1)
+        values.append([q[j] + 2 * math.pi * t for t in turns])
+    return values
+
+
+def as_set(q: np.ndarray) -> set[tuple[float, ...]]:
+    return {tuple(row) for row in np.round(q, 7)}
+
+
+def check_all_copies(robot: Robot, T: np.ndarray, near: np.ndarray) -> np.ndarray:
+    once = robot.ik(T, all_solutions=True, near=near, turn_copies=False)
+    listed = robot.ik(T, all_solutions=True, near=near)
+    expected = set()
+    for q in once:
+        for copy in np.stack(np.meshgrid(*expected_copies(robot, q), indexing="ij"), -1).reshape(-1, robot.n):
+            expected.add(tuple(np.round(copy, 7)))
+    assert len(listed) == len(expected) == len(as_set(listed))  # every copy, each once
+    assert as_set(listed) == expected
+    assert robot.within_limits(listed).all()
+    np.testing.assert_allclose(robot.fk(listed), np.broadcast_to(T, (len(listed), 4, 4)), rtol=0, atol=1e-9)
+    distance = np.linalg.norm(listed - near, axis=1)
+    assert np.all(np.diff(distance) >= -1e-12)  # nearest first
+    np.testing.assert_allclose(listed[0], robot.ik(T, near=near), rtol=0, atol=1e-12)
+    return listed
+
+
+def test_ur5_at_plus_minus_360_degrees_lists_2_to_the_6_copies_of_each_solution():
+    T = UR5.fk(Q)
+    assert UR5.chain.spans_turns == (0, 1, 2, 3, 4, 5)
+    listed = check_all_copies(UR5, T, Q)
+    assert len(UR5.ik(T, all_solutions=True, turn_copies=False)) == 8 and len(listed) == 512
+    found = ik_solutions(UR5, T, near=Q)
+    np.testing.assert_array_equal(found.q, listed)
+    assert found.within_limits.all() and found.position_error.max() < 1e-12
+    other = UR5.fk(-Q)  # a pose with 4 solutions
+    batch = ik_solutions(UR5, np.stack([T, other]), near=Q)
+    assert batch.counts.tolist() == [512, 64 * len(UR5.ik(other, all_solutions=True, turn_copies=False))] \
+        == [512, 256]
+    np.testing.assert_array_equal(batch[0].q, listed)
+    assert len(UR5.ik(np.stack([T, T]), all_solutions=True, near=Q)[1]) == 512
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.sampled_from([170.0, 180.0, 185.0, 270.0, 360.0, 400.0]), min_size=6, max_size=6),
+       st.integers(0, 2**32 - 1))
+def test_copies_of_random_limits(half_spans, seed):
+    """Joints spanning less than, exactly, a little more than, and more than two turns."""
+    robot = with_limits(UR5, [(-math.radians(h), math.radians(h)) for h in half_spans])
+    q = robot.random_q(rng=seed)
+    near = robot.random_q(rng=seed + 1)
+    check_all_copies(robot, robot.fk(q), near)
+
+
+def test_a_joint_spanning_exactly_one_turn_holds_one_copy():
+    robot = with_limits(UR5, [(-math.pi, math.pi)] * 6)
+    q = np.array([math.pi, -1.0, 1.2, 0.4, 0.7, -math.pi])
+    assert robot.chain.spans_turns == ()
+    listed = robot.ik(robot.fk(q), all_solutions=True, near=q)
+    assert len(listed) == len(robot.ik(robot.fk(q), all_solutions=True, turn_copies=False)) <= 8
+
+
+def test_unbounded_joints_hold_one_copy():
+    robot = with_limits(UR5, [(-math.inf, math.inf)] + [(-math.pi, math.pi)] * 5)
+    assert robot.chain.spans_turns == ()
+    near = Q + np.array([4 * math.pi, 0, 0, 0, 0, 0])
+    listed = robot.ik(robot.fk(Q), all_solutions=True, near=near)
+    np.testing.assert_allclose(listed[0], near, atol=1e-9)  # the copy nearest to near, 2 turns up
+
+
+def test_outside_the_limits_a_solution_is_listed_once():
+    T = UR5.fk(Q)
+    narrow = with_limits(UR5, [(-2 * math.pi, 2 * math.pi)] + [(-0.2, 0.2)] * 5)
+    found = ik_solutions(narrow, T, near=Q)
+    once = ik_solutions(narrow, T, near=Q, turn_copies=False)
+    assert not found.within_limits.any() and len(found.q) == len(once.q) == 8
+
+
+def test_more_copies_than_listed_warn_and_keep_the_nearest():
+    wide = with_limits(UR5, [(-math.radians(1000), math.radians(1000))] * 6)  # 5 or 6 copies a joint
+    T = wide.fk(Q)
+    with pytest.warns(SolutionsLeftOffWarning, match=r"solutions inside the limits .* the 4096 nearest"):
+        listed = wide.ik(T, all_solutions=True, near=Q)
+    assert len(listed) == MAX_SOLUTIONS
+    np.testing.assert_allclose(listed[0], Q, atol=1e-12)
+    distance = np.linalg.norm(listed - Q, axis=1)
+    assert np.all(np.diff(distance) >= -1e-12)
+    # the nearest 4096 of all: no copy left off is nearer than the farthest one listed
+    once = wide.ik(T, all_solutions=True, near=Q, turn_copies=False)
+    everything = [np.linalg.norm(np.stack(np.meshgrid(*[np.array(v) - Q[j] for j, v in
+                                                        enumerate(expected_copies(wide, q))],
+                                                      indexing="ij"), -1).reshape(-1, 6), axis=1)
+                  for q in once]
+    assert np.sort(np.concatenate(everything))[MAX_SOLUTIONS - 1] == pytest.approx(distance[-1], abs=1e-9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert len(wide.ik(T, all_solutions=True, turn_copies=False)) == 8
+
+
+def test_cli_lists_the_copies_and_no_turn_copies_each_once(capsys):
+    T = UR5.fk(Q)
+    args = ["ik", "ur5", "--matrix", *map(str, T.ravel()), "--all", "--json"]
+    assert main(args) == 0
+    listed = json.loads(capsys.readouterr().out)
+    assert main([*args, "--no-turn-copies"]) == 0
+    once = json.loads(capsys.readouterr().out)
+    assert len(listed["solutions"]) == 512 and listed["numbers"] == list(range(1, 513))
+    assert len(once["solutions"]) == 8 and once["numbers"] == list(range(1, 9))
+    assert main(args[:-1]) == 0
+    assert "Whole-turn copies are listed" in capsys.readouterr().out
