@@ -130,11 +130,13 @@ def bench_closed_form(name: str, one: int, batch: int) -> None:
     T_one = robot.fk(robot.random_q(one, rng=rng))
     T_batch = robot.fk(robot.random_q(batch, rng=rng))
     near = np.zeros((batch, robot.n))
-    mine = {"armkit ik_solutions": (lambda T: ik_solutions(robot, T).q,
-                                    lambda Ts: ik_solutions(robot, Ts)),
+    # each solution once (turn_copies=False), as the peers list them: a UR5's +-360 degree
+    # limits would otherwise add 2^6 whole-turn copies of each
+    mine = {"armkit ik_solutions": (lambda T: ik_solutions(robot, T, turn_copies=False).q,
+                                    lambda Ts: ik_solutions(robot, Ts, turn_copies=False)),
             "armkit robot.ik(all_solutions=True)": (
-                lambda T: robot.ik(T, all_solutions=True, within_limits=False),
-                lambda Ts: robot.ik(Ts, all_solutions=True, within_limits=False)),
+                lambda T: robot.ik(T, all_solutions=True, within_limits=False, turn_copies=False),
+                lambda Ts: robot.ik(Ts, all_solutions=True, within_limits=False, turn_copies=False)),
             "armkit robot.ik(near=) (nearest only)": (
                 lambda T: robot.ik(T, within_limits=False),
                 lambda Ts: robot.ik(Ts, near=near, within_limits=False)),
