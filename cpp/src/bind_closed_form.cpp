@@ -97,7 +97,7 @@ CaseGeometry make_geometry(const nb::kwargs& kw) {
     }
     CaseGeometry g;
     const int kind = integer(kw, "kind"), position_case = integer(kw, "position_case");
-    if (kind < 0 || kind > 3) throw nb::value_error("CaseGeometry: kind must be 0 (spherical) .. 3 (planar)");
+    if (kind < 0 || kind > 4) throw nb::value_error("CaseGeometry: kind must be 0 (spherical) .. 4 (point)");
     if (position_case < -1 || position_case > 5) throw nb::value_error("CaseGeometry: position_case must be -1 .. 5");
     g.kind = CaseKind(kind);
     g.position_case = PositionCase(position_case);
@@ -105,9 +105,10 @@ CaseGeometry make_geometry(const nb::kwargs& kw) {
     g.n = int(h.size() / 3);
     if (p.size() != h.size() || g.n < 1 || g.n > 16)
         throw nb::value_error("CaseGeometry: h and p must both be (n, 3) with 1 <= n <= 16");
-    if (g.kind != CaseKind::Planar && g.n != 6) throw nb::value_error("CaseGeometry: a 6-joint case needs n = 6");
-    if (g.kind == CaseKind::Spherical && g.position_case == PositionCase::None)
-        throw nb::value_error("CaseGeometry: a spherical wrist needs a position_case 0 .. 5");
+    if (g.kind == CaseKind::Point ? g.n != 3 : g.kind != CaseKind::Planar && g.n != 6)
+        throw nb::value_error("CaseGeometry: a 6-joint case needs n = 6, a point case n = 3");
+    if ((g.kind == CaseKind::Spherical || g.kind == CaseKind::Point) && g.position_case == PositionCase::None)
+        throw nb::value_error("CaseGeometry: a spherical wrist or a point case needs a position_case 0 .. 5");
     for (int j = 0; j < g.n; ++j) {
         g.h.push_back({h[3 * j], h[3 * j + 1], h[3 * j + 2]});
         g.p.push_back({p[3 * j], p[3 * j + 1], p[3 * j + 2]});
@@ -140,7 +141,7 @@ CaseGeometry make_geometry(const nb::kwargs& kw) {
         throw nb::value_error("CaseGeometry: prismatic_joint must be -1 or a joint index");
     if (g.kind == CaseKind::Planar && g.revolute_joints.size() != 2 && g.revolute_joints.size() != 3)
         throw nb::value_error("CaseGeometry: a planar arm needs 2 or 3 revolute_joints");
-    g.k = g.kind == CaseKind::Planar ? 2 : 8;
+    g.k = g.kind == CaseKind::Planar ? 2 : (g.kind == CaseKind::Point ? 4 : 8);
     if (kw.contains("k") && integer(kw, "k") != g.k)
         throw nb::value_error(("CaseGeometry: k must be " + std::to_string(g.k) + " for this kind").c_str());
     return g;

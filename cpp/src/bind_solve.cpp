@@ -195,15 +195,17 @@ void duplicates(In q, InBool valid, InBool prismatic, OutBool duplicate) {
     mark_duplicates(q.data(), int(k), int(n), valid.data(), kinds, duplicate.data());
 }
 
-nb::tuple list_turn_copies(const Chain& chain, In T, In q, InBool expand, In near, In weights, std::size_t limit) {
+nb::tuple list_turn_copies(const Chain& chain, In T, In q, InBool expand, InBool free_joints, In near, In weights,
+                           std::size_t limit) {
     const std::size_t n = std::size_t(chain.n), k = expand.size();
-    if (T.size() != 16 || q.size() != k * n || near.size() != n || weights.size() != n)
-        throw std::invalid_argument("turn_copies: expected T (4, 4), q (k, n), expand (k,), near and weights (n,)");
+    if (T.size() != 16 || q.size() != k * n || free_joints.size() != n || near.size() != n || weights.size() != n)
+        throw std::invalid_argument("turn_copies: expected T (4, 4), q (k, n), expand (k,), free_joints, near "
+                                    "and weights (n,)");
     TurnCopies c;
     {
         nb::gil_scoped_release release;
-        c = turn_copies(chain, pose_from_matrix(T.data()), q.data(), expand.data(), int(k), near.data(),
-                        weights.data(), limit);
+        c = turn_copies(chain, pose_from_matrix(T.data()), q.data(), expand.data(), int(k), free_joints.data(),
+                        near.data(), weights.data(), limit);
     }
     const std::size_t m = c.source.size();
     return nb::make_tuple(owned_array(c.source.data(), m), owned_array(c.q.data(), m, n),
@@ -245,9 +247,9 @@ void bind_solve(nb::module_& m) {
     m.def("residuals", &residuals, nb::arg("T_target"), nb::arg("F"), nb::arg("out"),
           "FK residuals (N, 2) of poses F to T_target (N, 4, 4): position [m], rotation angle [rad].");
     m.def("turn_copies", &list_turn_copies, nb::arg("chain"), nb::arg("T"), nb::arg("q"), nb::arg("expand"),
-          nb::arg("near"), nb::arg("weights"), nb::arg("limit"),
+          nb::arg("free_joints"), nb::arg("near"), nb::arg("weights"), nb::arg("limit"),
           "The whole-turn copies of solutions q (k, n) of pose T (4, 4): of rows with expand every copy "
-          "inside the limits of joints spanning more than a whole turn, of the others the row itself; "
+          "inside the limits of the free_joints (n,) spanning more than a whole turn, of the others the row itself; "
           "nearest to near (n,) first by |weights * (q - near)|, at most limit. Returns (source (m,): the "
           "row of each copy, q (m, n), errors (m, 2) FK residuals [m, rad], total: how many exist).");
     m.def("duplicates", &duplicates, nb::arg("q"), nb::arg("valid"), nb::arg("prismatic"), nb::arg("duplicate"),

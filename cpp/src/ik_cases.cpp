@@ -658,6 +658,16 @@ void planar(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid
     }
 }
 
+// Joints 1-3 carrying the tool point g.c to w = t (position IK; G = T, no M^-1): 4 candidates.
+void point(const CaseGeometry& g, Vec3 w, double* q, bool* valid, bool* family) {
+    const ArmCandidates a = wrist_centre_joints(g, w);
+    for (int s = 0; s < 4; ++s) {
+        for (int j = 0; j < 3; ++j) q[3 * s + j] = a.q[s][j];
+        valid[s] = a.valid[s];
+        family[s] = a.valid[s] && a.free[s];
+    }
+}
+
 }  // namespace
 
 void solve_pose(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
@@ -673,6 +683,9 @@ void solve_pose(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* v
             break;
         case CaseKind::Planar:
             planar(g, R, t, q, valid, family);
+            break;
+        case CaseKind::Point:
+            point(g, t, q, valid, family);
             break;
     }
 }

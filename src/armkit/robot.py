@@ -339,6 +339,24 @@ class Robot:
         return ik(self.chain, T, all_solutions=all_solutions, near=near, within_limits=within_limits,
                   **options)
 
+    def ik_position(self, position: ArrayLike, all_solutions: bool = False, near: ArrayLike | None = None,
+                    within_limits: bool = True, turn_copies: bool = True) -> NDArray[np.float64]:
+        """Position IK in closed form: joints 1-3 put the tool point at ``position`` [m]
+        (orientation free; joints 4..n keep ``near``'s values). See :func:`armkit.ik.ik_position`.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> robot = armkit.load("examples/data/my_arm.toml")
+        >>> q = robot.ik_position([0.3, 0.1, 0.3], near=[0.3, -0.3, -1.6])
+        >>> robot.fk(q)[:3, 3].round(9).tolist()
+        [0.3, 0.1, 0.3]
+        """
+        from armkit.ik.position import ik_position
+
+        return ik_position(self.chain, position, all_solutions=all_solutions, near=near,
+                           within_limits=within_limits, turn_copies=turn_copies)
+
     def random_q(self, size: int | tuple[int, ...] | None = None,
                  rng: np.random.Generator | int | None = None) -> NDArray[np.float64]:
         """Uniform random configurations inside the limits.

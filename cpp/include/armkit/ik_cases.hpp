@@ -15,7 +15,9 @@
 
 namespace armkit {
 
-enum class CaseKind : int { Spherical = 0, ThreeParallel = 1, ParallelBase = 2, Planar = 3 };
+// Point: joints 1-3 of any chain carry a tool point to a target position (position IK, 4
+// candidates); the others solve full poses.
+enum class CaseKind : int { Spherical = 0, ThreeParallel = 1, ParallelBase = 2, Planar = 3, Point = 4 };
 
 // How joints 1-3 of a spherical-wrist arm place the wrist centre
 // (armkit.ik.cases.POSITION_CASES, same order).

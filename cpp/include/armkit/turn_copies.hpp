@@ -52,15 +52,16 @@ struct TurnCopies {
     double total = 0.0;                // how many copies exist (m is at most the limit)
 };
 
-// The copies of rows q (k x n), those with expand[r] every copy inside the limits, the others
-// as they are, nearest to near (n) first by |w * (q - near)| (ties: by row, then as found),
+// The copies of rows q (k x n), those with expand[r] every copy inside the limits (of the
+// joints j with free_joint[j]; the others keep their value), the other rows as they are, nearest to near (n) first by |w * (q - near)| (ties: by row, then as found),
 // at most limit of them; each FK-verified against T.
 //
 // Best-first over the lattice of per-joint copy indices: a state's successors raise one index
 // at or after its pivot (so each combination is reached once), and a successor is never
 // nearer than its state, so states leave the queue nearest first.
 inline TurnCopies turn_copies(const Chain& chain, const Pose& T, const double* q, const bool* expand, int k,
-                              const double* near, const double* weights, std::size_t limit) {
+                              const bool* free_joint, const double* near, const double* weights,
+                              std::size_t limit) {
     const int n = chain.n;
     std::vector<std::vector<double>> values(std::size_t(k) * n), distances(std::size_t(k) * n);
     TurnCopies out;
@@ -69,7 +70,7 @@ inline TurnCopies turn_copies(const Chain& chain, const Pose& T, const double* q
         for (int j = 0; j < n; ++j) {
             const std::size_t c = std::size_t(r) * n + j;
             const double v = q[c];
-            if (expand[r]) {
+            if (expand[r] && free_joint[j]) {
                 joint_copies(chain, j, v, near[j], weights[j], values[c], distances[c]);
             } else {
                 values[c] = {v};

@@ -27,7 +27,8 @@ from armkit.cli.app import (
     print_json,
     to_si,
 )
-from armkit.errors import InputError
+from armkit.errors import InputError, NoClosedFormError
+from armkit.ik.position import position_case, position_solutions
 from armkit.ik.solve import ik_solutions
 from armkit.ik.structure import analyze_structure
 from armkit.robot import Robot
@@ -85,6 +86,31 @@ def _numbered(robot: Robot, T: np.ndarray, q: np.ndarray, near: np.ndarray,
     return np.where(matched, index + 1, 0), matched & family[index]
 
 
+def _position_ik(arm: Robot, p: np.ndarray, all_solutions: bool, near: np.ndarray, outside: bool,
+                 turn_copies: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool, str]:
+    """``--position``: closed form where joints 1-3 have one (every solution with ``--all``),
+    else numeric IK for the position alone; (q, numbers, family, closed, method)."""
+    try:
+        case = position_case(arm)
+        if arm.n > 3 and not all_solutions:  # one solution: every joint may move (numeric)
+            raise NoClosedFormError("joints 4.. would be held")
+    except NoClosedFormError as exc:
+        if all_solutions:
+            raise NoClosedFormError(f"--position --all lists closed-form solutions, but {exc}; drop --all "
+                                    f"for one numeric solution nearest --near") from exc
+        q = np.atleast_2d(arm.ik(transform_from(np.eye(3), p), near=near, within_limits=not outside,
+                                 mask=POSITION_ONLY))
+        return q, np.ones(1, dtype=int), np.zeros(1, dtype=bool), False, "numeric (Levenberg-Marquardt)"
+    q = np.atleast_2d(arm.ik_position(p, all_solutions=all_solutions, near=near, within_limits=not outside,
+                                      turn_copies=turn_copies))
+    found = position_solutions(arm, p, near=near, turn_copies=turn_copies)
+    order = np.argsort(~found.within_limits, kind="stable")
+    distance = np.abs(q[:, None, :] - found.q[order][None]).max(axis=-1)
+    index = np.argmin(distance, axis=1)
+    held = f", joints 4-{arm.n} held at --near" if arm.n > 3 else ""
+    return q, index + 1, found.family[order][index], True, f"closed form, position only ({case}{held})"
+
+
 @app.command("ik", context_settings=ALLOW_NEGATIVE)
 def ik_command(
     robot: RobotArg,
@@ -96,7 +122,9 @@ def ik_command(
     matrix: Annotated[Matrix16 | None, typer.Option(
         help="Target as 16 numbers: the 4x4 matrix row by row, lengths in m.", show_default=False)] = None,
     position: Annotated[tuple[float, float, float] | None, typer.Option(
-        help="Target position X Y Z in m, any orientation (numeric IK).", show_default=False)] = None,
+        help="Target position X Y Z in m, any orientation: numeric IK, or closed form where joints 1-3 "
+             "have one (a 3-joint arm, or with --all: joints 4.. held at --near).",
+        show_default=False)] = None,
     euler: Annotated[str, typer.Option(help="Convention of the pose angles, e.g. xyz-fixed "
                                             "(roll pitch yaw), xyz-euler, zyz-euler.")] = "xyz-fixed",
     deg: Annotated[bool, typer.Option("--deg", help="Angles (pose, --near, printed joints) "
@@ -132,15 +160,16 @@ def ik_command(
     convention = parse_convention(euler)
     T = _target(pose, matrix, position, convention, deg)
     structure = analyze_structure(arm.chain)
-    if position is not None and all_solutions:
-        raise InputError("--position asks the numeric solver for one solution; drop --all")
-    options = {"mask": POSITION_ONLY} if position is not None else {}
-    if all_solutions:
-        options["turn_copies"] = turn_copies
-    q = np.atleast_2d(arm.ik(T, all_solutions=all_solutions, near=q_near, within_limits=not outside,
-                             **options))
-    closed = structure.closed_form and position is None
-    number, family = _numbered(arm, T, q, q_near, closed, turn_copies)
+    closed = structure.closed_form
+    if position is not None:
+        q, number, family, closed, method = _position_ik(arm, T[:3, 3], all_solutions, q_near, outside,
+                                                          turn_copies)
+    else:
+        options = {"turn_copies": turn_copies} if all_solutions else {}
+        q = np.atleast_2d(arm.ik(T, all_solutions=all_solutions, near=q_near, within_limits=not outside,
+                                 **options))
+        number, family = _numbered(arm, T, q, q_near, closed, turn_copies)
+        method = "closed form" if closed else "numeric (Levenberg-Marquardt)"
     order = np.argsort(number, kind="stable")
     q, number, family = q[order], number[order], family[order]
     inside = arm.within_limits(q)
@@ -148,7 +177,6 @@ def ik_command(
     position_error = np.linalg.norm(T_found[:, :3, 3] - T[:3, 3], axis=-1)
     orientation_error = (rotation_angle_between(T_found, T) if position is None
                          else np.full(len(q), np.nan))
-    method = "closed form" if closed else "numeric (Levenberg-Marquardt)"
     if json_output:
         print_json({"robot": arm.name, "target": T, "method": method,
                     "structure": structure.description, "solutions": q, "numbers": number,

@@ -46,11 +46,11 @@ import math
 
 from armkit._core import CaseGeometry, solve_pose
 
-__all__ = ["CaseGeometry", "solve_pose", "SPHERICAL", "THREE_PARALLEL", "PARALLEL_BASE", "PLANAR",
+__all__ = ["CaseGeometry", "solve_pose", "SPHERICAL", "THREE_PARALLEL", "PARALLEL_BASE", "PLANAR", "POINT",
            "POSITION_CASES", "TWO_PI"]
 
-#: Solver kinds (``CaseGeometry.kind``).
-SPHERICAL, THREE_PARALLEL, PARALLEL_BASE, PLANAR = range(4)
+#: Solver kinds (``CaseGeometry.kind``); POINT: joints 1-3 carry a tool point to a position.
+SPHERICAL, THREE_PARALLEL, PARALLEL_BASE, PLANAR, POINT = range(5)
 #: How joints 1-3 of a spherical-wrist arm place the wrist centre (``CaseGeometry.position_case``).
 POSITION_CASES = ("parallel-23", "parallel-12", "intersect-23", "intersect-12-revolute",
                   "intersect-12-prismatic", "general-123")

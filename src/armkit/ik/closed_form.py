@@ -125,6 +125,18 @@ def _two_angle_constants(Q: Array, snap_t2: bool = True) -> dict:
             "snap_t2": snap_t2}
 
 
+def case_fields(poe, point: Array | None, point2: Array | None) -> dict:
+    """The fields of a :class:`CaseGeometry` every case has: axes, points, joint kinds, the
+    case's point ``c`` and second point ``o``; the rest at their neutral values."""
+    return {"h": np.ascontiguousarray(poe.axes), "p": np.ascontiguousarray(poe.points),
+            "prismatic": np.ascontiguousarray(poe.prismatic), "position_case": -1,
+            "c": _vector(point), "o": _vector(point2), "u": _vector(None),
+            "hp": _vector(None), "a1": _vector(None), "a2": _vector(None), "a3": _vector(None),
+            "f": (0.0, 0.0), "q5_aligned": np.zeros(0), "b_aligned": 0.0,
+            "revolute_joints": np.zeros(0, dtype=np.int64), "prismatic_joint": -1,
+            **_two_angle_constants(np.eye(2))}
+
+
 class ClosedFormSolver:
     """Closed-form IK of one chain, with everything that depends only on the chain cached.
 
@@ -136,13 +148,7 @@ class ClosedFormSolver:
         self.structure: ArmStructure = plan.structure
         poe = plan.poe
         kind = plan.structure.kind
-        fields = {"h": np.ascontiguousarray(poe.axes), "p": np.ascontiguousarray(poe.points),
-                  "prismatic": np.ascontiguousarray(poe.prismatic), "position_case": -1,
-                  "c": _vector(plan.point), "o": _vector(plan.point2), "u": _vector(None),
-                  "hp": _vector(None), "a1": _vector(None), "a2": _vector(None), "a3": _vector(None),
-                  "f": (0.0, 0.0), "q5_aligned": np.zeros(0), "b_aligned": 0.0,
-                  "revolute_joints": np.zeros(0, dtype=np.int64), "prismatic_joint": -1,
-                  **_two_angle_constants(np.eye(2))}
+        fields = case_fields(poe, plan.point, plan.point2)
         # Over-determined chains (fewer than 6 joints) must be checked by FK; for 6 joints
         # every subproblem checks its own existence, so the flags are exact.
         verify, polish = chain.n < 6, False

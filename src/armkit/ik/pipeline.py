@@ -154,10 +154,12 @@ def verified_solutions(solver: ClosedFormSolver, T: NDArray[np.float64], near: N
 
 def with_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64], inside: NDArray[np.bool_],
                      near: NDArray[np.float64] | None, weights: NDArray[np.float64] | None,
+                     joints: NDArray[np.bool_] | None = None,
                      ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
     """The solutions ``q`` ``(k, n)`` of pose ``T`` ``(4, 4)`` with every whole-turn copy
     inside the limits of those ``inside`` (see the module's docstring), nearest to ``near``
-    first (None: zeros; ``weights`` None: ones), at most :data:`MAX_SOLUTIONS`.
+    first (None: zeros; ``weights`` None: ones), at most :data:`MAX_SOLUTIONS`. ``joints``
+    ``(n,)``: the joints whose copies count (None: all; held joints keep their value).
 
     Returns the row of ``q`` each listed solution is a copy of ``(m,)``, the solutions
     ``(m, n)`` and their FK residuals ``(m, 2)`` [m, rad] (each copy verified by FK).
@@ -165,11 +167,13 @@ def with_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64
     n = chain.n
     source, copies, errors, total = _core.turn_copies(
         chain._core, np.ascontiguousarray(T, dtype=np.float64), np.ascontiguousarray(q, dtype=np.float64),
-        np.ascontiguousarray(inside, dtype=bool), np.zeros(n) if near is None else near,
+        np.ascontiguousarray(inside, dtype=bool),
+        np.ones(n, dtype=bool) if joints is None else np.ascontiguousarray(joints, dtype=bool),
+        np.zeros(n) if near is None else near,
         np.ones(n) if weights is None else weights, MAX_SOLUTIONS)
     if total > len(source):
-        joints = ", ".join(f"q{j + 1}" for j in chain.spans_turns)
+        copied = ", ".join(f"q{j + 1}" for j in chain.spans_turns if joints is None or joints[j])
         warnings.warn(SolutionsLeftOffWarning(
-            f"{total:.0f} solutions inside the limits (whole-turn copies of joints {joints}): "
+            f"{total:.0f} solutions inside the limits (whole-turn copies of joints {copied}): "
             f"the {len(source)} nearest to near are listed"), stacklevel=3)
     return source, copies, errors

@@ -1,0 +1,231 @@
+"""Closed-form position IK: joints 1-3 carry the tool point to a target position.
+
+The tool point of a 3-joint arm (or of any arm with joints 4..n held at given values) goes
+where joints 1-3 put it. Which pair of axes 1-3 meets or is parallel decides the
+subproblems, exactly as for a spherical wrist's centre (:mod:`armkit.ik.structure`,
+``wrist_centre_joints`` in ``cpp/src/ik_cases.cpp``): an elbow arm (axes 2 and 3 parallel)
+by SP4 for q1 and a planar 2R, intersecting axes by SP3 and SP2, general axes by a quartic.
+Up to 4 solutions; where the target is on a line that leaves a joint free (e.g. on axis 1
+of an elbow arm) a family, whose member is flagged ``family``. Every solution is checked
+by forward kinematics (position within :data:`~armkit.ik.results.SOLUTION_TOLERANCE`),
+wrapped into the limits and sorted by distance to ``near``, as :func:`armkit.ik.ik` does.
+
+Decision (issue 10 item 4): the orientation is free, so this is its own call,
+:func:`ik_position` (``Robot.ik_position``), with ``ik``'s arguments and result shapes;
+joints 4..n keep their values from ``near`` (default zeros).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armkit import _core
+from armkit.chain import Chain, as_chain
+from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
+from armkit.ik.cases import POINT, POSITION_CASES, CaseGeometry, solve_pose
+from armkit.ik.closed_form import ClosedFormSolver, case_fields
+from armkit.ik.numeric import wrap_into_limits
+from armkit.ik.pipeline import with_turn_copies
+from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions
+from armkit.ik.structure import PoeChain, _Geometry, _position_case, poe_from_chain
+from armkit.kinematics import _fk, _geometric_jacobian
+
+if TYPE_CHECKING:
+    from armkit.robot import Robot
+
+__all__ = ["ik_position", "position_solutions", "position_case"]
+
+#: Newton steps on joints 1-3 for a candidate whose position is off by more than 1e-12 m
+#: (quartic roots).
+_POLISH_STEPS = 4
+
+
+def position_case(robot: Robot | Chain) -> str:
+    """How joints 1-3 carry the tool point (e.g. ``"axes 2, 3 are parallel"``).
+
+    Raises
+    ------
+    NoClosedFormError
+        If the chain has fewer than 3 joints, or joints 1-3 have no closed form here.
+    """
+    return _plan(as_chain(robot))[2]
+
+
+def _plan(chain: Chain) -> tuple[PoeChain, tuple, str]:
+    if chain.n < 3:
+        raise NoClosedFormError(f"position IK in closed form needs 3 joints; this arm has {chain.n}")
+    poe = poe_from_chain(chain)
+    three = PoeChain(poe.axes[:3], poe.points[:3], poe.prismatic[:3], poe.M, np.arange(3), np.ones(3))
+    geometry = _Geometry(three, 1e-9)
+    rank = _position_rank(chain)
+    if rank < 3:
+        raise NoClosedFormError(f"joints 1-3 move the tool point in only {rank} independent directions at "
+                                f"every configuration tried (e.g. axes 1-3 meet at one point, or two are "
+                                f"one line): its positions form a surface, not a volume, so there is no "
+                                f"closed form here; use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
+    found = _position_case(geometry)
+    if found is None:
+        raise NoClosedFormError("joints 1-3 have no closed-form position solution here (two prismatic "
+                                "joints, or parallel axes that leave the position problem degenerate); "
+                                "use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
+    case, point, clause = found
+    if case.startswith("parallel"):
+        pair = [1, 2] if case == "parallel-23" else [0, 1]
+        three = three.aligned(pair, three.axes[pair[0]])
+    return three, (case, point), clause
+
+
+def _position_rank(chain: Chain, tries: int = 4) -> int:
+    """The largest rank of the tool point's Jacobian in joints 1-3 over a few random
+    configurations (joints 4..n at 0)."""
+    rng = np.random.default_rng(0)
+    q = np.zeros((tries, chain.n))
+    q[:, :3] = rng.uniform(-np.pi, np.pi, (tries, 3))
+    J = _geometric_jacobian(chain, q)[:, :3, :3]
+    S = np.linalg.svd(J, compute_uv=False)
+    return int((S > 1e-9 * (1.0 + np.abs(_fk(chain, q)[:, :3, 3]).max())).sum(axis=1).max())
+
+
+def _geometry(chain: Chain, tail: NDArray[np.float64]) -> CaseGeometry:
+    """The point case for joints 1-3 with joints 4..n at ``tail``: its tool point at q1-3 = 0."""
+    three, (case, point), _ = _plan(chain)
+    c = _fk(chain, np.concatenate([np.zeros(3), tail])[None])[0, :3, 3]
+    fields = case_fields(three, c, point)
+    fields.update(kind=POINT, position_case=POSITION_CASES.index(case))
+    if case == "general-123":
+        fields.update(ClosedFormSolver._general_position(three, c))
+    return CaseGeometry(**fields), three.sign
+
+
+def _polish(chain: Chain, q: NDArray[np.float64], p: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Newton steps on joints 1-3 of ``q`` for the tool position ``p`` (least squares)."""
+    for _ in range(_POLISH_STEPS):
+        error = p - _fk(chain, q[None])[0, :3, 3]
+        if np.linalg.norm(error) <= 1e-13:
+            break
+        J = _geometric_jacobian(chain, q[None])[0, :3, :3]
+        q = q.copy()
+        q[:3] += np.linalg.lstsq(J, error, rcond=None)[0]
+    return q
+
+
+def position_solutions(robot: Robot | Chain, position: ArrayLike, *, near: ArrayLike | None = None,
+                       turn_copies: bool = True) -> IKSolutions:
+    """Every closed-form solution for a tool position, inside the limits or not, with flags.
+
+    Parameters
+    ----------
+    robot : Robot or Chain
+    position : array_like, shape (3,)
+        Target tool position [m], base frame.
+    near : array_like, shape (n,), optional
+        Reference configuration [rad or m] for the ``2 pi`` wrap and the order; joints 4..n
+        keep its values (default zeros).
+    turn_copies : bool
+        List the whole-turn copies inside the limits (as :func:`armkit.ik.ik_solutions`).
+
+    Returns
+    -------
+    IKSolutions
+        ``orientation_error`` is NaN (the orientation is free); empty if out of reach.
+    """
+    return _solve(as_chain(robot), position, near, turn_copies)[0]
+
+
+def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copies: bool
+           ) -> tuple[IKSolutions, float]:
+    """:func:`position_solutions`, and the distance [m] of the closest candidate (valid or not:
+    an invalid one is as close as the subproblems get)."""
+    p = np.asarray(position, dtype=float)
+    if p.shape != (3,) or not np.isfinite(p).all():
+        raise InputError(f"position: expected 3 finite numbers [m], got {np.asarray(position).tolist()}")
+    near = np.zeros(chain.n) if near is None else np.asarray(near, dtype=float)
+    if near.shape != (chain.n,) or not np.isfinite(near).all():
+        raise InputError(f"near: expected {chain.n} finite joint values, got {near.tolist()}")
+    geometry, sign = _geometry(chain, near[3:])
+    q3, valid, family = solve_pose(geometry, np.eye(3), p)
+    q = np.tile(near, (len(q3), 1))
+    q[:, :3] = np.asarray(q3) * sign
+    q = wrap_into_limits(chain, q, near)
+    q = np.stack([_polish(chain, row, p) if ok else row for row, ok in zip(q, valid, strict=True)])
+    error = np.linalg.norm(_fk(chain, q)[:, :3, 3] - p, axis=1)
+    closest = float(error.min())
+    keep = np.asarray(valid) & (error <= SOLUTION_TOLERANCE)
+    duplicate = np.zeros(len(q), dtype=bool)
+    _core.duplicates(np.ascontiguousarray(q), keep, np.ascontiguousarray(chain.prismatic), duplicate)
+    keep &= ~duplicate
+    q, family, error = wrap_into_limits(chain, q[keep], near), np.asarray(family)[keep], error[keep]
+    order = np.argsort(np.linalg.norm(q - near, axis=1), kind="stable")
+    q, family, error = q[order], family[order], error[order]
+    inside = chain.within_limits(q)
+    if turn_copies and chain.spans_turns and len(q):
+        T = np.eye(4)
+        T[:3, 3] = p
+        source, q, errors = with_turn_copies(chain, T, q, inside, near, None, np.arange(chain.n) < 3)
+        inside, family, error = inside[source], family[source], errors[:, 0]  # each copy's own FK
+    return IKSolutions(q, inside, family, error, np.full(len(q), np.nan)), closest
+
+
+def ik_position(robot: Robot | Chain, position: ArrayLike, *, all_solutions: bool = False,
+                near: ArrayLike | None = None, within_limits: bool = True,
+                turn_copies: bool = True) -> NDArray[np.float64]:
+    """Position IK in closed form: joints 1-3 put the tool point at ``position`` [m].
+
+    Parameters
+    ----------
+    robot : Robot or Chain
+    position : array_like, shape (3,)
+        Target tool position [m], base frame; the orientation is free.
+    all_solutions : bool
+        Every solution (up to 4, and whole-turn copies: see :func:`armkit.ik.ik_solutions`),
+        nearest to ``near`` first, instead of the nearest one.
+    near : array_like, shape (n,), optional
+        Reference configuration; joints 4..n keep its values (default zeros).
+    within_limits : bool
+        Only solutions inside the joint limits (default).
+    turn_copies : bool
+        As in :func:`armkit.ik.ik`.
+
+    Returns
+    -------
+    ndarray
+        ``(n,)``, or ``(k, n)`` with ``all_solutions``.
+
+    Raises
+    ------
+    NoClosedFormError
+        If joints 1-3 have no closed-form position solution (then use numeric IK with
+        ``mask=[1, 1, 1, 0, 0, 0]``).
+    UnreachableError
+        If the position is out of reach (with joints 4..n as held).
+    JointLimitError
+        If it is reachable only outside the limits (and ``within_limits``).
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("examples/data/my_arm.toml")
+    >>> ik_position(robot, [0.3, 0.1, 0.3], all_solutions=True).round(4)  # elbow up / down, facing / turned
+    array([[ 0.3218, -0.2925, -1.6293],
+           [ 0.3218, -1.9633,  1.6293],
+           [-2.8198,  0.2925,  1.6293],
+           [-2.8198,  1.9633, -1.6293]])
+    """
+    chain = as_chain(robot)
+    found, closest = _solve(chain, position, near, turn_copies)
+    usable = found.within_limits if within_limits else np.ones(len(found.q), dtype=bool)
+    if not usable.any():
+        p = np.round(np.asarray(position, dtype=float), 6).tolist()
+        if len(found.q):
+            raise JointLimitError(
+                f"tool position {p} m is reachable, but only outside the joint limits (e.g. "
+                f"{', '.join(chain.limit_violations(found.q[0]))}): ask for solutions outside the "
+                f"limits with within_limits=False or 'armkit ik --outside'")
+        held = f" with joints 4..{chain.n} held at near's values" if chain.n > 3 else ""
+        raise UnreachableError(f"tool position {p} m is out of reach{held}: the closest tool position "
+                               f"found is {closest:.3g} m away", closest)
+    q = found.q[usable]
+    return q if all_solutions else q[0]

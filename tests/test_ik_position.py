@@ -1,0 +1,140 @@
+"""Closed-form position IK (issue 10 item 4): joints 1-3 carry the tool point to a position.
+
+Random 3-joint arms (revolute, a prismatic third joint; standard and modified DH; generic
+twists, or twists on multiples of 90 degrees with zero offsets and joint values on the pi/2
+grid): every solution puts the tool point at the target (FK), the configuration that made
+the target is found (or a flagged family stands for it), and numeric IK from many seeds
+(nobody's closed form) finds no solution the closed form lacks.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import armkit
+from armkit.chain import DHRow, chain_from_dh
+from armkit.cli.main import main
+from armkit.errors import InputError, NoClosedFormError, UnreachableError
+from armkit.ik import ik_position, numeric_ik, position_solutions
+from armkit.ik.position import position_case
+from armkit.kinematics import fk
+from armkit.spatial import transform_from
+
+pi = np.pi
+GRID = np.array([0.0, pi / 2, -pi / 2, pi])
+POSITION_ONLY = [1, 1, 1, 0, 0, 0]
+
+
+def joint_distance(chain, a, b):
+    d = np.asarray(a) - np.asarray(b)
+    d = np.where(chain.prismatic, d, (d + pi) % (2 * pi) - pi)
+    return np.abs(d).max(axis=-1)
+
+
+def three_joint_arm(rng, prismatic3, degenerate, convention):
+    rows = []
+    for j in range(3):
+        kind = "prismatic" if prismatic3 and j == 2 else "revolute"
+        if degenerate:
+            a, d = (0.0 if rng.random() < 0.5 else rng.uniform(0.1, 0.4) for _ in range(2))
+            alpha, theta = rng.choice([0.0, pi / 2, -pi / 2]), rng.choice(GRID)
+        else:
+            a, d = rng.uniform(-0.4, 0.4, 2)
+            alpha, theta = rng.uniform(-pi, pi), rng.uniform(-pi, pi)
+        if prismatic3 and not degenerate and j == (0 if convention == "standard" else 1):
+            a = 0.0  # axes 1 and 2 meet: the case a prismatic third joint has (a quadratic)
+        rows.append(DHRow(alpha, a, d, theta, kind))
+    tool = DHRow(rng.choice([0.0, pi / 2]) if degenerate else rng.uniform(-pi, pi),
+                 rng.uniform(0.05, 0.3), 0.0 if degenerate else rng.uniform(-0.2, 0.2), 0.0, None)
+    limits = [(-pi, pi), (-pi, pi), (-0.5, 0.5) if prismatic3 else (-pi, pi)]
+    return chain_from_dh(rows, convention, limits=limits, tool_rows=[tool])
+
+
+def check_arm(chain, q_all, seeds):
+    for q in q_all:
+        p = fk(chain, q)[:3, 3]
+        found = position_solutions(chain, p, near=q)
+        assert len(found.q), f"q = {q.tolist()}: a reachable position has no solution"
+        reached = fk(chain, found.q)[:, :3, 3]
+        assert np.linalg.norm(reached - p, axis=1).max() <= 1e-9
+        np.testing.assert_allclose(found.position_error, np.linalg.norm(reached - p, axis=1), atol=1e-15)
+        if not found.family.any():
+            assert joint_distance(chain, found.q, q).min() <= 1e-6, f"q = {q.tolist()} is not found"
+            nearest = ik_position(chain, p, near=q, within_limits=False)
+            assert joint_distance(chain, nearest, q) <= 1e-6
+            # every solution numeric IK finds from many seeds is one of ours
+            for seed in seeds:
+                result = numeric_ik(chain, transform_from(np.eye(3), p), q0=seed, mask=POSITION_ONLY,
+                                    within_limits=False, max_restarts=0)
+                if result.success and result.position_error < 1e-10:
+                    assert joint_distance(chain, found.q, result.q).min() < 1e-5, \
+                        f"numeric IK found {result.q.tolist()}, the closed form lists {found.q.tolist()}"
+        assert len(found.q) <= 4
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), prismatic3=st.booleans(), degenerate=st.booleans())
+def test_random_three_joint_arms(seed, prismatic3, degenerate):
+    rng = np.random.default_rng(seed)
+    chain = three_joint_arm(rng, prismatic3, degenerate, ["standard", "modified"][seed % 2])
+    try:
+        position_case(chain)
+    except NoClosedFormError:  # e.g. axes 1-3 meeting at one point (the point moves on a sphere)
+        assert degenerate
+        return
+    q = rng.choice(GRID, (4, 3)) if degenerate else rng.uniform(chain.lower, chain.upper, (4, 3))
+    if prismatic3:
+        q[:, 2] = rng.uniform(-0.5, 0.5, 4)
+    check_arm(chain, q, rng.uniform(chain.lower, chain.upper, (6, 3)))
+
+
+def test_the_readme_arm_has_four_position_solutions(capsys):
+    """Before: 'armkit ik my_arm.toml --position 0.3 0.1 0.3 --all' said 'drop --all'."""
+    robot = armkit.load("examples/data/my_arm.toml")
+    args = ["ik", "examples/data/my_arm.toml", "--position", "0.3", "0.1", "0.3", "--all", "--json"]
+    assert main(args) == 0
+    data = json.loads(capsys.readouterr().out)
+    q = np.array(data["solutions"])
+    assert len(q) == 4 and "closed form, position only" in data["method"]
+    np.testing.assert_allclose(robot.fk(q)[:, :3, 3], np.tile([0.3, 0.1, 0.3], (4, 1)), atol=1e-12)
+    np.testing.assert_allclose(q, robot.ik_position([0.3, 0.1, 0.3], all_solutions=True), atol=0)
+
+
+@pytest.mark.parametrize("name", ["puma560", "probot-anno", "stanford", "zju-i"])
+def test_first_three_joints_of_six_joint_arms(name):
+    """Joints 4..6 held at near's values: the tool point (not the wrist centre) is placed."""
+    robot = armkit.load(name)
+    rng = np.random.default_rng(3)
+    for q in robot.random_q(5, rng=rng):
+        p = robot.fk(q)[:3, 3]
+        found = robot.ik_position(p, all_solutions=True, near=q, within_limits=False)
+        np.testing.assert_allclose(found[:, 3:], np.tile(q[3:], (len(found), 1)), atol=0)
+        np.testing.assert_allclose(robot.fk(found)[:, :3, 3], np.tile(p, (len(found), 1)), atol=1e-9)
+        assert joint_distance(robot.chain, found, q).min() <= 1e-9
+
+
+def test_out_of_reach_and_bad_input():
+    robot = armkit.load("examples/data/my_arm.toml")
+    with pytest.raises(UnreachableError, match=r"out of reach: the closest tool position found is 2.5\d* m"):
+        robot.ik_position([3.0, 0.1, 0.3])
+    with pytest.raises(InputError, match="position: expected 3 finite numbers"):
+        robot.ik_position([0.3, np.nan, 0.3])
+    with pytest.raises(InputError, match="near: expected 3 finite joint values"):
+        robot.ik_position([0.3, 0.1, 0.3], near=[0, 1])
+    with pytest.raises(NoClosedFormError, match="needs 3 joints"):
+        chain_2r = chain_from_dh([DHRow(0, 0.3, 0, 0)] * 2, "standard")
+        ik_position(chain_2r, [0.3, 0.2, 0.0])
+
+
+def test_a_family_is_flagged_on_axis_1():
+    """The tool point on axis 1 of an elbow arm: q1 is free, the member found is flagged."""
+    rows = [DHRow(pi / 2, 0, 0.2, 0), DHRow(0, 0.3, 0, 0), DHRow(0, 0.25, 0, 0)]
+    chain = chain_from_dh(rows, "standard", limits=[(-pi, pi)] * 3)
+    found = position_solutions(chain, [0.0, 0.0, 0.45])
+    assert found.family.all() and len(found.q)
+    assert np.linalg.norm(fk(chain, found.q)[:, :3, 3] - [0, 0, 0.45], axis=1).max() < 1e-12
