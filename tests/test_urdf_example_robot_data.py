@@ -128,12 +128,14 @@ def test_serial_arms_fk_closed_form_and_ik(file, base, tip, kind):
 
 
 def test_ur5_urdf_is_the_dh_ur5_up_to_base_and_tool_frames():
-    """The same arm from two sources: the same joint geometry, so the same IK solutions count."""
+    """The same arm from two sources: the same joint geometry, so the same IK solutions count
+    (each once: the limits differ, the URDF's elbow spans one turn, so whole-turn copies do too)."""
     urdf = armkit.load(ROBOTS / "ur_description/urdf/ur5_robot.urdf", tip="tool0")
     dh = armkit.load("ur5")
     q = dh.random_q(rng=4)
-    assert len(urdf.ik(urdf.fk(q), all_solutions=True, within_limits=False)) == len(
-        dh.ik(dh.fk(q), all_solutions=True, within_limits=False))
+    assert len(urdf.ik(urdf.fk(q), all_solutions=True, within_limits=False, turn_copies=False)) == len(
+        dh.ik(dh.fk(q), all_solutions=True, within_limits=False, turn_copies=False)) == 8
+    assert len(urdf.chain.spans_turns) == 5 and len(dh.chain.spans_turns) == 6
 
 
 def test_panda_with_a_wrist_joint_locked_is_a_spherical_base_6r_arm():

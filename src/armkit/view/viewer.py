@@ -609,7 +609,8 @@ class Viewer:
 
     def _solve(self, T: NDArray[np.float64], follow: bool, final: bool) -> IKSolutions:
         try:
-            found = (ik_solutions(self.robot.chain, T, near=self._q) if self.closed_form
+            # each solution once: a whole-turn copy looks the same as its solution in the scene
+            found = (ik_solutions(self.robot, T, near=self._q, turn_copies=False) if self.closed_form
                      else self._numeric_solutions(T))
         except UnreachableError as exc:
             found = IKSolutions(np.zeros((0, self.robot.n)), *(np.zeros(0, dtype=bool),) * 2,
