@@ -56,7 +56,7 @@ def test_tasks_pickle_for_worker_processes():
     robot = armkit.load("puma560")
     grid = workspace.grid_for(robot, 0.2)
     reach = importlib.import_module("armkit.workspace.reachability")
-    task = partial(reach._hits_of_chunk, reach._Task(robot_to_toml(robot), grid,
+    task = partial(reach._hits_of_chunks, reach._Task(robot_to_toml(robot), grid,
                                                       reach.SamplePlan(1000, chunk_size=100)))
     again = pickle.loads(pickle.dumps(task))
-    np.testing.assert_array_equal(again(3)[1], task(3)[1])
+    np.testing.assert_array_equal(again((3, 4))[1], task((3, 4))[1])

@@ -2,13 +2,19 @@
 
 from __future__ import annotations
 
+import logging
+import warnings
 from pathlib import Path
 from typing import Annotated
 
 import typer
+from rich.markup import escape
 
-from armkit.cli.app import app, console, load_robot, print_json
+from armkit.cli.app import app, console, err_console, load_robot, print_json
 from armkit.errors import InputError
+
+#: Exit code of a run ended by Ctrl-C (128 + SIGINT).
+INTERRUPTED = 130
 
 #: ``--dask local``: start a LocalCluster on this machine instead of connecting to a scheduler.
 LOCAL_CLUSTER = "local"
@@ -34,7 +40,11 @@ def _engine(dask: str | None, threads: int | None):
             from distributed import Client, LocalCluster
         except ImportError as exc:
             raise InputError("--dask needs dask.distributed: pip install 'armkit[workspace]'") from exc
-        cluster = LocalCluster(n_workers=threads or 2, threads_per_worker=1, dashboard_address=None)
+        # Worker processes, one thread each; their logs silenced (Ctrl-C reaches them too).
+        with warnings.catch_warnings():  # "port 8787 in use" when another cluster runs: not ours
+            warnings.filterwarnings("ignore", "Port .* is already in use", UserWarning)
+            cluster = LocalCluster(n_workers=threads or 2, threads_per_worker=1, dashboard_address=None,
+                                   silence_logs=logging.CRITICAL)
         return Client(cluster), cluster
     from armkit.workspace.engine import connect
 
@@ -105,6 +115,21 @@ def workspace_command(
     quiet: Annotated[bool, typer.Option("--quiet", help="No progress bars.")] = False,
 ) -> None:
     """Where the arm reaches, how well and in how many ways: maps on a voxel grid, in a Zarr store."""
+    options = dict(locals())
+    from armkit.workspace.engine import InterruptedRun
+
+    try:
+        _run(**options)
+    except (InterruptedRun, KeyboardInterrupt) as exc:
+        text = str(exc) if isinstance(exc, InterruptedRun) else "before the first chunk was done"
+        err_console.print(f"[yellow]interrupted[/yellow] (Ctrl-C): {escape(text)}", highlight=False,
+                          soft_wrap=True)
+        raise typer.Exit(INTERRUPTED) from None
+
+
+def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, manipulability_samples,
+         singular_threshold, sweep, dataset, out, resume, force, threads, dask, report, report_dir,
+         json_output, quiet) -> None:
     from armkit import workspace
 
     arm = load_robot(robot)

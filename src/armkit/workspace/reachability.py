@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 
 from armkit.robot import Robot
 from armkit.robot_file import robot_to_toml
+from armkit.workspace.engine import engine_threads
 from armkit.workspace.grid import Grid, grid_for
 from armkit.workspace.sampling import SamplePlan, robot_from_toml, voxel_hits
 from armkit.workspace.store import run_resumable
@@ -45,6 +46,8 @@ __all__ = ["ReachabilityMap", "VolumeEstimate", "boundary_mask", "reachability"]
 
 #: Configurations per chunk by default (memory per chunk in flight: a few hundred bytes each).
 CHUNK_SIZE = 2**18
+#: Most chunks one task covers (see :func:`chunks_per_task`).
+MAX_CHUNKS_PER_TASK = 8
 
 
 @dataclass(frozen=True)
@@ -187,12 +190,26 @@ class _Task:
     plan: SamplePlan
 
 
-def _hits_of_chunk(task: _Task, chunk: int) -> tuple[NDArray[np.int64], NDArray[np.int64], int, int]:
-    """Voxels hit by chunk ``chunk`` (raveled indices), how often, how many samples missed the grid,
-    and the chunk."""
-    hits, outside = voxel_hits(robot_from_toml(task.robot_toml), task.grid, task.plan, chunk)
+def _hits_of_chunks(task: _Task, chunks: tuple[int, ...]) -> tuple[NDArray[np.int64], NDArray[np.int64],
+                                                                    NDArray[np.int64], int]:
+    """Voxels hit by chunks ``chunks`` (raveled indices), how often in all of them and in the
+    even-numbered ones, and how many samples missed the grid. The counts are added up on the
+    worker, so one task ships one sparse array, whatever its number of chunks."""
+    robot = robot_from_toml(task.robot_toml)
+    even, odd = np.zeros(task.grid.size, dtype=np.int64), np.zeros(task.grid.size, dtype=np.int64)
+    outside = 0
+    for chunk in chunks:
+        outside += voxel_hits(robot, task.grid, task.plan, chunk, even if chunk % 2 == 0 else odd)[1]
+    hits = even + odd
     voxels = np.flatnonzero(hits)
-    return voxels, hits[voxels], outside, chunk
+    return voxels, hits[voxels], even[voxels], outside
+
+
+def chunks_per_task(n_chunks: int, threads: int) -> int:
+    """Chunks one reachability task covers: up to :data:`MAX_CHUNKS_PER_TASK`, keeping about eight
+    tasks per worker thread (fewer round trips and transfers; integer counts add up the same in
+    any grouping)."""
+    return max(1, min(MAX_CHUNKS_PER_TASK, n_chunks // (8 * threads)))
 
 
 class _Hits:
@@ -201,11 +218,10 @@ class _Hits:
         self.hits_even = np.zeros(grid.size, dtype=np.int64)
         self.outside = np.zeros(1, dtype=np.int64)
 
-    def add(self, result: tuple[NDArray[np.int64], NDArray[np.int64], int, int]) -> None:
-        voxels, counts, outside, chunk = result
+    def add(self, result: tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], int]) -> None:
+        voxels, counts, counts_even, outside = result
         self.hits[voxels] += counts
-        if chunk % 2 == 0:
-            self.hits_even[voxels] += counts
+        self.hits_even[voxels] += counts_even
         self.outside += outside
 
     def arrays(self) -> dict[str, NDArray]:
@@ -255,8 +271,9 @@ def reachability(robot: Robot, *, resolution: float = 0.02, grid: Grid | None = 
     grid = grid_for(robot, resolution) if grid is None else grid
     plan = SamplePlan(int(samples), int(chunk_size), int(seed), method)
     accumulator = _Hits(grid)
-    done = run_resumable(partial(_hits_of_chunk, _Task(robot_to_toml(robot), grid, plan)), plan.n_chunks,
+    done = run_resumable(partial(_hits_of_chunks, _Task(robot_to_toml(robot), grid, plan)), plan.n_chunks,
                          accumulator, store=store, name=section, attrs=plan.to_attrs(), resume=resume,
-                         engine=engine, progress=progress, description="reachability")
+                         engine=engine, progress=progress, description="reachability",
+                         chunks_per_task=chunks_per_task(plan.n_chunks, engine_threads(engine)))
     hits, hits_even = accumulator.hits.reshape(grid.shape), accumulator.hits_even.reshape(grid.shape)
     return ReachabilityMap(grid, hits, plan, done, int(accumulator.outside[0]), hits_even)

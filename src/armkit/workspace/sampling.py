@@ -138,14 +138,16 @@ def _box_edges(box: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[n
     return np.ascontiguousarray(box[:, 0]), np.ascontiguousarray(box[:, 1])
 
 
-def voxel_hits(robot: Robot, grid: Grid, plan: SamplePlan, chunk: int) -> tuple[NDArray[np.int64], int]:
+def voxel_hits(robot: Robot, grid: Grid, plan: SamplePlan, chunk: int,
+               hits: NDArray[np.int64] | None = None) -> tuple[NDArray[np.int64], int]:
     """Chunk ``chunk``'s tool positions counted per voxel: hits ``(grid.size,)`` and the samples outside.
 
     ``uniform``: sampled, moved through FK (position only) and counted in one compiled pass,
     with no array per configuration; ``sobol``: the configurations of :func:`configurations`
-    counted by the same kernel.
+    counted by the same kernel. Given ``hits`` (contiguous int64, ``(grid.size,)``), the counts
+    are added to it and it is returned.
     """
-    hits = np.zeros(grid.size, dtype=np.int64)
+    hits = np.zeros(grid.size, dtype=np.int64) if hits is None else hits
     lower = np.ascontiguousarray(grid.lower, dtype=np.float64)
     where = (lower, float(grid.resolution), *map(int, grid.shape))
     if plan.method == "uniform":

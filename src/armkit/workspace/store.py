@@ -127,13 +127,16 @@ class Accumulator(Protocol):
     def restore(self, arrays: dict[str, NDArray]) -> None: ...
 
 
-def run_resumable(task: Callable[[int], Any], n_chunks: int, accumulator: Accumulator, *, store: Any,
+def run_resumable(task: Callable[[Any], Any], n_chunks: int, accumulator: Accumulator, *, store: Any,
                   name: str, attrs: dict, resume: bool, engine: Any, progress: bool,
-                  description: str) -> int:
+                  description: str, chunks_per_task: int | None = None) -> int:
     """Run chunks ``0 .. n_chunks - 1`` into ``accumulator``, checkpointing to ``store[name]``; chunks done.
 
     With ``resume``, a checkpoint in ``store[name]`` made with the same ``attrs`` (sample plan,
-    orientations ...) is restored and only the remaining chunks run.
+    orientations ...) is restored and only the remaining chunks run. Given ``chunks_per_task``,
+    ``task`` gets a tuple of consecutive chunks (up to that many) instead of one chunk,
+    and a checkpoint records the chunks of the tasks consumed (``chunks_done`` stays a prefix
+    count, so a resume with another grouping continues where it stopped).
 
     Raises
     ------
@@ -152,9 +155,9 @@ def run_resumable(task: Callable[[int], Any], n_chunks: int, accumulator: Accumu
         start = int(saved["chunks_done"])
     done = [start]
 
-    def consume(chunk: int, result: Any) -> None:
+    def consume(unit: Any, result: Any) -> None:
         accumulator.add(result)
-        done[0] = chunk + 1
+        done[0] = (unit[-1] if isinstance(unit, tuple) else unit) + 1
 
     def checkpoint() -> None:
         if store is not None:
@@ -162,7 +165,10 @@ def run_resumable(task: Callable[[int], Any], n_chunks: int, accumulator: Accumu
                          {**attrs, "chunks_done": done[0], "n_chunks": n_chunks})
 
     try:
-        run_chunks(task, range(start, n_chunks), consume, engine=engine, progress=progress,
+        units: Any = range(start, n_chunks)
+        if chunks_per_task is not None:
+            units = [tuple(units[i:i + chunks_per_task]) for i in range(0, len(units), chunks_per_task)]
+        run_chunks(task, units, consume, engine=engine, progress=progress,
                    description=description, checkpoint=checkpoint)
     except InterruptedRun as exc:
         if store is None:
