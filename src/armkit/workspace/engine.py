@@ -209,7 +209,7 @@ class _Bar:
         )
 
         self.progress = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                                 TextColumn("chunks"), TimeElapsedColumn(), TextColumn("eta"),
+                                 TextColumn("tasks"), TimeElapsedColumn(), TextColumn("eta"),
                                  TimeRemainingColumn(), console=Console(stderr=True), transient=False)
         self.task = self.progress.add_task(description, total=total)
         self.progress.start()
