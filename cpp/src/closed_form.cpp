@@ -77,6 +77,33 @@ void flag_close_singular_candidates(const Chain& chain, const double* q, int k, 
     }
 }
 
+// No candidate passed the case's existence tests, which can fail at a multiple root of its
+// equations (a doubly singular pose of a degenerate arm) while candidates still reproduce
+// T: there FK decides. A finite candidate within cf.verify_tolerance after two Newton steps
+// is valid, and a family member if the Jacobian there is singular.
+//: A candidate within this many times cf.verify_tolerance of the pose is polished and checked.
+constexpr double kNearlyExact = 1e4;
+
+void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family) {
+    const int n = cf.chain.n;
+    for (int s = 0; s < cf.k; ++s) {
+        double* qs = q + s * n;
+        if (!std::all_of(qs, qs + n, [](double v) { return std::isfinite(v); })) continue;
+        // only a candidate already near the pose is worth the Newton steps (an unreachable
+        // pose of a workspace map pays one FK per candidate here)
+        if (!(fk_difference(cf.chain, T, qs) <= kNearlyExact * cf.verify_tolerance)) continue;
+        double polished[kMaxJoints];
+        std::copy(qs, qs + n, polished);
+        newton(cf.chain, T, polished, 2);
+        if (!(fk_difference(cf.chain, T, polished) <= cf.verify_tolerance)) continue;
+        for (int j = 0; j < n; ++j) qs[j] = cf.chain.prismatic[j] ? polished[j] : wrap_angle(polished[j]);
+        double V[kMaxJoints * kMaxJoints];
+        int null[kMaxJoints];
+        valid[s] = true;
+        family[s] = family[s] || null_space(cf.chain, qs, V, null) > 0;
+    }
+}
+
 void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family) {
     const int k = cf.k, n = cf.chain.n;
     double q_int[kMaxCandidates * kMaxJoints];
@@ -97,6 +124,7 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
             if (!cf.chain.prismatic[j]) qs[j] = wrap_angle(qs[j]);
         if (cf.verify && valid[s]) valid[s] = fk_difference(cf.chain, T, qs) <= cf.verify_tolerance;
     }
+    if (std::none_of(valid, valid + k, [](bool v) { return v; })) take_exact_candidates(cf, T, q, valid, family);
     bool duplicate[kMaxCandidates];
     mark_duplicates(q, k, n, valid, cf.chain.prismatic.data(), duplicate);
     for (int s = 0; s < k; ++s) valid[s] = valid[s] && !duplicate[s];

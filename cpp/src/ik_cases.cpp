@@ -544,32 +544,62 @@ void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, boo
 //: Members of a family of the two-angle system tried for its representative.
 constexpr int kFamilyMembers = 64;
 
-// Candidate i of pair has a free t1 (a family of the two-angle system): the member (t1,
-// t2) whose planar target (target_of(t2, t1, ...), for the 2R of links a, b) the 2R reaches
-// best (|v|^2 nearest |a|^2 + |b|^2), among kFamilyMembers values of t1 round the circle.
-// Every member solves the system exactly; which one stands for the family only decides
-// whether the rest of the chain can follow (the walk to near comes later).
+// Candidate i of pair has a free t1 (a family of the two-angle system): a member (t1, t2)
+// whose planar target (target_of(t2, t1, ...), for the 2R of links a, b) the 2R reaches best.
+// f(t1) = |v|^2 - (|a|^2 + |b|^2) changes sign where the family passes the 2R's middle reach,
+// and each loop of the family (two where the 2R reaches two separate intervals of t1, as for
+// a wrist axis parallel to h: see wrist_family_representative) holds such a crossing: side
+// +1 takes one where f rises, side -1 one where it falls, found among kFamilyMembers values
+// of t1 round the circle and put on the crossing by bisection. Without a crossing of that
+// side: for side +1 the member with |f| least, for side -1 nothing (false: no second loop).
+// Every member solves the system exactly; which one stands for a loop only decides whether
+// the rest of the chain can follow (the walk to near comes later).
 template <class Target>
-void choose_family_member(const CaseGeometry& g, const Mat2& P, const double* r, int i, AngleCandidates& pair,
-                          Target target_of, Vec3 a, Vec3 b) {
+bool choose_family_member(const CaseGeometry& g, const Mat2& P, const double* r, int i, AngleCandidates& pair,
+                          Target target_of, Vec3 a, Vec3 b, double side) {
     const Vec3 h = g.hp;
     a = detail::in_plane(a, h);
     b = detail::in_plane(b, h);
     const double middle = dot(a, a) + dot(b, b), half_width = 2.0 * std::sqrt(dot(a, a) * dot(b, b));
     const double size = system_size(P, r);
-    double best = std::numeric_limits<double>::infinity();
-    const double start = pair.t1[i];
-    for (int m = 0; m < kFamilyMembers; ++m) {
-        const double t1 = start + m * (6.283185307179586 / kFamilyMembers);
+    // f(t1) / half_width, and t2; NaN where t1 has no t2
+    auto reach = [&](double t1, double& t2) {
         bool ok;
-        const double t2 = family_t2(g, P, r, t1, i, size, ok);
-        if (!ok) continue;
+        t2 = family_t2(g, P, r, t1, i, size, ok);
+        if (!ok) return std::numeric_limits<double>::quiet_NaN();
         Angle1 wrist;
         double theta;
-        const Vec3 v = detail::in_plane(target_of(t2, t1, wrist, theta, 1.0), h);
-        const double score = std::abs(dot(v, v) - middle) / std::max(half_width, 1e-300);
-        if (score < best) best = score, pair.t1[i] = t1, pair.t2[i] = t2;
+        const Vec3 v = detail::in_plane(target_of(t2, t1, wrist, theta, side), h);
+        return (dot(v, v) - middle) / std::max(half_width, 1e-300);
+    };
+    constexpr double step = kTwoPi / kFamilyMembers;
+    const double start = pair.t1[i];
+    double f[kFamilyMembers], t2s[kFamilyMembers];
+    int least = -1;
+    for (int m = 0; m < kFamilyMembers; ++m) {
+        f[m] = reach(start + m * step, t2s[m]);
+        if (std::isfinite(f[m]) && (least < 0 || std::abs(f[m]) < std::abs(f[least]))) least = m;
     }
+    for (int m = 0; m < kFamilyMembers; ++m) {
+        const int next = (m + 1) % kFamilyMembers;
+        if (!(side * f[m] < 0.0 && side * f[next] >= 0.0)) continue;  // false where either is NaN
+        double below = start + m * step, above = below + step, t2 = t2s[next];
+        for (int k = 0; k < 52; ++k) {
+            double t2_mid;
+            const double mid = 0.5 * (below + above), f_mid = reach(mid, t2_mid);
+            if (!std::isfinite(f_mid)) break;
+            if (side * f_mid < 0.0) {
+                below = mid;
+            } else {
+                above = mid, t2 = t2_mid;
+            }
+        }
+        pair.t1[i] = above, pair.t2[i] = t2;
+        return true;
+    }
+    if (side < 0.0 || least < 0) return false;
+    pair.t1[i] = start + least * step, pair.t2[i] = t2s[least];
+    return true;
 }
 
 // ------------------------------------------------------ parallel axes 1-3 (or 4-6)
@@ -611,14 +641,22 @@ void parallel_base(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool
         return (z - p0) - rotate(h, theta, y - p2);
     };
     for (int i = 0; i < 4; ++i) {
-        if (pair.free[i] && pair.valid[i]) choose_family_member(g, P, r, i, pair, wrist, p1 - p0, p2 - p1);
-        const double q4 = pair.t2[i], q6 = pair.t1[i];
+        // a family of the two-angle system: a member on each of its loops (the second, where
+        // there is one, takes elbow slot b = 1)
+        const bool members = pair.free[i] && pair.valid[i];
+        AngleCandidates other = pair;
+        if (members) choose_family_member(g, P, r, i, pair, wrist, p1 - p0, p2 - p1, 1.0);
+        const bool second_loop = members && choose_family_member(g, P, r, i, other, wrist, p1 - p0, p2 - p1, -1.0);
         Angle1 q5;
         double theta;
-        Planar2 q12 = planar_2r(h, p1 - p0, p2 - p1, wrist(q4, q6, q5, theta, 1.0));
+        Planar2 q12{};
         for (int b = 0; b < 2; ++b) {
-            // a family of q5 (axis 5 parallel to h): one loop of it per elbow slot
-            if (b == 1 && q5.free) q12 = planar_2r(h, p1 - p0, p2 - p1, wrist(q4, q6, q5, theta, -1.0));
+            // a family of q5 (axis 5 parallel to h): one loop of it per elbow slot as well
+            const AngleCandidates& member = b == 1 && second_loop ? other : pair;
+            const double side = b == 0 ? 1.0 : -1.0;
+            if (b == 0 || second_loop || q5.free)
+                q12 = planar_2r(h, p1 - p0, p2 - p1, wrist(member.t2[i], member.t1[i], q5, theta, side));
+            const double q4 = member.t2[i], q6 = member.t1[i];
             const int s = 2 * i + b;
             double* qs = q + n * s;
             qs[0] = q12.ta[b];

@@ -23,11 +23,11 @@ from numpy.typing import ArrayLike, NDArray
 from armkit import _core
 from armkit._deprecation import deprecated_constants, renamed_argument
 from armkit.chain import Chain, as_chain
-from armkit.errors import InputError, NoClosedFormError
+from armkit.errors import InputError, NoClosedFormError, SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
 from armkit.ik.messages import Labels, numeric_failure, outside_limits, raise_if_unusable
-from armkit.ik.numeric import numeric_ik, wrap_into_limits
-from armkit.ik.pipeline import Found, verified_solutions, with_turn_copies
+from armkit.ik.numeric import _float_array, numeric_ik, wrap_into_limits
+from armkit.ik.pipeline import MAX_SOLUTIONS, Found, verified_solutions, with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions, IKSolutionsBatch
 from armkit.spatial.transforms import RIGID_TOLERANCE, check_transform
 
@@ -68,7 +68,7 @@ class _Targets:
         self.T = T.reshape(-1, 4, 4)
         n = chain.n
         if near is not None:
-            near = np.asarray(near, dtype=float)
+            near = _float_array(near, "near", f"{n} finite joint values (shape (..., {n}))")
             if near.ndim == 0 or near.shape[-1] != n or not np.isfinite(near).all():
                 raise InputError(f"near: expected {n} finite joint values (shape (..., {n})), "
                                  f"got {near.tolist()}")
@@ -81,7 +81,7 @@ class _Targets:
             near = np.ascontiguousarray(near)
         self.near = near
         if weights is not None:
-            weights = np.asarray(weights, dtype=float)
+            weights = _float_array(weights, "weights", f"{n} positive numbers")
             if weights.shape != (n,) or not np.all(np.isfinite(weights) & (weights > 0)):
                 raise InputError(f"weights: expected {n} positive numbers, got {weights.tolist()}")
             weights = np.ascontiguousarray(weights)
@@ -114,14 +114,16 @@ class _Targets:
         return verified_solutions(solver, self.T, *args)
 
 
-def _listed(chain: Chain, targets: _Targets, found: Found, i: int, turn_copies: bool) -> IKSolutions:
+def _listed(chain: Chain, targets: _Targets, found: Found, i: int, turn_copies: bool,
+            left_off: list[float] | None = None) -> IKSolutions:
     """Pose ``i``'s usable solutions in ``found``, each inside the limits with its whole-turn
     copies there if ``turn_copies`` (:func:`~armkit.ik.pipeline.with_turn_copies`)."""
     k = int(found.count[i])
     q, inside, family = found.q[i, :k], found.inside[i, :k], found.family[i, :k]
     if not (turn_copies and chain.spans_turns and k):
         return IKSolutions(q, inside, family, found.position_error[i, :k], found.orientation_error[i, :k])
-    source, q, errors = with_turn_copies(chain, targets.T[i], q, inside, targets.near_of(i), targets.weights)
+    source, q, errors = with_turn_copies(chain, targets.T[i], q, inside, targets.near_of(i), targets.weights,
+                                         left_off=left_off)
     return IKSolutions(q, inside[source], family[source], errors[:, 0], errors[:, 1])
 
 
@@ -183,7 +185,14 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
     if not targets.batch:
         return _listed(chain, targets, c, 0, turn_copies)
     if turn_copies and chain.spans_turns:
-        return IKSolutionsBatch.stack([_listed(chain, targets, c, i, True) for i in range(len(c.q))], chain.n)
+        left_off: list[float] = []
+        listed = [_listed(chain, targets, c, i, True, left_off) for i in range(len(c.q))]
+        if left_off:
+            warn_at_caller(SolutionsLeftOffWarning(
+                f"{len(left_off)} of {len(c.q)} poses have more solutions inside the limits than "
+                f"MAX_SOLUTIONS = {MAX_SOLUTIONS} (up to {max(left_off):.0f}, whole-turn copies): the "
+                f"{MAX_SOLUTIONS} nearest to near are listed for each"))
+        return IKSolutionsBatch.stack(listed, chain.n)
     return IKSolutionsBatch(c.q, c.count, c.inside, c.family & c.keep, c.position_error, c.orientation_error)
 
 
@@ -295,7 +304,7 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
         return q.reshape(*batch, chain.n)
     c, empty = targets.solve(solver, within_limits, nearest=not all_solutions, threads=threads)
     if empty:
-        raise_if_unusable(chain, c, targets.T, targets.near_rows(chain.n), labels)
+        raise_if_unusable(chain, c, targets.T, targets.near_rows(chain.n), labels, within_limits)
     if not all_solutions:
         return c.q[0, 0] if not batch else c.q[:, 0].reshape(*batch, chain.n)
     listed = [_listed(chain, targets, c, i, turn_copies).q for i in range(len(c.q))]
