@@ -138,3 +138,48 @@ def test_a_family_is_flagged_on_axis_1():
     found = position_solutions(chain, [0.0, 0.0, 0.45])
     assert found.family.all() and len(found.q)
     assert np.linalg.norm(fk(chain, found.q)[:, :3, 3] - [0, 0, 0.45], axis=1).max() < 1e-12
+
+
+def test_held_joints_keep_their_values_and_only_joints_1_to_3_are_copied():
+    """Joints 4..n keep near's values exactly (not wrapped into the limits), and the UR5's
+    +-360 degree limits copy joints 1-3 only: 4 solutions x 2^3 = 32."""
+    ur5 = armkit.load("ur5")
+    near = np.array([0.1, -1.0, 1.0, 4.0, 0.5, -0.3])
+    p = ur5.fk(near)[:3, 3]
+    every = ur5.ik_position(p, all_solutions=True, near=near, within_limits=False)
+    assert every.shape == (32, 6)
+    np.testing.assert_array_equal(every[:, 3:], np.tile(near[3:], (32, 1)))
+    np.testing.assert_allclose(every[0], near, atol=1e-9)
+    assert len(ur5.ik_position(p, all_solutions=True, near=near, turn_copies=False)) == 4
+    np.testing.assert_allclose(ur5.fk(every)[:, :3, 3], np.tile(p, (32, 1)), atol=1e-9)
+
+
+def test_a_held_value_outside_its_limits_leaves_every_solution_outside():
+    stanford = armkit.load("stanford")
+    near = np.zeros(6)
+    near[3] = 4.0  # q4's limits are narrower than that
+    assert stanford.chain.upper[3] < 4.0
+    p = stanford.fk(near)[:3, 3]
+    found = position_solutions(stanford, p, near=near)
+    assert len(found.q) and not found.within_limits.any() and (found.q[:, 3] == 4.0).all()
+
+
+@pytest.mark.parametrize("bad", [{"position": "abc"}, {"near": "abc"}, {"near": [0, 0, [1]]}])
+def test_text_or_ragged_input_is_an_input_error(bad):
+    arm = armkit.load("examples/data/my_arm.toml")
+    kwargs = {"position": [0.3, 0.1, 0.3], **bad}
+    with pytest.raises(InputError, match=next(iter(bad))):
+        arm.ik_position(kwargs.pop("position"), **kwargs)
+
+
+def test_robot_ik_position_takes_its_options_by_name():
+    arm = armkit.load("examples/data/my_arm.toml")
+    with pytest.raises(TypeError):
+        arm.ik_position([0.3, 0.1, 0.3], True)
+
+
+def test_cli_position_all_without_turn_copies(capsys):
+    assert main(["ik", "ur5", "--position", "0.3", "0.1", "0.3", "--all", "--json"]) == 0
+    assert len(json.loads(capsys.readouterr().out)["solutions"]) == 32
+    assert main(["ik", "ur5", "--position", "0.3", "0.1", "0.3", "--all", "--no-turn-copies", "--json"]) == 0
+    assert len(json.loads(capsys.readouterr().out)["solutions"]) == 4

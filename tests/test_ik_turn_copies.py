@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 
 import armkit
 from armkit import Robot
-from armkit.chain import LIMIT_TOLERANCE
+from armkit.chain import LIMIT_TOLERANCE, DHRow, chain_from_dh
 from armkit.cli.main import main
 from armkit.errors import SolutionsLeftOffWarning
 from armkit.ik import ik_solutions
@@ -153,3 +153,31 @@ def test_cli_lists_the_copies_and_no_turn_copies_each_once(capsys):
     assert len(once["solutions"]) == 8 and once["numbers"] == list(range(1, 9))
     assert main(args[:-1]) == 0
     assert "Whole-turn copies are listed" in capsys.readouterr().out
+
+
+def test_the_warning_names_the_callers_line_and_a_batch_warns_once():
+    wide = with_limits(UR5, [(-math.radians(1000), math.radians(1000))] * 6)
+    T = wide.fk(np.stack([Q, Q * 0.5, Q * 0.25]))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        found = ik_solutions(wide, T, near=Q)
+    left_off = [w for w in caught if issubclass(w.category, SolutionsLeftOffWarning)]
+    assert len(left_off) == 1 and "3 of 3 poses" in str(left_off[0].message)
+    assert left_off[0].filename == __file__  # this test's line, not armkit's
+    assert (found.counts == MAX_SOLUTIONS).all()
+
+
+def test_a_stacked_batch_pads_with_nan():
+    wide = with_limits(UR5, [(-2 * math.pi, 2 * math.pi)] + [(-math.pi, math.pi)] * 5)
+    far = wide.fk(Q)
+    far[:3, 3] += 10.0  # out of reach: no solution
+    mixed = ik_solutions(wide, np.stack([wide.fk(Q), far]), near=Q)
+    assert mixed.counts[0] == 16 and mixed.counts[1] == 0  # q1's two copies of each of 8
+    assert np.isnan(mixed.q[1]).all() and np.isnan(mixed.position_error[1]).all()
+    assert len(mixed[1].q) == 0
+
+
+def test_prismatic_joints_with_wide_limits_have_no_copies():
+    rows = [DHRow(0, 0.3, 0, 0), DHRow(0, 0.2, 0, 0, "prismatic")]
+    chain = chain_from_dh(rows, "standard", limits=[(-math.pi, math.pi), (-20.0, 20.0)])
+    assert chain.spans_turns == ()

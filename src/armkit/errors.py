@@ -6,6 +6,10 @@ can catch them all at once, and the CLI turns them into one-line messages.
 
 from __future__ import annotations
 
+import os
+import sys
+import warnings
+
 __all__ = [
     "ArmkitError",
     "ConvergenceError",
@@ -63,3 +67,13 @@ class NoClosedFormError(ArmkitError):
 class SolutionsLeftOffWarning(UserWarning):
     """More solutions exist than are listed (e.g. whole-turn copies of joints whose limits
     span several turns); the nearest ones are listed. Not an error: a warning."""
+
+
+def warn_at_caller(warning: Warning) -> None:
+    """Issue ``warning`` attributed to the first caller outside the armkit package (so the
+    user's line is named, however deep inside armkit it arose)."""
+    package = os.path.dirname(os.path.abspath(__file__))
+    frame, level = sys._getframe(1), 2  # stacklevel 2: the function calling this one
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(package + os.sep):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(warning, stacklevel=level)

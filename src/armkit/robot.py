@@ -339,7 +339,7 @@ class Robot:
         return ik(self.chain, T, all_solutions=all_solutions, near=near, within_limits=within_limits,
                   **options)
 
-    def ik_position(self, position: ArrayLike, all_solutions: bool = False, near: ArrayLike | None = None,
+    def ik_position(self, position: ArrayLike, *, all_solutions: bool = False, near: ArrayLike | None = None,
                     within_limits: bool = True, turn_copies: bool = True) -> NDArray[np.float64]:
         """Position IK in closed form: joints 1-3 put the tool point at ``position`` [m]
         (orientation free; joints 4..n keep ``near``'s values). See :func:`armkit.ik.ik_position`.

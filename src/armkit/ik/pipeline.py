@@ -33,7 +33,6 @@ are ranked again.
 
 from __future__ import annotations
 
-import warnings
 from typing import NamedTuple
 
 import numpy as np
@@ -41,7 +40,7 @@ from numpy.typing import NDArray
 
 from armkit import _core
 from armkit.chain import Chain
-from armkit.errors import SolutionsLeftOffWarning
+from armkit.errors import SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver
 from armkit.ik.numeric import numeric_ik
 
@@ -154,15 +153,18 @@ def verified_solutions(solver: ClosedFormSolver, T: NDArray[np.float64], near: N
 
 def with_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64], inside: NDArray[np.bool_],
                      near: NDArray[np.float64] | None, weights: NDArray[np.float64] | None,
-                     joints: NDArray[np.bool_] | None = None,
+                     joints: NDArray[np.bool_] | None = None, left_off: list[float] | None = None,
                      ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
     """The solutions ``q`` ``(k, n)`` of pose ``T`` ``(4, 4)`` with every whole-turn copy
     inside the limits of those ``inside`` (see the module's docstring), nearest to ``near``
     first (None: zeros; ``weights`` None: ones), at most :data:`MAX_SOLUTIONS`. ``joints``
     ``(n,)``: the joints whose copies count (None: all; held joints keep their value).
+    More than :data:`MAX_SOLUTIONS` copies: a :class:`~armkit.errors.SolutionsLeftOffWarning`,
+    or with ``left_off`` (a list) their number appended to it instead (a batch warns once).
 
     Returns the row of ``q`` each listed solution is a copy of ``(m,)``, the solutions
-    ``(m, n)`` and their FK residuals ``(m, 2)`` [m, rad] (each copy verified by FK).
+    ``(m, n)`` and their FK residuals ``(m, 2)`` [m, rad] (each copy's own FK, which
+    differs from its original's by rounding only; no copy is dropped for it).
     """
     n = chain.n
     source, copies, errors, total = _core.turn_copies(
@@ -171,9 +173,11 @@ def with_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64
         np.ones(n, dtype=bool) if joints is None else np.ascontiguousarray(joints, dtype=bool),
         np.zeros(n) if near is None else near,
         np.ones(n) if weights is None else weights, MAX_SOLUTIONS)
-    if total > len(source):
+    if total > len(source) and left_off is not None:
+        left_off.append(total)
+    elif total > len(source):
         copied = ", ".join(f"q{j + 1}" for j in chain.spans_turns if joints is None or joints[j])
-        warnings.warn(SolutionsLeftOffWarning(
+        warn_at_caller(SolutionsLeftOffWarning(
             f"{total:.0f} solutions inside the limits (whole-turn copies of joints {copied}): "
-            f"the {len(source)} nearest to near are listed"), stacklevel=3)
+            f"the {len(source)} nearest to near are listed"))
     return source, copies, errors

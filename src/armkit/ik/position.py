@@ -11,8 +11,11 @@ by forward kinematics (position within :data:`~armkit.ik.results.SOLUTION_TOLERA
 wrapped into the limits and sorted by distance to ``near``, as :func:`armkit.ik.ik` does.
 
 Decision (issue 10 item 4): the orientation is free, so this is its own call,
-:func:`ik_position` (``Robot.ik_position``), with ``ik``'s arguments and result shapes;
-joints 4..n keep their values from ``near`` (default zeros).
+:func:`ik_position` (``Robot.ik_position``), with ``ik``'s ``all_solutions``, ``near``,
+``within_limits`` and ``turn_copies`` and its result shapes, for one target position per call
+(no ``weights``: the solutions are sorted by the plain joint distance to ``near``). Joints 4..n
+keep their values from ``near`` (default zeros) exactly, not wrapped into their limits: a held
+value outside them makes every solution out of limits.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik.cases import POINT, POSITION_CASES, CaseGeometry, solve_pose
 from armkit.ik.closed_form import ClosedFormSolver, case_fields
-from armkit.ik.numeric import wrap_into_limits
+from armkit.ik.numeric import _float_array, wrap_into_limits
 from armkit.ik.pipeline import with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions
 from armkit.ik.structure import PoeChain, _Geometry, _position_case, poe_from_chain
@@ -55,6 +58,22 @@ def position_case(robot: Robot | Chain) -> str:
 
 
 def _plan(chain: Chain) -> tuple[PoeChain, tuple, str]:
+    """Joints 1-3 as a POE chain (aligned for the parallel cases), their case and its clause;
+    computed once per chain (a refusal too)."""
+    plan = chain.derived("position_plan", lambda: _make_plan(chain))
+    if isinstance(plan, NoClosedFormError):
+        raise NoClosedFormError(str(plan))
+    return plan
+
+
+def _make_plan(chain: Chain) -> tuple[PoeChain, tuple, str] | NoClosedFormError:
+    try:
+        return _analyse(chain)
+    except NoClosedFormError as exc:
+        return exc
+
+
+def _analyse(chain: Chain) -> tuple[PoeChain, tuple, str]:
     if chain.n < 3:
         raise NoClosedFormError(f"position IK in closed form needs 3 joints; this arm has {chain.n}")
     poe = poe_from_chain(chain)
@@ -135,21 +154,28 @@ def position_solutions(robot: Robot | Chain, position: ArrayLike, *, near: Array
     return _solve(as_chain(robot), position, near, turn_copies)[0]
 
 
+def _wrap_first_three(chain: Chain, q: NDArray[np.float64], near: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Joints 1-3 of ``q`` wrapped into the limits (near ``near``); joints 4..n as held."""
+    wrapped = wrap_into_limits(chain, q, near)
+    wrapped[:, 3:] = near[3:]
+    return wrapped
+
+
 def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copies: bool
            ) -> tuple[IKSolutions, float]:
     """:func:`position_solutions`, and the distance [m] of the closest candidate (valid or not:
     an invalid one is as close as the subproblems get)."""
-    p = np.asarray(position, dtype=float)
+    p = _float_array(position, "position", "3 finite numbers [m]")
     if p.shape != (3,) or not np.isfinite(p).all():
-        raise InputError(f"position: expected 3 finite numbers [m], got {np.asarray(position).tolist()}")
-    near = np.zeros(chain.n) if near is None else np.asarray(near, dtype=float)
+        raise InputError(f"position: expected 3 finite numbers [m], got {p.tolist()}")
+    near = np.zeros(chain.n) if near is None else _float_array(near, "near", f"{chain.n} finite joint values")
     if near.shape != (chain.n,) or not np.isfinite(near).all():
         raise InputError(f"near: expected {chain.n} finite joint values, got {near.tolist()}")
     geometry, sign = _geometry(chain, near[3:])
     q3, valid, family = solve_pose(geometry, np.eye(3), p)
     q = np.tile(near, (len(q3), 1))
     q[:, :3] = np.asarray(q3) * sign
-    q = wrap_into_limits(chain, q, near)
+    q = _wrap_first_three(chain, q, near)
     q = np.stack([_polish(chain, row, p) if ok else row for row, ok in zip(q, valid, strict=True)])
     error = np.linalg.norm(_fk(chain, q)[:, :3, 3] - p, axis=1)
     closest = float(error.min())
@@ -157,7 +183,7 @@ def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copie
     duplicate = np.zeros(len(q), dtype=bool)
     _core.duplicates(np.ascontiguousarray(q), keep, np.ascontiguousarray(chain.prismatic), duplicate)
     keep &= ~duplicate
-    q, family, error = wrap_into_limits(chain, q[keep], near), np.asarray(family)[keep], error[keep]
+    q, family, error = _wrap_first_three(chain, q[keep], near), np.asarray(family)[keep], error[keep]
     order = np.argsort(np.linalg.norm(q - near, axis=1), kind="stable")
     q, family, error = q[order], family[order], error[order]
     inside = chain.within_limits(q)

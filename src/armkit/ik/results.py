@@ -96,7 +96,7 @@ class IKSolutionsBatch(Sequence[IKSolutions]):
         """The solutions of several poses, padded to the largest count (``n`` joints)."""
         counts = np.array([len(s.q) for s in solutions], dtype=np.int64)
         k = int(counts.max(initial=0))
-        q, errors = np.zeros((len(solutions), k, n)), np.zeros((len(solutions), k, 2))
+        q, errors = np.full((len(solutions), k, n), np.nan), np.full((len(solutions), k, 2), np.nan)
         inside, family = np.zeros((len(solutions), k), dtype=bool), np.zeros((len(solutions), k), dtype=bool)
         for i, s in enumerate(solutions):
             m = counts[i]
