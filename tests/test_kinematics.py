@@ -351,3 +351,23 @@ def test_the_prismatic_test_arm_has_prismatic_joints_and_matches_finite_differen
         dq[i] = h
         e = pose_error(robot.fk(q + dq), robot.fk(q - dq)) / (2 * h)
         np.testing.assert_allclose(J[:, i], e, atol=1e-8)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda", "stanford"])
+def test_one_configuration_in_one_core_call_equals_the_batch_path(name):
+    """``robot.fk(q)`` / ``robot.jacobian(q)`` of one float64 configuration take a one-call
+    core path: the same bits as the batch kernels, a fresh writable array each call, and
+    the batch path's error for a non-finite value; other inputs take the general path."""
+    robot = armkit.load(name)
+    q = robot.random_q(rng=1)
+    T, J = robot.fk(q), robot.jacobian(q)
+    np.testing.assert_array_equal(T, robot.fk(q[None])[0])
+    np.testing.assert_array_equal(J, robot.jacobian(q[None])[0])
+    assert T.flags.writeable and T is not robot.fk(q) and J.shape == (6, robot.n)
+    np.testing.assert_array_equal(robot.fk(q.tolist()), T)
+    np.testing.assert_array_equal(robot.fk(np.repeat(q, 2)[::2]), T)  # strided: general path
+    bad = q.copy()
+    bad[2] = np.nan
+    for call in (robot.fk, robot.jacobian):
+        with pytest.raises(InputError, match="got nan at index 2"):
+            call(bad)

@@ -108,6 +108,27 @@ long long fk(const Chain& chain, In q, Out T, int threads) {
     return first_bad.load();
 }
 
+// One configuration q (n,), the common case in one call: its tool pose (4, 4), or None
+// for a non-finite value (the caller's error names it).
+nb::object fk_one(const Chain& chain, In q) {
+    if (q.size() != std::size_t(chain.n)) throw std::invalid_argument("fk_one: expected q (n,)");
+    if (!all_finite(q.data(), q.size())) return nb::none();
+    double T[16];
+    pose_to_matrix(tool_pose(chain, q.data()), T);
+    return owned_array(T, 4, 4);
+}
+
+// One configuration q (n,): its base-frame geometric Jacobian (6, n), or None as fk_one.
+nb::object jacobian_one(const Chain& chain, In q) {
+    const std::size_t n = std::size_t(chain.n);
+    if (q.size() != n) throw std::invalid_argument("jacobian_one: expected q (n,)");
+    if (!all_finite(q.data(), n)) return nb::none();
+    Vec3 axes[kMaxJoints], points[kMaxJoints];
+    double J[6 * kMaxJoints];
+    jacobian_from_axes(joint_axes(chain, q.data(), axes, points), axes, points, chain.prismatic.data(), chain.n, J);
+    return owned_array(J, 6, n);
+}
+
 long long joint_frames(const Chain& chain, In q, Out frames, Out tool, int threads) {
     const std::size_t N = configurations(chain, q), n = std::size_t(chain.n);
     if (frames.size() != 16 * n * N || tool.size() != 16 * N)
@@ -190,6 +211,10 @@ void bind_kinematics(nb::module_& m) {
     const auto release = nb::call_guard<nb::gil_scoped_release>();
     m.def("fk", &fk, nb::arg("chain"), nb::arg("q"), nb::arg("T"), nb::arg("threads"), release,
           "Tool poses of q (N, n) into T (N, 4, 4); the flat index of the first non-finite q, or -1.");
+    m.def("fk_one", &fk_one, nb::arg("chain"), nb::arg("q"),
+          "Tool pose (4, 4) of one configuration q (n,), or None if q holds a non-finite value.");
+    m.def("jacobian_one", &jacobian_one, nb::arg("chain"), nb::arg("q"),
+          "Base-frame geometric Jacobian (6, n) of one configuration q (n,), or None as fk_one.");
     m.def("joint_frames", &joint_frames, nb::arg("chain"), nb::arg("q"), nb::arg("frames"), nb::arg("tool"),
           nb::arg("threads"), release,
           "Joint frames after each motion (N, n, 4, 4) and tool poses (N, 4, 4); as fk for bad q.");

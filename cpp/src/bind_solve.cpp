@@ -115,16 +115,6 @@ nb::tuple solve_batch(const ClosedForm& cf, In T, In near, In weights, bool with
     return nb::make_tuple(rough, empty);
 }
 
-// A numpy array of the given shape (1 or 2 axes) owning a copy of values.
-template <typename T>
-nb::object owned_array(const T* values, std::size_t rows, std::size_t cols = 0) {
-    const std::size_t size = cols ? rows * cols : rows, shape[2] = {rows, cols};
-    T* data = new T[size];
-    std::copy(values, values + size, data);
-    nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<T*>(p); });
-    return nb::cast(nb::ndarray<nb::numpy, T>(data, cols ? 2 : 1, shape, owner));
-}
-
 // One pose, the common case in one call: the usable solutions (count, n), nearest first, or
 // with nearest the nearest one (n,); None where the general path must take over (a target
 // not exactly rigid, near not finite, weights not positive, a candidate to refine, no

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armkit import kinematics
+from armkit import _core, kinematics
 from armkit._deprecation import renamed_argument
 from armkit.chain import Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
@@ -209,6 +209,11 @@ class Robot:
         array ``(..., n)`` (the core checks finiteness in its loop), else :meth:`check_q`."""
         return q if kinematics.is_ready(q, self.n) else np.ascontiguousarray(self.check_q(q))
 
+    def _one_ready(self, q: ArrayLike) -> bool:
+        """Whether ``q`` is one configuration as the core takes it (C-ordered float64, ``(n,)``)."""
+        return (type(q) is np.ndarray and q.dtype.char == "d" and q.shape == (self.chain.n,)
+                and q.flags.c_contiguous)
+
     def within_limits(self, q: ArrayLike) -> NDArray[np.bool_]:
         """Whether each configuration ``(..., n)`` lies inside all position limits, ``(...)``."""
         return self.chain.within_limits(self.check_q(q))
@@ -243,6 +248,10 @@ class Robot:
         >>> armkit.load("probot-anno").fk([0, 0, 0, 0, 0, 0])[:3, 3].round(4) + 0.0
         array([0.2289, 0.    , 0.454 ])
         """
+        if threads is None and self._one_ready(q):
+            T = _core.fk_one(self.chain._core, q)  # one configuration: one core call (None: not finite)
+            if T is not None:
+                return T
         return kinematics._fk(self.chain, self._checked(q), kinematics._threads(threads))
 
     def pose(self, q: ArrayLike, convention: str = "xyz-fixed",
@@ -257,6 +266,10 @@ class Robot:
     def jacobian(self, q: ArrayLike, frame: str = "base", *,
                  threads: int | None = None) -> NDArray[np.float64]:
         """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``, in the ``"base"`` or ``"tool"`` frame."""
+        if frame == "base" and threads is None and self._one_ready(q):
+            J = _core.jacobian_one(self.chain._core, q)  # as in fk
+            if J is not None:
+                return J
         threads = kinematics._threads(threads)
         return kinematics._geometric_jacobian(self.chain, self._checked(q), frame, threads)
 
