@@ -18,11 +18,12 @@ from numpy.typing import NDArray
 from armkit.chain import Chain
 from armkit.errors import JointLimitError, UnreachableError
 from armkit.ik.numeric import IKResult, numeric_ik, wrap_into_limits
+from armkit.kinematics import singular_values
 
 if TYPE_CHECKING:
     from armkit.ik.pipeline import Found
 
-__all__ = ["Labels", "angle_text", "numeric_failure", "outside_limits", "raise_if_unusable"]
+__all__ = ["Labels", "angle_text", "numeric_failure", "outside_limits", "answer_or_raise"]
 
 #: Budget of the search for the closest pose when a target is out of reach.
 _CLOSEST_POSE_RESTARTS = 20
@@ -52,11 +53,11 @@ class Labels:
         return f"pose {i} of {self.size}: " if self.size else ""
 
 
-def raise_if_unusable(chain: Chain, c: Found, T: NDArray[np.float64], near: NDArray[np.float64],
+def answer_or_raise(chain: Chain, c: Found, T: NDArray[np.float64], near: NDArray[np.float64],
                       labels: Labels, within_limits: bool = True) -> None:
-    """Raise for the first pose without a usable candidate; a pose the closed form's
-    candidates all miss but numeric IK from ``near`` reaches exactly gets that solution
-    instead (in place, in ``c``), so a reachable pose is never called out of reach."""
+    """For each pose without a usable candidate: raise, or where the closed form's
+    candidates all miss the pose but numeric IK from ``near`` reaches it exactly, put that
+    solution in ``c`` (in place), so a reachable pose is never called out of reach."""
     for i in np.flatnonzero(c.count == 0):
         if c.keep[i].any():
             first = np.flatnonzero(c.keep[i])[0]
@@ -82,8 +83,6 @@ def _take_numeric_solution(chain: Chain, c: Found, i: int, result: IKResult,
     """Put numeric IK's solution of pose ``i`` first among its (all unusable) candidates:
     wrapped towards ``near``, flagged ``family`` if the Jacobian there is singular (the
     degenerate poses where closed-form candidates fail lie on families)."""
-    from armkit.kinematics import singular_values  # the error path only
-
     q = wrap_into_limits(chain, result.q, near)
     S = singular_values(chain, q)
     c.q[i, 0] = q

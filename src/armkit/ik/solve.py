@@ -25,7 +25,7 @@ from armkit._deprecation import deprecated_constants, renamed_argument
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError, SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
-from armkit.ik.messages import Labels, numeric_failure, outside_limits, raise_if_unusable
+from armkit.ik.messages import Labels, answer_or_raise, numeric_failure, outside_limits
 from armkit.ik.numeric import _float_array, numeric_ik, wrap_into_limits
 from armkit.ik.pipeline import MAX_SOLUTIONS, Found, verified_solutions, with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions, IKSolutionsBatch
@@ -304,7 +304,7 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
         return q.reshape(*batch, chain.n)
     c, empty = targets.solve(solver, within_limits, nearest=not all_solutions, threads=threads)
     if empty:
-        raise_if_unusable(chain, c, targets.T, targets.near_rows(chain.n), labels, within_limits)
+        answer_or_raise(chain, c, targets.T, targets.near_rows(chain.n), labels, within_limits)
     if not all_solutions:
         return c.q[0, 0] if not batch else c.q[:, 0].reshape(*batch, chain.n)
     listed = [_listed(chain, targets, c, i, turn_copies).q for i in range(len(c.q))]
