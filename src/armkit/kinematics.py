@@ -59,7 +59,8 @@ def _joint_values(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
 def is_ready(q: object, n: int) -> bool:
     """Whether ``q`` is already what the core takes: a C-ordered float64 array ``(..., n)``
     (finiteness aside, which the core checks in its loop)."""
-    return type(q) is np.ndarray and q.dtype == np.float64 and q.flags.c_contiguous and q.shape[-1:] == (n,)
+    return (type(q) is np.ndarray and q.dtype.char == "d" and q.shape[-1:] == (n,)
+            and q.flags.c_contiguous)
 
 
 def non_finite_error(q: NDArray[np.float64], name: str = "q", bad: int | None = None) -> InputError:

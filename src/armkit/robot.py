@@ -210,7 +210,9 @@ class Robot:
         return q if kinematics.is_ready(q, self.n) else np.ascontiguousarray(self.check_q(q))
 
     def _one_ready(self, q: ArrayLike) -> bool:
-        """Whether ``q`` is one configuration as the core takes it (C-ordered float64, ``(n,)``)."""
+        """Whether ``q`` is one configuration as the core takes it (C-ordered float64, ``(n,)``):
+        :func:`armkit.kinematics.is_ready` for one configuration, written out (calling it costs
+        0.3 us of this ~1.8 us path)."""
         return (type(q) is np.ndarray and q.dtype.char == "d" and q.shape == (self.chain.n,)
                 and q.flags.c_contiguous)
 
