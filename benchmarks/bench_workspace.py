@@ -6,7 +6,7 @@ orientations) in under 30 s; a 2-worker Dask LocalCluster within 20 % of the loc
 This prints what the current kernels do; sizes are scaled down by default (``--samples``,
 ``--voxels`` to change them, ``--quick`` for a smoke run) and the rates extrapolated.
 
-Run: python benchmarks/bench_workspace.py [--quick] [--samples 1e7] [--voxels 1e4]
+Run: python benchmarks/bench_workspace.py [--quick] [--samples 1e7] [--voxels 1e4] [--repeat 3]
 """
 
 from __future__ import annotations
@@ -37,6 +37,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--samples", type=float, default=1e7, help="reachability samples (default 1e7)")
     parser.add_argument("--voxels", type=float, default=2e3, help="dexterity voxels x 100 orientations")
+    parser.add_argument("--repeat", type=int, default=3, help="turns of local and Dask runs (default 3)")
     parser.add_argument("--quick", action="store_true", help="small sizes (a smoke run)")
     args = parser.parse_args()
     samples, voxels = (int(2e5), 200) if args.quick else (int(args.samples), int(args.voxels))
@@ -68,13 +69,30 @@ def main() -> None:
     with distributed.LocalCluster(n_workers=cores, threads_per_worker=1, dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
         workspace.reachability(robot, resolution=0.1, samples=2000, engine=client)  # workers load kernels
+        _compare_engines(robot, samples, args.repeat, client, local_seconds, local.hits)
+
+
+def _compare_engines(robot, samples: int, repeat: int, client, local_seconds: float, local_hits) -> None:
+    """Dask against local threads, run in turns (local, Dask, local, ...) so that both see the same
+    load on a shared machine; prints each pair's ratio, their median and the smallest, and how the
+    Dask time grows from a tenth of the samples (linear growth: a ratio near 10)."""
+    ratios, same = [], True
+    for turn in range(repeat):
+        if turn:
+            local_seconds, _ = _run("reachability, local threads", lambda: workspace.reachability(
+                robot, resolution=0.02, samples=samples), samples, "samples", 1e8, 60)
         dask_seconds, remote = _run(
-            f"reachability, Dask LocalCluster ({cores} processes)",
+            f"reachability, Dask LocalCluster ({len(client.nthreads())} processes)",
             lambda: workspace.reachability(robot, resolution=0.02, samples=samples, engine=client),
             samples, "samples", 1e8, 60)
-    same = np.array_equal(remote.hits, local.hits)
-    print(f"Dask / local time: {dask_seconds / local_seconds:.2f} (target < 1.20); identical counts: {same}")
-
+        same &= bool(np.array_equal(remote.hits, local_hits))
+        ratios.append(dask_seconds / local_seconds)
+        print(f"  turn {turn + 1}: Dask / local time {ratios[-1]:.2f}", flush=True)
+    tenth, _ = _run("reachability, Dask, a tenth of the samples", lambda: workspace.reachability(
+        robot, resolution=0.02, samples=samples // 10, engine=client), samples // 10, "samples", 1e8, 60)
+    print(f"Dask / local time over {repeat} turns: median {np.median(ratios):.2f}, "
+          f"smallest {min(ratios):.2f} (target < 1.20); identical counts: {same}; "
+          f"Dask time x{dask_seconds / tenth:.1f} for 10x the samples (linear: 10)")
 
 if __name__ == "__main__":
     main()

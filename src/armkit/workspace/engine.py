@@ -10,7 +10,10 @@ The local engine is a :class:`concurrent.futures.ThreadPoolExecutor`: the batch 
 spend their time in NumPy and compiled code that release the GIL. A Dask engine is a
 ``dask.distributed.Client``; tasks go out with ``client.submit`` and come back through
 ``distributed.as_completed`` (Dask schedules them; nothing here does). Tasks must then be
-picklable: a top-level function, bound with :func:`functools.partial` to plain data.
+picklable: a top-level function, bound with :func:`functools.partial` to plain data. The
+bound data is scattered to every worker once (``client.scatter(..., broadcast=True)``) and
+each chunk's task refers to it, so a large argument (the dexterity map's voxel list) is not
+pickled again with every chunk.
 
 Ctrl-C: the chunks in flight are dropped, ``checkpoint`` runs once more (it records the
 chunks consumed so far) and :class:`InterruptedRun` is raised; ``checkpoint`` itself always
@@ -26,6 +29,7 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from contextlib import contextmanager
+from functools import partial
 from typing import Any
 
 from armkit.errors import ArmkitError, InputError
@@ -97,13 +101,17 @@ class _Threads:
 
 
 class _Dask:
-    def __init__(self, client: Any) -> None:
+    def __init__(self, client: Any, task: Callable[[int], Any]) -> None:
         from distributed import as_completed
 
         self.client, self.completed = client, as_completed()
+        self.function, self.args, self.keywords = task, (), {}
+        if isinstance(task, partial):  # its data goes to every worker once, not with every chunk
+            self.function, self.keywords = task.func, task.keywords
+            self.args = tuple(client.scatter(list(task.args), broadcast=True, hash=False))
 
     def submit(self, task: Callable[[int], Any], chunk: int) -> Any:
-        future = self.client.submit(task, chunk, pure=False)
+        future = self.client.submit(self.function, *self.args, chunk, pure=False, **self.keywords)
         self.completed.add(future)
         return future
 
@@ -142,7 +150,8 @@ def run_chunks(task: Callable[[int], Any], chunks: Sequence[int], consume: Calla
         On Ctrl-C, after the last checkpoint.
     """
     window = 2 * engine_threads(engine)
-    runner = _Threads(engine_threads(engine)) if engine is None or isinstance(engine, int) else _Dask(engine)
+    local = engine is None or isinstance(engine, int)
+    runner = _Threads(engine_threads(engine)) if local else _Dask(engine, task)
     pending = iter(chunks)
     order = list(chunks)
     in_flight: dict[Any, int] = {}
