@@ -85,40 +85,29 @@ struct References {
     }
 };
 
-nb::tuple solve_batch(const ClosedForm& cf, In T, In near, In weights, bool within_limits, bool nearest,
+long long solve_batch(const ClosedForm& cf, In T, In near, In weights, bool within_limits, bool nearest,
                       double rigid_tolerance, Out q, Out errors, OutBool flags, OutIndex count, int threads) {
     const std::size_t N = poses(T);
     const Found f = found_of(cf, N, q, errors, flags, count);
     if (f.k != cf.k) throw std::invalid_argument("solve_batch: expected k = closed_form.k candidates per pose");
     const References ref(cf, N, near, weights);
-    long long rough = 0, empty = 0;
-    {
-        nb::gil_scoped_release release;
-        bool solve = true;
-        if (rigid_tolerance >= 0.0) {
-            const Rigidity r = rigidity(T.data(), N);
-            solve = r.finite && r.last_row <= rigid_tolerance && r.orthonormal <= rigid_tolerance && r.rough == 0;
-        }
-        if (solve) {
-            std::atomic<long long> total_rough{0}, total_empty{0};
-            parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
-                const SolveCounts c = solve_poses(cf, T.data(), ref.near, ref.stride, ref.weights, within_limits,
-                                                  nearest, f, begin, end);
-                total_rough += c.rough;
-                total_empty += c.empty;
-            });
-            rough = total_rough, empty = total_empty;
-        } else {
-            rough = -1;
-        }
+    nb::gil_scoped_release release;
+    if (rigid_tolerance >= 0.0) {
+        const Rigidity r = rigidity(T.data(), N);
+        if (!(r.finite && r.last_row <= rigid_tolerance && r.orthonormal <= rigid_tolerance && r.rough == 0))
+            return -1;
     }
-    return nb::make_tuple(rough, empty);
+    std::atomic<long long> empty{0};
+    parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
+        empty += solve_poses(cf, T.data(), ref.near, ref.stride, ref.weights, within_limits, nearest, f, begin, end);
+    });
+    return empty;
 }
 
 // One pose, the common case in one call: the usable solutions (count, n), nearest first, or
 // with nearest the nearest one (n,); None where the general path must take over (a target
-// not exactly rigid, near not finite, weights not positive, a candidate to refine, no
-// usable candidate: the caller's errors and repairs).
+// not exactly rigid, near not finite, weights not positive, no usable candidate: the
+// caller's errors and repairs).
 nb::object solve_one(const ClosedForm& cf, In T, In near, In weights, bool within_limits, bool nearest,
                      double rigid_tolerance) {
     const std::size_t n = std::size_t(cf.chain.n);
@@ -135,8 +124,7 @@ nb::object solve_one(const ClosedForm& cf, In T, In near, In weights, bool withi
     bool flags[kMaxCandidates * kFlags];
     std::int64_t count = 0;
     const Found f{cf.k, cf.chain.n, q, errors, flags, &count};
-    const SolveCounts c = solve_poses(cf, T.data(), ref.near, 0, ref.weights, within_limits, nearest, f, 0, 1);
-    if (c.rough || c.empty) return nb::none();
+    if (solve_poses(cf, T.data(), ref.near, 0, ref.weights, within_limits, nearest, f, 0, 1) > 0) return nb::none();
     return nearest ? owned_array(q, n) : owned_array(q, std::size_t(count), n);
 }
 
@@ -149,6 +137,18 @@ void rank(const ClosedForm& cf, InIndex which, In near, In weights, bool within_
         const std::int64_t i = which.data()[a];
         if (i < 0 || std::size_t(i) >= N) throw std::invalid_argument("rank: pose index out of range");
         rank_pose(cf.chain, f, std::size_t(i), ref.near + ref.stride * std::size_t(i), ref.weights, within_limits);
+    }
+}
+
+// The verification stage of solve_batch on given candidates: each valid one's FK residuals
+// into errors, rough ones refined (for tests of that stage; rank the poses after it).
+void verify_candidates(const ClosedForm& cf, In T, Out q, Out errors, OutBool flags, OutIndex count) {
+    const std::size_t N = poses(T);
+    const Found f = found_of(cf, N, q, errors, flags, count);
+    for (std::size_t i = 0; i < N; ++i) {
+        const Pose target = pose_from_matrix(T.data() + 16 * i);
+        for (int s = 0; s < f.k; ++s)
+            if (f.flags_of(i, s)[kValid]) verify(cf.chain, target, f, i, s);
     }
 }
 
@@ -221,16 +221,22 @@ void bind_solve(nb::module_& m) {
           "|weights * (q - near)| (None: ones) into q (N, k, n), errors (N, k, 2) [m, rad], flags (N, k, 4) "
           "(valid, keep, inside, family) and count (N,). nearest: verify nearest first, up to the first kept. "
           "rigid_tolerance >= 0: first check that every T is exactly rigid (as check_transform would return "
-          "it unchanged); if not, solve nothing and return rough = -1. Returns (rough: valid candidates "
-          "above 1e-10 to refine, empty: poses without a usable candidate).");
+          "it unchanged); if not, solve nothing and return -1. Rough candidates (FK residual above 1e-10) "
+          "are refined by a few Levenberg-Marquardt steps that stay on their branch. Returns the number of "
+          "poses without a usable candidate.");
     m.def("solve_one", &solve_one, nb::arg("closed_form"), nb::arg("T"), nb::arg("near").none(),
           nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("nearest"), nb::arg("rigid_tolerance"),
           "One pose (4, 4): its usable solutions (count, n) nearest to near first, or with nearest the "
-          "nearest one (n,); None if the target is not exactly rigid, near or weights are bad, a candidate "
-          "needs refinement or none is usable (then solve_batch and the Python layer take over).");
+          "nearest one (n,); None if the target is not exactly rigid, near or weights are bad or no candidate "
+          "is usable (then solve_batch and the Python layer take over).");
     m.def("rank", &rank, nb::arg("closed_form"), nb::arg("poses"), nb::arg("near").none(),
           nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("q"), nb::arg("errors"), nb::arg("flags"),
-          nb::arg("count"), "Flag, count and sort again the candidates of the given poses (in place).");
+          nb::arg("count"), "Flag, count and sort again the candidates of the given poses (in place; the "
+          "ranking stage of solve_batch).");
+    m.def("verify_candidates", &verify_candidates, nb::arg("closed_form"), nb::arg("T"), nb::arg("q"),
+          nb::arg("errors"), nb::arg("flags"), nb::arg("count"),
+          "FK residuals of the valid candidates q (N, k, n) of poses T (N, 4, 4) into errors (N, k, 2), rough "
+          "ones (above 1e-10) refined on their branch (in place; the verification stage of solve_batch).");
     m.def("candidates", &candidates, nb::arg("closed_form"), nb::arg("T"), nb::arg("q"), nb::arg("valid"),
           nb::arg("family"), nb::arg("threads"), nb::call_guard<nb::gil_scoped_release>(),
           "Every closed-form candidate of poses T (N, 4, 4) into q (N, k, n), valid and family (N, k).");

@@ -77,10 +77,10 @@ void flag_close_singular_candidates(const Chain& chain, const double* q, int k, 
     }
 }
 
-// No candidate passed the case's existence tests, which can fail at a multiple root of its
-// equations (a doubly singular pose of a degenerate arm) while candidates still reproduce
-// T: there FK decides. A finite candidate within cf.verify_tolerance after two Newton steps
-// is valid, and a family member if the Jacobian there is singular.
+// A candidate the case's existence tests rejected, which they can do at a multiple root of
+// its equations (a doubly singular pose of a degenerate arm) while it still reproduces T:
+// there FK decides. A finite invalid candidate within cf.verify_tolerance after two Newton
+// steps is valid, and a family member if the Jacobian there is singular.
 //: A candidate within this many times cf.verify_tolerance of the pose is polished and checked.
 constexpr double kNearlyExact = 1e4;
 
@@ -88,7 +88,7 @@ void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool*
     const int n = cf.chain.n;
     for (int s = 0; s < cf.k; ++s) {
         double* qs = q + s * n;
-        if (!std::all_of(qs, qs + n, [](double v) { return std::isfinite(v); })) continue;
+        if (valid[s] || !std::all_of(qs, qs + n, [](double v) { return std::isfinite(v); })) continue;
         // only a candidate already near the pose is worth the Newton steps (an unreachable
         // pose of a workspace map pays one FK per candidate here)
         if (!(fk_difference(cf.chain, T, qs) <= kNearlyExact * cf.verify_tolerance)) continue;
@@ -124,7 +124,7 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
             if (!cf.chain.prismatic[j]) qs[j] = wrap_angle(qs[j]);
         if (cf.verify && valid[s]) valid[s] = fk_difference(cf.chain, T, qs) <= cf.verify_tolerance;
     }
-    if (std::none_of(valid, valid + k, [](bool v) { return v; })) take_exact_candidates(cf, T, q, valid, family);
+    take_exact_candidates(cf, T, q, valid, family);
     bool duplicate[kMaxCandidates];
     mark_duplicates(q, k, n, valid, cf.chain.prismatic.data(), duplicate);
     for (int s = 0; s < k; ++s) valid[s] = valid[s] && !duplicate[s];

@@ -598,7 +598,30 @@ bool choose_family_member(const CaseGeometry& g, const Mat2& P, const double* r,
         return true;
     }
     if (side < 0.0 || least < 0) return false;
-    pair.t1[i] = start + least * step, pair.t2[i] = t2s[least];
+    // No crossing: the 2R reaches the family only where |f| <= 1, best where |f| is least,
+    // which can be a single point (the family touches the 2R's reach there, e.g. at a
+    // doubly singular pose): golden-section search for it between the samples beside least.
+    auto distance = [&](double t1, double& t2) {
+        const double v = reach(t1, t2);
+        return std::isfinite(v) ? std::abs(v) : std::numeric_limits<double>::infinity();
+    };
+    constexpr double golden = 0.6180339887498949;
+    double lo = start + (least - 1) * step, hi = start + (least + 1) * step;
+    double t2_lo, t2_hi, left = hi - golden * (hi - lo), right = lo + golden * (hi - lo);
+    double f_left = distance(left, t2_lo), f_right = distance(right, t2_hi);
+    double best = start + least * step, best_t2 = t2s[least], f_best = std::abs(f[least]);
+    for (int k = 0; k < 80 && hi - lo > 1e-15; ++k) {
+        if (f_left < f_right) {
+            hi = right, right = left, f_right = f_left, t2_hi = t2_lo;
+            left = hi - golden * (hi - lo), f_left = distance(left, t2_lo);
+        } else {
+            lo = left, left = right, f_left = f_right, t2_lo = t2_hi;
+            right = lo + golden * (hi - lo), f_right = distance(right, t2_hi);
+        }
+        if (f_left < f_best) best = left, best_t2 = t2_lo, f_best = f_left;
+        if (f_right < f_best) best = right, best_t2 = t2_hi, f_best = f_right;
+    }
+    pair.t1[i] = best, pair.t2[i] = best_t2;
     return true;
 }
 

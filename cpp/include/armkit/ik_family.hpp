@@ -28,6 +28,9 @@ namespace armkit {
 constexpr int kFamilySteps = 10;
 //: Singular values below this fraction of the largest span a family's directions.
 constexpr double kNullSpace = 1e-8;
+//: Two axes within this of one line (angle [rad], distance / size of the arm) are walked
+//: along as one, then projected (see move_along_collinear_pairs).
+constexpr double kNearlyCollinear = 1e-6;
 //: Points sampled along a family's line (two whole turns of its fastest joint).
 constexpr int kFamilySamples = 257;
 //: The projection back onto the solution set: iterations, and the residual [m, rad] it must reach.
@@ -148,9 +151,13 @@ inline double circular_distance(const Chain& chain, const double* q, const doubl
 // keeps joint j's axis on it, so the two turns cancel. Moves q (n) along each such line to
 // its point nearest to near (over the whole turns of both joints); exact, no projection.
 // This is the family of an aligned wrist even where the line search below cannot see it
-// (a second singular direction at q makes the null space two-dimensional).
-inline void move_along_collinear_pairs(const Chain& chain, double* q, const double* near, const double* weights,
-                                       bool inside) {
+// (a second singular direction at q makes the null space two-dimensional). Axes within
+// kNearlyCollinear of one line are moved along it too, and the point is then projected
+// onto the solution set and taken only if that succeeds and brings it nearer: a member the
+// closed form placed ~1e-7 off the crossing of two families (a multiple root) lies on the
+// other family, where the two axes are not quite one line.
+inline void move_along_collinear_pairs(const Chain& chain, const Pose& T, double* q, const double* near,
+                                       const double* weights, bool inside) {
     const int n = chain.n;
     Vec3 axes[kMaxJoints], points[kMaxJoints];
     joint_axes(chain, q, axes, points);
@@ -160,11 +167,13 @@ inline void move_along_collinear_pairs(const Chain& chain, double* q, const doub
         for (int j = i + 1; j < n; ++j) {
             if (chain.prismatic[i] || chain.prismatic[j]) continue;
             const Vec3 d = points[j] - points[i];
-            if (norm(cross(axes[i], axes[j])) > kNullSpace || norm(cross(axes[i], d)) > kNullSpace * size) continue;
+            const double skew = std::fmax(norm(cross(axes[i], axes[j])), norm(cross(axes[i], d)) / size);
+            if (skew > kNearlyCollinear) continue;
             const double sj = dot(axes[i], axes[j]) > 0 ? 1.0 : -1.0;
             // minimise wi^2 (t - a)^2 + wj^2 (t - b)^2 over whole turns of a and b
             const double wi = weights[i] * weights[i], wj = weights[j] * weights[j];
-            double best = family_distance(chain, q, near, weights, inside), best_t = 0.0;
+            const double here = family_distance(chain, q, near, weights, inside);
+            double best = here, best_t = 0.0;
             for (int ki = -2; ki <= 2; ++ki)
                 for (int kj = -2; kj <= 2; ++kj) {
                     const double a = near[i] + kTwoPi * ki - q[i], b = sj * (q[j] - near[j] - kTwoPi * kj);
@@ -178,10 +187,13 @@ inline void move_along_collinear_pairs(const Chain& chain, double* q, const doub
                 }
             if (best_t == 0.0) continue;
             double moved[kMaxJoints];
-            q[i] += best_t;
-            q[j] -= sj * best_t;
-            wrap_towards(chain, q, near, moved);
-            for (int m = 0; m < n; ++m) q[m] = moved[m];
+            for (int m = 0; m < n; ++m) moved[m] = q[m];
+            moved[i] += best_t;
+            moved[j] -= sj * best_t;
+            if (skew > kNullSpace && !(project_onto_solutions(chain, T, moved) &&
+                                       family_distance(chain, moved, near, weights, inside) < here - 1e-24))
+                continue;
+            wrap_towards(chain, moved, near, q);
             joint_axes(chain, q, axes, points);  // the move turned the axes after joint i
         }
     }
@@ -333,7 +345,7 @@ inline void descend_family(const Chain& chain, const Pose& T, double* q, const d
         }
         wrap_towards(chain, target, near, q);
     }
-    move_along_collinear_pairs(chain, q, near, weights, inside);
+    move_along_collinear_pairs(chain, T, q, near, weights, inside);
 }
 
 // Moves q (n, a solution of T at a singular pose) to the member of its family nearest to
@@ -344,7 +356,7 @@ inline void descend_family(const Chain& chain, const Pose& T, double* q, const d
 inline void walk_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights) {
     const int n = chain.n;
     const bool inside = chain.within_limits(q);
-    move_along_collinear_pairs(chain, q, near, weights, inside);
+    move_along_collinear_pairs(chain, T, q, near, weights, inside);
     double traced[kMaxJoints];
     for (int j = 0; j < n; ++j) traced[j] = q[j];
     trace_family(chain, T, traced, near, weights);

@@ -1,6 +1,6 @@
-// The closed-form IK pipeline of many poses (port of the loop of armkit/ik/solve.py):
-// every candidate of pose_candidates wrapped into the joint limits, verified by FK, flagged
-// and ranked by distance to a reference configuration. Header-only: used by bind_solve.cpp.
+// The closed-form IK pipeline of many poses: every candidate of pose_candidates wrapped
+// into the joint limits, verified by FK (a rough one refined), flagged and ranked by
+// distance to a reference configuration. Header-only: used by bind_solve.cpp.
 #pragma once
 
 #include <cmath>
@@ -18,8 +18,15 @@ namespace armkit {
 //: Position [m] and angle [rad] within which every returned solution reproduces the target
 //: (bound as armkit.ik.results.SOLUTION_TOLERANCE).
 constexpr double kSolutionTolerance = 1e-9;
-//: Candidates with a larger FK residual [m or rad] are rough: refined by the caller.
+//: Candidates with a larger FK residual [m or rad] are rough: refined (see refine).
 constexpr double kRefineAbove = 1e-10;
+//: A refinement may move a candidate by at most this [rad or m] (it must stay on its branch)...
+constexpr double kRefineMove = 1e-6;
+//: ... and a family's representative by this: the exact points near it are members of its
+//: family (or of one crossing it), so no distinct solution is lost, and at a doubly
+//: singular pose the closed form places it only to ~1e-5 (a multiple root; the residual
+//: grows with the square of the distance along the family's second direction).
+constexpr double kRefineFamilyMove = 1e-3;
 
 // Indices of the per-candidate flags (the last axis of Found::flags).
 enum FoundFlag : int { kValid = 0, kKeep = 1, kInside = 2, kFamily = 3, kFlags = 4 };
@@ -41,11 +48,6 @@ struct Found {
     bool* flags_of(std::size_t i, int s) const { return flags + (i * k + s) * kFlags; }
 };
 
-// What one pass over poses counted: valid candidates with a residual above kRefineAbove
-// (to be refined by the caller), poses without a usable candidate.
-struct SolveCounts {
-    long long rough = 0, empty = 0;
-};
 
 // Whether q (n) is inside the limits (to kLimitTolerance); its distance |w * (q - near)|.
 inline bool inside_and_distance(const Chain& chain, const double* q, const double* near, const double* weights,
@@ -109,10 +111,31 @@ inline void rank_pose(const Chain& chain, const Found& f, std::size_t i, const d
     }
 }
 
-// FK residuals of candidate s of pose i (target T) into f; whether it reproduces the pose.
+// Candidate s of pose i, with its residuals in f above kRefineAbove: Levenberg-Marquardt
+// steps onto the solution set (project_onto_solutions), taken where they lower the residual
+// without moving a joint further than kRefineMove (kRefineFamilyMove for a family's
+// representative).
+inline void refine(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s) {
+    double* errors = f.errors_of(i, s);
+    double* q = f.q_of(i, s);
+    double moved[kMaxJoints];
+    for (int j = 0; j < f.n; ++j) moved[j] = q[j];
+    project_onto_solutions(chain, T, moved);
+    double position, angle, far = 0.0;
+    pose_residual(T, tool_pose(chain, moved), position, angle);
+    for (int j = 0; j < f.n; ++j) far = std::fmax(far, std::fabs(moved[j] - q[j]));
+    const double reach = f.flags_of(i, s)[kFamily] ? kRefineFamilyMove : kRefineMove;
+    if (!(position + angle < errors[0] + errors[1] && far < reach)) return;
+    for (int j = 0; j < f.n; ++j) q[j] = moved[j];
+    errors[0] = position, errors[1] = angle;
+}
+
+// FK residuals of candidate s of pose i (target T) into f, refined if rough; whether it
+// reproduces the pose.
 inline bool verify(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s) {
     double* errors = f.errors_of(i, s);
     pose_residual(T, tool_pose(chain, f.q_of(i, s)), errors[0], errors[1]);
+    if (errors[0] > kRefineAbove || errors[1] > kRefineAbove) refine(chain, T, f, i, s);
     return errors[0] <= kSolutionTolerance && errors[1] <= kSolutionTolerance;
 }
 
@@ -136,21 +159,21 @@ inline void nearest_family_members(const Chain& chain, const Pose& T, const Foun
 }
 
 // Candidates of poses [begin, end) of T (N x 4 x 4), wrapped into the limits (reference
-// near, (N x n)), with their FK residuals, ranked: into f. near_stride is n, or 0 when one
-// reference serves every pose.
+// near, (N x n)), with their FK residuals, ranked: into f; returns the poses without a
+// usable candidate. near_stride is n, or 0 when one reference serves every pose.
 //
 // nearest: only the nearest candidate that reproduces the pose is wanted, so the
 // candidates are put through FK nearest first until one does (the others' residuals stay
 // NaN: not kept); family representatives always are (they are moved along their family
 // towards near), and if none does, all are (the caller's error message needs them).
-inline SolveCounts solve_poses(const ClosedForm& cf, const double* T, const double* near, std::size_t near_stride,
+inline long long solve_poses(const ClosedForm& cf, const double* T, const double* near, std::size_t near_stride,
                                const double* weights, bool within_limits, bool nearest, const Found& f,
                                std::size_t begin, std::size_t end) {
     const Chain& chain = cf.chain;
     const int k = f.k, n = f.n;
     constexpr double inf = std::numeric_limits<double>::infinity();
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    SolveCounts counts;
+    long long empty = 0;
     double distance[kMaxCandidates];
     bool valid[kMaxCandidates], family[kMaxCandidates];
     for (std::size_t i = begin; i < end; ++i) {
@@ -197,13 +220,9 @@ inline SolveCounts solve_poses(const ClosedForm& cf, const double* T, const doub
         }
         rank_pose(chain, f, i, reference, weights, within_limits);
         nearest_family_members(chain, target, f, i, reference, weights, within_limits);
-        counts.empty += f.count[i] == 0;
-        for (int s = 0; s < k; ++s) {
-            const double* errors = f.errors_of(i, s);
-            counts.rough += f.flags_of(i, s)[kValid] && (errors[0] > kRefineAbove || errors[1] > kRefineAbove);
-        }
+        empty += f.count[i] == 0;
     }
-    return counts;
+    return empty;
 }
 
 }  // namespace armkit

@@ -25,10 +25,10 @@ its copies are endless, and the wrap above picks the nearest to ``near``. Soluti
 the limits are listed once.
 
 When only the solution nearest to ``near`` is asked for, the candidates go through FK
-nearest first and the first that reproduces the target is the answer. Then, in Python
-and only where needed: candidates above ``1e-10`` are refined by a few Newton steps of
-the numeric solver without leaving their branch (:func:`refine`), and the poses touched
-are ranked again.
+nearest first and the first that reproduces the target is the answer. Candidates with an
+FK residual above ``1e-10`` are refined in the core by a few Levenberg-Marquardt steps that
+may move a joint by at most 1e-6 (a family's representative by 1e-3: its exact neighbours
+are members of the family), so that they stay on their branch.
 """
 
 from __future__ import annotations
@@ -42,20 +42,13 @@ from armkit import _core
 from armkit.chain import Chain
 from armkit.errors import SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver
-from armkit.ik.numeric import numeric_ik
 
-__all__ = ["MAX_SOLUTIONS", "Found", "rank", "refine", "verified_solutions", "with_turn_copies"]
+__all__ = ["MAX_SOLUTIONS", "Found", "verified_solutions", "with_turn_copies"]
 
 #: At most this many solutions of one pose are listed (whole-turn copies multiply: joints
 #: spanning two turns each give 2^n per solution); beyond it, the nearest to ``near``, with a
 #: :class:`~armkit.errors.SolutionsLeftOffWarning`.
 MAX_SOLUTIONS = 4096
-
-#: Candidates with a larger FK residual [m or rad] are refined by Newton steps (as the core's kRefineAbove).
-_REFINE_ABOVE = 1e-10
-#: A refinement may move a candidate by at most this [rad or m] (it must stay on its branch).
-_REFINE_MAX_MOVE = 1e-6
-
 
 class Found(NamedTuple):
     """Per pose ``(N, k)`` candidates, ranked by the core: ``q`` ``(N, k, n)``, ``errors``
@@ -102,29 +95,6 @@ class Found(NamedTuple):
         return self.errors[..., 1]
 
 
-def refine(chain: Chain, found: Found, T_target: NDArray[np.float64]) -> NDArray[np.int_]:
-    """Newton-refine (in place) the candidates whose residual is above ``_REFINE_ABOVE``;
-    the poses touched (to be ranked again)."""
-    rough = found.valid & ((found.position_error > _REFINE_ABOVE) | (found.orientation_error > _REFINE_ABOVE))
-    for index in zip(*np.nonzero(rough), strict=True):
-        q = found.q[index]
-        result = numeric_ik(chain, T_target[index[0]], q0=q, max_iterations=8, max_restarts=0,
-                            position_tolerance=1e-13, orientation_tolerance=1e-13,
-                            within_limits=False)
-        better = (result.position_error + result.orientation_error
-                  < found.position_error[index] + found.orientation_error[index])
-        if better and np.abs(result.q - q).max() < _REFINE_MAX_MOVE:
-            found.q[index] = result.q
-            found.errors[index] = result.position_error, result.orientation_error
-    return np.flatnonzero(rough.any(axis=1))
-
-
-def rank(solver: ClosedFormSolver, found: Found, poses: NDArray[np.int_], near: NDArray[np.float64] | None,
-         weights: NDArray[np.float64] | None, within_limits: bool) -> None:
-    """Flag, count and sort again (in place) the candidates of ``poses``."""
-    _core.rank(solver.core, np.ascontiguousarray(poses, dtype=np.int64), near, weights, within_limits, *found)
-
-
 def verified_solutions(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64] | None,
                        weights: NDArray[np.float64] | None, within_limits: bool = False,
                        nearest: bool = False, threads: int = 0,
@@ -139,16 +109,10 @@ def verified_solutions(solver: ClosedFormSolver, T: NDArray[np.float64], near: N
     :func:`armkit.spatial.check_transform` would return it unchanged) and returns None if
     one is not, having solved nothing.
     """
-    chain = solver.chain
-    found = Found.empty(len(T), solver.k, chain.n)
-    rough, empty = _core.solve_batch(solver.core, T, near, weights, within_limits, nearest, rigid_tolerance,
-                                     *found, threads)
-    if rough < 0:
-        return None
-    if rough:
-        rank(solver, found, refine(chain, found, T), near, weights, within_limits)
-        empty = int((found.count == 0).sum())
-    return found, empty
+    found = Found.empty(len(T), solver.k, solver.chain.n)
+    empty = _core.solve_batch(solver.core, T, near, weights, within_limits, nearest, rigid_tolerance,
+                              *found, threads)
+    return None if empty < 0 else (found, empty)
 
 
 def with_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64], inside: NDArray[np.bool_],
