@@ -12,6 +12,8 @@ solves the arm, our solutions and its exact ones agree at generic poses.
 ``make test`` runs a few examples per class (derandomized in CI); ``make fuzz`` many more.
 """
 
+import os
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -36,6 +38,8 @@ REPRODUCED = 1e-9
 SIX_JOINT_CLASSES = ([("spherical-wrist", case) for case in range(5)]
                      + [("spherical-wrist", "prismatic3"), ("spherical-base", None)]
                      + [("three-parallel", b) for b in (1, 2, 3, 4)])
+#: A few examples per class in ``make test``; ``make fuzz`` (HYPOTHESIS_PROFILE=fuzz) runs its profile's 400.
+EXAMPLES = {} if os.environ.get("HYPOTHESIS_PROFILE") == "fuzz" else {"max_examples": 6}
 PLANAR_CLASSES = [("revolute", "revolute", "prismatic", "revolute"), ("revolute",) * 3,
                   ("revolute", "prismatic", "revolute"), ("revolute",) * 2]
 
@@ -145,14 +149,14 @@ def _assert_ik_properties(chain, q_all):
 
 
 @pytest.mark.parametrize(("kind", "case"), SIX_JOINT_CLASSES)
-@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(**EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 2**32 - 1))
 def test_six_joint_arms(kind, case, seed):
     _check_six_joint_arm(kind, case, seed, degenerate=False)
 
 
 @pytest.mark.parametrize(("kind", "case"), SIX_JOINT_CLASSES)
-@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(**EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 2**32 - 1))
 def test_degenerate_six_joint_arms(kind, case, seed):
     _check_six_joint_arm(kind, case, seed, degenerate=True)
@@ -176,7 +180,7 @@ def _check_six_joint_arm(kind, case, seed, degenerate):
 
 
 @pytest.mark.parametrize("kinds", PLANAR_CLASSES, ids=lambda k: "-".join(x[0] for x in k))
-@settings(max_examples=6, deadline=None)
+@settings(**EXAMPLES, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), degenerate=st.booleans())
 def test_scara_and_planar_arms(kinds, seed, degenerate):
     rng = np.random.default_rng(seed)

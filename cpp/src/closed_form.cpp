@@ -79,10 +79,13 @@ void flag_close_singular_candidates(const Chain& chain, const double* q, int k, 
 
 // A candidate the case's existence tests rejected, which they can do at a multiple root of
 // its equations (a doubly singular pose of a degenerate arm) while it still reproduces T:
-// there FK decides. A finite invalid candidate within cf.verify_tolerance after two Newton
-// steps is valid, and a family member if the Jacobian there is singular.
+// there FK decides. A finite invalid candidate within cf.verify_tolerance after
+// kExactNewtonSteps Newton steps is valid, and a family member if the Jacobian there is singular.
 //: A candidate within this many times cf.verify_tolerance of the pose is polished and checked.
 constexpr double kNearlyExact = 1e4;
+//: Newton steps for it: enough to reach rounding from 1e4 times the tolerance, so that a
+//: rejected twin of a valid candidate lands on it and is marked a duplicate.
+constexpr int kExactNewtonSteps = 6;
 
 void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family) {
     const int n = cf.chain.n;
@@ -94,7 +97,7 @@ void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool*
         if (!(fk_difference(cf.chain, T, qs) <= kNearlyExact * cf.verify_tolerance)) continue;
         double polished[kMaxJoints];
         std::copy(qs, qs + n, polished);
-        newton(cf.chain, T, polished, 2);
+        newton(cf.chain, T, polished, kExactNewtonSteps);
         if (!(fk_difference(cf.chain, T, polished) <= cf.verify_tolerance)) continue;
         for (int j = 0; j < n; ++j) qs[j] = cf.chain.prismatic[j] ? polished[j] : wrap_angle(polished[j]);
         double V[kMaxJoints * kMaxJoints];

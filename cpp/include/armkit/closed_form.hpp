@@ -61,7 +61,7 @@ void mark_duplicates(const double* q, int k, int n, const bool* valid, const std
 // family, to be walked towards near later. Two close roots of a regular pose are left alone.
 void flag_close_singular_candidates(const Chain& chain, const double* q, int k, const bool* valid, bool* family);
 
-// Each finite invalid candidate that reproduces T (to cf.verify_tolerance, after two
+// Each finite invalid candidate that reproduces T (to cf.verify_tolerance, after a few
 // Newton steps) made valid, and family where the Jacobian there is singular.
 void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family);
 
