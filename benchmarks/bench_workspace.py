@@ -37,7 +37,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--samples", type=float, default=1e7, help="reachability samples (default 1e7)")
     parser.add_argument("--voxels", type=float, default=2e3, help="dexterity voxels x 100 orientations")
-    parser.add_argument("--repeat", type=int, default=3, help="turns of local and Dask runs (default 3)")
+    parser.add_argument("--repeat", type=lambda text: max(1, int(text)), default=3,
+                        help="turns of local and Dask runs (default 3, at least 1)")
     parser.add_argument("--quick", action="store_true", help="small sizes (a smoke run)")
     args = parser.parse_args()
     samples, voxels = (int(2e5), 200) if args.quick else (int(args.samples), int(args.voxels))
@@ -46,7 +47,7 @@ def main() -> None:
     print(f"PROBOT Anno (6R), resolution 0.02 m, {cores} local cores; compiled core, warmed first")
     workspace.compute(robot, resolution=0.1, samples=2000, manipulability_samples=200, orientations=2)
 
-    local_seconds, local = _run("reachability, local threads", lambda: workspace.reachability(
+    _, local = _run("reachability, local threads", lambda: workspace.reachability(
         robot, resolution=0.02, samples=samples), samples, "samples", 1e8, 60)
 
     grid = local.grid
@@ -69,18 +70,17 @@ def main() -> None:
     with distributed.LocalCluster(n_workers=cores, threads_per_worker=1, dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
         workspace.reachability(robot, resolution=0.1, samples=2000, engine=client)  # workers load kernels
-        _compare_engines(robot, samples, args.repeat, client, local_seconds, local.hits)
+        _compare_engines(robot, samples, args.repeat, client, local.hits)
 
 
-def _compare_engines(robot, samples: int, repeat: int, client, local_seconds: float, local_hits) -> None:
+def _compare_engines(robot, samples: int, repeat: int, client, local_hits) -> None:
     """Dask against local threads, run in turns (local, Dask, local, ...) so that both see the same
     load on a shared machine; prints each pair's ratio, their median and the smallest, and how the
     Dask time grows from a tenth of the samples (linear growth: a ratio near 10)."""
     ratios, same = [], True
     for turn in range(repeat):
-        if turn:
-            local_seconds, _ = _run("reachability, local threads", lambda: workspace.reachability(
-                robot, resolution=0.02, samples=samples), samples, "samples", 1e8, 60)
+        local_seconds, _ = _run("reachability, local threads", lambda: workspace.reachability(
+            robot, resolution=0.02, samples=samples), samples, "samples", 1e8, 60)
         dask_seconds, remote = _run(
             f"reachability, Dask LocalCluster ({len(client.nthreads())} processes)",
             lambda: workspace.reachability(robot, resolution=0.02, samples=samples, engine=client),

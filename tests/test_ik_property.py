@@ -134,6 +134,8 @@ def _assert_ik_properties(chain, q_all):
         assert 1 <= len(found.q) <= structure.max_solutions or found.family.any()
         F = fk(chain, found.q)
         assert np.abs(F - T).max() <= REPRODUCED * size, f"q = {q.tolist()}: a solution misses T"
+        apart = _joint_distance(chain, found.q[:, None], found.q[None])
+        assert (apart[~np.eye(len(found.q), dtype=bool)] > 1e-9).all(), f"q = {q.tolist()}: a solution twice"
         near = ik(chain, T, near=q, within_limits=False)
         assert np.abs(fk(chain, near) - T).max() <= REPRODUCED * size
         listed = (_joint_distance(chain, found.q, q) <= FOUND).any()
@@ -347,3 +349,16 @@ def test_a_pose_the_listing_misses_is_answered_by_numeric_ik():
         assert empty.count[0] == 1 and empty.keep[0, 0] and empty.family[0, 0]
         assert np.abs(fk(chain, empty.q[0, 0]) - T[0]).max() <= REPRODUCED
         assert chain.within_limits(empty.q[0, 0]) or not within_limits
+
+
+@pytest.mark.xfail(strict=True, reason="issue 10 item 3, open: a family loop that touches the planar 2R's "
+                                       "reach at one point while another loop crosses its middle")
+def test_a_loop_that_touches_the_reach_beside_a_crossing_loop():
+    """Axes 1-3 parallel and axis 6 parallel to them at q = [0, pi/2, pi, pi/2, pi, pi/2]
+    (seed 287711068, pose 3, found by ``make fuzz``): q6 is free, the 2R reaches one
+    interval of it (q6 near 1.51-1.53, the member listed) and, apart from it, the single
+    value q6 = pi/2 where the generating q lies (the loop touches the 2R's reach there).
+    The member search finds loops by crossings of the 2R's middle reach, and a touching
+    point (the case of :func:`test_a_family_that_touches_the_reach_of_the_planar_2r`) only
+    when no loop crosses: q is not listed. ``ik`` answers the pose (a listed member)."""
+    _check_six_joint_arm("three-parallel", 1, 287711068, degenerate=True)

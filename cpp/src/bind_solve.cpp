@@ -232,11 +232,12 @@ void bind_solve(nb::module_& m) {
     m.def("rank", &rank, nb::arg("closed_form"), nb::arg("poses"), nb::arg("near").none(),
           nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("q"), nb::arg("errors"), nb::arg("flags"),
           nb::arg("count"), "Flag, count and sort again the candidates of the given poses (in place; the "
-          "ranking stage of solve_batch).");
+          "ranking stage of solve_batch, bound for its tests).");
     m.def("verify_candidates", &verify_candidates, nb::arg("closed_form"), nb::arg("T"), nb::arg("q"),
           nb::arg("errors"), nb::arg("flags"), nb::arg("count"),
           "FK residuals of the valid candidates q (N, k, n) of poses T (N, 4, 4) into errors (N, k, 2), rough "
-          "ones (above 1e-10) refined on their branch (in place; the verification stage of solve_batch).");
+          "ones (above 1e-10) refined on their branch (in place; the verification stage of solve_batch, "
+          "bound for its tests).");
     m.def("candidates", &candidates, nb::arg("closed_form"), nb::arg("T"), nb::arg("q"), nb::arg("valid"),
           nb::arg("family"), nb::arg("threads"), nb::call_guard<nb::gil_scoped_release>(),
           "Every closed-form candidate of poses T (N, 4, 4) into q (N, k, n), valid and family (N, k).");

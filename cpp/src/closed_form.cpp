@@ -92,8 +92,9 @@ void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool*
     for (int s = 0; s < cf.k; ++s) {
         double* qs = q + s * n;
         if (valid[s] || !std::all_of(qs, qs + n, [](double v) { return std::isfinite(v); })) continue;
-        // only a candidate already near the pose is worth the Newton steps (an unreachable
-        // pose of a workspace map pays one FK per candidate here)
+        // only a candidate already near the pose is worth the Newton steps (every finite
+        // rejected candidate pays one FK here: all of an unreachable pose's, and a UR5's
+        // reachable pose has about one)
         if (!(fk_difference(cf.chain, T, qs) <= kNearlyExact * cf.verify_tolerance)) continue;
         double polished[kMaxJoints];
         std::copy(qs, qs + n, polished);

@@ -551,8 +551,8 @@ constexpr int kFamilyMembers = 64;
 // a wrist axis parallel to h: see wrist_family_representative) holds such a crossing: side
 // +1 takes one where f rises, side -1 one where it falls, found among kFamilyMembers values
 // of t1 round the circle and put on the crossing by bisection. Without a crossing of that
-// side: for side +1 the member with |f| least, for side -1 nothing (false: no second loop).
-// Every member solves the system exactly; which one stands for a loop only decides whether
+// side: for side +1 the member with |f| least (a golden-section search between the samples
+// beside the least one), for side -1 nothing (false: no second loop). Every member solves the system exactly; which one stands for a loop only decides whether
 // the rest of the chain can follow (the walk to near comes later).
 template <class Target>
 bool choose_family_member(const CaseGeometry& g, const Mat2& P, const double* r, int i, AngleCandidates& pair,
@@ -606,20 +606,21 @@ bool choose_family_member(const CaseGeometry& g, const Mat2& P, const double* r,
         return std::isfinite(v) ? std::abs(v) : std::numeric_limits<double>::infinity();
     };
     constexpr double golden = 0.6180339887498949;
+    constexpr int kGoldenSteps = 80;  // the bracket shrinks to rounding long before
     double lo = start + (least - 1) * step, hi = start + (least + 1) * step;
-    double t2_lo, t2_hi, left = hi - golden * (hi - lo), right = lo + golden * (hi - lo);
-    double f_left = distance(left, t2_lo), f_right = distance(right, t2_hi);
+    double t2_left, t2_right, left = hi - golden * (hi - lo), right = lo + golden * (hi - lo);
+    double f_left = distance(left, t2_left), f_right = distance(right, t2_right);
     double best = start + least * step, best_t2 = t2s[least], f_best = std::abs(f[least]);
-    for (int k = 0; k < 80 && hi - lo > 1e-15; ++k) {
+    for (int k = 0; k < kGoldenSteps && hi - lo > 4.0 * std::numeric_limits<double>::epsilon() * (1.0 + std::abs(hi)); ++k) {
         if (f_left < f_right) {
-            hi = right, right = left, f_right = f_left, t2_hi = t2_lo;
-            left = hi - golden * (hi - lo), f_left = distance(left, t2_lo);
+            hi = right, right = left, f_right = f_left, t2_right = t2_left;
+            left = hi - golden * (hi - lo), f_left = distance(left, t2_left);
         } else {
-            lo = left, left = right, f_left = f_right, t2_lo = t2_hi;
-            right = lo + golden * (hi - lo), f_right = distance(right, t2_hi);
+            lo = left, left = right, f_left = f_right, t2_left = t2_right;
+            right = lo + golden * (hi - lo), f_right = distance(right, t2_right);
         }
-        if (f_left < f_best) best = left, best_t2 = t2_lo, f_best = f_left;
-        if (f_right < f_best) best = right, best_t2 = t2_hi, f_best = f_right;
+        if (f_left < f_best) best = left, best_t2 = t2_left, f_best = f_left;
+        if (f_right < f_best) best = right, best_t2 = t2_right, f_best = f_right;
     }
     pair.t1[i] = best, pair.t2[i] = best_t2;
     return true;

@@ -149,7 +149,8 @@ inline double circular_distance(const Chain& chain, const double* q, const doubl
 // Two revolute joints i < j whose axes are one line at q (s = +1 along, -1 against) leave
 // the pose unchanged along q + t (e_i - s e_j), for every t: turning joint i about that line
 // keeps joint j's axis on it, so the two turns cancel. Moves q (n) along each such line to
-// its point nearest to near (over the whole turns of both joints); exact, no projection.
+// its point nearest to near (over the whole turns of both joints); exact, no projection
+// where the two axes are one line to kNullSpace.
 // This is the family of an aligned wrist even where the line search below cannot see it
 // (a second singular direction at q makes the null space two-dimensional). Axes within
 // kNearlyCollinear of one line are moved along it too, and the point is then projected

@@ -48,7 +48,6 @@ struct Found {
     bool* flags_of(std::size_t i, int s) const { return flags + (i * k + s) * kFlags; }
 };
 
-
 // Whether q (n) is inside the limits (to kLimitTolerance); its distance |w * (q - near)|.
 inline bool inside_and_distance(const Chain& chain, const double* q, const double* near, const double* weights,
                                 double& distance) {
@@ -114,7 +113,7 @@ inline void rank_pose(const Chain& chain, const Found& f, std::size_t i, const d
 // Candidate s of pose i, with its residuals in f above kRefineAbove: Levenberg-Marquardt
 // steps onto the solution set (project_onto_solutions), taken where they lower the residual
 // without moving a joint further than kRefineMove (kRefineFamilyMove for a family's
-// representative).
+// representative), revolute joints wrapped into the limits again (towards the candidate).
 inline void refine(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s) {
     double* errors = f.errors_of(i, s);
     double* q = f.q_of(i, s);
@@ -126,7 +125,8 @@ inline void refine(const Chain& chain, const Pose& T, const Found& f, std::size_
     for (int j = 0; j < f.n; ++j) far = std::fmax(far, std::fabs(moved[j] - q[j]));
     const double reach = f.flags_of(i, s)[kFamily] ? kRefineFamilyMove : kRefineMove;
     if (!(position + angle < errors[0] + errors[1] && far < reach)) return;
-    for (int j = 0; j < f.n; ++j) q[j] = moved[j];
+    for (int j = 0; j < f.n; ++j)  // a revolute joint the steps pushed past a limit by rounding: the other end
+        q[j] = chain.prismatic[j] ? moved[j] : wrap_angle_into_limits(moved[j], chain.lower[j], chain.upper[j], q[j]);
     errors[0] = position, errors[1] = angle;
 }
 
@@ -158,6 +158,23 @@ inline void nearest_family_members(const Chain& chain, const Pose& T, const Foun
     if (moved) rank_pose(chain, f, i, near, weights, within_limits);
 }
 
+// Kept candidates of pose i that refinement or a family walk brought onto an earlier kept
+// one (equal to kDuplicateTolerance, modulo 2 pi) are dropped (no longer valid); ranked
+// again if one was.
+inline void drop_twins(const Chain& chain, const Found& f, std::size_t i, const double* near, const double* weights,
+                       bool within_limits) {
+    bool keep[kMaxCandidates], twin[kMaxCandidates];
+    for (int s = 0; s < f.k; ++s) keep[s] = f.flags_of(i, s)[kKeep];
+    mark_duplicates(f.q_of(i, 0), f.k, f.n, keep, chain.prismatic.data(), twin);
+    bool dropped = false;
+    for (int s = 0; s < f.k; ++s) {
+        if (!twin[s]) continue;
+        f.flags_of(i, s)[kValid] = f.flags_of(i, s)[kKeep] = false;
+        dropped = true;
+    }
+    if (dropped) rank_pose(chain, f, i, near, weights, within_limits);
+}
+
 // Candidates of poses [begin, end) of T (N x 4 x 4), wrapped into the limits (reference
 // near, (N x n)), with their FK residuals, ranked: into f; returns the poses without a
 // usable candidate. near_stride is n, or 0 when one reference serves every pose.
@@ -167,8 +184,8 @@ inline void nearest_family_members(const Chain& chain, const Pose& T, const Foun
 // NaN: not kept); family representatives always are (they are moved along their family
 // towards near), and if none does, all are (the caller's error message needs them).
 inline long long solve_poses(const ClosedForm& cf, const double* T, const double* near, std::size_t near_stride,
-                               const double* weights, bool within_limits, bool nearest, const Found& f,
-                               std::size_t begin, std::size_t end) {
+                             const double* weights, bool within_limits, bool nearest, const Found& f,
+                             std::size_t begin, std::size_t end) {
     const Chain& chain = cf.chain;
     const int k = f.k, n = f.n;
     constexpr double inf = std::numeric_limits<double>::infinity();
@@ -210,7 +227,7 @@ inline long long solve_poses(const ClosedForm& cf, const double* T, const double
             for (int a = 0; a < k; ++a) {
                 const int s = order[a];
                 if (kept || distance[s] == inf) break;
-                kept = verify(chain, target, f, i, s);
+                kept = verify(chain, target, f, i, s) && (!within_limits || chain.within_limits(f.q_of(i, s)));
             }
             for (int s = 0; s < k; ++s) {
                 // a family's representative may be far from near while a member of it is not,
@@ -220,6 +237,7 @@ inline long long solve_poses(const ClosedForm& cf, const double* T, const double
         }
         rank_pose(chain, f, i, reference, weights, within_limits);
         nearest_family_members(chain, target, f, i, reference, weights, within_limits);
+        drop_twins(chain, f, i, reference, weights, within_limits);
         empty += f.count[i] == 0;
     }
     return empty;

@@ -1,4 +1,4 @@
-"""The verified closed-form solutions of many poses: the core's loop, then the rare repairs.
+"""The verified closed-form solutions of many poses: the core's loop, then the whole-turn copies.
 
 Per pose, the compiled core (``_core.solve_batch``, ``cpp/include/armkit/ik_solve.hpp``)
 takes every candidate of the closed form (:mod:`armkit.ik.closed_form`) and
@@ -6,7 +6,10 @@ takes every candidate of the closed form (:mod:`armkit.ik.closed_form`) and
 1. wraps it into the joint limits: a revolute angle is shifted by a multiple of ``2 pi``
    when that makes it fit (among several fitting shifts, the one closest to ``near``);
 2. verifies it by forward kinematics: it must reproduce the target within
-   :data:`~armkit.ik.results.SOLUTION_TOLERANCE`;
+   :data:`~armkit.ik.results.SOLUTION_TOLERANCE`; a candidate with an FK residual above
+   ``1e-10`` is first refined by a few Levenberg-Marquardt steps that may move a joint by
+   at most 1e-6 (a family's representative by 1e-3: its exact neighbours are members of
+   the family), so that it stays on its branch;
 3. flags it inside or outside the limits and sorts the usable ones first, by distance to
    ``near`` (``|w * (q - near)|``, weights ``w``);
 4. at a singular pose, moves each family representative to the member of its family
@@ -14,7 +17,8 @@ takes every candidate of the closed form (:mod:`armkit.ik.closed_form`) and
    family's line (a whole turn either way) nearest to ``near`` after the ``2 pi`` wrap,
    then steps along the Jacobian's null space, each put back exactly on the solution set
    by Levenberg-Marquardt steps, while the distance falls; a move that would leave the
-   limits a representative was inside is not taken.
+   limits a representative was inside is not taken; candidates that refinement or a walk
+   brought onto the same solution are merged.
 
 Every solution is listed once per whole-turn copy inside the limits
 (:func:`with_turn_copies`): a revolute joint whose finite limits span more than a whole turn
@@ -25,10 +29,8 @@ its copies are endless, and the wrap above picks the nearest to ``near``. Soluti
 the limits are listed once.
 
 When only the solution nearest to ``near`` is asked for, the candidates go through FK
-nearest first and the first that reproduces the target is the answer. Candidates with an
-FK residual above ``1e-10`` are refined in the core by a few Levenberg-Marquardt steps that
-may move a joint by at most 1e-6 (a family's representative by 1e-3: its exact neighbours
-are members of the family), so that they stay on their branch.
+nearest first and the first that reproduces the target (inside the limits, if asked) is
+the answer.
 """
 
 from __future__ import annotations

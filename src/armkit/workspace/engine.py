@@ -105,13 +105,13 @@ class _Dask:
         from distributed import as_completed
 
         self.client, self.completed = client, as_completed()
-        self.function, self.args, self.keywords = task, (), {}
+        self.function, self.args = task, ()
         if isinstance(task, partial):  # its data goes to every worker once, not with every chunk
-            self.function, self.keywords = task.func, task.keywords
+            self.function = partial(task.func, **task.keywords)
             self.args = tuple(client.scatter(list(task.args), broadcast=True, hash=False))
 
     def submit(self, task: Callable[[int], Any], chunk: int) -> Any:
-        future = self.client.submit(self.function, *self.args, chunk, pure=False, **self.keywords)
+        future = self.client.submit(self.function, *self.args, chunk, pure=False)
         self.completed.add(future)
         return future
 
@@ -121,6 +121,7 @@ class _Dask:
     def close(self, cancel: bool) -> None:
         if cancel:
             self.completed.clear()
+        self.args = ()  # the scattered data is released with its futures
 
 
 def run_chunks(task: Callable[[int], Any], chunks: Sequence[int], consume: Callable[[int, Any], None], *,
@@ -150,8 +151,6 @@ def run_chunks(task: Callable[[int], Any], chunks: Sequence[int], consume: Calla
         On Ctrl-C, after the last checkpoint.
     """
     window = 2 * engine_threads(engine)
-    local = engine is None or isinstance(engine, int)
-    runner = _Threads(engine_threads(engine)) if local else _Dask(engine, task)
     pending = iter(chunks)
     order = list(chunks)
     in_flight: dict[Any, int] = {}
@@ -171,7 +170,10 @@ def run_chunks(task: Callable[[int], Any], chunks: Sequence[int], consume: Calla
                 checkpoint()
 
     cancelled = False
+    runner: _Threads | _Dask | None = None
     try:
+        local = engine is None or isinstance(engine, int)
+        runner = _Threads(engine_threads(engine)) if local else _Dask(engine, task)
         fill()
         while position < len(order):
             for future in runner.finished(set(in_flight)):
@@ -193,7 +195,8 @@ def run_chunks(task: Callable[[int], Any], chunks: Sequence[int], consume: Calla
         raise InterruptedRun(f"interrupted after {position} of {len(order)} chunks{description and ' of '}"
                              f"{description}") from None
     finally:
-        runner.close(cancel=cancelled)
+        if runner is not None:
+            runner.close(cancel=cancelled)
         bar.stop()
 
 
