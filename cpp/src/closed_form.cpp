@@ -79,16 +79,38 @@ void flag_close_singular_candidates(const Chain& chain, const double* q, int k, 
 
 // A candidate the case's existence tests rejected, which they can do at a multiple root of
 // its equations (a doubly singular pose of a degenerate arm) while it still reproduces T:
-// there FK decides. A finite invalid candidate within cf.verify_tolerance after
-// kExactNewtonSteps Newton steps is valid, and a family member if the Jacobian there is singular.
+// there FK decides. A finite invalid candidate within kExactFraction of cf.verify_tolerance
+// after kExactNewtonSteps Newton steps, and not a twin of an accepted one, is valid, and a
+// family member if the Jacobian there is singular.
 //: A candidate within this many times cf.verify_tolerance of the pose is polished and checked.
 constexpr double kNearlyExact = 1e4;
 //: Newton steps for it: enough to reach rounding from 1e4 times the tolerance, so that a
 //: rejected twin of a valid candidate lands on it and is marked a duplicate.
 constexpr int kExactNewtonSteps = 6;
+//: ... after which it must reproduce T to this fraction of cf.verify_tolerance (rounding):
+//: near a fold the point between two twin roots comes within ~1e-9 and is no solution.
+constexpr double kExactFraction = 1e-4;
+
+// Whether q (n) lies within kCloseCandidates of a candidate the case accepted (a twin of it:
+// near a fold the rejected root of a pair converges onto the accepted one only slowly).
+bool twin_of_accepted(const ClosedForm& cf, const double* q, const double* candidates, const bool* accepted) {
+    const int n = cf.chain.n;
+    for (int t = 0; t < cf.k; ++t) {
+        if (!accepted[t]) continue;
+        bool close = true;
+        for (int j = 0; j < n && close; ++j) {
+            const double d = candidates[t * n + j] - q[j];
+            close = std::fabs(cf.chain.prismatic[j] ? d : wrap_angle(d)) <= kCloseCandidates;
+        }
+        if (close) return true;
+    }
+    return false;
+}
 
 void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family) {
     const int n = cf.chain.n;
+    bool accepted[kMaxCandidates];
+    std::copy(valid, valid + cf.k, accepted);
     for (int s = 0; s < cf.k; ++s) {
         double* qs = q + s * n;
         if (valid[s] || !std::all_of(qs, qs + n, [](double v) { return std::isfinite(v); })) continue;
@@ -99,7 +121,9 @@ void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool*
         double polished[kMaxJoints];
         std::copy(qs, qs + n, polished);
         newton(cf.chain, T, polished, kExactNewtonSteps);
-        if (!(fk_difference(cf.chain, T, polished) <= cf.verify_tolerance)) continue;
+        if (!(fk_difference(cf.chain, T, polished) <= kExactFraction * cf.verify_tolerance) ||
+            twin_of_accepted(cf, polished, q, accepted))
+            continue;
         for (int j = 0; j < n; ++j) qs[j] = cf.chain.prismatic[j] ? polished[j] : wrap_angle(polished[j]);
         double V[kMaxJoints * kMaxJoints];
         int null[kMaxJoints];

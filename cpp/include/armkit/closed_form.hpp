@@ -61,8 +61,8 @@ void mark_duplicates(const double* q, int k, int n, const bool* valid, const std
 // family, to be walked towards near later. Two close roots of a regular pose are left alone.
 void flag_close_singular_candidates(const Chain& chain, const double* q, int k, const bool* valid, bool* family);
 
-// Each finite invalid candidate that reproduces T (to cf.verify_tolerance, after a few
-// Newton steps) made valid, and family where the Jacobian there is singular.
+// Each finite invalid candidate that reproduces T (to rounding, after a few Newton steps)
+// and is no twin of an accepted one made valid, and family where the Jacobian there is singular.
 void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family);
 
 // Every candidate of one target T into q (cf.k x n, user's joints), valid and family
