@@ -304,6 +304,10 @@ def _eaik_exact_solutions(chain, T):
         # solutions (seen: residual 9e-7, 0.008 rad from both): Newton steps take each answer
         # to the exact solution it stands for, so such a point merges with its neighbour.
         Q = np.array([_newton_refined(chain, pose, q) for q in Q]).reshape(-1, chain.n)
+        # An answer Newton cannot take to the pose is no exact solution (seen: residual 3.9e-7
+        # at a configuration with a zero singular value, where a 2R is just out of reach; the
+        # same bar, 1e-9, as every solution of ours).
+        Q = Q[np.abs(fk(chain, Q) - pose).max(axis=(-1, -2)) < 1e-9] if len(Q) else Q
         unique = [i for i in range(len(Q))
                   if not (_joint_distance(chain, Q[:i], Q[i]) < 1e-4).any()]
         result.append(Q[unique])
