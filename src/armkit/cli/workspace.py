@@ -123,8 +123,11 @@ def workspace_command(
     except (InterruptedRun, KeyboardInterrupt) as exc:
         text = str(exc) if isinstance(exc, InterruptedRun) else "before the first chunk was done"
         # a store write the interrupt cut short stays pending in zarr's I/O loop, and asyncio
-        # would log "Task was destroyed but it is pending!" at exit: the one line says it all
+        # would log "Task was destroyed but it is pending!" at exit, or Python warn that the
+        # write's coroutine "was never awaited" (an interrupt before it started, seen in CI):
+        # the one line says it all
         logging.getLogger("asyncio").setLevel(logging.CRITICAL)
+        warnings.filterwarnings("ignore", "coroutine .* was never awaited", RuntimeWarning)
         err_console.print(f"[yellow]interrupted[/yellow] (Ctrl-C): {escape(text)}", highlight=False,
                           soft_wrap=True)
         raise typer.Exit(INTERRUPTED) from None
