@@ -57,18 +57,23 @@ void mark_duplicates(const double* q, int k, int n, const bool* valid, const std
     }
 }
 
+// Whether configurations a and b (n) differ by at most kCloseCandidates in every joint
+// (revolute ones modulo 2 pi).
+bool close_candidates(const Chain& chain, const double* a, const double* b) {
+    for (int j = 0; j < chain.n; ++j) {
+        const double d = b[j] - a[j];
+        if (!(std::fabs(chain.prismatic[j] ? d : wrap_angle(d)) <= kCloseCandidates)) return false;
+    }
+    return true;
+}
+
 void flag_close_singular_candidates(const Chain& chain, const double* q, int k, const bool* valid, bool* family) {
     const int n = chain.n;
     for (int a = 0; a < k; ++a) {
         if (!valid[a]) continue;
         for (int b = a + 1; b < k; ++b) {
             if (!valid[b] || (family[a] && family[b])) continue;
-            bool close = true;
-            for (int j = 0; j < n && close; ++j) {
-                const double d = q[b * n + j] - q[a * n + j];
-                close = std::fabs(chain.prismatic[j] ? d : wrap_angle(d)) <= kCloseCandidates;
-            }
-            if (!close) continue;
+            if (!close_candidates(chain, q + a * n, q + b * n)) continue;
             double V[kMaxJoints * kMaxJoints];
             int null[kMaxJoints];
             if (null_space(chain, q + a * n, V, null) > 0 || null_space(chain, q + b * n, V, null) > 0)
@@ -94,16 +99,8 @@ constexpr double kExactFraction = 1e-4;
 // Whether q (n) lies within kCloseCandidates of a candidate the case accepted (a twin of it:
 // near a fold the rejected root of a pair converges onto the accepted one only slowly).
 bool twin_of_accepted(const ClosedForm& cf, const double* q, const double* candidates, const bool* accepted) {
-    const int n = cf.chain.n;
-    for (int t = 0; t < cf.k; ++t) {
-        if (!accepted[t]) continue;
-        bool close = true;
-        for (int j = 0; j < n && close; ++j) {
-            const double d = candidates[t * n + j] - q[j];
-            close = std::fabs(cf.chain.prismatic[j] ? d : wrap_angle(d)) <= kCloseCandidates;
-        }
-        if (close) return true;
-    }
+    for (int t = 0; t < cf.k; ++t)
+        if (accepted[t] && close_candidates(cf.chain, candidates + t * cf.chain.n, q)) return true;
     return false;
 }
 

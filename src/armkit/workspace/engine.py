@@ -87,11 +87,12 @@ def _holding_interrupts() -> Iterator[None]:
 
 
 class _Threads:
-    def __init__(self, workers: int) -> None:
+    def __init__(self, workers: int, task: Callable[[int], Any]) -> None:
         self.pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="armkit-workspace")
+        self.task = task
 
-    def submit(self, task: Callable[[int], Any], chunk: int) -> Any:
-        return self.pool.submit(task, chunk)
+    def submit(self, chunk: int) -> Any:
+        return self.pool.submit(self.task, chunk)
 
     def finished(self, futures: set) -> set:
         return wait(futures, return_when=FIRST_COMPLETED).done
@@ -110,7 +111,7 @@ class _Dask:
             self.function = partial(task.func, **task.keywords)
             self.args = tuple(client.scatter(list(task.args), broadcast=True, hash=False))
 
-    def submit(self, task: Callable[[int], Any], chunk: int) -> Any:
+    def submit(self, chunk: int) -> Any:
         future = self.client.submit(self.function, *self.args, chunk, pure=False)
         self.completed.add(future)
         return future
@@ -160,7 +161,7 @@ def run_chunks(task: Callable[[int], Any], chunks: Sequence[int], consume: Calla
 
     def fill() -> None:
         for chunk in pending:
-            in_flight[runner.submit(task, chunk)] = chunk
+            in_flight[runner.submit(chunk)] = chunk
             if len(in_flight) >= window:
                 return
 
@@ -173,7 +174,7 @@ def run_chunks(task: Callable[[int], Any], chunks: Sequence[int], consume: Calla
     runner: _Threads | _Dask | None = None
     try:
         local = engine is None or isinstance(engine, int)
-        runner = _Threads(engine_threads(engine)) if local else _Dask(engine, task)
+        runner = _Threads(engine_threads(engine), task) if local else _Dask(engine, task)
         fill()
         while position < len(order):
             for future in runner.finished(set(in_flight)):
