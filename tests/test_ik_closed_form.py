@@ -13,7 +13,7 @@ from armkit.ik import ik_solutions, numeric_ik
 from armkit.ik.closed_form import closed_form_ik, closed_form_solver
 from armkit.ik.structure import analyze_structure, poe_from_chain
 from armkit.ik.subproblems import sp1, sp4
-from armkit.kinematics import fk, singular_values
+from armkit.kinematics import fk, geometric_jacobian, pose_error, singular_values
 from armkit.spatial.rotations import matrix_from_axis_angle, matrix_from_euler
 
 CLOSED_FORM_ROBOTS = ["probot-anno", "puma560", "stanford", "ur5", "zju-i", "grb400-scara"]
@@ -321,6 +321,35 @@ def _newton_refined(chain, T, q):
     return result.q if result.success and np.abs(result.q - q).max() < 1e-3 else q
 
 
+def _polished(chain, T, q, steps=12):
+    """``q`` after Gauss-Newton steps towards ``T`` (each halved until it lowers the FK
+    residual: near a fold the full step overshoots), with that residual: an exact
+    solution's to rounding."""
+    best, worst = q, np.abs(fk(chain, q) - T).max()
+    for _ in range(steps):
+        step = np.linalg.lstsq(geometric_jacobian(chain, best), pose_error(T, fk(chain, best)), rcond=None)[0]
+        for _ in range(30):
+            residual = np.abs(fk(chain, best + step) - T).max()
+            if residual < worst:
+                break
+            step = step / 2
+        else:
+            break
+        best, worst = best + step, residual
+    return best, worst
+
+
+def _two_roots(chain, T, a, b):
+    """Whether ``a`` and ``b`` (close) are two distinct solutions of ``T``, not one listed
+    twice: polished, each reproduces ``T`` to 1e-12 (times the arm's size), and the point
+    between them misses it by more (near a fold by ~1e-10: two roots of a pose just inside
+    it; armkit merges two candidates with a point between them within 1e-12)."""
+    (a, at_a), (b, at_b) = _polished(chain, T, a), _polished(chain, T, b)
+    step = np.where(chain.prismatic, b - a, (b - a + np.pi) % (2 * np.pi) - np.pi)
+    one = 1e-12 * (1 + np.abs(fk(chain, np.zeros(chain.n))[:3, 3]).max())
+    return max(at_a, at_b) <= one < np.abs(fk(chain, a + step / 2) - T).max()
+
+
 def _assert_same_as_eaik(chain, q):
     T = fk(chain, q)
     sol = closed_form_ik(chain, T)
@@ -343,14 +372,16 @@ def _assert_same_as_eaik(chain, q):
         if (_joint_distance(chain, theirs, q[i]) < 1e-4).any():
             assert (distance.min(axis=1) < 1e-4).all()
             if len(ours) != len(theirs):
-                # near a fold (smallest singular value ~1e-7, seen at a uniform random pose) two
-                # distinct exact solutions lie ~1e-5 apart, and EAIK gives one of them: each
-                # extra one of ours must be such a twin (of an earlier one), at a fold
+                # near a fold (smallest singular value ~1e-7 to 1e-6, seen at uniform random
+                # poses) two distinct exact solutions lie ~1e-5 apart, and EAIK gives one of
+                # them: each extra one of ours must be such a twin of an earlier one
                 apart = _joint_distance(chain, ours[:, None], ours[None])
                 extra = np.array([(apart[k, :k] < 1e-4).any() for k in range(len(ours))])
                 assert len(ours) > len(theirs) and len(ours) - extra.sum() == len(theirs), \
                     f"pose {i}: {len(ours)} solutions, EAIK {len(theirs)}"
-                assert min(singular_values(chain, o)[-1] for o in ours[extra]) < 1e-6
+                for k in np.flatnonzero(extra):
+                    twin = ours[np.flatnonzero(apart[k, :k] < 1e-4)[0]]
+                    assert _two_roots(chain, T[i], ours[k], twin), f"pose {i}: a solution listed twice"
         else:
             missed_by_eaik += 1
     assert missed_by_eaik <= 1, f"EAIK missed the generating q of {missed_by_eaik} of {len(T)} poses"

@@ -363,23 +363,15 @@ def test_a_pose_the_listing_misses_is_answered_by_numeric_ik():
         assert chain.within_limits(empty.q[0, 0]) or not within_limits
 
 
-@pytest.mark.xfail(strict=True, reason="issue 10 item 3, open: a family loop that touches the planar 2R's "
-                                       "reach at one point while another loop crosses its middle")
-def test_a_loop_that_touches_the_reach_beside_a_crossing_loop():
+def test_a_loop_between_the_samples_of_the_family():
     """Axes 1-3 parallel and axis 6 parallel to them at q = [0, pi/2, pi, pi/2, pi, pi/2]
-    (seed 287711068, pose 3, found by ``make fuzz``): the member listed lies on a loop of
-    the q6 family that ends near q6 = 1.53 where the 2R straightens, while the generating q
-    (q6 = pi/2) lies on a family of q1-q3 at fixed q6 that the member search does not
-    reach. ``ik`` answers the pose (a listed member)."""
+    (seed 287711068, pose 3, found by ``make fuzz``): the q6 family has two loops, q6 in
+    [1.496, 1.530] and [pi/2, 1.605], both between two of the 64 samples of the 2R's reach
+    along it, and q lies on the second, where its elbows meet. Before, one member stood for
+    the family (on the first loop: a crossing of the middle reach found beside the least
+    sample), and q was missed. Now every sampled extremum of the reach is refined and each
+    loop gets its member."""
     _check_six_joint_arm("three-parallel", 1, 287711068, degenerate=True)
-
-
-#: Arms ``make fuzz`` found failing on this main and on the one before this session's
-#: changes (issue 10 item 3, open): a generating q missed at a singular pose (seeds 1895,
-#: 11988646), or two fold twins 5e-5 apart whose smallest singular value, 1.7e-6, is above
-#: the 1e-6 at which the EAIK comparison counts a pose as a fold (seed 4087371).
-FUZZ_FOUND = [("spherical-wrist", 1, 4087371, False), ("spherical-base", None, 1895, True),
-              ("spherical-wrist", 2, 11988646, True)]
 
 
 @pytest.mark.parametrize(("kind", "case", "seed"),
@@ -399,7 +391,61 @@ def test_an_inexact_eaik_answer_is_not_a_solution_we_miss():
     _check_six_joint_arm("three-parallel", 3, 303, degenerate=False)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 10 item 3, open: found by make fuzz")
-@pytest.mark.parametrize(("kind", "case", "seed", "degenerate"), FUZZ_FOUND)
-def test_arms_make_fuzz_found(kind, case, seed, degenerate):
-    _check_six_joint_arm(kind, case, seed, degenerate=degenerate)
+def test_fold_twins_with_a_singular_value_above_1e_6():
+    """A generic spherical-wrist arm (seed 4087371, pose 2, ``make fuzz``): two of our
+    solutions 5e-5 apart where EAIK gives one; the smallest singular value there is 1.9e-6,
+    above the 1e-6 the comparison took for a fold. They are two roots (each exact to
+    3e-16, the point between them 9e-11 off): the comparison now checks that directly."""
+    _check_six_joint_arm("spherical-wrist", 1, 4087371, degenerate=False)
+
+
+def test_roots_split_on_either_side_of_a_family():
+    """Spherical base, q = [-pi/2, 0, pi, -pi/2, 0, pi] (seed 1895, pose 0, ``make fuzz``):
+    axes 1 and 3 are one line at q2 = 0, a family (q1 + q3 fixed), but the closed form's
+    double root came out as two roots at q2 = +-2.2e-7, 1.2e-3 apart along the family, where
+    the Jacobian is not singular to 1e-8: no family flag, and q missed. The point between
+    two such roots, put onto the solution set, is singular: it now stands for the family."""
+    _check_six_joint_arm("spherical-base", None, 1895, degenerate=True)
+
+
+def test_a_joint_on_its_pi_limit_at_an_ill_conditioned_pose():
+    """Spherical wrist (axes 2, 3 meet), q = [-pi/2, -pi/2, -pi/2, pi/2, 0, pi] with limits
+    +-pi (seed 11988646, pose 0, ``make fuzz``): smallest singular value 6.7e-5, so an FK
+    residual of 1.7e-13 left q3 and q6 1.1e-9 off, and q6 at -pi + 1.1e-9 could not be
+    wrapped to near's pi (1e-9 beyond the limit): ``ik(near=q)`` answered a solution pi away.
+    Candidates above 1e-13 are now refined, wrapped towards near, and the nearest-only
+    search measures a joint at a +-pi limit from near's side."""
+    _check_six_joint_arm("spherical-wrist", 2, 11988646, degenerate=True)
+
+
+def test_split_roots_of_a_prismatic_arm_on_a_family():
+    """Spherical wrist with a prismatic joint 3, q = [pi, -pi/2, 0, -pi/2, 0, pi] (seed
+    13622, a sweep of 44,000 degenerate arms): the same kind of split double root as seed
+    1895, 3.3e-4 apart; the singular point between them now stands for the family."""
+    _check_six_joint_arm("spherical-wrist", "prismatic3", 13622, degenerate=True)
+
+
+@pytest.mark.parametrize(("case", "seed"), [(3, 10005), (2, 10910), (3, 11812), (2, 11878), (2, 12691)])
+def test_families_of_three_parallel_middle_axes(case, seed):
+    """Three parallel axes in the middle (2-4 or 3-5, solved as axes 2-4 of the arm or of
+    its reverse) where the two equations in (q1, q5) are one (a sweep of 44,000 degenerate
+    arms): every candidate took q1 = 0, where the 2R cannot reach, and none was valid: no
+    solution at a reachable pose. The family's loops now get members as for axes 1-3."""
+    _check_six_joint_arm("three-parallel", case, seed, degenerate=True)
+
+
+def test_a_vanishing_quartic_amplified_by_an_ill_conditioned_system():
+    """Axes 4-6 parallel (seed 12421, pose 1): the quartic in q6 vanishes, but Q^-1 (an
+    entry of 1.3e3) left its coefficients at 1e-12 in sum, just above the bar, so its
+    remaining degree-1 part (noise) had no root and the pose had no solution. The bar is
+    now scaled by |Q^-1|."""
+    _check_six_joint_arm("three-parallel", 4, 12421, degenerate=True)
+
+
+def test_an_axis_parallel_to_rounding_after_a_near_tangent_root():
+    """Axes 3-5 parallel (seed 11590, pose 2): q1 is a root of a near-tangent equation
+    (its twin 7e-4 away), exact to ~1e-12 only, and axis 6 is then parallel to the three
+    axes to 3.9e-12, just above the 1e-12 at which q6 is free: SP1 gave q6 0.008 off and
+    the 2R could not reach. Where the 2R cannot follow and axis 6 is within 1e-11, q6 is
+    now taken as free (the family's member, refined by FK)."""
+    _check_six_joint_arm("three-parallel", 3, 11590, degenerate=True)

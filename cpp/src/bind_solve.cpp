@@ -141,14 +141,19 @@ void rank(const ClosedForm& cf, InIndex which, In near, In weights, bool within_
 }
 
 // The verification stage of solve_batch on given candidates: each valid one's FK residuals
-// into errors, rough ones refined (for tests of that stage; rank the poses after it).
+// into errors, rough ones refined and wrapped towards their own values (for tests of that
+// stage; rank the poses after it).
 void verify_candidates(const ClosedForm& cf, In T, Out q, Out errors, OutBool flags, OutIndex count) {
     const std::size_t N = poses(T);
     const Found f = found_of(cf, N, q, errors, flags, count);
     for (std::size_t i = 0; i < N; ++i) {
         const Pose target = pose_from_matrix(T.data() + 16 * i);
-        for (int s = 0; s < f.k; ++s)
-            if (f.flags_of(i, s)[kValid]) verify(cf.chain, target, f, i, s);
+        for (int s = 0; s < f.k; ++s) {
+            if (!f.flags_of(i, s)[kValid]) continue;
+            double own[kMaxJoints];
+            std::copy(f.q_of(i, s), f.q_of(i, s) + f.n, own);
+            verify(cf.chain, target, f, i, s, own);
+        }
     }
 }
 

@@ -57,27 +57,67 @@ void mark_duplicates(const double* q, int k, int n, const bool* valid, const std
     }
 }
 
-// Whether configurations a and b (n) differ by at most kCloseCandidates in every joint
-// (revolute ones modulo 2 pi).
-bool close_candidates(const Chain& chain, const double* a, const double* b) {
+// Whether configurations a and b (n) differ by at most gap in every joint (revolute ones modulo 2 pi).
+bool within(const Chain& chain, const double* a, const double* b, double gap) {
     for (int j = 0; j < chain.n; ++j) {
         const double d = b[j] - a[j];
-        if (!(std::fabs(chain.prismatic[j] ? d : wrap_angle(d)) <= kCloseCandidates)) return false;
+        if (!(std::fabs(chain.prismatic[j] ? d : wrap_angle(d)) <= gap)) return false;
     }
     return true;
 }
 
-void flag_close_singular_candidates(const Chain& chain, const double* q, int k, const bool* valid, bool* family) {
+// The configuration halfway between a and b (n; revolute joints the short way round) into mid.
+void midpoint(const Chain& chain, const double* a, const double* b, double* mid) {
+    for (int j = 0; j < chain.n; ++j) {
+        const double d = b[j] - a[j];
+        mid[j] = a[j] + 0.5 * (chain.prismatic[j] ? d : wrap_angle(d));
+    }
+}
+
+//: Two candidates within this in every joint [rad or m, modulo 2 pi] may be the two roots
+//: of a double root on either side of a family (see flag_close_singular_candidates): the
+//: case solver places them ~1e-7 off it and, the family being singular, up to ~1e-3
+//: apart along it.
+constexpr double kSplitRoots = 1e-2;
+
+//: The point between split roots, put onto the solution set, must reproduce the pose to
+//: this [m, times the arm's size; rad] (rounding: a family's members are exact, while
+//: beside a fold the projection stops in a neighbourhood of residual ~1e-13 that is
+//: singular too, between twin roots that are two solutions).
+constexpr double kOnFamily = 1e-14;
+
+// Whether configurations a and b (n) are split roots of one singular solution: the point
+// between them, put onto the solution set of T exactly (into mid), is singular and
+// within kSplitRoots of both (size: the arm's, see kOnFamily).
+bool singular_between(const Chain& chain, const Pose& T, const double* a, const double* b, double size,
+                      double* mid) {
+    if (!within(chain, a, b, kSplitRoots)) return false;
+    midpoint(chain, a, b, mid);
+    double V[kMaxJoints * kMaxJoints];
+    int null[kMaxJoints];
+    if (!project_onto_solutions(chain, T, mid)) return false;
+    newton(chain, T, mid, 3);  // to rounding on a family; beside a fold it stops at ~1e-13
+    return fk_difference(chain, T, mid) <= kOnFamily * size && within(chain, a, mid, kSplitRoots) &&
+           within(chain, b, mid, kSplitRoots) && null_space(chain, mid, V, null) > 0;
+}
+
+void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double* q, const bool* valid, bool* family) {
+    const Chain& chain = cf.chain;
     const int n = chain.n;
-    for (int a = 0; a < k; ++a) {
+    for (int a = 0; a < cf.k; ++a) {
         if (!valid[a]) continue;
-        for (int b = a + 1; b < k; ++b) {
+        for (int b = a + 1; b < cf.k; ++b) {
             if (!valid[b] || (family[a] && family[b])) continue;
-            if (!close_candidates(chain, q + a * n, q + b * n)) continue;
-            double V[kMaxJoints * kMaxJoints];
+            double V[kMaxJoints * kMaxJoints], mid[kMaxJoints];
             int null[kMaxJoints];
-            if (null_space(chain, q + a * n, V, null) > 0 || null_space(chain, q + b * n, V, null) > 0)
+            if (within(chain, q + a * n, q + b * n, kCloseCandidates) &&
+                (null_space(chain, q + a * n, V, null) > 0 || null_space(chain, q + b * n, V, null) > 0)) {
                 family[a] = family[b] = true;
+            } else if (singular_between(chain, T, q + a * n, q + b * n, cf.geometry.size, mid)) {
+                // two roots split by the square root of a rounding error: the singular member between them
+                for (int j = 0; j < n; ++j) q[a * n + j] = chain.prismatic[j] ? mid[j] : wrap_angle(mid[j]);
+                family[a] = family[b] = true;
+            }
         }
     }
 }
@@ -100,7 +140,7 @@ constexpr double kExactFraction = 1e-4;
 // near a fold the rejected root of a pair converges onto the accepted one only slowly).
 bool twin_of_accepted(const ClosedForm& cf, const double* q, const double* candidates, const bool* accepted) {
     for (int t = 0; t < cf.k; ++t)
-        if (accepted[t] && close_candidates(cf.chain, candidates + t * cf.chain.n, q)) return true;
+        if (accepted[t] && within(cf.chain, candidates + t * cf.chain.n, q, kCloseCandidates)) return true;
     return false;
 }
 
@@ -129,6 +169,29 @@ void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool*
     }
 }
 
+//: Two close candidates (kCloseCandidates) are one solution when the point between them
+//: reproduces the pose to this [m, times the arm's size; rad]: near a fold the closed form
+//: can place a second root where the residual has a minimum of ~1e-13 beside the exact one.
+//: Twin roots of a pose just inside a fold are two (the point between misses by ~1e-10).
+constexpr double kOneSolution = 1e-12;
+
+// Of two valid, close candidates (not family members) that are one solution, the one
+// farther from the pose is no longer valid.
+void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bool* valid, const bool* family) {
+    const int n = cf.chain.n;
+    for (int a = 0; a < cf.k; ++a) {
+        for (int b = a + 1; b < cf.k && valid[a]; ++b) {
+            if (!valid[b] || family[a] || family[b] || !within(cf.chain, q + a * n, q + b * n, kCloseCandidates))
+                continue;
+            double mid[kMaxJoints];
+            midpoint(cf.chain, q + a * n, q + b * n, mid);
+            if (!(fk_difference(cf.chain, T, mid) <= kOneSolution * cf.geometry.size)) continue;
+            const bool drop_a = fk_difference(cf.chain, T, q + a * n) > fk_difference(cf.chain, T, q + b * n);
+            valid[drop_a ? a : b] = false;
+        }
+    }
+}
+
 void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family) {
     const int k = cf.k, n = cf.chain.n;
     double q_int[kMaxCandidates * kMaxJoints];
@@ -153,7 +216,8 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
     bool duplicate[kMaxCandidates];
     mark_duplicates(q, k, n, valid, cf.chain.prismatic.data(), duplicate);
     for (int s = 0; s < k; ++s) valid[s] = valid[s] && !duplicate[s];
-    flag_close_singular_candidates(cf.chain, q, k, valid, family);
+    flag_close_singular_candidates(cf, T, q, valid, family);
+    merge_one_solution(cf, T, q, valid, family);
     for (int s = 0; s < k; ++s) family[s] = family[s] && valid[s];
 }
 

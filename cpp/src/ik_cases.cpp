@@ -220,7 +220,8 @@ void merge_multiple_root(const CaseGeometry& g, const Mat2& P, const double* r, 
 }
 
 //: F's coefficients below this in sum are zero (its terms include the 1 of the unit
-//: circle): the system's two equations are one.
+//: circle), times 1 + |Q^-1| |P, r| (Q^-1 amplifies the pose's rounding: seen 1e-12 with
+//: |Q^-1| = 1.3e3): the system's two equations are one.
 constexpr double kIdentityTolerance = 1e-12;
 
 // All (t1, t2) with P x(t1) - Q x(t2) = r (Q = g.Q fixed by the chain; P, r by the pose).
@@ -237,7 +238,10 @@ AngleCandidates two_angle_system(const CaseGeometry& g, const Mat2& P, const dou
     }
     double A[5];
     quartic(g, P, r, out, A);
-    if (std::abs(A[0]) + std::abs(A[1]) + std::abs(A[2]) + std::abs(A[3]) + std::abs(A[4]) <= kIdentityTolerance) {
+    const double amplified = std::max(std::max(std::abs(g.Q_inv[0][0]), std::abs(g.Q_inv[0][1])),
+                                      std::max(std::abs(g.Q_inv[1][0]), std::abs(g.Q_inv[1][1]))) * size;
+    if (std::abs(A[0]) + std::abs(A[1]) + std::abs(A[2]) + std::abs(A[3]) + std::abs(A[4]) <=
+        kIdentityTolerance * (1.0 + amplified)) {
         // F vanishes: the two equations are one, every t1 has its t2 (a family)
         for (int i = 0; i < 4; ++i) {
             out.t1[i] = 0.0;
@@ -363,6 +367,9 @@ ArmCandidates wrist_centre_joints(const CaseGeometry& g, Vec3 w) {
 //: Angle [rad] between axis 6's target direction and axis 4 within which a spherical
 //: wrist counts as aligned for the family flag (the values themselves are not moved).
 constexpr double kNearlyAligned = 1e-7;
+//: Angle [rad] between axis 6 and the three parallel axes within which q6 may be taken
+//: as free where the 2R cannot follow the q6 SP1 gives (see three_parallel).
+constexpr double kAlignedToRounding = 1e-11;
 
 // Spherical wrist: joints 1-3 for the wrist centre, then the wrist: 8 candidates.
 void spherical(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
@@ -488,6 +495,186 @@ void wrist_family_representative(const CaseGeometry& g, double s, double& qw, do
     theta = phi;
 }
 
+//: Members of a family of the two-angle system sampled round the circle for its loops.
+constexpr int kFamilyMembers = 64;
+//: Loops of one family given a member at most (its candidates' slots: 4 x 2 elbows).
+constexpr int kMaxLoops = 8;
+
+// A member (t1, t2) of a family of the two-angle system, and f there (see family_loops).
+struct FamilyMember {
+    double t1, t2, f;
+};
+
+// The least value of value(t, t2) on [lo, hi] (a bracket of one local minimum) by
+// golden-section search, with its t2.
+template <class Value>
+FamilyMember golden_minimum(Value value, double lo, double hi) {
+    constexpr double golden = 0.6180339887498949;
+    constexpr int kGoldenSteps = 80;  // the bracket shrinks to rounding long before
+    FamilyMember left{hi - golden * (hi - lo), 0.0, 0.0}, right{lo + golden * (hi - lo), 0.0, 0.0};
+    left.f = value(left.t1, left.t2), right.f = value(right.t1, right.t2);
+    FamilyMember best = left.f < right.f ? left : right;
+    for (int k = 0; k < kGoldenSteps && hi - lo > 4.0 * std::numeric_limits<double>::epsilon() * (1.0 + std::abs(hi)); ++k) {
+        if (left.f < right.f) {
+            hi = right.t1, right = left;
+            left.t1 = hi - golden * (hi - lo), left.f = value(left.t1, left.t2);
+        } else {
+            lo = left.t1, left = right;
+            right.t1 = lo + golden * (hi - lo), right.f = value(right.t1, right.t2);
+        }
+        if (left.f < best.f) best = left;
+        if (right.f < best.f) best = right;
+    }
+    return best;
+}
+
+// The point between members a and b (f of opposite signs) where f(t1) = 0, by bisection
+// (stops where t1 has no t2); returns the end with the smaller |f|.
+template <class Reach>
+FamilyMember bisect_middle(Reach reach, FamilyMember a, FamilyMember b) {
+    for (int k = 0; k < 52; ++k) {
+        FamilyMember mid{0.5 * (a.t1 + b.t1), 0.0, 0.0};
+        mid.f = reach(mid.t1, mid.t2);
+        if (!std::isfinite(mid.f)) break;
+        ((mid.f < 0.0) == (a.f < 0.0) ? a : b) = mid;
+    }
+    return std::abs(a.f) <= std::abs(b.f) ? a : b;
+}
+
+// Candidate i of pair has a free t1 (a family of the two-angle system): a member (t1, t2)
+// on each loop of the family, the one whose planar target (target_of(t2, t1, ...), for the
+// 2R of links a, b) the 2R reaches best, into loops (at most kMaxLoops, best first; their
+// number returned). With f(t1) = (|v|^2 - (|a|^2 + |b|^2)) / (2 |a| |b|), the 2R reaches
+// where |f| <= 1, best where f = 0, and each interval of t1 where it reaches is one loop
+// (its two elbows meet at the ends). f is sampled at kFamilyMembers values of t1 round the
+// circle, each sampled extremum refined by golden-section search (a loop narrower than the
+// samples lies beside one, and a loop that touches the 2R's reach at one point is one), and
+// the pieces between are taken as monotone: a loop's member is where f crosses 0 (bisection),
+// else its point of least |f|. Every member solves the system exactly; which one stands for a
+// loop only decides whether the rest of the chain can follow (the walk to near comes later).
+template <class Target>
+int family_loops(const CaseGeometry& g, const Mat2& P, const double* r, int i, double start, Target target_of,
+                 Vec3 a, Vec3 b, FamilyMember* loops) {
+    const Vec3 h = g.hp;
+    a = detail::in_plane(a, h);
+    b = detail::in_plane(b, h);
+    const double middle = dot(a, a) + dot(b, b), half_width = std::max(2.0 * std::sqrt(dot(a, a) * dot(b, b)), 1e-300);
+    const double size = system_size(P, r);
+    const double band = 1.0 + 1e-9 * (1.0 + middle / half_width);  // |f| within: reached, to rounding
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    // f(t1), and t2; NaN where t1 has no t2
+    auto reach = [&](double t1, double& t2) {
+        bool ok;
+        t2 = family_t2(g, P, r, t1, i, size, ok);
+        if (!ok) return kNaN;
+        Angle1 wrist;
+        double theta;
+        const Vec3 v = detail::in_plane(target_of(t2, t1, wrist, theta, 1.0), h);
+        return (dot(v, v) - middle) / half_width;
+    };
+    auto finite_or = [](double v, double otherwise) { return std::isfinite(v) ? v : otherwise; };
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    auto lowest = [&](double t1, double& t2) { return finite_or(reach(t1, t2), kInf); };
+    auto highest = [&](double t1, double& t2) { return finite_or(-reach(t1, t2), kInf); };
+    // the samples and their refined extrema, in order round the circle from start
+    constexpr double step = kTwoPi / kFamilyMembers;
+    FamilyMember sample[kFamilyMembers], knots[2 * kFamilyMembers];
+    for (int m = 0; m < kFamilyMembers; ++m) {
+        sample[m].t1 = start + m * step;
+        sample[m].f = reach(sample[m].t1, sample[m].t2);
+    }
+    int count = 0;
+    for (int m = 0; m < kFamilyMembers; ++m) {
+        knots[count++] = sample[m];
+        const double before = sample[(m + kFamilyMembers - 1) % kFamilyMembers].f, here = sample[m].f,
+                     after = sample[(m + 1) % kFamilyMembers].f;
+        if (!(std::isfinite(before) && std::isfinite(here) && std::isfinite(after))) continue;
+        const double lo = sample[m].t1 - step, hi = sample[m].t1 + step;
+        FamilyMember extremum;
+        if (here <= before && here <= after) {
+            extremum = golden_minimum(lowest, lo, hi);
+        } else if (here >= before && here >= after) {
+            extremum = golden_minimum(highest, lo, hi);
+            extremum.f = -extremum.f;
+        } else {
+            continue;
+        }
+        if (!std::isfinite(extremum.f)) continue;
+        if (extremum.t1 < start) extremum.t1 += kTwoPi;
+        knots[count++] = extremum;
+    }
+    std::sort(knots, knots + count, [](const FamilyMember& x, const FamilyMember& y) { return x.t1 < y.t1; });
+    auto inside = [&](double f) { return std::abs(f) <= band; };  // false for NaN
+    int first_out = -1;
+    for (int k = 0; k < count && first_out < 0; ++k)
+        if (!inside(knots[k].f)) first_out = k;
+    // the pieces between knots, from one where the 2R does not reach (else the whole circle is one loop)
+    FamilyMember found[2 * kFamilyMembers];
+    int loops_found = 0;
+    bool open = false;
+    FamilyMember best{};
+    auto consider = [&](const FamilyMember& x) {
+        if (!open || std::abs(x.f) < std::abs(best.f)) best = x;
+        open = true;
+    };
+    auto close = [&]() {
+        if (open) found[loops_found++] = best;
+        open = false;
+    };
+    const int from = first_out < 0 ? 0 : first_out;
+    for (int k = 0; k < count; ++k) {
+        const FamilyMember& x = knots[(from + k) % count];
+        FamilyMember y = knots[(from + k + 1) % count];
+        if (from + k + 1 >= count) y.t1 += kTwoPi;
+        const bool in_x = inside(x.f), in_y = inside(y.f);
+        if (in_x) consider(x);
+        if (std::isfinite(x.f) && std::isfinite(y.f) && (x.f < 0.0) != (y.f < 0.0))
+            consider(bisect_middle(reach, x, y));
+        if (open && !in_y && first_out >= 0) close();
+    }
+    if (first_out < 0) close();  // one loop round the whole circle
+    std::sort(found, found + loops_found,
+              [](const FamilyMember& x, const FamilyMember& y) { return std::abs(x.f) < std::abs(y.f); });
+    loops_found = std::min(loops_found, kMaxLoops);
+    for (int k = 0; k < loops_found; ++k) loops[k] = found[k];
+    return loops_found;
+}
+
+// The angles (t1, t2) each slot (candidate i, elbow b) of the two-angle system stands on,
+// and whether it is a solution. A family (free t1) is spread over its candidates (all four
+// where the quartic vanishes, the two of one t2 branch where Q has rank 1): a member of
+// each of its loops (family_loops), each with both elbows, or with more loops than
+// candidates one per elbow; a family the 2R reaches nowhere leaves its candidates invalid.
+struct SlotAngles {
+    double t1[4][2], t2[4][2];
+    bool valid[4][2];
+};
+
+template <class Target>
+SlotAngles family_slots(const CaseGeometry& g, const Mat2& P, const double* r, const AngleCandidates& pair,
+                        Target target_of, Vec3 a, Vec3 b) {
+    SlotAngles slots{};
+    for (int i = 0; i < 4; ++i)
+        for (int e = 0; e < 2; ++e)
+            slots.t1[i][e] = pair.t1[i], slots.t2[i][e] = pair.t2[i], slots.valid[i][e] = pair.valid[i];
+    for (int branch = 0; branch < (g.rank1 ? 2 : 1); ++branch) {
+        int group[4], size = 0;
+        for (int i = 0; i < 4; ++i)
+            if (pair.free[i] && (!g.rank1 || i % 2 == branch)) group[size++] = i;
+        if (size == 0) continue;
+        FamilyMember loops[kMaxLoops];
+        const int count = family_loops(g, P, r, group[0], pair.t1[group[0]], target_of, a, b, loops);
+        for (int k = 0; k < size; ++k)
+            for (int e = 0; e < 2; ++e) {
+                const int m = count <= size ? k : (2 * k + e < count ? 2 * k + e : 2 * k);
+                const int i = group[k];
+                slots.valid[i][e] = m < count;
+                if (m < count) slots.t1[i][e] = loops[m].t1, slots.t2[i][e] = loops[m].t2;
+            }
+    }
+    return slots;
+}
+
 // Axes 2-4 parallel: (q1, q5), then q6, q2 + q3 + q4 and a planar 2R: 8 candidates.
 // g.a1, g.a2: the closest points p5, p6 of axes 5 and 6.
 void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
@@ -506,27 +693,45 @@ void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, boo
     } else {
         snap_to_aligned_wrist(g, P, r, pair.t1, pair.t2);
     }
-    for (int i = 0; i < 4; ++i) {
-        const double q1 = pair.t1[i], q5 = pair.t2[i];
+    // q6, q2 + q3 + q4 and the planar 2R's target for (q1, q5)
+    // (nearly_free: q6 within kAlignedToRounding of free counts as free)
+    auto arm = [&](double q5, double q1, Angle1& q6, double& theta, double side, bool nearly_free) {
         // q6: R6^T (R5^T h) = R_G^T R1 h
         const Vec3 v = rotate(-h4, q5, h);
-        Angle1 q6 = sp1(v, mul_transposed(R, rotate(h0, q1, h)), -h5);
+        q6 = sp1(v, mul_transposed(R, rotate(h0, q1, h)), -h5);
+        q6.free = q6.free || (nearly_free && norm(cross(v, h5)) <= kAlignedToRounding);
         // q2 + q3 + q4: R234 = R1^T R_G R6^T R5^T, applied to a normal of h
         const Vec3 turned = rotate(-h0, q1, R * rotate(-h5, q6.t, rotate(-h4, q5, g.u)));
-        double theta = sp1(g.u, turned, h).t;
+        theta = sp1(g.u, turned, h).t;
         // planar part: e2 e3 e4 y = z with y = e5 p6, z = e1^-1 G p6
         const Vec3 y = p5 + rotate(h4, q5, p6 - p5);
         const Vec3 z = p0 + rotate(-h0, q1, G_p6 - p0);
-        const double q6_0 = q6.t, theta_0 = theta;
+        if (q6.free)  // axis 6 parallel to h: a family of q6, one loop of it per elbow slot
+            wrist_family_representative(g, sign_of(dot(v, h5)), q6.t, theta, z - p1, y - p3, p2 - p1, p3 - p2, side);
+        return (z - p1) - rotate(h, theta, y - p3);
+    };
+    const SlotAngles slots = family_slots(
+        g, P, r, pair, [&](double q5, double q1, Angle1& q6, double& theta, double side) { return arm(q5, q1, q6, theta, side, false); },
+        p2 - p1, p3 - p2);
+    for (int i = 0; i < 4; ++i) {
+        Angle1 q6;
+        double theta;
         Planar2 q23{};
         for (int b = 0; b < 2; ++b) {
-            // a family of q6 (axis 6 parallel to h): one loop of it per elbow slot
-            if (q6.free) {
-                q6.t = q6_0, theta = theta_0;
-                wrist_family_representative(g, sign_of(dot(v, h5)), q6.t, theta, z - p1, y - p3, p2 - p1, p3 - p2,
-                                            b == 0 ? 1.0 : -1.0);
+            const double q1 = slots.t1[i][b], q5 = slots.t2[i][b];
+            const double side = b == 0 ? 1.0 : -1.0;
+            if (b == 0 || q1 != slots.t1[i][0] || q5 != slots.t2[i][0] || q6.free)
+                q23 = planar_2r(h, p2 - p1, p3 - p2, arm(q5, q1, q6, theta, side, false));
+            // axis 6 within kAlignedToRounding of h, and the 2R cannot follow: q1 and q5 carry
+            // the errors of a near-tangent root (seen 4e-12, leaving q6 0.008 off), so q6 is
+            // taken as free (which misses the pose by about that angle times the arm's size),
+            // the family's member refined by FK later
+            if (!q23.ok[b] && !q6.free) {
+                Angle1 free6;
+                double free_theta;
+                const Planar2 again = planar_2r(h, p2 - p1, p3 - p2, arm(q5, q1, free6, free_theta, side, true));
+                if (free6.free && again.ok[b]) q23 = again, q6 = free6, theta = free_theta;
             }
-            if (b == 0 || q6.free) q23 = planar_2r(h, p2 - p1, p3 - p2, (z - p1) - rotate(h, theta, y - p3));
             const int s = 2 * i + b;
             double* qs = q + n * s;
             qs[0] = q1;
@@ -535,95 +740,10 @@ void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, boo
             qs[3] = theta - q23.ta[b] - q23.tb[b];
             qs[4] = q5;
             qs[5] = q6.t;
-            valid[s] = pair.valid[i] && q23.ok[b];
+            valid[s] = slots.valid[i][b] && q23.ok[b];
             family[s] = pair.free[i] || q6.free || q23.free;
         }
     }
-}
-
-//: Members of a family of the two-angle system tried for its representative.
-constexpr int kFamilyMembers = 64;
-
-// Candidate i of pair has a free t1 (a family of the two-angle system): a member (t1, t2)
-// whose planar target (target_of(t2, t1, ...), for the 2R of links a, b) the 2R reaches best.
-// f(t1) = |v|^2 - (|a|^2 + |b|^2) changes sign where the family passes the 2R's middle reach,
-// and each loop of the family (two where the 2R reaches two separate intervals of t1, as for
-// a wrist axis parallel to h: see wrist_family_representative) holds such a crossing: side
-// +1 takes one where f rises, side -1 one where it falls, found among kFamilyMembers values
-// of t1 round the circle and put on the crossing by bisection. Without a crossing of that
-// side: for side +1 the member with |f| least (a golden-section search between the samples
-// beside the least one), for side -1 nothing (false: no second loop). Every member solves the system exactly; which one stands for a loop only decides whether
-// the rest of the chain can follow (the walk to near comes later).
-template <class Target>
-bool choose_family_member(const CaseGeometry& g, const Mat2& P, const double* r, int i, AngleCandidates& pair,
-                          Target target_of, Vec3 a, Vec3 b, double side) {
-    const Vec3 h = g.hp;
-    a = detail::in_plane(a, h);
-    b = detail::in_plane(b, h);
-    const double middle = dot(a, a) + dot(b, b), half_width = 2.0 * std::sqrt(dot(a, a) * dot(b, b));
-    const double size = system_size(P, r);
-    // f(t1) / half_width, and t2; NaN where t1 has no t2
-    auto reach = [&](double t1, double& t2) {
-        bool ok;
-        t2 = family_t2(g, P, r, t1, i, size, ok);
-        if (!ok) return std::numeric_limits<double>::quiet_NaN();
-        Angle1 wrist;
-        double theta;
-        const Vec3 v = detail::in_plane(target_of(t2, t1, wrist, theta, side), h);
-        return (dot(v, v) - middle) / std::max(half_width, 1e-300);
-    };
-    constexpr double step = kTwoPi / kFamilyMembers;
-    const double start = pair.t1[i];
-    double f[kFamilyMembers], t2s[kFamilyMembers];
-    int least = -1;
-    for (int m = 0; m < kFamilyMembers; ++m) {
-        f[m] = reach(start + m * step, t2s[m]);
-        if (std::isfinite(f[m]) && (least < 0 || std::abs(f[m]) < std::abs(f[least]))) least = m;
-    }
-    for (int m = 0; m < kFamilyMembers; ++m) {
-        const int next = (m + 1) % kFamilyMembers;
-        if (!(side * f[m] < 0.0 && side * f[next] >= 0.0)) continue;  // false where either is NaN
-        double below = start + m * step, above = below + step, t2 = t2s[next];
-        for (int k = 0; k < 52; ++k) {
-            double t2_mid;
-            const double mid = 0.5 * (below + above), f_mid = reach(mid, t2_mid);
-            if (!std::isfinite(f_mid)) break;
-            if (side * f_mid < 0.0) {
-                below = mid;
-            } else {
-                above = mid, t2 = t2_mid;
-            }
-        }
-        pair.t1[i] = above, pair.t2[i] = t2;
-        return true;
-    }
-    if (side < 0.0 || least < 0) return false;
-    // No crossing: the 2R reaches the family only where |f| <= 1, best where |f| is least,
-    // which can be a single point (the family touches the 2R's reach there, e.g. at a
-    // doubly singular pose): golden-section search for it between the samples beside least.
-    auto distance = [&](double t1, double& t2) {
-        const double v = reach(t1, t2);
-        return std::isfinite(v) ? std::abs(v) : std::numeric_limits<double>::infinity();
-    };
-    constexpr double golden = 0.6180339887498949;
-    constexpr int kGoldenSteps = 80;  // the bracket shrinks to rounding long before
-    double lo = start + (least - 1) * step, hi = start + (least + 1) * step;
-    double t2_left, t2_right, left = hi - golden * (hi - lo), right = lo + golden * (hi - lo);
-    double f_left = distance(left, t2_left), f_right = distance(right, t2_right);
-    double best = start + least * step, best_t2 = t2s[least], f_best = std::abs(f[least]);
-    for (int k = 0; k < kGoldenSteps && hi - lo > 4.0 * std::numeric_limits<double>::epsilon() * (1.0 + std::abs(hi)); ++k) {
-        if (f_left < f_right) {
-            hi = right, right = left, f_right = f_left, t2_right = t2_left;
-            left = hi - golden * (hi - lo), f_left = distance(left, t2_left);
-        } else {
-            lo = left, left = right, f_left = f_right, t2_left = t2_right;
-            right = lo + golden * (hi - lo), f_right = distance(right, t2_right);
-        }
-        if (f_left < f_best) best = left, best_t2 = t2_left, f_best = f_left;
-        if (f_right < f_best) best = right, best_t2 = t2_right, f_best = f_right;
-    }
-    pair.t1[i] = best, pair.t2[i] = best_t2;
-    return true;
 }
 
 // ------------------------------------------------------ parallel axes 1-3 (or 4-6)
@@ -664,23 +784,17 @@ void parallel_base(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool
         y = o4 + rotate(h3, q4, y - o4);
         return (z - p0) - rotate(h, theta, y - p2);
     };
+    const SlotAngles slots = family_slots(g, P, r, pair, wrist, p1 - p0, p2 - p1);
     for (int i = 0; i < 4; ++i) {
-        // a family of the two-angle system: a member on each of its loops (the second, where
-        // there is one, takes elbow slot b = 1)
-        const bool members = pair.free[i] && pair.valid[i];
-        AngleCandidates other = pair;
-        if (members) choose_family_member(g, P, r, i, pair, wrist, p1 - p0, p2 - p1, 1.0);
-        const bool second_loop = members && choose_family_member(g, P, r, i, other, wrist, p1 - p0, p2 - p1, -1.0);
         Angle1 q5;
         double theta;
         Planar2 q12{};
         for (int b = 0; b < 2; ++b) {
             // a family of q5 (axis 5 parallel to h): one loop of it per elbow slot as well
-            const AngleCandidates& member = b == 1 && second_loop ? other : pair;
             const double side = b == 0 ? 1.0 : -1.0;
-            if (b == 0 || second_loop || q5.free)
-                q12 = planar_2r(h, p1 - p0, p2 - p1, wrist(member.t2[i], member.t1[i], q5, theta, side));
-            const double q4 = member.t2[i], q6 = member.t1[i];
+            const double q4 = slots.t2[i][b], q6 = slots.t1[i][b];
+            if (b == 0 || q4 != slots.t2[i][0] || q6 != slots.t1[i][0] || q5.free)
+                q12 = planar_2r(h, p1 - p0, p2 - p1, wrist(q4, q6, q5, theta, side));
             const int s = 2 * i + b;
             double* qs = q + n * s;
             qs[0] = q12.ta[b];
@@ -689,7 +803,7 @@ void parallel_base(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool
             qs[3] = q4;
             qs[4] = q5.t;
             qs[5] = q6;
-            valid[s] = pair.valid[i] && q12.ok[b];
+            valid[s] = slots.valid[i][b] && q12.ok[b];
             family[s] = pair.free[i] || q5.free || q12.free;
         }
     }

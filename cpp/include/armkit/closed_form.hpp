@@ -55,11 +55,15 @@ double fk_difference(const Chain& chain, const Pose& T, const double* q);
 void mark_duplicates(const double* q, int k, int n, const bool* valid, const std::uint8_t* prismatic,
                      bool* duplicate);
 
-// Two valid candidates (rows of q, k x n) within kCloseCandidates of each other where the
-// Jacobian at either is singular: members of a family the case solver did not see (two
+// Two valid candidates (rows of q, cf.k x n) within kCloseCandidates of each other where
+// the Jacobian at either is singular: members of a family the case solver did not see (two
 // exact solutions 1e-5 apart where a double root meets a second singularity), both flagged
-// family, to be walked towards near later. Two close roots of a regular pose are left alone.
-void flag_close_singular_candidates(const Chain& chain, const double* q, int k, const bool* valid, bool* family);
+// family, to be walked towards near later. Where neither is singular but the point between
+// them, put onto the solution set of T to rounding, is (two roots a rounding error's square
+// root apart, ~1e-7, on either side of a family, and up to 1e-2 apart along it), that
+// point replaces the first, both flagged family. Two close roots of a regular pose, and
+// twin roots beside a fold, are left alone.
+void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double* q, const bool* valid, bool* family);
 
 // Each finite invalid candidate that reproduces T (to rounding, after a few Newton steps)
 // and is no twin of an accepted one made valid, and family where the Jacobian there is singular.

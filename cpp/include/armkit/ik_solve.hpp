@@ -19,7 +19,7 @@ namespace armkit {
 //: (bound as armkit.ik.results.SOLUTION_TOLERANCE).
 constexpr double kSolutionTolerance = 1e-9;
 //: Candidates with a larger FK residual [m or rad] are rough: refined (see refine).
-constexpr double kRefineAbove = 1e-10;
+constexpr double kRefineAbove = 1e-13;
 //: A refinement may move a candidate by at most this [rad or m] (it must stay on its branch)...
 constexpr double kRefineMove = 1e-6;
 //: ... and a family's representative by this: the exact points near it are members of its
@@ -113,8 +113,9 @@ inline void rank_pose(const Chain& chain, const Found& f, std::size_t i, const d
 // Candidate s of pose i, with its residuals in f above kRefineAbove: Levenberg-Marquardt
 // steps onto the solution set (project_onto_solutions), taken where they lower the residual
 // without moving a joint further than kRefineMove (kRefineFamilyMove for a family's
-// representative), revolute joints wrapped into the limits again (towards the candidate).
-inline void refine(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s) {
+// representative), revolute joints wrapped into the limits again (towards near: a joint the
+// steps moved across a limit it stood on, by rounding, goes to the other end if that is nearer).
+inline void refine(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s, const double* near) {
     double* errors = f.errors_of(i, s);
     double* q = f.q_of(i, s);
     double moved[kMaxJoints];
@@ -125,17 +126,17 @@ inline void refine(const Chain& chain, const Pose& T, const Found& f, std::size_
     for (int j = 0; j < f.n; ++j) far = std::fmax(far, std::fabs(moved[j] - q[j]));
     const double reach = f.flags_of(i, s)[kFamily] ? kRefineFamilyMove : kRefineMove;
     if (!(position + angle < errors[0] + errors[1] && far < reach)) return;
-    for (int j = 0; j < f.n; ++j)  // a revolute joint the steps pushed past a limit by rounding: the other end
-        q[j] = chain.prismatic[j] ? moved[j] : wrap_angle_into_limits(moved[j], chain.lower[j], chain.upper[j], q[j]);
+    for (int j = 0; j < f.n; ++j)
+        q[j] = chain.prismatic[j] ? moved[j] : wrap_angle_into_limits(moved[j], chain.lower[j], chain.upper[j], near[j]);
     errors[0] = position, errors[1] = angle;
 }
 
-// FK residuals of candidate s of pose i (target T) into f, refined if rough; whether it
-// reproduces the pose.
-inline bool verify(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s) {
+// FK residuals of candidate s of pose i (target T) into f, refined if rough (see refine);
+// whether it reproduces the pose.
+inline bool verify(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s, const double* near) {
     double* errors = f.errors_of(i, s);
     pose_residual(T, tool_pose(chain, f.q_of(i, s)), errors[0], errors[1]);
-    if (errors[0] > kRefineAbove || errors[1] > kRefineAbove) refine(chain, T, f, i, s);
+    if (errors[0] > kRefineAbove || errors[1] > kRefineAbove) refine(chain, T, f, i, s, near);
     return errors[0] <= kSolutionTolerance && errors[1] <= kSolutionTolerance;
 }
 
@@ -152,7 +153,7 @@ inline void nearest_family_members(const Chain& chain, const Pose& T, const Foun
         walk_family(chain, T, q, near, weights);
         bool changed = false;
         for (int j = 0; j < f.n; ++j) changed = changed || q[j] != before[j];
-        if (changed) verify(chain, T, f, i, s);
+        if (changed) verify(chain, T, f, i, s, near);
         moved = moved || changed;
     }
     if (moved) rank_pose(chain, f, i, near, weights, within_limits);
@@ -175,13 +176,29 @@ inline void drop_twins(const Chain& chain, const Found& f, std::size_t i, const 
     if (dropped) rank_pose(chain, f, i, near, weights, within_limits);
 }
 
+// The distance |w * (q - near)| of q (n, wrapped into the limits) once refined: a revolute
+// joint within kRefineMove of a limit a whole turn from near's side (a joint at exactly
+// +-pi, placed by the closed form 1e-9 beyond the other end at an ill-conditioned pose)
+// may be wrapped to near's side after refinement (refine), so it is measured from there.
+inline double seam_distance(const Chain& chain, const double* q, const double* near, const double* weights) {
+    double total = 0.0;
+    for (int j = 0; j < chain.n; ++j) {
+        const double v = chain.prismatic[j] ? q[j]
+                                            : wrap_angle_into_limits(q[j], chain.lower[j], chain.upper[j], near[j], kRefineMove);
+        const double d = weights[j] * (v - near[j]);
+        total += d * d;
+    }
+    return std::sqrt(total);
+}
+
 // Candidates of poses [begin, end) of T (N x 4 x 4), wrapped into the limits (reference
 // near, (N x n)), with their FK residuals, ranked: into f; returns the poses without a
 // usable candidate. near_stride is n, or 0 when one reference serves every pose.
 //
 // nearest: only the nearest candidate that reproduces the pose is wanted, so the
-// candidates are put through FK nearest first until one does (the others' residuals stay
-// NaN: not kept); family representatives always are (they are moved along their family
+// candidates are put through FK nearest first until one does and no unverified one can
+// be nearer (refinement may move a joint at a +-pi limit to near's side: seam_distance;
+// the others' residuals stay NaN: not kept); family representatives always are (they are moved along their family
 // towards near), and if none does, all are (the caller's error message needs them).
 inline long long solve_poses(const ClosedForm& cf, const double* T, const double* near, std::size_t near_stride,
                              const double* weights, bool within_limits, bool nearest, const Found& f,
@@ -215,24 +232,30 @@ inline long long solve_poses(const ClosedForm& cf, const double* T, const double
             if (nearest) {
                 double gap;
                 const bool inside = inside_and_distance(chain, q, reference, weights, gap);
-                distance[s] = inside || !within_limits ? gap : inf;
+                distance[s] = inside || !within_limits ? std::fmin(gap, seam_distance(chain, q, reference, weights)) : inf;
             } else {
-                verify(chain, target, f, i, s);
+                verify(chain, target, f, i, s, reference);
             }
         }
         if (nearest) {
             int order[kMaxCandidates];
             stable_order(distance, k, order);
-            bool kept = false;
+            double best = inf;  // the distance of the nearest kept candidate, once refined
             for (int a = 0; a < k; ++a) {
                 const int s = order[a];
-                if (kept || distance[s] == inf) break;
-                kept = verify(chain, target, f, i, s) && (!within_limits || chain.within_limits(f.q_of(i, s)));
+                if (distance[s] >= best) break;  // also where it is infinite
+                if (!(verify(chain, target, f, i, s, reference) &&
+                      (!within_limits || chain.within_limits(f.q_of(i, s)))))
+                    continue;
+                double gap;
+                inside_and_distance(chain, f.q_of(i, s), reference, weights, gap);
+                best = std::fmin(best, gap);
             }
+            const bool kept = best < inf;
             for (int s = 0; s < k; ++s) {
                 // a family's representative may be far from near while a member of it is not,
                 // and none usable: verify the rest, to tell out of reach from out of limits
-                if ((family[s] || !kept) && valid[s] && std::isnan(f.errors_of(i, s)[0])) verify(chain, target, f, i, s);
+                if ((family[s] || !kept) && valid[s] && std::isnan(f.errors_of(i, s)[0])) verify(chain, target, f, i, s, reference);
             }
         }
         rank_pose(chain, f, i, reference, weights, within_limits);

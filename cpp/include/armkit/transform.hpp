@@ -18,11 +18,12 @@ struct Rigidity {
 // One pass over N transforms (N x 4 x 4, row-major), no temporaries.
 Rigidity rigidity(const double* T, std::size_t N);
 
-// A revolute angle shifted by whole turns into [lower, upper] (with kLimitTolerance):
+// A revolute angle shifted by whole turns into [lower, upper] (widened by tolerance):
 // among several fitting shifts (limits wider than 2 pi) the one closest to `reference`;
 // an angle that fits no shift is moved as close to `reference` as whole turns allow.
-inline double wrap_angle_into_limits(double q, double lower, double upper, double reference) {
-    const double low = lower - kLimitTolerance, high = upper + kLimitTolerance;
+inline double wrap_angle_into_limits(double q, double lower, double upper, double reference,
+                                     double tolerance = kLimitTolerance) {
+    const double low = lower - tolerance, high = upper + tolerance;
     if (low <= q && q <= high && high - low < kTwoPi) return q;  // fits, and no other shift can
     const double turns_low = std::ceil((low - q) / kTwoPi);
     const double turns_high = std::floor((high - q) / kTwoPi);
