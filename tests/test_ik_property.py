@@ -449,3 +449,21 @@ def test_an_axis_parallel_to_rounding_after_a_near_tangent_root():
     the 2R could not reach. Where the 2R cannot follow and axis 6 is within 1e-11, q6 is
     now taken as free (the family's member, refined by FK)."""
     _check_six_joint_arm("three-parallel", 3, 11590, degenerate=True)
+
+
+def test_a_member_where_the_split_roots_of_two_crossing_families_meet():
+    """Spherical base, q = [pi, pi/2, pi/2, pi, pi, pi] (seed 11812, pose 4; a sweep of
+    44,000 degenerate arms): axes 1, 3 and axes 4, 6 are both one line there (two families
+    cross), but the closed form's members, both flagged, lay 1.7e-6 off the crossing, where
+    axes 1 and 3 are one line only to 1.7e-6 and the walk drifted. The point between two such
+    members, more singular than either, now stands for them."""
+    _check_six_joint_arm("spherical-base", None, 11812, degenerate=True)
+
+
+def test_a_free_shoulder_joint_whose_member_has_an_aligned_wrist():
+    """Spherical wrist (axes 2, 3 meet), q = [-pi/2, pi, 0, pi, 0, pi] (seed 10492, pose 5):
+    the wrist centre lies on axis 2, so q2 turns freely while the wrist follows, and the
+    closed form's member (q2 = 0) has an aligned wrist, where the Jacobian lacks the family's
+    direction: the walk could not follow it to q2 = pi. A second member, where the wrist is
+    farthest from aligned, now takes a free slot."""
+    _check_six_joint_arm("spherical-wrist", 2, 10492, degenerate=True)

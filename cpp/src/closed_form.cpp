@@ -66,6 +66,13 @@ bool within(const Chain& chain, const double* a, const double* b, double gap) {
     return true;
 }
 
+// The number of singular values of the Jacobian at q (n) within kNullSpace of the largest.
+int nullity(const Chain& chain, const double* q) {
+    double V[kMaxJoints * kMaxJoints];
+    int null[kMaxJoints];
+    return null_space(chain, q, V, null);
+}
+
 // The configuration halfway between a and b (n; revolute joints the short way round) into mid.
 void midpoint(const Chain& chain, const double* a, const double* b, double* mid) {
     for (int j = 0; j < chain.n; ++j) {
@@ -86,19 +93,17 @@ constexpr double kSplitRoots = 1e-2;
 //: singular too, between twin roots that are two solutions).
 constexpr double kOnFamily = 1e-14;
 
-// Whether configurations a and b (n) are split roots of one singular solution: the point
-// between them, put onto the solution set of T exactly (into mid), is singular and
-// within kSplitRoots of both (size: the arm's, see kOnFamily).
-bool singular_between(const Chain& chain, const Pose& T, const double* a, const double* b, double size,
-                      double* mid) {
-    if (!within(chain, a, b, kSplitRoots)) return false;
+// The nullity of the point between configurations a and b (n, within kSplitRoots), put
+// onto the solution set of T exactly (into mid; size: the arm's, see kOnFamily), or -1
+// where it does not get there or leaves kSplitRoots of either.
+int nullity_between(const Chain& chain, const Pose& T, const double* a, const double* b, double size, double* mid) {
     midpoint(chain, a, b, mid);
-    double V[kMaxJoints * kMaxJoints];
-    int null[kMaxJoints];
-    if (!project_onto_solutions(chain, T, mid)) return false;
+    if (!project_onto_solutions(chain, T, mid)) return -1;
     newton(chain, T, mid, 3);  // to rounding on a family; beside a fold it stops at ~1e-13
-    return fk_difference(chain, T, mid) <= kOnFamily * size && within(chain, a, mid, kSplitRoots) &&
-           within(chain, b, mid, kSplitRoots) && null_space(chain, mid, V, null) > 0;
+    if (!(fk_difference(chain, T, mid) <= kOnFamily * size && within(chain, a, mid, kSplitRoots) &&
+          within(chain, b, mid, kSplitRoots)))
+        return -1;
+    return nullity(chain, mid);
 }
 
 void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double* q, const bool* valid, bool* family) {
@@ -107,15 +112,19 @@ void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double*
     for (int a = 0; a < cf.k; ++a) {
         if (!valid[a]) continue;
         for (int b = a + 1; b < cf.k; ++b) {
-            if (!valid[b] || (family[a] && family[b])) continue;
-            double V[kMaxJoints * kMaxJoints], mid[kMaxJoints];
-            int null[kMaxJoints];
-            if (within(chain, q + a * n, q + b * n, kCloseCandidates) &&
-                (null_space(chain, q + a * n, V, null) > 0 || null_space(chain, q + b * n, V, null) > 0)) {
-                family[a] = family[b] = true;
-            } else if (singular_between(chain, T, q + a * n, q + b * n, cf.geometry.size, mid)) {
-                // two roots split by the square root of a rounding error: the singular member between them
-                for (int j = 0; j < n; ++j) q[a * n + j] = chain.prismatic[j] ? mid[j] : wrap_angle(mid[j]);
+            double* qa = q + a * n;
+            const double* qb = q + b * n;
+            if (!valid[b] || !within(chain, qa, qb, kSplitRoots)) continue;
+            const int at_a = nullity(chain, qa), at_b = nullity(chain, qb);
+            if (within(chain, qa, qb, kCloseCandidates) && (at_a > 0 || at_b > 0)) family[a] = family[b] = true;
+            // split roots: the singular point between them stands for them where it is more
+            // singular than either (a family, or where two cross), or the first is rough
+            // (no solution to rounding: it then loses nothing)
+            double mid[kMaxJoints];
+            const int between = nullity_between(chain, T, qa, qb, cf.geometry.size, mid);
+            const bool rough = fk_difference(chain, T, qa) > kOnFamily * cf.geometry.size;
+            if (between > std::max(at_a, at_b) || (between > 0 && rough)) {
+                for (int j = 0; j < n; ++j) qa[j] = chain.prismatic[j] ? mid[j] : wrap_angle(mid[j]);
                 family[a] = family[b] = true;
             }
         }
@@ -162,10 +171,8 @@ void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool*
             twin_of_accepted(cf, polished, q, accepted))
             continue;
         for (int j = 0; j < n; ++j) qs[j] = cf.chain.prismatic[j] ? polished[j] : wrap_angle(polished[j]);
-        double V[kMaxJoints * kMaxJoints];
-        int null[kMaxJoints];
         valid[s] = true;
-        family[s] = family[s] || null_space(cf.chain, qs, V, null) > 0;
+        family[s] = family[s] || nullity(cf.chain, qs) > 0;
     }
 }
 

@@ -58,11 +58,12 @@ void mark_duplicates(const double* q, int k, int n, const bool* valid, const std
 // Two valid candidates (rows of q, cf.k x n) within kCloseCandidates of each other where
 // the Jacobian at either is singular: members of a family the case solver did not see (two
 // exact solutions 1e-5 apart where a double root meets a second singularity), both flagged
-// family, to be walked towards near later. Where neither is singular but the point between
-// them, put onto the solution set of T to rounding, is (two roots a rounding error's square
-// root apart, ~1e-7, on either side of a family, and up to 1e-2 apart along it), that
-// point replaces the first, both flagged family. Two close roots of a regular pose, and
-// twin roots beside a fold, are left alone.
+// family, to be walked towards near later. Two candidates within kSplitRoots whose point
+// between, put onto the solution set of T to rounding, is singular, and more singular
+// than either or the first is no solution to rounding (two roots a rounding error's square
+// root apart, ~1e-7, on either side of a family or of the crossing of two, and up to 1e-2
+// apart along it): that point replaces the first, both flagged family. Two close roots of a regular pose, and twin roots beside a fold, are
+// left alone.
 void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double* q, const bool* valid, bool* family);
 
 // Each finite invalid candidate that reproduces T (to rounding, after a few Newton steps)
