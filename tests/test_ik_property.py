@@ -467,3 +467,13 @@ def test_a_free_shoulder_joint_whose_member_has_an_aligned_wrist():
     direction: the walk could not follow it to q2 = pi. A second member, where the wrist is
     farthest from aligned, now takes a free slot."""
     _check_six_joint_arm("spherical-wrist", 2, 10492, degenerate=True)
+
+
+def test_members_placed_along_a_family_the_case_did_not_see():
+    """Spherical base, q = [-pi/2, pi/2, pi/2, -pi/2, 0, pi/2] (seed 20875, pose 0; a sweep
+    of 44,000 degenerate arms): axes 1 and 5 are one line there, and the closed form, its
+    equations ill-conditioned beside the family (a tangent root split by 1e-6), placed all 8
+    candidates at different points of it, rough (6e-10) and not flagged: none was walked,
+    and q was missed. A rough candidate that, refined, lies on a family (a step along its
+    null space stays a solution) is now flagged and walked."""
+    _check_six_joint_arm("spherical-base", None, 20875, degenerate=True)

@@ -217,6 +217,26 @@ inline int null_space(const Chain& chain, const double* q, double* V, int* null)
     return count;
 }
 
+//: A step [rad or m] along the Jacobian's null space that tells a family from an isolated
+//: singular solution (see on_a_family).
+constexpr double kFamilyProbe = 1e-3;
+
+// Whether the solution q (n) of T lies on a family: its Jacobian has a null space, and a
+// step of kFamilyProbe along it, put back onto the solution set, stays a solution that far
+// from q (the solution set continues there). An isolated singular solution, such as the
+// double root at a fold, draws the step back, or the projection stalls.
+inline bool on_a_family(const Chain& chain, const Pose& T, const double* q) {
+    double V[kMaxJoints * kMaxJoints];
+    int null[kMaxJoints];
+    if (null_space(chain, q, V, null) == 0) return false;
+    double x[kMaxJoints];
+    for (int j = 0; j < chain.n; ++j) x[j] = q[j] + kFamilyProbe * V[j * chain.n + null[0]];
+    if (!project_onto_solutions(chain, T, x)) return false;
+    double moved = 0.0;
+    for (int j = 0; j < chain.n; ++j) moved += (x[j] - q[j]) * (x[j] - q[j]);
+    return std::sqrt(moved) >= 0.5 * kFamilyProbe;
+}
+
 // The unit null vector of the Jacobian at q (n) into v, when the null space is one line
 // (false otherwise).
 inline bool family_tangent(const Chain& chain, const double* q, double* v) {

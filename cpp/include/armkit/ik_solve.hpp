@@ -132,12 +132,18 @@ inline void refine(const Chain& chain, const Pose& T, const Found& f, std::size_
 }
 
 // FK residuals of candidate s of pose i (target T) into f, refined if rough (see refine);
-// whether it reproduces the pose.
+// whether it reproduces the pose. A rough candidate the case did not flag is flagged family
+// where, refined, it lies on one (on_a_family: near a family the case's equations are
+// ill-conditioned, and it may place a member anywhere along it without seeing the family).
 inline bool verify(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s, const double* near) {
     double* errors = f.errors_of(i, s);
     pose_residual(T, tool_pose(chain, f.q_of(i, s)), errors[0], errors[1]);
-    if (errors[0] > kRefineAbove || errors[1] > kRefineAbove) refine(chain, T, f, i, s, near);
-    return errors[0] <= kSolutionTolerance && errors[1] <= kSolutionTolerance;
+    const bool rough = errors[0] > kRefineAbove || errors[1] > kRefineAbove;
+    if (rough) refine(chain, T, f, i, s, near);
+    const bool solution = errors[0] <= kSolutionTolerance && errors[1] <= kSolutionTolerance;
+    bool* flags = f.flags_of(i, s);
+    if (rough && solution && !flags[kFamily]) flags[kFamily] = on_a_family(chain, T, f.q_of(i, s));
+    return solution;
 }
 
 // At a singular pose: each kept family representative of pose i moved to the member of its
