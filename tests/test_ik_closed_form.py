@@ -342,12 +342,13 @@ def _polished(chain, T, q, steps=12):
 def _two_roots(chain, T, a, b):
     """Whether ``a`` and ``b`` (close) are two distinct solutions of ``T``, not one listed
     twice: polished, each reproduces ``T`` to 1e-12 (times the arm's size), and the point
-    between them misses it by more (near a fold by ~1e-10: two roots of a pose just inside
-    it; armkit merges two candidates with a point between them within 1e-12)."""
+    between them misses it by more than ten times their residuals (a barrier: near a fold
+    1e-13 to 1e-10 between twin roots of a pose just inside it)."""
     (a, at_a), (b, at_b) = _polished(chain, T, a), _polished(chain, T, b)
     step = np.where(chain.prismatic, b - a, (b - a + np.pi) % (2 * np.pi) - np.pi)
-    one = 1e-12 * (1 + np.abs(fk(chain, np.zeros(chain.n))[:3, 3]).max())
-    return max(at_a, at_b) <= one < np.abs(fk(chain, a + step / 2) - T).max()
+    worst = max(at_a, at_b)
+    between = np.abs(fk(chain, a + step / 2) - T).max()
+    return worst <= 1e-12 * (1 + np.abs(fk(chain, np.zeros(chain.n))[:3, 3]).max()) and between > 10 * max(worst, 1e-16)
 
 
 def _assert_same_as_eaik(chain, q):

@@ -477,3 +477,20 @@ def test_members_placed_along_a_family_the_case_did_not_see():
     and q was missed. A rough candidate that, refined, lies on a family (a step along its
     null space stays a solution) is now flagged and walked."""
     _check_six_joint_arm("spherical-base", None, 20875, degenerate=True)
+
+
+def test_a_residual_minimum_beside_a_root_is_not_a_second_solution():
+    """A generic spherical-wrist arm near a fold (seed 57992, pose 5, found by hypothesis):
+    the closed form listed a second candidate 1.5e-6 from an exact root, at a residual
+    minimum of 5.5e-14 that Newton steps cannot lower, the point between them 1.2e-13 off:
+    one solution listed twice. It is now dropped."""
+    _check_six_joint_arm("spherical-wrist", 3, 57992, degenerate=False)
+
+
+@pytest.mark.parametrize("case", [0, 4, "prismatic3"])
+def test_twin_roots_beside_a_fold_stay_two(case):
+    """Generic spherical-wrist arms near a fold (seed 4728, pose 1; a sweep of 22,000 generic
+    arms): twin roots 3.6e-6 apart, each exact to 8e-16, the point between them 7.5e-13 off.
+    A first rule merged candidates whose midpoint reproduced the pose to 1e-12 and lost the
+    generating one; the rule now asks for no barrier above the candidates' own residuals."""
+    _check_six_joint_arm("spherical-wrist", case, 4728, degenerate=False)

@@ -176,11 +176,13 @@ void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool*
     }
 }
 
-//: Two close candidates (kCloseCandidates) are one solution when the point between them
-//: reproduces the pose to this [m, times the arm's size; rad]: near a fold the closed form
-//: can place a second root where the residual has a minimum of ~1e-13 beside the exact one.
-//: Twin roots of a pose just inside a fold are two (the point between misses by ~1e-10).
-constexpr double kOneSolution = 1e-12;
+//: Two close candidates (kCloseCandidates), the better exact to rounding (kOnFamily), are
+//: one solution unless the point between them misses the pose by more than this many
+//: times the worse one's residual (a barrier between two roots): near a fold the closed
+//: form can place a second root at a residual minimum of ~1e-13 beside the exact one (the
+//: point between them misses by about as much), while twin roots of a pose just inside a
+//: fold, each exact to rounding, have a barrier of 1e-13 to 1e-10 between them.
+constexpr double kBarrier = 10.0;
 
 // Of two valid, close candidates (not family members) that are one solution, the one
 // farther from the pose is no longer valid.
@@ -190,11 +192,12 @@ void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bo
         for (int b = a + 1; b < cf.k && valid[a]; ++b) {
             if (!valid[b] || family[a] || family[b] || !within(cf.chain, q + a * n, q + b * n, kCloseCandidates))
                 continue;
+            const double at_a = fk_difference(cf.chain, T, q + a * n), at_b = fk_difference(cf.chain, T, q + b * n);
+            if (!(std::min(at_a, at_b) <= kOnFamily * cf.geometry.size)) continue;
             double mid[kMaxJoints];
             midpoint(cf.chain, q + a * n, q + b * n, mid);
-            if (!(fk_difference(cf.chain, T, mid) <= kOneSolution * cf.geometry.size)) continue;
-            const bool drop_a = fk_difference(cf.chain, T, q + a * n) > fk_difference(cf.chain, T, q + b * n);
-            valid[drop_a ? a : b] = false;
+            if (fk_difference(cf.chain, T, mid) > kBarrier * std::max(at_a, at_b)) continue;
+            valid[at_a > at_b ? a : b] = false;
         }
     }
 }
