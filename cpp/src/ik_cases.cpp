@@ -773,7 +773,7 @@ void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, boo
             // the errors of a near-tangent root (seen 4e-12, leaving q6 0.008 off), so q6 is
             // taken as free (which misses the pose by about that angle times the arm's size),
             // the family's member refined by FK later
-            if (!q23.ok[b] && !q6.free) {
+            if (!q23.ok[b] && !q6.free && norm(cross(rotate(-h4, q5, h), h5)) <= kAlignedToRounding) {
                 Angle1 free6;
                 double free_theta;
                 const Planar2 again = planar_2r(h, p2 - p1, p3 - p2, arm(q5, q1, free6, free_theta, side, true));

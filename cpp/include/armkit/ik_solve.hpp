@@ -182,11 +182,17 @@ inline void drop_twins(const Chain& chain, const Found& f, std::size_t i, const 
     if (dropped) rank_pose(chain, f, i, near, weights, within_limits);
 }
 
-// The distance |w * (q - near)| of q (n, wrapped into the limits) once refined: a revolute
-// joint within kRefineMove of a limit a whole turn from near's side (a joint at exactly
+// The distance |w * (q - near)| of q (n, wrapped into the limits) once refined, given the
+// distance as it is: a revolute joint within kRefineMove of a limit (a joint at exactly
 // +-pi, placed by the closed form 1e-9 beyond the other end at an ill-conditioned pose)
 // may be wrapped to near's side after refinement (refine), so it is measured from there.
-inline double seam_distance(const Chain& chain, const double* q, const double* near, const double* weights) {
+inline double seam_distance(const Chain& chain, const double* q, const double* near, const double* weights,
+                            double distance) {
+    bool seam = false;
+    for (int j = 0; j < chain.n && !seam; ++j)
+        seam = !chain.prismatic[j] &&
+               (std::fabs(q[j] - chain.lower[j]) <= kRefineMove || std::fabs(q[j] - chain.upper[j]) <= kRefineMove);
+    if (!seam) return distance;
     double total = 0.0;
     for (int j = 0; j < chain.n; ++j) {
         const double v = chain.prismatic[j] ? q[j]
@@ -194,7 +200,7 @@ inline double seam_distance(const Chain& chain, const double* q, const double* n
         const double d = weights[j] * (v - near[j]);
         total += d * d;
     }
-    return std::sqrt(total);
+    return std::fmin(distance, std::sqrt(total));
 }
 
 // Candidates of poses [begin, end) of T (N x 4 x 4), wrapped into the limits (reference
@@ -238,7 +244,7 @@ inline long long solve_poses(const ClosedForm& cf, const double* T, const double
             if (nearest) {
                 double gap;
                 const bool inside = inside_and_distance(chain, q, reference, weights, gap);
-                distance[s] = inside || !within_limits ? std::fmin(gap, seam_distance(chain, q, reference, weights)) : inf;
+                distance[s] = inside || !within_limits ? seam_distance(chain, q, reference, weights, gap) : inf;
             } else {
                 verify(chain, target, f, i, s, reference);
             }

@@ -7,9 +7,10 @@ takes every candidate of the closed form (:mod:`armkit.ik.closed_form`) and
    when that makes it fit (among several fitting shifts, the one closest to ``near``);
 2. verifies it by forward kinematics: it must reproduce the target within
    :data:`~armkit.ik.results.SOLUTION_TOLERANCE`; a candidate with an FK residual above
-   ``1e-10`` is first refined by a few Levenberg-Marquardt steps that may move a joint by
+   ``1e-13`` is first refined by a few Levenberg-Marquardt steps that may move a joint by
    at most 1e-6 (a family's representative by 1e-3: its exact neighbours are members of
-   the family), so that it stays on its branch;
+   the family), so that it stays on its branch, and wrapped towards ``near`` again; one the
+   case did not flag is flagged a family member where, refined, it lies on a family;
 3. flags it inside or outside the limits and sorts the usable ones first, by distance to
    ``near`` (``|w * (q - near)|``, weights ``w``);
 4. at a singular pose, moves each family representative to the member of its family
