@@ -348,7 +348,8 @@ def _two_roots(chain, T, a, b):
     step = np.where(chain.prismatic, b - a, (b - a + np.pi) % (2 * np.pi) - np.pi)
     worst = max(at_a, at_b)
     between = np.abs(fk(chain, a + step / 2) - T).max()
-    return worst <= 1e-12 * (1 + np.abs(fk(chain, np.zeros(chain.n))[:3, 3]).max()) and between > 10 * max(worst, 1e-16)
+    size = 1 + np.abs(fk(chain, np.zeros(chain.n))[:3, 3]).max()
+    return worst <= 1e-12 * size and between > 10 * max(worst, 1e-16)
 
 
 def _assert_same_as_eaik(chain, q):
