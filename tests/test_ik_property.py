@@ -499,7 +499,7 @@ def test_twin_roots_beside_a_fold_stay_two(case):
 @pytest.mark.xfail(strict=True, reason="issue 10 item 3, open: a q6 family crossing the 2R's free family")
 def test_a_wrist_family_that_crosses_the_free_2r():
     """Axes 3-5 parallel, q = [pi, pi/2, pi/2, -pi/2, 0, -pi/2] (seed 20377, pose 5; the one
-    failure of 176,000 arms swept): axis 6 is parallel to the three axes (a q6 family, one
+    failure of 198,000 arms swept): axis 6 is parallel to the three axes (a q6 family, one
     loop round the circle per elbow) and the 2R, of equal links, folds onto its first axis
     at q6 = pi, where the two elbows' loops cross the 2R's own free family (axes 3 and 5 one
     line). q lies on that family; the trace from the q6 family's member takes the other

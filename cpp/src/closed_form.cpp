@@ -111,11 +111,13 @@ void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double*
     const int n = chain.n;
     for (int a = 0; a < cf.k; ++a) {
         if (!valid[a]) continue;
+        double* qa = q + a * n;
+        int at_a = -1;  // the nullity at qa, once needed
         for (int b = a + 1; b < cf.k; ++b) {
-            double* qa = q + a * n;
             const double* qb = q + b * n;
             if (!valid[b] || !within(chain, qa, qb, kSplitRoots)) continue;
-            const int at_a = nullity(chain, qa), at_b = nullity(chain, qb);
+            if (at_a < 0) at_a = nullity(chain, qa);
+            const int at_b = nullity(chain, qb);
             if (within(chain, qa, qb, kCloseCandidates) && (at_a > 0 || at_b > 0)) family[a] = family[b] = true;
             // split roots: the singular point between them stands for them where it is more
             // singular than either (a family, or where two cross), or the first is rough
@@ -126,6 +128,7 @@ void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double*
             if (between > std::max(at_a, at_b) || (between > 0 && rough)) {
                 for (int j = 0; j < n; ++j) qa[j] = chain.prismatic[j] ? mid[j] : wrap_angle(mid[j]);
                 family[a] = family[b] = true;
+                at_a = between;
             }
         }
     }

@@ -220,8 +220,8 @@ void merge_multiple_root(const CaseGeometry& g, const Mat2& P, const double* r, 
 }
 
 //: F's coefficients below this in sum are zero (its terms include the 1 of the unit
-//: circle), times 1 + |Q^-1| |P, r| (Q^-1 amplifies the pose's rounding: seen 1e-12 with
-//: |Q^-1| = 1.3e3): the system's two equations are one.
+//: circle), times 1 + (the largest entry of Q^-1) x system_size (Q^-1 amplifies the
+//: pose's rounding: seen 1e-12 in sum with an entry of 1.3e3): the two equations are one.
 constexpr double kIdentityTolerance = 1e-12;
 
 // All (t1, t2) with P x(t1) - Q x(t2) = r (Q = g.Q fixed by the chain; P, r by the pose).
@@ -378,6 +378,10 @@ Vec3 in_wrist_frame(const CaseGeometry& g, const double* qa, Vec3 v) {
     return v;
 }
 
+// The sine of the angle between axis 6's target direction a (in the wrist's frame) and
+// axis 4: 0 where the wrist is aligned.
+double wrist_misalignment(const CaseGeometry& g, Vec3 a) { return norm(cross(a, g.h[3])); }
+
 // The point x (at q = 0) moved by arm joints qa (3).
 Vec3 moved_by_arm(const CaseGeometry& g, const double* qa, Vec3 x) {
     for (int j = 2; j >= 0; --j)
@@ -395,9 +399,10 @@ constexpr int kFreeArmSamples = 16;
 // have to turn infinitely fast), which the walk to near follows; at the second it has it.
 void second_free_arm_member(const CaseGeometry& g, const Mat3& R, ArmCandidates& arm) {
     const Vec3 axis6 = R * g.h[5];
+    bool first[4];  // the triples of the closed form (not the members added here)
+    for (int i = 0; i < 4; ++i) first[i] = arm.valid[i] && arm.free[i];
     for (int i = 0; i < 4; ++i) {
-        if (!(arm.valid[i] && arm.free[i] && norm(cross(in_wrist_frame(g, arm.q[i], axis6), g.h[3])) <= kNearlyAligned))
-            continue;
+        if (!(first[i] && wrist_misalignment(g, in_wrist_frame(g, arm.q[i], axis6)) <= kNearlyAligned)) continue;
         int spare = -1;
         for (int e = 0; e < 4 && spare < 0; ++e)
             if (!arm.valid[e]) spare = e;
@@ -411,7 +416,7 @@ void second_free_arm_member(const CaseGeometry& g, const Mat3& R, ArmCandidates&
             double best = -1.0;
             for (int m = 0; m < kFreeArmSamples; ++m) {
                 turned[j] = arm.q[i][j] + (m + 0.5) * (kTwoPi / kFreeArmSamples);
-                const double misaligned = norm(cross(in_wrist_frame(g, turned, axis6), g.h[3]));
+                const double misaligned = wrist_misalignment(g, in_wrist_frame(g, turned, axis6));
                 if (misaligned <= best) continue;
                 best = misaligned;
                 for (int c = 0; c < 3; ++c) arm.q[spare][c] = turned[c];
@@ -435,7 +440,7 @@ void spherical(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* va
         const AnglePairs2 q45 = sp2(a, h5, -h3, h4);
         // the wrist within kNearlyAligned of aligned: its family may be exact (q1-q3 carry
         // errors of up to ~1e-8 from a double root), walked later
-        const bool nearly_aligned = norm(cross(a, h3)) <= kNearlyAligned;
+        const bool nearly_aligned = wrist_misalignment(g, a) <= kNearlyAligned;
         for (int m = 0; m < 2; ++m) {
             // R6 u = R5^T R4^T R_w u
             const Vec3 target = rotate(-h4, q45.t2[m], rotate(-h3, q45.t1[m], b));
@@ -544,7 +549,9 @@ void wrist_family_representative(const CaseGeometry& g, double s, double& qw, do
 
 //: Members of a family of the two-angle system sampled round the circle for its loops.
 constexpr int kFamilyMembers = 64;
-//: Loops of one family given a member at most (its candidates' slots: 4 x 2 elbows).
+//: Loops of one family given a member at most: its candidates' slots, 4 x 2 elbows where
+//: the quartic vanishes, 2 x 2 for a t2 branch where Q has rank 1 (family_slots keeps the
+//: best reached of any more).
 constexpr int kMaxLoops = 8;
 
 // A member (t1, t2) of a family of the two-angle system, and f there (see family_loops).
@@ -577,9 +584,12 @@ FamilyMember golden_minimum(Value value, double lo, double hi) {
 
 // The point between members a and b (f of opposite signs) where f(t1) = 0, by bisection
 // (stops where t1 has no t2); returns the end with the smaller |f|.
+//: Bisection steps for a crossing of the middle reach (the bracket then is at rounding).
+constexpr int kBisectionSteps = 52;
+
 template <class Reach>
 FamilyMember bisect_middle(Reach reach, FamilyMember a, FamilyMember b) {
-    for (int k = 0; k < 52; ++k) {
+    for (int k = 0; k < kBisectionSteps; ++k) {
         FamilyMember mid{0.5 * (a.t1 + b.t1), 0.0, 0.0};
         mid.f = reach(mid.t1, mid.t2);
         if (!std::isfinite(mid.f)) break;
@@ -672,11 +682,13 @@ int family_loops(const CaseGeometry& g, const Mat2& P, const double* r, int i, d
     for (int k = 0; k < count; ++k) {
         const FamilyMember& x = knots[(from + k) % count];
         FamilyMember y = knots[(from + k + 1) % count];
-        if (from + k + 1 >= count) y.t1 += kTwoPi;
+        if (from + k + 1 == count) y.t1 += kTwoPi;  // the last piece closes the circle
         const bool in_x = inside(x.f), in_y = inside(y.f);
         if (in_x) consider(x);
-        if (std::isfinite(x.f) && std::isfinite(y.f) && (x.f < 0.0) != (y.f < 0.0))
-            consider(bisect_middle(reach, x, y));
+        if (std::isfinite(x.f) && std::isfinite(y.f) && (x.f < 0.0) != (y.f < 0.0)) {
+            const FamilyMember middle = bisect_middle(reach, x, y);
+            if (inside(middle.f)) consider(middle);  // a bisection a NaN stopped may end outside
+        }
         if (open && !in_y && first_out >= 0) close();
     }
     if (first_out < 0) close();  // one loop round the whole circle
@@ -740,13 +752,15 @@ void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, boo
     } else {
         snap_to_aligned_wrist(g, P, r, pair.t1, pair.t2);
     }
+    // axis 6 within kAlignedToRounding of h at q5
+    auto axis6_parallel_to_rounding = [&](double q5) { return norm(cross(rotate(-h4, q5, h), h5)) <= kAlignedToRounding; };
     // q6, q2 + q3 + q4 and the planar 2R's target for (q1, q5)
     // (nearly_free: q6 within kAlignedToRounding of free counts as free)
     auto arm = [&](double q5, double q1, Angle1& q6, double& theta, double side, bool nearly_free) {
         // q6: R6^T (R5^T h) = R_G^T R1 h
         const Vec3 v = rotate(-h4, q5, h);
         q6 = sp1(v, mul_transposed(R, rotate(h0, q1, h)), -h5);
-        q6.free = q6.free || (nearly_free && norm(cross(v, h5)) <= kAlignedToRounding);
+        q6.free = q6.free || (nearly_free && axis6_parallel_to_rounding(q5));
         // q2 + q3 + q4: R234 = R1^T R_G R6^T R5^T, applied to a normal of h
         const Vec3 turned = rotate(-h0, q1, R * rotate(-h5, q6.t, rotate(-h4, q5, g.u)));
         theta = sp1(g.u, turned, h).t;
@@ -773,7 +787,7 @@ void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, boo
             // the errors of a near-tangent root (seen 4e-12, leaving q6 0.008 off), so q6 is
             // taken as free (which misses the pose by about that angle times the arm's size),
             // the family's member refined by FK later
-            if (!q23.ok[b] && !q6.free && norm(cross(rotate(-h4, q5, h), h5)) <= kAlignedToRounding) {
+            if (!q23.ok[b] && !q6.free && axis6_parallel_to_rounding(q5)) {
                 Angle1 free6;
                 double free_theta;
                 const Planar2 again = planar_2r(h, p2 - p1, p3 - p2, arm(q5, q1, free6, free_theta, side, true));

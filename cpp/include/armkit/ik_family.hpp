@@ -115,18 +115,21 @@ inline bool project_onto_solutions(const Chain& chain, const Pose& T, double* q)
     return false;
 }
 
-// The revolute values of q (n) shifted by whole turns into the limits (reference near), into out.
-inline void wrap_towards(const Chain& chain, const double* q, const double* near, double* out) {
+// The revolute values of q (n) shifted by whole turns into the limits (widened by
+// tolerance; reference near), into out.
+inline void wrap_towards(const Chain& chain, const double* q, const double* near, double* out,
+                         double tolerance = kLimitTolerance) {
     for (int j = 0; j < chain.n; ++j)
-        out[j] = chain.prismatic[j] ? q[j] : wrap_angle_into_limits(q[j], chain.lower[j], chain.upper[j], near[j]);
+        out[j] = chain.prismatic[j] ? q[j]
+                                    : wrap_angle_into_limits(q[j], chain.lower[j], chain.upper[j], near[j], tolerance);
 }
 
-// Weighted squared distance of q (n) to near after the wrap; infinite where the wrapped q
-// leaves the limits and keep_inside.
+// Weighted squared distance of q (n) to near after the wrap (limits widened by
+// tolerance); infinite where the wrapped q leaves the limits and keep_inside.
 inline double family_distance(const Chain& chain, const double* q, const double* near, const double* weights,
-                              bool keep_inside) {
+                              bool keep_inside, double tolerance = kLimitTolerance) {
     double moved[kMaxJoints];
-    wrap_towards(chain, q, near, moved);
+    wrap_towards(chain, q, near, moved, tolerance);
     double far = 0.0;
     for (int j = 0; j < chain.n; ++j) {
         const double d = weights[j] * (moved[j] - near[j]);

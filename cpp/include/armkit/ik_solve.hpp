@@ -192,15 +192,7 @@ inline double seam_distance(const Chain& chain, const double* q, const double* n
     for (int j = 0; j < chain.n && !seam; ++j)
         seam = !chain.prismatic[j] &&
                (std::fabs(q[j] - chain.lower[j]) <= kRefineMove || std::fabs(q[j] - chain.upper[j]) <= kRefineMove);
-    if (!seam) return distance;
-    double total = 0.0;
-    for (int j = 0; j < chain.n; ++j) {
-        const double v = chain.prismatic[j] ? q[j]
-                                            : wrap_angle_into_limits(q[j], chain.lower[j], chain.upper[j], near[j], kRefineMove);
-        const double d = weights[j] * (v - near[j]);
-        total += d * d;
-    }
-    return std::fmin(distance, std::sqrt(total));
+    return seam ? std::fmin(distance, std::sqrt(family_distance(chain, q, near, weights, false, kRefineMove))) : distance;
 }
 
 // Candidates of poses [begin, end) of T (N x 4 x 4), wrapped into the limits (reference
