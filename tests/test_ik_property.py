@@ -496,12 +496,12 @@ def test_twin_roots_beside_a_fold_stay_two(case):
     _check_six_joint_arm("spherical-wrist", case, 4728, degenerate=False)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 10 item 3, open: a q6 family crossing the 2R's free family")
-def test_a_wrist_family_that_crosses_the_free_2r():
+@pytest.mark.xfail(strict=True, reason="issue 10 item 3, open: members beside the 2R's free family")
+def test_members_beside_the_free_2r_family():
     """Axes 3-5 parallel, q = [pi, pi/2, pi/2, -pi/2, 0, -pi/2] (seed 20377, pose 5; the one
-    failure of 198,000 arms swept): axis 6 is parallel to the three axes (a q6 family, one
-    loop round the circle per elbow) and the 2R, of equal links, folds onto its first axis
-    at q6 = pi, where the two elbows' loops cross the 2R's own free family (axes 3 and 5 one
-    line). q lies on that family; the trace from the q6 family's member takes the other
-    branch at the crossing, and the walk ends 0.02 rad off it, on the wrong line."""
+    failure of 198,000 arms swept): the 2R folds onto its first axis there, so axes 3 and 5
+    are one line (a family q3 + t, q5 - t), with a second singular value of 0.016. The
+    closed form's members (flagged) lie 5e-5 and 3e-4 from q's q1, on exact solutions whose
+    second singular value is 4e-4; the walk from them ends 0.02 rad from q's q1, off the
+    line, and q is missed."""
     _check_six_joint_arm("three-parallel", 3, 20377, degenerate=True)
