@@ -582,11 +582,11 @@ FamilyMember golden_minimum(Value value, double lo, double hi) {
     return best;
 }
 
-// The point between members a and b (f of opposite signs) where f(t1) = 0, by bisection
-// (stops where t1 has no t2); returns the end with the smaller |f|.
 //: Bisection steps for a crossing of the middle reach (the bracket then is at rounding).
 constexpr int kBisectionSteps = 52;
 
+// The point between members a and b (f of opposite signs) where f(t1) = 0, by bisection
+// (stops where t1 has no t2); returns the end with the smaller |f|.
 template <class Reach>
 FamilyMember bisect_middle(Reach reach, FamilyMember a, FamilyMember b) {
     for (int k = 0; k < kBisectionSteps; ++k) {

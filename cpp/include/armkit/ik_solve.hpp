@@ -202,8 +202,9 @@ inline double seam_distance(const Chain& chain, const double* q, const double* n
 // nearest: only the nearest candidate that reproduces the pose is wanted, so the
 // candidates are put through FK nearest first until one does and no unverified one can
 // be nearer (refinement may move a joint at a +-pi limit to near's side: seam_distance;
-// the others' residuals stay NaN: not kept); family representatives always are (they are moved along their family
-// towards near), and if none does, all are (the caller's error message needs them).
+// the others' residuals stay NaN: not kept); family representatives always are (they are
+// moved along their family towards near), and if none does, all are (the caller's error
+// message needs them).
 inline long long solve_poses(const ClosedForm& cf, const double* T, const double* near, std::size_t near_stride,
                              const double* weights, bool within_limits, bool nearest, const Found& f,
                              std::size_t begin, std::size_t end) {
