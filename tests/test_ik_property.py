@@ -496,12 +496,13 @@ def test_twin_roots_beside_a_fold_stay_two(case):
     _check_six_joint_arm("spherical-wrist", case, 4728, degenerate=False)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 10 item 3, open: members beside the 2R's free family")
-def test_members_beside_the_free_2r_family():
-    """Axes 3-5 parallel, q = [pi, pi/2, pi/2, -pi/2, 0, -pi/2] (seed 20377, pose 5; the one
-    failure of 198,000 arms swept): the 2R folds onto its first axis there, so axes 3 and 5
-    are one line (a family q3 + t, q5 - t), with a second singular value of 0.016. The
-    closed form's members (flagged) lie 5e-5 and 3e-4 from q's q1, on exact solutions whose
-    second singular value is 4e-4; the walk from them ends 0.02 rad from q's q1, off the
-    line, and q is missed."""
+def test_a_walk_across_the_crossing_of_two_families():
+    """Axes 3-5 parallel, q = [pi, pi/2, pi/2, -pi/2, 0, -pi/2] (seed 20377, pose 5; the
+    one failure of 198,000 arms swept before this fix): q lies on the line where axes 3 and
+    5 are one (the 2R folded onto its first axis); the closed form's member lies on a family
+    in which q1, q3 and q5 turn together (axis 1 parallel to the three), which meets that
+    line at q1 = pi with a kink. The trace stopped short of the kink, and the local steps
+    from there, along the one null direction, ended 0.02 rad off it. A step that ends
+    stuck is now tried once more over the directions whose singular values are below 5 %
+    of the largest (the other family's, near the crossing)."""
     _check_six_joint_arm("three-parallel", 3, 20377, degenerate=True)

@@ -28,6 +28,9 @@ namespace armkit {
 constexpr int kFamilySteps = 10;
 //: Singular values below this fraction of the largest span a family's directions.
 constexpr double kNullSpace = 1e-8;
+//: ... and below this, near a crossing of two families (where the trace stops short: a
+//: kink), the other family's direction too, for a step towards near that ends stuck.
+constexpr double kNearCrossing = 0.05;
 //: Two axes within this of one line (angle [rad], distance / size of the arm) are walked
 //: along as one, then projected (see move_along_collinear_pairs).
 constexpr double kNearlyCollinear = 1e-6;
@@ -206,7 +209,7 @@ inline void move_along_collinear_pairs(const Chain& chain, const Pose& T, double
 // The null space of the Jacobian at q (n): the right singular vectors V (n x n, row-major)
 // and the columns null (count returned) whose singular values are within kNullSpace of the
 // largest.
-inline int null_space(const Chain& chain, const double* q, double* V, int* null) {
+inline int null_space(const Chain& chain, const double* q, double* V, int* null, double fraction = kNullSpace) {
     const int n = chain.n;
     Vec3 axes[kMaxJoints], points[kMaxJoints];
     double J[6 * kMaxJoints], s[kMaxJoints];
@@ -216,7 +219,7 @@ inline int null_space(const Chain& chain, const double* q, double* V, int* null)
     int count = 0;
     for (int j = 0; j < n; ++j) largest = std::fmax(largest, s[j]);
     for (int j = 0; j < n; ++j)
-        if (s[j] <= kNullSpace * largest) null[count++] = j;
+        if (s[j] <= fraction * largest) null[count++] = j;
     return count;
 }
 
@@ -317,10 +320,11 @@ inline void trace_family(const Chain& chain, const Pose& T, double* q, const dou
 inline void descend_family(const Chain& chain, const Pose& T, double* q, const double* near, const double* weights,
                            bool inside, bool sample_line) {
     const int n = chain.n;
+    bool wider = false;  // this step spans the directions of a nearby crossing too
     for (int step = 0; step < kFamilySteps; ++step) {
         double V[kMaxJoints * kMaxJoints];
         int null[kMaxJoints];  // the columns of V spanning the null space
-        const int c = null_space(chain, q, V, null);
+        const int c = null_space(chain, q, V, null, wider ? kNearCrossing : kNullSpace);
         if (c == 0) break;
         const bool line = sample_line && step == 0 && c == 1;
         double target[kMaxJoints];
@@ -365,8 +369,11 @@ inline void descend_family(const Chain& chain, const Pose& T, double* q, const d
         if (!(solved && family_distance(chain, target, near, weights, inside) <
                             family_distance(chain, q, near, weights, inside) - 1e-24)) {
             if (line) continue;  // the sampled point did not help: go on with local steps
-            break;
+            if (wider) break;
+            wider = true;  // stuck: try once more across a crossing the trace stopped short of
+            continue;
         }
+        wider = false;
         wrap_towards(chain, target, near, q);
     }
     move_along_collinear_pairs(chain, T, q, near, weights, inside);
