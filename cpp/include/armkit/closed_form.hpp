@@ -62,8 +62,8 @@ void mark_duplicates(const double* q, int k, int n, const bool* valid, const std
 // between, put onto the solution set of T to rounding, is singular, and more singular
 // than either or the first is no solution to rounding (two roots a rounding error's square
 // root apart, ~1e-7, on either side of a family or of the crossing of two, and up to 1e-2
-// apart along it): that point replaces the first, both flagged family. Two close roots of a regular pose, and twin roots beside a fold, are
-// left alone.
+// apart along it): that point replaces the first, both flagged family. Two close roots of
+// a regular pose, and twin roots beside a fold, are left alone.
 void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double* q, const bool* valid, bool* family);
 
 // Each finite invalid candidate that reproduces T (to rounding, after a few Newton steps)
