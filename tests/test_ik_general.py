@@ -116,3 +116,62 @@ def test_a_pose_out_of_reach_of_a_general_arm_is_an_unreachable_error():
     T[:3, 3] = [50.0, 0.0, 0.0]
     with pytest.raises(armkit.errors.UnreachableError):
         robot.ik(T, all_solutions=True)
+
+
+def panda_pose() -> tuple[armkit.Robot, np.ndarray, np.ndarray]:
+    panda = armkit.load("panda")
+    q = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
+    return panda, q, panda.fk(q)
+
+
+def test_ik_at_a_free_joint_of_a_7r_arm_lists_every_solution_at_that_value():
+    panda, q0, T = panda_pose()
+    listed = panda.ik(T, all_solutions=True, free_joint=2, free_value=0.2, within_limits=False)
+    assert listed.shape[1] == 7 and np.all(listed[:, 2] == 0.2)
+    assert angle_gap(listed, q0).min() <= 1e-9
+    for q in listed:
+        assert np.abs(panda.fk(q) - T).max() <= 1e-9
+    # the same as solving the locked arm, mapped back
+    arm = panda.lock({2: 0.2})
+    assert np.allclose(arm.full_q(arm.ik(T, all_solutions=True, within_limits=False)), listed)
+
+
+def test_nearest_solution_at_a_free_joint_holds_near_s_value():
+    panda, q0, T = panda_pose()
+    near = q0 + 0.05
+    q = panda.ik(T, near=near, free_joint="q3")
+    assert q[2] == near[2] and np.abs(panda.fk(q) - T).max() <= 1e-9
+
+
+def test_free_value_without_free_joint_and_unknown_free_joint_are_input_errors():
+    panda, _, T = panda_pose()
+    with pytest.raises(armkit.InputError, match="free_value: given without free_joint"):
+        panda.ik(T, free_value=0.3)
+    with pytest.raises(armkit.InputError, match="free_joint 9: expected a joint name"):
+        panda.ik(T, all_solutions=True, free_joint=9)
+
+
+def test_self_motion_branches_are_solutions_and_hold_the_generating_configuration(tmp_path):
+    panda, q0, T = panda_pose()
+    values = q0[2] + np.linspace(-1.0, 1.0, 21)  # the generating value at index 10
+    motion = armkit.self_motion(panda, T, free_joint=2, values=values)
+    assert motion.q.ndim == 3 and motion.q.shape[1:] == (21, 7)
+    finite = np.isfinite(motion.q).all(axis=-1)
+    assert finite.any(axis=1).all()  # no empty branch
+    for q in motion.q[finite]:
+        assert np.abs(panda.fk(q) - T).max() <= 1e-9
+    assert np.all(motion.q[finite][:, 2] == np.broadcast_to(values, finite.shape)[finite])
+    assert angle_gap(motion.q[:, 10][finite[:, 10]], q0).min() <= 1e-9
+    # continuity: neighbouring samples of a branch are close (the free joint moves 0.1 rad)
+    steps = angle_gap(motion.q[:, 1:], motion.q[:, :-1])
+    assert np.nanmax(steps) <= 20 * 0.1 + 1e-9
+    motion.plot(tmp_path / "self_motion.png")
+    assert (tmp_path / "self_motion.png").stat().st_size > 10_000
+
+
+def test_self_motion_checks_its_arguments():
+    panda, _, T = panda_pose()
+    with pytest.raises(armkit.InputError, match="samples: expected a whole number"):
+        armkit.self_motion(panda, T, free_joint=2, samples=1)
+    with pytest.raises(armkit.InputError, match="values: expected at least two finite values"):
+        armkit.self_motion(panda, T, free_joint=2, values=[0.1, np.nan])

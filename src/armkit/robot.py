@@ -309,6 +309,12 @@ class Robot:
             Reference configuration [rad or m]; default zeros.
         within_limits : bool
             Only solutions inside the joint limits (default).
+        free_joint : int or str, optional (keyword)
+            A redundant arm's joint held fixed (index or name), the others solved exactly by
+            the closed form of :meth:`lock` (a 7R arm: every solution at that joint value;
+            see :func:`armkit.self_motion` for the whole self-motion).
+        free_value : float, optional (keyword)
+            The value it is held at [rad or m]; default ``near``'s value of it, or 0.
 
         Returns
         -------
@@ -337,6 +343,14 @@ class Robot:
         if options and "all" in options:
             all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
                                              all_solutions, False)
+        if options and ("free_joint" in options or "free_value" in options):
+            from armkit.ik.self_motion import ik_at_free_joint
+
+            if options.get("free_joint") is None:
+                raise InputError("free_value: given without free_joint; name the joint it holds")
+            joint, value = options.pop("free_joint"), options.pop("free_value", None)
+            return ik_at_free_joint(self, T_base_tool, joint, value, all_solutions=all_solutions, near=near,
+                                    within_limits=within_limits, **options)
         one_near = near is None or (kinematics.is_ready(near, self.n) and near.ndim == 1)
         if _one_pose_ready(T_base_tool) and one_near:
             # the usual call: the core checks the pose and near itself (errors: ik's messages)
