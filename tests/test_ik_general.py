@@ -175,3 +175,14 @@ def test_self_motion_checks_its_arguments():
         armkit.self_motion(panda, T, free_joint=2, samples=1)
     with pytest.raises(armkit.InputError, match="values: expected at least two finite values"):
         armkit.self_motion(panda, T, free_joint=2, values=[0.1, np.nan])
+
+
+def test_an_arm_with_parallel_and_meeting_axes_outside_every_class_lists_every_solution():
+    # axes 2 and 3 parallel, 3 and 4 meeting, wrist twists of 55 degrees (no Pieper class):
+    # the loop through joints 3-5 degenerates, so the solver must pick another loop
+    rows = [DHRow(np.pi / 2, 0.0, 0.275, 0.0), DHRow(np.pi, 0.41, 0.0, 0.0),
+            DHRow(np.pi / 2, 0.0, -0.01, 0.0), DHRow(np.radians(55), 0.0, -0.25, 0.0),
+            DHRow(np.radians(55), 0.0, -0.085, 0.0), DHRow(0.0, 0.0, -0.16, 0.0)]
+    robot = armkit.Robot.from_dh(rows, "standard", name="offset wrist")
+    assert analyze_structure(robot).kind == "general-6r"
+    check_every_solution(robot, np.random.default_rng(4), poses=3)

@@ -84,7 +84,7 @@ void pair_field(const nb::kwargs& kw, const char* name, double (&x)[2]) {
 
 constexpr const char* kFields[] = {"kind", "position_case", "h", "p", "prismatic", "c", "o", "u", "hp", "a1", "a2",
                                    "a3", "Q", "Q_inv", "f", "rank1", "lam", "mu", "snap_t2", "q5_aligned",
-                                   "b_aligned", "revolute_joints", "prismatic_joint", "k"};
+                                   "b_aligned", "revolute_joints", "prismatic_joint", "k", "general_shift"};
 
 // A CaseGeometry from the keyword arguments named like the fields of ik_cases.hpp (k
 // optional: 2 for planar arms, else 8), checked for sizes and ranges.
@@ -144,7 +144,9 @@ CaseGeometry make_geometry(const nb::kwargs& kw) {
     if (g.kind == CaseKind::General) {
         if (std::any_of(g.prismatic.begin(), g.prismatic.end(), [](std::uint8_t v) { return v != 0; }))
             throw nb::value_error("CaseGeometry: the general 6R case takes revolute joints only");
-        prepare_general(g.h.data(), g.p.data(), g.general);
+        const int shift = kw.contains("general_shift") ? integer(kw, "general_shift") : 0;
+        if (shift < 0 || shift > 5) throw nb::value_error("CaseGeometry: general_shift must be 0 .. 5");
+        prepare_general(g.h.data(), g.p.data(), shift, g.general);
     }
     g.k = g.kind == CaseKind::Planar ? 2 : g.kind == CaseKind::Point ? 4 : g.kind == CaseKind::General ? kGeneralRoots : 8;
     if (kw.contains("k") && integer(kw, "k") != g.k)

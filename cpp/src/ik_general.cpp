@@ -50,12 +50,12 @@ using Vec14 = Eigen::Matrix<double, kQuantities, 1>;
 
 // The right side's coefficients over (1, cos, sin) of q1, q2 (no offsets) for the image
 // (gp, gh) of the line of axis 6.
-void right_side(const GeneralSixR& g, Vec3 gp, Vec3 gh, double (&right)[kQuantities][3][3]) {
+void right_side(const Vec3* h, const Vec3* p, Vec3 gp, Vec3 gh, double (&right)[kQuantities][3][3]) {
     double samples[3][3][kQuantities];
     for (int a = 0; a < 3; ++a) {
-        const Vec3 p1 = turn_point(g.h[0], g.p[0], -kSamples[a], gp), l1 = rotate(g.h[0], -kSamples[a], gh);
+        const Vec3 p1 = turn_point(h[0], p[0], -kSamples[a], gp), l1 = rotate(h[0], -kSamples[a], gh);
         for (int b = 0; b < 3; ++b)
-            quantities(turn_point(g.h[1], g.p[1], -kSamples[b], p1), rotate(g.h[1], -kSamples[b], l1), samples[a][b]);
+            quantities(turn_point(h[1], p[1], -kSamples[b], p1), rotate(h[1], -kSamples[b], l1), samples[a][b]);
     }
     for (int z = 0; z < kQuantities; ++z)
         for (int i = 0; i < 3; ++i)
@@ -67,14 +67,14 @@ void right_side(const GeneralSixR& g, Vec3 gp, Vec3 gh, double (&right)[kQuantit
             }
 }
 
-// q6 from the rotation left for joint 6 once q1..q5 are known.
-double sixth_angle(const GeneralSixR& g, const Mat3& R, const double* q) {
-    const Vec3 h6 = g.h[5];
+// The angle of the loop's last joint from the rotation left once the others (q, 5) are known.
+double sixth_angle(const Vec3* h, const Mat3& R, const double* q) {
+    const Vec3 h6 = h[5];
     const Vec3 axis = std::fabs(h6.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
     Vec3 u = cross(h6, axis);
     u = (1.0 / norm(u)) * u;
     Vec3 v = R * u;  // R6 u = R5^T ... R1^T R u
-    for (int j = 0; j < 5; ++j) v = rotate(g.h[j], -q[j], v);
+    for (int j = 0; j < 5; ++j) v = rotate(h[j], -q[j], v);
     return std::atan2(dot(h6, cross(u, v)), dot(u, v));
 }
 
@@ -144,11 +144,8 @@ int half_angle_roots(const Mat12 (&M)[3], double* t) {
     }
     return count;
 }
-}  // namespace
-
-void prepare_general(const Vec3* h, const Vec3* p, GeneralSixR& g) {
-    std::copy(h, h + 6, g.h);
-    std::copy(p, p + 6, g.p);
+// The left side's coefficients over (1, cos, sin) of t3, t4, t5 for the loop's joints h, p (6).
+void left_side(const Vec3* h, const Vec3* p, double (&left)[kQuantities][3][3][3]) {
     double samples[3][3][3][kQuantities];
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
@@ -169,20 +166,40 @@ void prepare_general(const Vec3* h, const Vec3* p, GeneralSixR& g) {
                         for (int b = 0; b < 3; ++b)
                             for (int c = 0; c < 3; ++c)
                                 s += kFromSamples[i][a] * kFromSamples[j][b] * kFromSamples[k][c] * samples[a][b][c][z];
-                    g.left[z][i][j][k] = s;
+                    left[z][i][j][k] = s;
                 }
+}
+
+}  // namespace
+
+void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g) {
+    std::copy(h, h + 6, g.h);
+    std::copy(p, p + 6, g.p);
+    g.shift = shift;
+    if (shift == 0) left_side(h, p, g.left);
 }
 
 int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
     std::fill(valid, valid + kGeneralRoots, false);
     std::fill(family, family + kGeneralRoots, false);
     std::fill(q, q + kGeneralRoots * 6, 0.0);
+    // the loop e_{s+1} ... e_6 e_1' ... e_s' = G, e' = G^-1 e G turning about G^-1 of its line
+    Vec3 h[6], p[6];
+    for (int k = 0; k < 6; ++k) {
+        const int j = (k + g.shift) % 6;
+        const bool moved = k >= 6 - g.shift;
+        h[k] = moved ? mul_transposed(R, g.h[j]) : g.h[j];
+        p[k] = moved ? mul_transposed(R, g.p[j] - t) : g.p[j];
+    }
+    double left[kQuantities][3][3][3];
+    if (g.shift == 0)
+        std::copy(&g.left[0][0][0][0], &g.left[0][0][0][0] + kQuantities * 27, &left[0][0][0][0]);
+    else
+        left_side(h, p, left);
     double right[kQuantities][3][3];
-    right_side(g, R * g.p[5] + t, R * g.h[5], right);
+    right_side(h, p, R * p[5] + t, R * h[5], right);
 
     // left - constant of the right = Q y, y the 8 monomials of q1, q2 other than 1
-    double left[kQuantities][3][3][3];
-    std::copy(&g.left[0][0][0][0], &g.left[0][0][0][0] + kQuantities * 27, &left[0][0][0][0]);
     Mat14x8 Q;
     for (int z = 0; z < kQuantities; ++z) {
         left[z][0][0][0] -= right[z][0][0];
@@ -249,15 +266,19 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
             rhs(zq) = s;
         }
         const Eigen::Matrix<double, 8, 1> y = qr.solve(rhs);  // monomial m of (1, c1, s1) x (1, c2, s2) at y(m - 1)
+        double loop[6];  // in the loop's order
+        loop[0] = std::atan2(y(5), y(2));
+        loop[1] = std::atan2(y(1), y(0));
+        loop[2] = wrap_angle(kGeneralOffsets[0] + t3);
+        loop[3] = wrap_angle(kGeneralOffsets[1] + t4);
+        loop[4] = wrap_angle(kGeneralOffsets[2] + t5);
+        loop[5] = sixth_angle(h, R, loop);
         double* row = q + 6 * found;
-        row[0] = std::atan2(y(5), y(2));
-        row[1] = std::atan2(y(1), y(0));
-        row[2] = wrap_angle(kGeneralOffsets[0] + t3);
-        row[3] = wrap_angle(kGeneralOffsets[1] + t4);
-        row[4] = wrap_angle(kGeneralOffsets[2] + t5);
-        row[5] = sixth_angle(g, R, row);
         bool finite = true;
-        for (int j = 0; j < 6; ++j) finite = finite && std::isfinite(row[j]);
+        for (int k = 0; k < 6; ++k) {
+            row[(k + g.shift) % 6] = loop[k];
+            finite = finite && std::isfinite(loop[k]);
+        }
         if (!finite) continue;
         valid[found++] = true;
     }

@@ -38,12 +38,19 @@ constexpr int kQuantities = 14;
 // What the per-pose solver needs of one arm, computed once by prepare_general.
 struct GeneralSixR {
     Vec3 h[6], p[6];                      // axes and points at q = 0 (internal joint order)
-    double left[kQuantities][3][3][3];    // left side over (1, cos, sin) of t3, t4, t5
+    int shift = 0;                        // the loop starts at joint shift + 1 (see general_six_r)
+    double left[kQuantities][3][3][3];    // shift 0: left side over (1, cos, sin) of t3, t4, t5
 };
 
-// The arm's constants from its axes h and points p (6 each).
-void prepare_general(const Vec3* h, const Vec3* p, GeneralSixR& g);
+// The arm's constants from its axes h and points p (6 each) and the loop's shift (0 .. 5).
+void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g);
 
+// The loop may start at any joint: with shift s, e_{s+1} ... e_6 e_1' ... e_s' = G, where e_j'
+// = G^-1 e_j G turns about G^-1 of joint j's line, so joints s+3 .. s+5 (cyclically) stay
+// and s+1, s+2, s+6 are eliminated; for s > 0 the left side holds the pose and is sampled per
+// pose. Which joints are eliminated decides the conditioning: an arm with parallel or
+// meeting axes (many zero DH entries, a Kinova Jaco) degenerates in some loops, not in all.
+//
 // Every real candidate for the joint motion G = (R, t) into q (kGeneralRoots x 6, row-major),
 // valid (kGeneralRoots; false for unused rows) and family (all false: the pipeline flags
 // families). Returns the number of valid candidates.

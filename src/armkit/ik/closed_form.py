@@ -167,8 +167,8 @@ class ClosedFormSolver:
             fields.update(kind=THREE_PARALLEL, **self._three_parallel(poe))
             polish = not fields["rank1"]
         elif kind == "general-6r":
-            poe = _general_formulation(chain, poe, fields)
-            fields.update(kind=GENERAL, **case_fields(poe, None, None))
+            poe, shift = _general_formulation(chain, poe, fields)
+            fields.update(kind=GENERAL, general_shift=shift, **case_fields(poe, None, None))
             verify = polish = True
         else:
             fields.update(kind=PLANAR, **self._planar(poe))
@@ -281,35 +281,40 @@ _FORMULATION_SAMPLES = 12
 
 
 def _general_formulation(chain: Chain, poe, fields: dict):
-    """The chain (``poe`` or ``poe.reversed()``) on which the general 6R solver is best
-    conditioned for this arm.
+    """The chain (``poe`` or ``poe.reversed()``) and the loop's first joint (``shift``, 0-5)
+    on which the general 6R solver is best conditioned for this arm.
 
-    The elimination keeps joints 3-5 of the chain it is given and eliminates 1, 2 and 6; an
-    arm near a Pieper class (a calibrated industrial arm) loses digits in one order and
-    much fewer in the other (a PUMA with axes moved by 1e-6: raw candidates ~1e-4 off in
-    chain order, ~1e-8 reversed). Both are run, once per arm, on the poses of
-    ``_FORMULATION_SAMPLES`` seeded random configurations; the one whose raw candidates come
-    closest to the generating configurations in the worst sample wins (ties: chain order).
+    The elimination keeps three consecutive joints of the loop and eliminates the other
+    three; which ones decides the conditioning. An arm with parallel or meeting axes (many
+    zero DH entries) degenerates in some loops and not in others, and an arm near a Pieper
+    class loses digits in one order and far fewer in another (a PUMA with axes moved by
+    1e-6: raw candidates ~1e-4 off in chain order, ~1e-8 reversed). All 12 loops are run,
+    once per arm, on the poses of ``_FORMULATION_SAMPLES`` seeded random configurations; the
+    one whose raw candidates come closest to the generating configurations (worst sample,
+    then mean) wins, ties to the first tried.
     """
     from armkit.kinematics import fk
 
     rng = np.random.default_rng(0)
     q = rng.uniform(-np.pi, np.pi, (_FORMULATION_SAMPLES, 6))
     T = fk(chain, q)
-    worst = []
+    scores, loops = [], []
     for candidate in (poe, poe.reversed()):
-        geometry = CaseGeometry(**{**fields, **case_fields(candidate, None, None), "kind": GENERAL})
         M_inv = np.linalg.inv(candidate.M)
-        error = 0.0
-        for q_user, T_user in zip(q, T, strict=True):
-            G = (np.linalg.inv(T_user) if candidate.inverted else T_user) @ M_inv
-            R, t = np.ascontiguousarray(G[:3, :3]), np.ascontiguousarray(G[:3, 3])
-            found, valid, _ = solve_pose(geometry, R, t)
-            q_int = candidate.sign * q_user[candidate.index]
-            gaps = np.abs(np.angle(np.exp(1j * (found[valid] - q_int)))).max(axis=1, initial=0.0)
-            error = max(error, gaps.min(initial=np.pi))
-        worst.append(error)
-    return poe if worst[0] <= worst[1] else poe.reversed()
+        for shift in range(6):
+            geometry = CaseGeometry(**{**fields, **case_fields(candidate, None, None), "kind": GENERAL,
+                                       "general_shift": shift})
+            errors = []
+            for q_user, T_user in zip(q, T, strict=True):
+                G = (np.linalg.inv(T_user) if candidate.inverted else T_user) @ M_inv
+                R, t = np.ascontiguousarray(G[:3, :3]), np.ascontiguousarray(G[:3, 3])
+                found, valid, _ = solve_pose(geometry, R, t)
+                q_int = candidate.sign * q_user[candidate.index]
+                gaps = np.abs(np.angle(np.exp(1j * (found[valid] - q_int)))).max(axis=1, initial=0.0)
+                errors.append(gaps.min(initial=np.pi))
+            scores.append((max(errors), float(np.mean(errors))))
+            loops.append((candidate, shift))
+    return loops[min(range(len(loops)), key=scores.__getitem__)]
 
 
 def closed_form_solver(robot: Robot | Chain) -> ClosedFormSolver:
