@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core, kinematics
 from armkit._deprecation import renamed_argument
+from armkit._params import thread_count
 from armkit.chain import Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
@@ -254,7 +255,7 @@ class Robot:
             T = _core.fk_one(self.chain._core, q)  # one configuration: one core call (None: not finite)
             if T is not None:
                 return T
-        return kinematics._fk(self.chain, self._checked(q), kinematics._threads(threads))
+        return kinematics._fk(self.chain, self._checked(q), thread_count(threads))
 
     def pose(self, q: ArrayLike, convention: str = "xyz-fixed",
              degrees: bool = False) -> NDArray[np.float64]:
@@ -272,7 +273,7 @@ class Robot:
             J = _core.jacobian_one(self.chain._core, q)  # as in fk
             if J is not None:
                 return J
-        threads = kinematics._threads(threads)
+        threads = thread_count(threads)
         return kinematics._geometric_jacobian(self.chain, self._checked(q), frame, threads)
 
     def analytic_jacobian(self, q: ArrayLike, convention: str = "xyz-fixed") -> NDArray[np.float64]:

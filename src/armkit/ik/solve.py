@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
 from armkit._deprecation import deprecated_constants, renamed_argument
+from armkit._params import thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError, SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
@@ -152,8 +153,8 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
         List the whole-turn copies inside the limits (default). ``False``: each solution
         once, the copy nearest to ``near``.
     threads : int
-        Threads a batch of poses is split over (default 0: all cores); the answers do not
-        depend on it.
+        Threads a batch of poses is split over: 0 (default) or ``None`` all cores, else 1 to
+        1024 (:func:`armkit._params.thread_count`); the answers do not depend on it.
 
     Returns
     -------
@@ -177,6 +178,7 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
     (8, 4, True)
     """
     chain = as_chain(robot)
+    threads = thread_count(threads)
     targets = _Targets(chain, T_base_tool, near, weights)
     solver = solver_or_reason(chain)
     if isinstance(solver, NoClosedFormError):
@@ -235,8 +237,8 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
         With ``all_solutions``: list the whole-turn copies inside the limits of joints whose
         limits span more than a whole turn (default); ``False``: each solution once.
     threads : int
-        Threads a batch of poses is split over (default 0: all cores); the answers do not
-        depend on it.
+        Threads a batch of poses is split over: 0 (default) or ``None`` all cores, else 1 to
+        1024 (:func:`armkit._params.thread_count`); the answers do not depend on it.
     **numeric_options
         Passed to :func:`armkit.ik.numeric.numeric_ik` (``position_tolerance``, ``mask``,
         ``max_restarts``, ``time_budget``, ``rng``, ...). A ``mask`` selects the numeric
@@ -268,6 +270,7 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     True
     """
     chain = as_chain(robot)
+    threads = thread_count(threads)
     if numeric_options and "all" in numeric_options:
         all_solutions = renamed_argument("ik", "all", "all_solutions", numeric_options.pop("all"),
                                          all_solutions, False)
