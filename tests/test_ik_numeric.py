@@ -131,7 +131,8 @@ def test_without_limits_a_known_solution_outside_them_is_refined():
 
 
 def test_bad_iteration_budget():
-    with pytest.raises(InputError, match="max_iterations: expected a whole number from 1 to 2147483647, got 0"):
+    with pytest.raises(InputError, match="max_iterations: expected a whole number from 1 to 2147483647, "
+                                         "got 0"):
         NumericIK(armkit.load("panda").chain, max_iterations=0)
 
 
@@ -364,7 +365,8 @@ def test_bad_rng_and_budgets_are_input_errors():
     for rng in (-1, 2**64, "seed"):
         with pytest.raises(InputError, match="rng: expected a seed in"):
             numeric_ik(panda.chain, T, rng=rng)
-    with pytest.raises(InputError, match="max_restarts: expected a whole number from 0 to 2147483647, got -1"):
+    with pytest.raises(InputError, match="max_restarts: expected a whole number from 0 to 2147483647, "
+                                         "got -1"):
         NumericIK(panda.chain, max_restarts=-1)
     for budget in (-1.0, np.nan):
         with pytest.raises(InputError, match=r"time_budget: expected a number >= 0 \(inf: no bound\)"):

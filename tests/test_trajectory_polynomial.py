@@ -78,7 +78,8 @@ def test_lspb_triangle_limit_and_rejects_impossible_speed():
 
 
 @pytest.mark.parametrize(("call", "message"), [
-    (lambda: quintic(0, 1, 0.0), r"duration: every segment duration must be from 1e-06 s to 1e\+06 s, got 0 s"),
+    (lambda: quintic(0, 1, 0.0),
+     r"duration: every segment duration must be from 1e-06 s to 1e\+06 s, got 0 s"),
     (lambda: quintic(0, np.nan, 1.0), "q1: contains NaN"),
     (lambda: quintic([0, 1], [1, 2, 3], 1.0), "incompatible shapes"),
     (lambda: quintic(0, 1, 1.0).at_time(1.5), r"t: expected times in \[0, 1\] s"),

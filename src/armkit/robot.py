@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from armkit import _core, kinematics
 from armkit._deprecation import renamed_argument
 from armkit._params import thread_count
-from armkit.chain import Chain, DHConvention, DHRow, JointKind, chain_from_dh
+from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
 
@@ -450,6 +450,9 @@ class Robot:
             except (TypeError, ValueError) as exc:
                 raise InputError(f"joint {self.joint_names[index]}: lock value {value!r} is not a "
                                  f"number") from exc
+            if not abs(number) <= MAX_VALUE:
+                raise InputError(f"joint {self.joint_names[index]}: lock value {value!r} is not a finite "
+                                 f"number from {-MAX_VALUE:g} to {MAX_VALUE:g} (rad or m)")
             out[index] = number
         if len(out) == self.n:
             raise InputError(f"locking all {self.n} joints leaves no robot; keep at least one free")
