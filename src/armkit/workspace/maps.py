@@ -9,14 +9,17 @@ from typing import Any
 
 import numpy as np
 
+from armkit._params import positive_float
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.robot_file import robot_to_toml
+from armkit.workspace.budget import check_memory
 from armkit.workspace.dexterity import DexterityMap, dexterity
 from armkit.workspace.grid import Grid, grid_for
 from armkit.workspace.manipulability import SINGULAR_THRESHOLD, ManipulabilityMap, manipulability
 from armkit.workspace.reachability import CHUNK_SIZE, ReachabilityMap, reachability
-from armkit.workspace.store import create_store, load_section, open_store
+from armkit.workspace.sampling import SamplePlan
+from armkit.workspace.store import create_store, load_section, open_store, store_lock
 
 __all__ = ["Workspace", "compute", "json_safe", "open", "store_meta", "workspace_from_group", "write_axes"]
 
@@ -139,24 +142,30 @@ def compute(robot: Robot, *, resolution: float = 0.02, samples: int = 1_000_000,
     ['reachable_volume', 'reachable_volume_error']
     """
     start = time.perf_counter()
+    positive_float(singular_threshold, "singular_threshold")
     grid = grid_for(robot, resolution)
-    store = None
-    if out is not None:
-        store = create_store(out, store_meta("maps", robot, grid), overwrite=overwrite, resume=resume)
-        if "x" not in store:
-            write_axes(store, grid)
-    common = {"grid": grid, "seed": seed, "method": method, "engine": engine, "store": store,
-              "resume": resume, "progress": progress}
-    reach = reachability(robot, samples=samples, chunk_size=chunk_size, **common)
-    manip = (manipulability(robot, samples=manipulability_samples, threshold=singular_threshold,
-                            chunk_size=max(1, chunk_size // 4), **common)
-             if manipulability_samples else None)
-    dex = (dexterity(robot, reach=reach, orientations=orientations, engine=engine, store=store, resume=resume,
-                     progress=progress) if orientations else None)
-    result = Workspace(robot, grid, reach, manip, dex, time.perf_counter() - start,
-                       None if out is None else str(out))
-    if store is not None:
-        store.attrs["summary"] = json_safe(result.summary())
+    plan = SamplePlan(int(samples), int(chunk_size), int(seed), method)  # checked before the estimate
+    check_memory(grid, samples=plan.samples, chunk_size=plan.chunk_size, method=method,
+                 manipulability_samples=int(manipulability_samples), orientations=int(orientations),
+                 engine=engine)
+    with store_lock(out):
+        store = None
+        if out is not None:
+            store = create_store(out, store_meta("maps", robot, grid), overwrite=overwrite, resume=resume)
+            if "x" not in store:
+                write_axes(store, grid)
+        common = {"grid": grid, "seed": seed, "method": method, "engine": engine, "store": store,
+                  "resume": resume, "progress": progress}
+        reach = reachability(robot, samples=samples, chunk_size=chunk_size, **common)
+        manip = (manipulability(robot, samples=manipulability_samples, threshold=singular_threshold,
+                                chunk_size=max(1, chunk_size // 4), **common)
+                 if manipulability_samples else None)
+        dex = (dexterity(robot, reach=reach, orientations=orientations, engine=engine, store=store,
+                         resume=resume, progress=progress) if orientations else None)
+        result = Workspace(robot, grid, reach, manip, dex, time.perf_counter() - start,
+                           None if out is None else str(out))
+        if store is not None:
+            store.attrs["summary"] = json_safe(result.summary())
     return result
 
 
