@@ -76,6 +76,11 @@ class ManipulabilityMap:
                    float(attrs["threshold"]))
 
     @property
+    def complete(self) -> bool:
+        """Whether every chunk of the plan is counted (not an interrupted run's part)."""
+        return self.chunks_done == self.plan.n_chunks
+
+    @property
     def samples(self) -> int:
         """Configurations counted [-]."""
         return int(self.arrays["count"].sum())

@@ -92,6 +92,8 @@ class Sweep:
         One per value, on one shared grid.
     seconds : float
     path : str or None
+    complete : bool
+        Whether every value's maps are there and complete (an interrupted run's store is not).
     """
 
     robot: Robot
@@ -100,6 +102,7 @@ class Sweep:
     maps: list[Workspace]
     seconds: float = float("nan")
     path: str | None = None
+    complete: bool = True
 
     def table(self) -> list[dict[str, Any]]:
         """Per value: reachable volume and its error [m^3], mean reachability index."""
@@ -116,7 +119,7 @@ class Sweep:
         first = self.maps[0]
         return {"robot": self.robot.name, "parameter": self.parameter, "resolution_m": first.grid.resolution,
                 "voxels": first.grid.size, "samples": first.reachability.samples, "seconds": self.seconds,
-                "store": self.path, "values": self.table()}
+                "store": self.path, "complete": self.complete, "values": self.table()}
 
     @classmethod
     def from_store(cls, group: Any, robot: Robot, path: str) -> Sweep:
@@ -128,7 +131,8 @@ class Sweep:
                 for k, v in enumerate(values) if f"sweep/{k}" in group]
         seconds = group.attrs.get("summary", {}).get("seconds")
         seconds = float("nan") if seconds is None else seconds
-        return cls(robot, f"{name}{row}", values[:len(maps)], maps, seconds, path)
+        complete = len(maps) == len(values) and all(m.complete for m in maps)
+        return cls(robot, f"{name}{row}", values[:len(maps)], maps, seconds, path, complete)
 
 
 def sweep(robot: Robot, spec: str, *, resolution: float = 0.02, samples: int = 1_000_000, seed: int = 0,
@@ -166,6 +170,7 @@ def sweep(robot: Robot, spec: str, *, resolution: float = 0.02, samples: int = 1
             store = create_store(out, meta, overwrite=overwrite, resume=resume)
             if "x" not in store:
                 write_axes(store, grid)
+            store.attrs["maps_requested"] = ["reachability", *(["dexterity"] if orientations else [])]
         maps = []
         for k, variant in enumerate(robots):
             common = {"engine": engine, "store": store, "resume": resume, "progress": progress}
