@@ -4,6 +4,9 @@ a raw ``TypeError`` from the bindings or a NaN later."""
 
 from __future__ import annotations
 
+import contextlib
+import io
+import json
 import math
 import re
 import warnings
@@ -137,3 +140,31 @@ def test_fuzz_numeric_ik_options_solve_or_name_the_option(name, value):
         assert str(exc).startswith(f"{name}: expected ") and str(exc).endswith(f"got {value!r}")
     else:
         assert result.q.shape == (7,) and np.isfinite(result.q).all()
+
+
+LOCK_KEY = st.one_of(st.integers(-2, 8).map(str),
+                     st.sampled_from(["+1", "q1", "q6", "q9", "", " 2", "1.0", "x"]))
+LOCK_VALUE = st.one_of(st.sampled_from(["0.1", "-0.2", "1e300", "-1e300", "nan", "inf", "1e-300", "abc", ""]),
+                       st.floats(allow_nan=True, allow_infinity=True).map(repr))
+
+
+@settings(deadline=None)
+@given(locks=st.lists(st.tuples(LOCK_KEY, LOCK_VALUE), min_size=1, max_size=3))
+def test_fuzz_cli_lock_values_lock_the_arm_or_are_one_line(locks):
+    from armkit.cli.main import main
+
+    argv = ["show", "puma560", "--json"]
+    for key, value in locks:
+        argv += ["--lock", f"{key}={value}"]
+    err = io.StringIO()
+    out = io.StringIO()
+    with warnings.catch_warnings(), contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        warnings.simplefilter("error")  # no RuntimeWarning on the way
+        code = main(argv)
+    assert code in (0, 1) and "Traceback" not in err.getvalue()
+    if code == 1:
+        lines = err.getvalue().strip().splitlines()
+        assert len(lines) == 1, lines
+        assert re.match(r"error: (--lock '|joint |cannot lock |locking all )", lines[0]), lines
+    else:
+        assert json.loads(out.getvalue())["locked"]
