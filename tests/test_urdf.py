@@ -201,11 +201,6 @@ def edit(old: str, new: str):
           '<parent link="l2"/><child link="l3"/><mimic joint="j2"/>'),
      r"joint 'j3': a mimic joint"),
     (edit('<joint name="j1" type="revolute">', '<joint type="revolute">'), r"<joint> number 2 has no name"),
-    (edit('<limit lower="-0.1" upper="0.2" velocity="0.5" effort="100"/>', "<limit/>"),
-     r"joint 'j3': <limit> has neither lower nor upper, so the URDF defaults \(0 and 0\) would hold the "
-     r"prismatic joint still; write both"),
-    (edit('<limit lower="-2.5" upper="2.5" velocity="3" effort="40"/>', '<limit velocity="3" effort="40"/>'),
-     r"joint 'j1': <limit> has neither lower nor upper"),
     (edit('<origin xyz="0.3 0 0"/>', '<origin xyz="1_0 0 0"/>'),
      r"joint 'j3': <origin xyz=\"1_0 0 0\">: expected 3"),
     (edit('<origin xyz="0.3 0 0"/>', '<origin xyz="\u0663 0 0"/>'),
@@ -228,6 +223,19 @@ def test_plain_decimals_as_the_spec_writes_them_are_read():
                                 tip="tool")
     q = again.random_q(5, rng=1)
     np.testing.assert_array_equal(again.fk(q), reference.fk(q))
+
+
+@pytest.mark.parametrize(("joint", "old", "new", "index"), [
+    ("j3", '<limit lower="-0.1" upper="0.2" velocity="0.5" effort="100"/>', "<limit/>", 2),
+    ("j1", '<limit lower="-2.5" upper="2.5" velocity="3" effort="40"/>',
+     '<limit velocity="3" effort="40"/>', 0),
+])
+def test_a_limit_without_bounds_takes_the_spec_defaults_explicitly_with_a_warning(joint, old, new, index):
+    message = (rf"joint '{joint}': <limit> has neither lower nor upper, so the URDF spec's defaults hold the "
+               rf"(revolute|prismatic) joint at \[0, 0\] \(as urdfdom and pinocchio read it\); write both")
+    with pytest.warns(UserWarning, match=message):
+        robot = robot_from_urdf(edit(old, new)(ARM), tip="tool")
+    assert robot.limits[index].tolist() == [0.0, 0.0]
 
 
 def test_a_limit_with_one_bound_takes_the_spec_default_zero_for_the_other():

@@ -23,12 +23,15 @@ Refused, with one :class:`~armkit.errors.RobotDefinitionError` naming the joint 
     expand without bound, so no DTD is accepted at all; the standard library's parser then
     has nothing to expand), a root other than ``<robot>``, missing or repeated link and joint
     names, links with two parents or no single root, ``mimic``/``floating``/``planar``
-    joints on the chosen path, a revolute or prismatic joint without ``<limit>`` or whose
-    ``<limit>`` has neither ``lower`` nor ``upper`` (the spec's defaults, 0 and 0, would hold
-    it still; one of them alone takes the default 0 for the other, as the spec says), a zero
+    joints on the chosen path, a revolute or prismatic joint without ``<limit>``, a zero
     axis, numbers that are not plain decimals as the spec writes them (``1_0``, ``inf``,
     ``nan`` and non-ASCII digits are refused) or not finite, origins beyond
     :data:`armkit.chain.MAX_VALUE`. A UTF-8 byte order mark is skipped.
+Read with the spec's defaults, explicitly
+    A ``<limit>`` without ``lower`` or ``upper`` takes 0 for the missing one, as the URDF spec
+    and urdfdom do; one with neither holds a revolute or prismatic joint at ``[0, 0]`` and is
+    loaded so (real files write it: example-robot-data's Centauro wheels, the quadruped's
+    knees) with a ``UserWarning`` naming the joint, since it is rarely what was meant.
 """
 
 from __future__ import annotations
@@ -42,7 +45,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit.chain import MAX_VALUE, chain_from_frames
-from armkit.errors import RobotDefinitionError
+from armkit.errors import RobotDefinitionError, warn_at_caller
 from armkit.poe import rotation_z_to, unit_axis
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_euler
@@ -378,9 +381,9 @@ def _limit(joint: _UrdfJoint, where: str) -> tuple[tuple[float, float], float | 
         raise RobotDefinitionError(f"{where}: a {joint.kind} joint needs <limit lower=... upper=... "
                                    f"velocity=... effort=...> (or type continuous, unbounded)")
     if joint.kind != "continuous" and "lower" not in element.attrib and "upper" not in element.attrib:
-        raise RobotDefinitionError(f"{where}: <limit> has neither lower nor upper, so the URDF defaults "
-                                   f"(0 and 0) would hold the {joint.kind} joint still; write both "
-                                   f"(or type continuous, unbounded)")
+        warn_at_caller(UserWarning(f"{where}: <limit> has neither lower nor upper, so the URDF spec's "
+                                   f"defaults hold the {joint.kind} joint at [0, 0] (as urdfdom and "
+                                   f"pinocchio read it); write both, or type continuous for no limits"))
     lower, upper, velocity, effort = (
         float(_floats(element, key, 1, where, default=[0.0], bound=np.inf)[0])
         for key in ("lower", "upper", "velocity", "effort"))
