@@ -168,3 +168,10 @@ def test_fuzz_cli_lock_values_lock_the_arm_or_are_one_line(locks):
         assert re.match(r"error: (--lock '|joint |cannot lock |locking all )", lines[0]), lines
     else:
         assert json.loads(out.getvalue())["locked"]
+
+
+@pytest.mark.parametrize("size", [-1, 10**30, 2.5, (2, -1), "3"])
+def test_random_q_sizes_are_whole_numbers(size):
+    message = re.escape("size: expected a whole number from 0 to 2147483647, got ")
+    with pytest.raises(InputError, match=message):
+        PUMA.random_q(size)

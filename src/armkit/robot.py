@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core, kinematics
 from armkit._deprecation import renamed_argument
-from armkit._params import thread_count
+from armkit._params import thread_count, whole_number
 from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
@@ -379,7 +379,8 @@ class Robot:
 
         An unbounded revolute joint (URDF ``continuous``) is drawn from ``[-pi, pi]`` (one
         whole turn), an unbounded prismatic one from ``[-1, 1]`` m. ``rng``: a generator, a
-        non-negative integer seed, or ``None`` (fresh entropy).
+        non-negative integer seed, or ``None`` (fresh entropy). ``size``: whole numbers from 0
+        to 2**31 - 1 (:func:`armkit._params.whole_number`).
         """
         try:
             rng = np.random.default_rng(rng)
@@ -388,7 +389,8 @@ class Robot:
                              f"got {rng!r}") from exc
         unbounded = np.where(self.chain.prismatic, 1.0, np.pi)[:, None] * [[-1.0, 1.0]]
         lim = np.where(np.isfinite(self.limits), self.limits, unbounded)
-        shape = (() if size is None else (size,) if isinstance(size, int) else tuple(size))
+        shape = () if size is None else tuple(size) if isinstance(size, tuple | list) else (size,)
+        shape = tuple(whole_number(k, "size", minimum=0) for k in shape)
         return rng.uniform(lim[:, 0], lim[:, 1], size=(*shape, self.n))
 
     # ----------------------------------------------------------------- locked joints
