@@ -18,7 +18,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core, kinematics
 from armkit._deprecation import renamed_argument
-from armkit.chain import Chain, DHConvention, DHRow, JointKind, chain_from_dh
+from armkit._params import thread_count, whole_number
+from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
 
@@ -254,7 +255,7 @@ class Robot:
             T = _core.fk_one(self.chain._core, q)  # one configuration: one core call (None: not finite)
             if T is not None:
                 return T
-        return kinematics._fk(self.chain, self._checked(q), kinematics._threads(threads))
+        return kinematics._fk(self.chain, self._checked(q), thread_count(threads))
 
     def pose(self, q: ArrayLike, convention: str = "xyz-fixed",
              degrees: bool = False) -> NDArray[np.float64]:
@@ -272,7 +273,7 @@ class Robot:
             J = _core.jacobian_one(self.chain._core, q)  # as in fk
             if J is not None:
                 return J
-        threads = kinematics._threads(threads)
+        threads = thread_count(threads)
         return kinematics._geometric_jacobian(self.chain, self._checked(q), frame, threads)
 
     def analytic_jacobian(self, q: ArrayLike, convention: str = "xyz-fixed") -> NDArray[np.float64]:
@@ -392,7 +393,8 @@ class Robot:
 
         An unbounded revolute joint (URDF ``continuous``) is drawn from ``[-pi, pi]`` (one
         whole turn), an unbounded prismatic one from ``[-1, 1]`` m. ``rng``: a generator, a
-        non-negative integer seed, or ``None`` (fresh entropy).
+        non-negative integer seed, or ``None`` (fresh entropy). ``size``: whole numbers from 0
+        to 2**31 - 1 (:func:`armkit._params.whole_number`).
         """
         try:
             rng = np.random.default_rng(rng)
@@ -401,7 +403,8 @@ class Robot:
                              f"got {rng!r}") from exc
         unbounded = np.where(self.chain.prismatic, 1.0, np.pi)[:, None] * [[-1.0, 1.0]]
         lim = np.where(np.isfinite(self.limits), self.limits, unbounded)
-        shape = (() if size is None else (size,) if isinstance(size, int) else tuple(size))
+        shape = () if size is None else tuple(size) if isinstance(size, tuple | list) else (size,)
+        shape = tuple(whole_number(k, "size", minimum=0) for k in shape)
         return rng.uniform(lim[:, 0], lim[:, 1], size=(*shape, self.n))
 
     # ----------------------------------------------------------------- locked joints
@@ -463,6 +466,9 @@ class Robot:
             except (TypeError, ValueError) as exc:
                 raise InputError(f"joint {self.joint_names[index]}: lock value {value!r} is not a "
                                  f"number") from exc
+            if not abs(number) <= MAX_VALUE:
+                raise InputError(f"joint {self.joint_names[index]}: lock value {value!r} is not a finite "
+                                 f"number from {-MAX_VALUE:g} to {MAX_VALUE:g} (rad or m)")
             out[index] = number
         if len(out) == self.n:
             raise InputError(f"locking all {self.n} joints leaves no robot; keep at least one free")

@@ -140,7 +140,7 @@ def _no_links(base: str | None, tip: str | None, source: str) -> None:
 
 def _load_text(data: bytes, source: str) -> Robot:
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # a byte order mark (some Windows editors write one) is skipped
     except UnicodeDecodeError as exc:
         raise RobotDefinitionError(f"{source}: not UTF-8 text (byte {exc.start}); save the robot file "
                                    f"as UTF-8") from exc
