@@ -15,8 +15,8 @@ namespace {
 //: infinity (t = pi) then needs the arm to stand at offset + pi, which a generic pose does
 //: not ask. Any values do; these are far from 0, pi/2, pi and from each other.
 constexpr double kGeneralOffsets[3] = {0.3, 0.7, 1.1};
-//: A root x3 = alpha / beta counts as real when |Im alpha| is at most this times |(alpha,
-//: beta)|: a double root (a fold of the pose) splits into a complex pair ~1e-8 apart, and
+//: A root x3 counts as real when |Im x3| is at most this times max(1, |x3|) (for a root of
+//: the inverted companion, of 1 / x3): a double root (a fold of the pose) splits into a complex pair ~1e-8 apart, and
 //: an arm near a Pieper class loses digits; a complex candidate that is no solution fails
 //: the pipeline's Newton steps and FK check, so the bar can be generous.
 constexpr double kRealRoot = 1e-4;
@@ -127,7 +127,8 @@ int half_angle_roots(const Mat12 (&M)[3], double* t) {
         for (int r = 0; r < 24; ++r) {
             const double beta = qz.betas()(r);
             // beta ~ 0: a root at infinity, taken as 1 / x = 0
-            x[r] = std::fabs(beta) > 0.0 ? qz.alphas()(r) / beta : std::complex<double>(1e300, 0.0);
+            const std::complex<double> alpha = qz.alphas()(r);
+            x[r] = std::fabs(beta) > 1e-16 * std::abs(alpha) ? alpha / beta : std::complex<double>(1e300, 0.0);
         }
     }
     int order[24], count = 0;
@@ -183,6 +184,8 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
     std::fill(valid, valid + kGeneralRoots, false);
     std::fill(family, family + kGeneralRoots, false);
     std::fill(q, q + kGeneralRoots * 6, 0.0);
+    for (int r = 0; r < 3; ++r)
+        if (!std::isfinite(dot(R.r[r], R.r[r]) + t.x + t.y + t.z)) return 0;
     // the loop e_{s+1} ... e_6 e_1' ... e_s' = G, e' = G^-1 e G turning about G^-1 of its line
     Vec3 h[6], p[6];
     for (int k = 0; k < 6; ++k) {
@@ -246,14 +249,15 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
         const Mat12 Mx = w0 * M[0] + (w0 * x3) * M[1] + (w0 * x3 * x3) * M[2];
         Eigen::Matrix<double, 12, 1> z;
         null_vector(Mx, z);
+        // x4 = z(m + 3) / z(m) and x5 = z(m + 1) / z(m) from the largest such pair, as angles
+        // by atan2 (x4 = infinity, t4 = pi, leaves only the x4^3 row non-zero)
         int i4 = 0, i5 = 0;
         for (int m = 0; m < 12; ++m) {
-            if (m / 3 <= 2 && std::fabs(z(m)) > std::fabs(z(i4))) i4 = m;
-            if (m % 3 <= 1 && std::fabs(z(m)) > std::fabs(z(i5))) i5 = m;
+            if (m / 3 <= 2 && std::fabs(z(m)) + std::fabs(z(m + 3)) > std::fabs(z(i4)) + std::fabs(z(i4 + 3))) i4 = m;
+            if (m % 3 <= 1 && std::fabs(z(m)) + std::fabs(z(m + 1)) > std::fabs(z(i5)) + std::fabs(z(i5 + 1))) i5 = m;
         }
-        if (!(std::fabs(z(i4)) > 0.0) || !(std::fabs(z(i5)) > 0.0)) continue;
-        const double t4 = 2.0 * std::atan(z(i4 + 3) / z(i4));
-        const double t5 = 2.0 * std::atan(z(i5 + 1) / z(i5));
+        const double t4 = 2.0 * std::atan2(z(i4 + 3), z(i4));
+        const double t5 = 2.0 * std::atan2(z(i5 + 1), z(i5));
         // q1, q2 from Q y = left(t3, t4, t5)
         const double trig[3][3] = {{1.0, std::cos(t3), std::sin(t3)}, {1.0, std::cos(t4), std::sin(t4)},
                                    {1.0, std::cos(t5), std::sin(t5)}};

@@ -344,6 +344,9 @@ class Robot:
         if options and "all" in options:
             all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
                                              all_solutions, False)
+        if options and options.get("free_joint") is None and options.get("free_value") is None:
+            options.pop("free_joint", None)
+            options.pop("free_value", None)
         if options and ("free_joint" in options or "free_value" in options):
             from armkit.ik.self_motion import ik_at_free_joint
 

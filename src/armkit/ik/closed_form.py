@@ -276,8 +276,11 @@ class ClosedFormSolver:
                 "revolute_joints": np.array(rev, dtype=np.int64), "prismatic_joint": pri[0] if pri else -1}
 
 
-#: Configurations at which :func:`_general_formulation` compares the two formulations.
+#: Configurations at which :func:`_general_formulation` compares the loops.
 _FORMULATION_SAMPLES = 12
+#: A loop whose raw candidates come within this [rad] of every sample's generating
+#: configuration is taken without trying the others (Newton finishes such candidates).
+_GOOD_LOOP = 1e-8
 
 
 def _general_formulation(chain: Chain, poe, fields: dict):
@@ -288,10 +291,10 @@ def _general_formulation(chain: Chain, poe, fields: dict):
     three; which ones decides the conditioning. An arm with parallel or meeting axes (many
     zero DH entries) degenerates in some loops and not in others, and an arm near a Pieper
     class loses digits in one order and far fewer in another (a PUMA with axes moved by
-    1e-6: raw candidates ~1e-4 off in chain order, ~1e-8 reversed). All 12 loops are run,
-    once per arm, on the poses of ``_FORMULATION_SAMPLES`` seeded random configurations; the
-    one whose raw candidates come closest to the generating configurations (worst sample,
-    then mean) wins, ties to the first tried.
+    1e-6: raw candidates ~1e-4 off in chain order, ~1e-8 reversed). The loops are run, once
+    per arm, on the poses of ``_FORMULATION_SAMPLES`` seeded random configurations; the first
+    within ``_GOOD_LOOP`` of every generating configuration is taken (a generic arm's first),
+    else the one that comes closest (worst sample, then mean), ties to the first tried.
     """
     from armkit.kinematics import fk
 
@@ -314,6 +317,8 @@ def _general_formulation(chain: Chain, poe, fields: dict):
                 errors.append(gaps.min(initial=np.pi))
             scores.append((max(errors), float(np.mean(errors))))
             loops.append((candidate, shift))
+            if scores[-1][0] <= _GOOD_LOOP:
+                return loops[-1]
     return loops[min(range(len(loops)), key=scores.__getitem__)]
 
 

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armkit.errors import InputError
+from armkit.errors import InputError, UnreachableError
 
 if TYPE_CHECKING:
     from armkit.robot import Robot
@@ -117,6 +117,16 @@ def ik_at_free_joint(robot: Robot, T_base_tool: ArrayLike, free_joint: int | str
     """
     index = free_joint_index(robot, free_joint)
     near_q = None if near is None else robot.check_q(near, "near")
+    if free_value is None and near_q is not None and near_q.ndim > 1:
+        # one near per pose: each pose holds the free joint at its own near's value
+        T = np.asarray(T_base_tool, dtype=float)
+        if T.shape[:-2] != near_q.shape[:-1]:
+            raise InputError(f"near: shape {near_q.shape} for target poses of shape {T.shape}; expected "
+                             f"{(*T.shape[:-2], robot.n)}, one per pose")
+        each = [ik_at_free_joint(robot, Ti, index, None, all_solutions=all_solutions, near=qi,
+                                 within_limits=within_limits, **options)
+                for Ti, qi in zip(T.reshape(-1, 4, 4), near_q.reshape(-1, robot.n), strict=True)]
+        return each if all_solutions else np.stack(each).reshape(near_q.shape)
     if free_value is None:
         free_value = 0.0 if near_q is None else float(np.reshape(near_q, (-1, robot.n))[0, index])
     arm = robot.lock({index: free_value})
@@ -172,8 +182,11 @@ def self_motion(robot: Robot, T_base_tool: ArrayLike, *, free_joint: int | str, 
     revolute = ~robot.chain.prismatic
     branches: list[list[NDArray[np.float64] | None]] = []
     for k, value in enumerate(values):
-        found = list(ik_at_free_joint(robot, T_base_tool, index, float(value), all_solutions=True,
-                                      within_limits=False, turn_copies=False))
+        try:
+            found = list(ik_at_free_joint(robot, T_base_tool, index, float(value), all_solutions=True,
+                                          within_limits=False, turn_copies=False))
+        except UnreachableError:  # out of reach at this value: no branch has a sample here
+            found = []
         for branch in branches:  # each open branch takes its nearest solution, if near enough
             last = branch[k - 1] if k else None
             if last is None or not found:
