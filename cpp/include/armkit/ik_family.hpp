@@ -313,6 +313,25 @@ inline void trace_family(const Chain& chain, const Pose& T, double* q, const dou
     for (int j = 0; j < n; ++j) q[j] = chain.prismatic[j] ? best_q[j] : near[j] + wrap_angle(best_q[j] - near[j]);
 }
 
+//: A point aimed along the family from q and put onto the solution set stays on q's family
+//: when the projection moves it by at most this fraction of the aim (a line family: ~0; a
+//: curved one: the curvature times the step). A projection from a point far along the line
+//: can land on another branch of the pose (another elbow or shoulder) that happens to be
+//: nearer to near: the wrist family of a PUMA at q5 = 0 was replaced by another branch's
+//: member on 8 of 300 poses, so the listing lost the generating configuration's branch.
+constexpr double kStayOnFamily = 0.5;
+
+// Whether target (n), the projection of aimed, a point reached from q along the family,
+// stays on q's family (see kStayOnFamily).
+inline bool stays_on_family(const Chain& chain, const double* q, const double* aimed, const double* target) {
+    double aim = 0.0, moved = 0.0;
+    for (int j = 0; j < chain.n; ++j) {
+        aim += (aimed[j] - q[j]) * (aimed[j] - q[j]);
+        moved += (target[j] - aimed[j]) * (target[j] - aimed[j]);
+    }
+    return moved <= kStayOnFamily * kStayOnFamily * aim;
+}
+
 // Moves q (n, on the solution set of T) towards near: the line through q along a one-line
 // null space (sampled, if sample_line: not after the trace, which has searched the curve),
 // then local null-space steps while the distance falls, then the collinear pairs' lines
@@ -365,7 +384,9 @@ inline void descend_family(const Chain& chain, const Pose& T, double* q, const d
                 target[j] = total;
             }
         }
-        const bool solved = project_onto_solutions(chain, T, target);
+        double aimed[kMaxJoints];
+        for (int j = 0; j < n; ++j) aimed[j] = target[j];
+        const bool solved = project_onto_solutions(chain, T, target) && stays_on_family(chain, q, aimed, target);
         if (!(solved && family_distance(chain, target, near, weights, inside) <
                             family_distance(chain, q, near, weights, inside) - 1e-24)) {
             if (line) continue;  // the sampled point did not help: go on with local steps
