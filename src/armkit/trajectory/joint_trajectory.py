@@ -81,7 +81,7 @@ class JointTrajectory:
         self._piece_breaks = np.concatenate([[0.0], np.cumsum(self.piece_durations)])
         self._segment_starts = np.concatenate([[0], np.cumsum(pieces)])
         self._breaks = self._piece_breaks[self._segment_starts]
-        self.durations = np.diff(self._breaks)
+        self.durations = np.add.reduceat(self.piece_durations, self._segment_starts[:-1])
         self.requested_durations = np.array(self.durations if requested_durations is None
                                             else requested_durations, dtype=float)
         for array in (self.durations, self.piece_durations, self.coefficients, self.waypoints,

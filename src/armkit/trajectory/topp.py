@@ -126,7 +126,7 @@ class ToppResult:
 
 
 def parameterize(s: ArrayLike, constraint: LinearConstraint, x_max: ArrayLike, *, x_start: float = 0.0,
-                 x_end: float = 0.0) -> ToppResult:
+                 x_end: float = 0.0, interpolation: bool = True) -> ToppResult:
     """The time-optimal ``s(t)`` on the grid ``s`` under ``constraint`` and ``sd^2 <= x_max``.
 
     Parameters
@@ -134,11 +134,15 @@ def parameterize(s: ArrayLike, constraint: LinearConstraint, x_max: ArrayLike, *
     s : (K,) array
         Increasing grid of the path parameter.
     constraint : LinearConstraint
-        Rows at every grid point (at most 64 rows).
+        Rows at every grid point (at most 64 rows; 32 with ``interpolation``).
     x_max : (K,) array
         Largest ``sd^2`` at each grid point (``inf``: none).
     x_start, x_end : float
         ``sd^2`` at both ends (0: at rest).
+    interpolation : bool
+        Also hold each interval's ``sdd`` to the rows of the interval's far end (reached with
+        ``x + 2 ds sdd``), as toppra's ``Interpolation`` discretisation: without it, where a
+        joint's ``q'`` changes sign between grid points (a singular arc) ``sdd`` chatters.
 
     Returns
     -------
@@ -167,6 +171,13 @@ def parameterize(s: ArrayLike, constraint: LinearConstraint, x_max: ArrayLike, *
     if np.any(np.isnan(lo)) or np.any(np.isnan(hi)) or np.any(lo > hi):
         raise InputError(f"lo, hi: expected lo <= hi (inf for none), got lo {constraint.lo}, "
                          f"hi {constraint.hi}")
+    if interpolation:
+        step = 2.0 * np.diff(s)[:, None]
+        far = {name: np.vstack([row[1:], row[-1:]]) for name, row in zip("abclh", (a, b, c, lo, hi),
+                                                                           strict=True)}
+        far["a"][:-1] += step * far["b"][:-1]
+        a, b, c, lo, hi = (np.ascontiguousarray(np.hstack([row, far[name]]))
+                           for name, row in zip("abclh", (a, b, c, lo, hi), strict=True))
     x_max = np.ascontiguousarray(np.broadcast_to(np.asarray(x_max, dtype=float), (K,)))
     x, u, k_lo, k_hi = np.empty(K), np.empty(K - 1), np.empty(K), np.empty(K)
     status, point = _core.topp_ra(s, a, b, c, lo, hi, x_max, float(x_start), float(x_end), x, u, k_lo, k_hi)
@@ -188,13 +199,20 @@ def geometric_path(waypoints: ArrayLike, max_velocity: ArrayLike,
     waypoints = check_waypoints(waypoints)
     vmax, amax = _checked_limits(waypoints, max_velocity, max_acceleration)
     step = np.abs(np.diff(waypoints, axis=0))
-    cruising = step / vmax + vmax / amax
-    rest_to_rest = np.where(step * amax >= vmax**2, cruising, 2.0 * np.sqrt(step / amax))
+    if (repeated := np.flatnonzero(step.max(axis=1) == 0)).size:
+        k = int(repeated[0]) + 1
+        raise InputError(f"waypoints {k} and {k + 1} are the same ({waypoints[k].tolist()}): a path through "
+                         f"waypoints needs each to differ from the previous one; drop the repeat")
+    with np.errstate(invalid="ignore"):                 # inf / inf: a joint with neither limit
+        cruising = step / vmax + vmax / amax
+        rest_to_rest = np.where(step * amax >= vmax**2, cruising, 2.0 * np.sqrt(step / amax))
     rest_to_rest = np.where(np.isfinite(rest_to_rest), rest_to_rest, step / vmax)   # no acceleration limit
     nominal = np.nan_to_num(rest_to_rest, nan=0.0, posinf=0.0).max(axis=1)
-    if nominal.max() == 0:
-        raise InputError("waypoints: the path does not move, or no joint that moves has a finite limit")
-    durations = np.maximum(nominal, 1e-6 * nominal.sum())   # repeated waypoints: a short pause
+    if (free := np.flatnonzero(nominal == 0)).size:
+        k = int(free[0]) + 1
+        raise InputError(f"waypoints {k} to {k + 1}: only joints without a finite max_velocity or "
+                         f"max_acceleration move, so no timing is fastest; give them limits")
+    durations = nominal
     # Leaving the first waypoint and reaching the last at the chord's speed, not at rest: a path
     # with q' = 0 at an end would let s run arbitrarily fast there (nothing bounds sd where q' = q'' = 0).
     return min_jerk(waypoints, durations, start_velocity=(waypoints[1] - waypoints[0]) / durations[0],
@@ -233,8 +251,8 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
     Examples
     --------
     >>> traj = time_optimal([[0.0], [1.0]], 10.0, 1.0)
-    >>> round(traj.duration, 2), float(traj.peak_acceleration[0].round(9))   # bang-bang: 2 s
-    (2.01, 1.0)
+    >>> round(traj.duration, 2), float(traj.peak_acceleration[0].round(9))   # bang-bang 2 s + smoothing
+    (2.06, 1.0)
     """
     path = geometric_path(waypoints, max_velocity, max_acceleration)
     vmax, amax = _checked_limits(path.waypoints, max_velocity, max_acceleration)
@@ -269,6 +287,8 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
     coefficients = quintic_coefficients(q[:-1], q[1:], h[:, None], qd[:-1], qd[1:], qdd[:-1], qdd[1:])
     fitted = JointTrajectory(h, coefficients, path.waypoints, segment_pieces=pieces)
     k = limit_ratio(fitted, vmax, amax) * (1 + _MARGIN)
+    if constraints:       # never faster than the profile that met them: slower keeps a torque between
+        k = max(k, 1.0)   # its value at rest and along the profile
     powers = np.arange(6)[:, None, None]
     return JointTrajectory(fitted.piece_durations * k, fitted.coefficients / k**powers, path.waypoints,
                            segment_pieces=pieces)
