@@ -57,7 +57,9 @@ GRID_PER_SEGMENT = 8
 GRID_TOTAL = 200
 #: Default smoothing window, as a fraction of the median time between two waypoints.
 SMOOTHING = 0.03
-_NEWTON_STEPS = 4
+_NEWTON_STEPS = 6
+#: Knots closer than this fraction of the duration are merged (a piece that short would be ill-conditioned).
+_KNOT_GAP = 1e-9
 
 
 class ToppStatus(IntEnum):
@@ -316,28 +318,37 @@ def _smoothed_profile(result: ToppResult, tau: float, s_waypoints: NDArray[np.fl
         s_before, sd_before = _profile(result, t - tau)
         return (s_now - s_before) / tau, (sd_now - sd_before) / tau
 
-    def advance(t0, s0, t1):               # s_tau(t1) from s_tau(t0): sd_tau is quadratic in between
-        return s0 + (t1 - t0) / 6.0 * (rates(t0)[0] + 4.0 * rates(0.5 * (t0 + t1))[0] + rates(t1)[0])
-
     end = result.t[-1] + tau
     knots = np.unique(np.concatenate([result.t, result.t + tau]))
-    knots = knots[np.concatenate([[True], np.diff(knots) > 1e-12 * end])]
+    knots = knots[np.concatenate([[True], np.diff(knots) > _KNOT_GAP * end])]
     knots[-1] = end
-    s_knots = np.concatenate([[0.0], np.cumsum(advance(knots[:-1], 0.0, knots[1:]))])
-    # Each interior waypoint's time: Newton on s_tau within its knot interval (s_tau increases).
-    j = np.clip(np.searchsorted(s_knots, s_waypoints[1:-1], side="right") - 1, 0, knots.size - 2)
-    fraction = (s_waypoints[1:-1] - s_knots[j]) / (s_knots[j + 1] - s_knots[j])
-    t_w = knots[j] + fraction * (knots[j + 1] - knots[j])
+    sd, sdd = rates(knots)
+    h = np.diff(knots)
+    # sd_tau is quadratic between knots: Simpson's rule integrates it exactly.
+    s_knots = np.concatenate([[0.0], np.cumsum(h / 6.0 * (sd[:-1] + 4.0 * rates(knots[:-1] + 0.5 * h)[0]
+                                                           + sd[1:]))])
+    # Each interior waypoint's time: s_tau is the cubic Hermite of (s, sd) at its knot interval's ends;
+    # Newton from the linear guess, kept inside the interval (s_tau increases there).
+    inner = s_waypoints[1:-1]
+    j = np.clip(np.searchsorted(s_knots, inner, side="right") - 1, 0, knots.size - 2)
+    span, s0, s1 = h[j], s_knots[j], s_knots[j + 1]
+    v0, v1 = sd[j] * span, sd[j + 1] * span                 # derivatives in the unit variable
+    cubic = np.stack([s0, v0, 3 * (s1 - s0) - 2 * v0 - v1, 2 * (s0 - s1) + v0 + v1])
+    x = (inner - s0) / (s1 - s0)
     for _ in range(_NEWTON_STEPS):
-        t_w = np.clip(t_w - (advance(knots[j], s_knots[j], t_w) - s_waypoints[1:-1]) / rates(t_w)[0],
-                      knots[j], knots[j + 1])
-    keep = np.ones(knots.size, dtype=bool)
-    keep[j[np.isclose(t_w, knots[j], rtol=0, atol=1e-12 * end)]] = False      # a knot already there
+        value = cubic[0] + x * (cubic[1] + x * (cubic[2] + x * cubic[3])) - inner
+        slope = cubic[1] + x * (2 * cubic[2] + x * 3 * cubic[3])
+        x = np.clip(x - value / slope, 0.0, 1.0)
+    t_w = knots[j] + x * span
+    near = np.zeros(knots.size, dtype=bool)                 # knots a waypoint's time replaces
+    for neighbour in (j, j + 1):
+        near[neighbour[np.abs(knots[neighbour] - t_w) <= _KNOT_GAP * end]] = True
+    keep = ~near
     keep[[0, -1]] = True
     all_knots = np.concatenate([knots[keep], t_w])
     order = np.argsort(all_knots, kind="stable")
     all_knots = all_knots[order]
-    s_all = np.concatenate([s_knots[keep], s_waypoints[1:-1]])[order]
+    s_all = np.concatenate([s_knots[keep], inner])[order]
     sd, sdd = rates(all_knots)
     sd[[0, -1]] = sdd[[0, -1]] = 0.0
     s_all[[0, -1]] = s_waypoints[[0, -1]]
