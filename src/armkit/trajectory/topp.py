@@ -53,7 +53,7 @@ from armkit.trajectory.timing import _MARGIN, _checked_limits, limit_ratio
 __all__ = ["LinearConstraint", "ToppResult", "ToppStatus", "geometric_path", "parameterize", "time_optimal"]
 
 #: Grid intervals per waypoint segment, at least; and over the whole path, at least.
-GRID_PER_SEGMENT = 8
+GRID_PER_SEGMENT = 16
 GRID_TOTAL = 200
 #: Default smoothing window, as a fraction of the median time between two waypoints.
 SMOOTHING = 0.03
