@@ -237,3 +237,8 @@ def test_auto_time_refuses_a_path_leaving_the_position_limits(robot):
 def test_bad_input_names_the_value(call, message):
     with pytest.raises(InputError, match=message):
         call()
+
+
+def test_pieces_must_add_up_to_the_segments():
+    with pytest.raises(InputError, match=r"segment_pieces: expected 2 counts adding up to 3 pieces, got \[1, 1\]"):
+        armkit.JointTrajectory([1.0, 1.0, 1.0], np.zeros((6, 3, 1)), [[0.0], [0.0], [0.0]], segment_pieces=[1, 1])
