@@ -174,8 +174,8 @@ def toppra_trajectory(path, vmax: np.ndarray, amax: np.ndarray):
 def automatic_timing(quick: bool) -> None:
     robot, vmax, amax = ROBOT, VMAX, AMAX
     toppra.setup_logging("WARNING")
-    print("\n3. Automatic timing, PROBOT Anno limits, random waypoints in the middle half of each joint's range "
-          "(median wall time; ratio = peer / armkit)")
+    print("\n3. Automatic timing, PROBOT Anno limits, random waypoints in the middle half of each joint's "
+          "range (median wall time; ratio = peer / armkit)")
     header = (f"{'waypoints':>9}  {'armkit plan_trajectory':>23}{'toppra':>13}{'ratio':>8}{'ruckig':>13}"
               f"{'ratio':>8}  {'duration armkit / toppra, same path':>36}")
     print(header)

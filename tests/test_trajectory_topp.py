@@ -240,5 +240,6 @@ def test_bad_input_names_the_value(call, message):
 
 
 def test_pieces_must_add_up_to_the_segments():
-    with pytest.raises(InputError, match=r"segment_pieces: expected 2 counts adding up to 3 pieces, got \[1, 1\]"):
-        armkit.JointTrajectory([1.0, 1.0, 1.0], np.zeros((6, 3, 1)), [[0.0], [0.0], [0.0]], segment_pieces=[1, 1])
+    message = r"segment_pieces: expected 2 counts adding up to 3 pieces, got \[1, 1\]"
+    with pytest.raises(InputError, match=message):
+        armkit.JointTrajectory([1.0] * 3, np.zeros((6, 3, 1)), [[0.0]] * 3, segment_pieces=[1, 1])
