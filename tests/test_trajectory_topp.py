@@ -162,6 +162,14 @@ def test_the_trajectory_is_twice_continuously_differentiable(robot):
     np.testing.assert_allclose(np.concatenate([qd0, qdd0, qd1, qdd1]), 0.0, atol=1e-12)   # rest to rest
 
 
+def test_a_wider_smoothing_window_trades_duration_for_jerk(robot):
+    vmax, amax = robot.max_velocity, robot.max_acceleration
+    sharp, smooth = (time_optimal(SEED, vmax, amax, smoothing=width) for width in (0.03, 0.3))
+    assert smooth.peak_jerk.max() < 0.5 * sharp.peak_jerk.max()
+    assert sharp.duration < smooth.duration
+    assert_within_limits_and_touching(smooth, vmax, amax)
+
+
 def test_random_waypoints_within_five_percent_of_toppra(robot):
     rng = np.random.default_rng(7)
     vmax, amax = robot.max_velocity, robot.max_acceleration
@@ -188,6 +196,20 @@ def test_any_waypoints_give_a_trajectory_within_the_limits_through_them(count, n
     traj = time_optimal(waypoints, vmax, amax)
     assert_within_limits_and_touching(traj, vmax, amax)
     assert_through_waypoints(traj, waypoints)
+
+
+def test_without_acceleration_limits_the_min_jerk_spline_is_scaled_onto_the_velocity_limits():
+    """URDF arms carry no acceleration limits: jumping in speed would be 'fastest'; armkit keeps the
+    minimum-jerk spline (rest to rest, zero acceleration at the ends) and scales it onto vmax."""
+    waypoints = [[0.3, 0.3, 0.2], [0.07, 0.1, 0.14], [2.67, -0.72, -0.66]]
+    vmax = np.array([2.175, 2.175, 2.61])
+    traj = time_optimal(waypoints, vmax, np.inf)
+    assert (traj.peak_velocity / vmax).max() == pytest.approx(1.0, rel=1e-9)
+    assert np.all(traj.segment_pieces == 1)                          # the spline itself
+    _, _, qdd = traj.at_time([0.0, traj.duration])
+    np.testing.assert_allclose(qdd, 0.0, atol=1e-12)
+    fitted = armkit.auto_time(waypoints, vmax, np.inf)                # durations searched segment by segment
+    assert traj.duration <= 1.01 * fitted.duration
 
 
 def test_a_joint_without_limits_follows_the_others():
@@ -233,6 +255,8 @@ def test_auto_time_refuses_a_path_leaving_the_position_limits(robot):
      "waypoints 1 to 2: only joints without a finite max_velocity or max_acceleration move"),
     (lambda: time_optimal([[0.0], [1.0]], np.inf, np.inf), "no finite limit"),
     (lambda: time_optimal([[0.0], [1.0]], -1.0, 1.0), "max_velocity: expected positive limits"),
+    (lambda: time_optimal([[0.0], [1.0]], 1.0, 1.0, smoothing=0.0),
+     r"smoothing: expected a fraction in \(0, 1\] of the time between waypoints, got 0"),
 ])
 def test_bad_input_names_the_value(call, message):
     with pytest.raises(InputError, match=message):

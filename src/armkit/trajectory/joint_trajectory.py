@@ -114,6 +114,11 @@ class JointTrajectory:
         return self._breaks.copy()
 
     @property
+    def segment_pieces(self) -> NDArray[np.int64]:
+        """Number of polynomial pieces in each segment, ``(N,)``."""
+        return np.diff(self._segment_starts)
+
+    @property
     def stretch(self) -> NDArray[np.float64]:
         """Per segment, final over requested duration (1 where nothing was stretched), ``(N,)``."""
         return self.durations / self.requested_durations

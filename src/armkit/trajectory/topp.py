@@ -214,11 +214,14 @@ def geometric_path(waypoints: ArrayLike, max_velocity: ArrayLike,
         k = int(free[0]) + 1
         raise InputError(f"waypoints {k} to {k + 1}: only joints without a finite max_velocity or "
                          f"max_acceleration move, so no timing is fastest; give them limits")
-    durations = nominal
+    if np.all(np.isinf(amax)):   # timed uniformly by time_optimal, at rest at both ends; durations
+        # as the square root of the time at the velocity limit ("centripetal"): a long segment next to
+        # a short one would otherwise make the spline overshoot (as time at an acceleration limit does)
+        return min_jerk(waypoints, np.sqrt(nominal * nominal.mean()))
     # Leaving the first waypoint and reaching the last at the chord's speed, not at rest: a path
     # with q' = 0 at an end would let s run arbitrarily fast there (nothing bounds sd where q' = q'' = 0).
-    return min_jerk(waypoints, durations, start_velocity=(waypoints[1] - waypoints[0]) / durations[0],
-                    end_velocity=(waypoints[-1] - waypoints[-2]) / durations[-1])
+    return min_jerk(waypoints, nominal, start_velocity=(waypoints[1] - waypoints[0]) / nominal[0],
+                    end_velocity=(waypoints[-1] - waypoints[-2]) / nominal[-1])
 
 
 def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: ArrayLike, *,
@@ -240,15 +243,22 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
         waypoints: the trajectory is about that much longer than the bang-bang optimum, and
         its jerk is about ``2 amax / (smoothing * that time)``.
 
+    Without any acceleration limit (and no ``constraints``) the fastest motion would jump in
+    speed; the rest-to-rest minimum-jerk spline through the waypoints (segment durations
+    proportional to ``sqrt(max_j |dq_j| / vmax_j)``) is then scaled uniformly onto the velocity
+    limits instead.
+
     Returns
     -------
     JointTrajectory
-        One segment per pair of waypoints, each made of one quintic per grid interval.
+        One segment per pair of waypoints, each made of one quintic per knot interval of the
+        smoothed profile (module notes).
 
     Raises
     ------
     InputError
-        Bad waypoints or limits, or no motion meeting the constraints (naming the grid point).
+        Bad waypoints, limits or ``smoothing``, or no motion meeting the constraints (naming
+        the grid point).
 
     Examples
     --------
@@ -256,8 +266,14 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
     >>> round(traj.duration, 2), float(traj.peak_acceleration[0].round(9))   # bang-bang 2 s + smoothing
     (2.06, 1.0)
     """
+    smoothing = float(check_finite(smoothing, "smoothing"))
+    if not 0.0 < smoothing <= 1.0:
+        raise InputError(f"smoothing: expected a fraction in (0, 1] of the time between waypoints, got "
+                         f"{smoothing:g}")
     path = geometric_path(waypoints, max_velocity, max_acceleration)
     vmax, amax = _checked_limits(path.waypoints, max_velocity, max_acceleration)
+    if np.all(np.isinf(amax)) and not constraints:
+        return _scaled(path, limit_ratio(path, vmax, amax) * (1 + _MARGIN))
     per_segment = max(GRID_PER_SEGMENT, -(-GRID_TOTAL // path.durations.size))
     fractions = np.arange(per_segment) / per_segment
     s = np.append(path.waypoint_times[:-1, None] + path.durations[:, None] * fractions, path.duration)
@@ -291,9 +307,14 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
     k = limit_ratio(fitted, vmax, amax) * (1 + _MARGIN)
     if constraints:       # never faster than the profile that met them: slower keeps a torque between
         k = max(k, 1.0)   # its value at rest and along the profile
-    powers = np.arange(6)[:, None, None]
-    return JointTrajectory(fitted.piece_durations * k, fitted.coefficients / k**powers, path.waypoints,
-                           segment_pieces=pieces)
+    return _scaled(fitted, k)
+
+
+def _scaled(trajectory: JointTrajectory, k: float) -> JointTrajectory:
+    """``trajectory`` run ``k`` times slower, ``q(t / k)`` (velocities over ``k``, accelerations ``k^2``)."""
+    powers = np.arange(trajectory.coefficients.shape[0])[:, None, None]
+    return JointTrajectory(trajectory.piece_durations * k, trajectory.coefficients / k**powers,
+                           trajectory.waypoints, segment_pieces=trajectory.segment_pieces)
 
 
 def _profile(result: ToppResult, t: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
