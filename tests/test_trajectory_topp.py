@@ -249,6 +249,8 @@ def test_auto_time_refuses_a_path_leaving_the_position_limits(robot):
      r"a, b, c: expected \(2, m\) arrays"),
     (lambda: parameterize([0.0, 1.0], LinearConstraint(*np.ones((3, 2, 1)), 1, -1), [1, 1]),
      "lo, hi: expected lo <= hi"),
+    (lambda: parameterize([0.0, 1.0], LinearConstraint(*np.ones((3, 2, 40)), -1, 1), [1, 1]),
+     "a, b, c: at most 32 rows per grid point, got 40"),
     (lambda: time_optimal([[0.0, 1.0], [0.5, 1.0], [0.5, 1.0]], 1.0, 1.0),
      r"waypoints 2 and 3 are the same \(\[0\.5, 1\.0\]\)"),
     (lambda: time_optimal([[0.0, 1.0], [0.0, 2.0]], [1.0, np.inf], [1.0, np.inf]),

@@ -25,13 +25,16 @@ Torque limits join as more rows: ``tau = M q' u + (M q'' + C(q, q') q') x + g(q)
 
 The trajectory
 --------------
-At every grid point ``t_k``, ``q_k = q(s_k)``, ``qd_k = q' sd`` and ``qdd_k = q' u + q'' x`` with
-``u`` the mean of the two neighbouring intervals' ``sdd``; one quintic per grid interval meets
-them, so ``q``, ``qd`` and ``qdd`` are continuous and the jerk is bounded (peaks in
-``traj.peak_jerk``). The fitted quintics may exceed a limit slightly between grid points, so
-the whole trajectory is finally scaled in time by the exact factor that puts its largest
-velocity or acceleration ratio (exact polynomial peaks, not samples) on 1: it never exceeds a
-limit and touches one.
+TOPP's ``sdd`` is bang-bang (acceleration jumps). ``s(t)`` is averaged over a sliding window of
+``tau`` seconds (``smoothing`` times the median time between waypoints), which makes ``sdd``
+continuous and piecewise linear, bounds the jerk, starts and ends at rest with zero
+acceleration, and adds ``tau`` to the duration. At every knot of that profile (the grid times,
+the grid times plus ``tau``, and the waypoints' times) ``q = q(s)``, ``qd = q' sd`` and
+``qdd = q' sdd + q'' sd^2``; one quintic per knot interval meets them, so ``q``, ``qd`` and ``qdd``
+are continuous. Finally the whole trajectory is scaled in time by the exact factor that puts
+its largest velocity or acceleration ratio (exact polynomial peaks, not samples) on 1: it
+never exceeds a limit and touches one. Without any acceleration limit, the rest-to-rest
+minimum-jerk spline is scaled onto the velocity limits instead (see :func:`time_optimal`).
 """
 
 from __future__ import annotations
@@ -55,6 +58,8 @@ __all__ = ["LinearConstraint", "ToppResult", "ToppStatus", "geometric_path", "pa
 #: Grid intervals per waypoint segment, at least; and over the whole path, at least.
 GRID_PER_SEGMENT = 16
 GRID_TOTAL = 200
+#: Most constraint rows per grid point the core takes (``kToppMaxRows``).
+MAX_ROWS = 64
 #: Default smoothing window, as a fraction of the median time between two waypoints.
 SMOOTHING = 0.03
 _NEWTON_STEPS = 6
@@ -136,7 +141,7 @@ def parameterize(s: ArrayLike, constraint: LinearConstraint, x_max: ArrayLike, *
     s : (K,) array
         Increasing grid of the path parameter.
     constraint : LinearConstraint
-        Rows at every grid point (at most 64 rows; 32 with ``interpolation``).
+        Rows at every grid point (at most :data:`MAX_ROWS`; half that with ``interpolation``).
     x_max : (K,) array
         Largest ``sd^2`` at each grid point (``inf``: none).
     x_start, x_end : float
@@ -168,6 +173,9 @@ def parameterize(s: ArrayLike, constraint: LinearConstraint, x_max: ArrayLike, *
     a, b, c = (np.ascontiguousarray(check_finite(getattr(constraint, name), name)) for name in "abc")
     if a.ndim != 2 or a.shape[0] != K or b.shape != a.shape or c.shape != a.shape:
         raise InputError(f"a, b, c: expected ({K}, m) arrays, got {a.shape}, {b.shape}, {c.shape}")
+    most = MAX_ROWS // 2 if interpolation else MAX_ROWS
+    if a.shape[1] > most:
+        raise InputError(f"a, b, c: at most {most} rows per grid point, got {a.shape[1]}")
     lo, hi = (np.ascontiguousarray(np.broadcast_to(np.asarray(bound, dtype=float), a.shape))
               for bound in (constraint.lo, constraint.hi))
     if np.any(np.isnan(lo)) or np.any(np.isnan(hi)) or np.any(lo > hi):
