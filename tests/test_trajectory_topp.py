@@ -136,6 +136,16 @@ def test_an_unmeetable_row_is_a_status_not_an_exception():
     assert np.all(np.isnan(result.t))
 
 
+def test_a_start_too_fast_to_stop_in_time_is_a_status():
+    s = np.linspace(0.0, 1.0, 11)
+    ones = np.ones((11, 1))
+    result = parameterize(s, LinearConstraint(ones, 0 * ones, 0 * ones, -1.0, 1.0), np.full(11, np.inf),
+                          x_start=4.0)                          # stopping from sd = 2 needs s = 2
+    assert result.status == ToppStatus.START_UNREACHABLE and result.point == 0
+    assert parameterize(s, LinearConstraint(ones, 0 * ones, 0 * ones, -1.0, 1.0), np.full(11, np.inf),
+                        x_start=2.0).success                   # from sd = sqrt(2): exactly s = 1
+
+
 def test_the_seed_trajectory_is_within_the_limits_through_the_waypoints_and_near_toppra(robot):
     vmax, amax = robot.max_velocity, robot.max_acceleration
     traj = plan_trajectory(robot, SEED)
