@@ -13,6 +13,12 @@ Run: python benchmarks/bench_trajectory.py [--quick]
    peak jerk and the largest velocity / acceleration ratios of armkit's auto-time,
    armkit with the report's 10 s segments, ruckig (stopping at each waypoint, jerk limit
    10x the acceleration limit) and rtb ``mstraj`` given the velocity limits (tacc = 1 s).
+3. What users call for automatic timing: ``plan_trajectory(robot, waypoints)`` (TOPP-RA in the
+   core along the minimum-jerk path, smoothed, scaled onto the limits) at 4, 100 and 1000
+   random PROBOT Anno waypoints, against toppra's usual call (its cubic spline through the
+   same waypoints, velocity and acceleration constraints, ``compute_trajectory``) and ruckig
+   (one rest-to-rest ``calculate`` per segment, jerk limit 10x amax); and the durations of
+   armkit and toppra on armkit's own path (the same path: ratio armkit / toppra).
 """
 
 from __future__ import annotations
@@ -23,15 +29,20 @@ from pathlib import Path
 
 import numpy as np
 import roboticstoolbox as rtb
+import toppra
+import toppra.algorithm
+import toppra.constraint
 from _timing import median_seconds
 from ruckig import InputParameter, Result, Ruckig, Trajectory
 
-from armkit.trajectory import auto_time, min_jerk, quintic, read_waypoints
+import armkit
+from armkit.trajectory import JointTrajectory, auto_time, min_jerk, plan_trajectory, quintic, read_waypoints
 from armkit.trajectory.min_jerk import min_jerk_boundary_values
+from armkit.trajectory.topp import geometric_path
 
 DATA = Path(__file__).parent.parent / "examples" / "data"
-VMAX = np.array([0.7854, 0.6981, 0.7854, 0.9599, 0.9599, 0.9599])   # report 000, rad/s
-AMAX = np.array([0.3491, 0.2618, 0.3491, 0.4363, 0.4363, 0.4363])   # rad/s^2
+ROBOT = armkit.load("probot-anno")                # report 000's limits, from its robot file (whole degrees)
+VMAX, AMAX = ROBOT.max_velocity, ROBOT.max_acceleration   # rad/s, rad/s^2
 
 
 def ruckig_segments(waypoints: np.ndarray, vmax, amax, jmax) -> list[Trajectory]:
@@ -95,7 +106,8 @@ def seed_comparison() -> None:
     print(header)
     print("-" * len(header))
     rows = []
-    for name, traj in (("armkit auto-time (min-jerk, exact peaks)", auto_time(W, VMAX, AMAX)),
+    for name, traj in (("armkit plan_trajectory (time-optimal, smoothed)", plan_trajectory(ROBOT, W)),
+                       ("armkit min-jerk durations fitted (auto_time)", auto_time(W, VMAX, AMAX)),
                        ("armkit, the report's 10 s segments", min_jerk(W, [10, 10, 10]))):
         rows.append((name, traj.duration, traj.peak_jerk.max(), (traj.peak_velocity / VMAX).max(),
                      (traj.peak_acceleration / AMAX).max(), "yes, not stopping"))
@@ -123,8 +135,69 @@ def seed_comparison() -> None:
     for name, duration, jerk, rv, ra, through in rows:
         print(f"{name:<46}{duration:>9.3f}s{jerk:>11.3f}{rv:>12.3f}{ra:>12.3f}  {through}")
     print("(peak jerk in rad/s^3: armkit exact; ruckig and rtb from 1 kHz finite differences)")
-    if max(rows[0][3], rows[0][4], rows[1][3], rows[1][4]) > 1.0:
+    if max(max(row[3], row[4]) for row in rows[:3]) > 1.0:
         sys.exit("armkit exceeded a limit")
+
+
+class ArmkitPath(toppra.interpolator.AbstractGeometricPath):
+    """armkit's geometric path (a JointTrajectory in its own time s) as toppra reads a path."""
+
+    def __init__(self, path: JointTrajectory) -> None:
+        self.path = path
+
+    def __call__(self, s, order=0):
+        s = np.asarray(s, dtype=float)
+        values = self.path.at_time(np.atleast_1d(s))[order]
+        return values if s.ndim else values[0]
+
+    @property
+    def dof(self) -> int:
+        return self.path.n
+
+    @property
+    def path_interval(self) -> np.ndarray:
+        return np.array([0.0, self.path.duration])
+
+    @property
+    def waypoints(self):
+        return self.path.waypoint_times, self.path.waypoints
+
+
+def toppra_trajectory(path, vmax: np.ndarray, amax: np.ndarray):
+    """toppra's time-optimal trajectory along ``path`` under velocity and acceleration limits."""
+    constraints = [toppra.constraint.JointVelocityConstraint(np.stack([-vmax, vmax], axis=1)),
+                   toppra.constraint.JointAccelerationConstraint(np.stack([-amax, amax], axis=1))]
+    instance = toppra.algorithm.TOPPRA(constraints, path, parametrizer="ParametrizeConstAccel")
+    return instance.compute_trajectory()
+
+
+def automatic_timing(quick: bool) -> None:
+    robot, vmax, amax = ROBOT, VMAX, AMAX
+    toppra.setup_logging("WARNING")
+    print("\n3. Automatic timing, PROBOT Anno limits, random waypoints in the middle half of each joint's "
+          "range (median wall time; ratio = peer / armkit)")
+    header = (f"{'waypoints':>9}  {'armkit plan_trajectory':>23}{'toppra':>13}{'ratio':>8}{'ruckig':>13}"
+              f"{'ratio':>8}  {'duration armkit / toppra, same path':>36}")
+    print(header)
+    print("-" * len(header))
+    rng = np.random.default_rng(1)
+    for M in (4, 100, 1000):
+        low, high = robot.limits[:, 0], robot.limits[:, 1]
+        W = rng.uniform(low + 0.25 * (high - low), high - 0.25 * (high - low), (M, 6))
+        repeat = 3 if quick or M == 1000 else 20
+        ours = median_seconds(lambda W=W: plan_trajectory(robot, W), repeat)
+        spline = toppra.SplineInterpolator(np.linspace(0, 1, M), W)
+        theirs = median_seconds(lambda spline=spline: toppra_trajectory(spline, vmax, amax), repeat)
+        ruck = median_seconds(lambda W=W: ruckig_segments(W, vmax, amax, 10 * amax), repeat)
+        traj = plan_trajectory(robot, W)
+        same_path = toppra_trajectory(ArmkitPath(geometric_path(W, vmax, amax)), vmax, amax)
+        over = max((traj.peak_velocity / vmax).max(), (traj.peak_acceleration / amax).max())
+        ratio = traj.duration / same_path.duration
+        print(f"{M:>9}  {fmt(ours):>23}{fmt(theirs):>13}{theirs / ours:>8.2f}{fmt(ruck):>13}"
+              f"{ruck / ours:>8.2f}  {traj.duration:10.3f} s / {same_path.duration:10.3f} s = {ratio:.4f}"
+              f"  (largest exact |qd|/vmax, |qdd|/amax: {over:.6f})")
+        if over > 1.0:
+            sys.exit("armkit exceeded a limit")
 
 
 def main() -> None:
@@ -133,6 +206,7 @@ def main() -> None:
     args = parser.parse_args()
     solve_times(args.quick)
     seed_comparison()
+    automatic_timing(args.quick)
 
 
 if __name__ == "__main__":

@@ -80,3 +80,21 @@ def test_position_limit_violations_find_the_overshoot_between_waypoints():
     assert on_limit.position_limit_violations(robot) == []
     with pytest.raises(InputError, match="GRB400 SCARA has 4 joints, the trajectory 6"):
         overshoot.position_limit_violations(armkit.load("grb400-scara"))
+
+
+@pytest.mark.parametrize(("roots", "scale"), [
+    ([0.5, 0.5], 1.0),                          # s^2 (1 - s)^2-like: a double root of p'
+    ([0.3, 0.3 + 1e-6, 0.8], 1.0),              # two turning points a micro-step apart
+    ([0.1, 0.25, 0.4, 0.55, 0.7, 0.85], 1e3),   # degree 7: six turning points
+])
+def test_turning_points_close_together_or_many_are_all_found(roots, scale):
+    """p' = scale * prod (s - r): p's extremes at those roots, against a sampling 1e6 fine."""
+    derivative = scale * np.polynomial.polynomial.polyfromroots(roots)
+    p = np.polynomial.polynomial.polyint(derivative)
+    coefficients = p[:, None, None]
+    low, high = segment_ranges(coefficients, np.array([1.0]))
+    q = np.polynomial.polynomial.polyval(np.linspace(0, 1, 1_000_001), p)
+    candidates = np.polynomial.polynomial.polyval(np.array([0.0, 1.0, *roots]), p)
+    np.testing.assert_allclose([low[0, 0], high[0, 0]], [candidates.min(), candidates.max()], rtol=1e-13,
+                               atol=1e-15)
+    assert low[0, 0] <= q.min() + 1e-15 and high[0, 0] >= q.max() - 1e-15

@@ -7,4 +7,5 @@ NB_MODULE(_core, m) {
     armkit::bindings::bind_numeric(m);
     armkit::bindings::bind_solve(m);
     armkit::bindings::bind_workspace(m);
+    armkit::bindings::bind_topp(m);
 }

@@ -49,32 +49,47 @@ class JointTrajectory:
     Parameters
     ----------
     durations : (N,) array
-        Segment durations [s].
-    coefficients : (k + 1, N, n) array
-        Per segment and joint, ascending powers of the local time ``t - t_i`` [s].
+        Segment durations [s]; with ``segment_pieces``, the ``(P,)`` durations of the pieces.
+    coefficients : (k + 1, P, n) array
+        Per polynomial piece and joint, ascending powers of the local time ``t - t_p`` [s];
+        one piece per segment (``P = N``) unless ``segment_pieces`` says otherwise.
     waypoints : (N + 1, n) array
         Positions at the segment boundaries [rad or m].
     requested_durations : (N,) array, optional
-        The durations asked for before fitting to limits; defaults to ``durations``.
+        The durations asked for before fitting to limits; defaults to the segment durations.
+    segment_pieces : (N,) int array, optional
+        How many consecutive pieces make up each segment (a time-optimal trajectory has
+        many pieces between two waypoints); default one each.
 
     Attributes
     ----------
-    durations, requested_durations, waypoints, coefficients : read-only arrays
+    durations, requested_durations, waypoints : read-only arrays, per segment
+    coefficients, piece_durations : read-only arrays, per piece
     """
 
     def __init__(self, durations: ArrayLike, coefficients: ArrayLike, waypoints: ArrayLike,
-                 requested_durations: ArrayLike | None = None) -> None:
-        self.durations = np.array(durations, dtype=float)
+                 requested_durations: ArrayLike | None = None, *,
+                 segment_pieces: ArrayLike | None = None) -> None:
+        self.piece_durations = np.array(durations, dtype=float)
         self.coefficients = np.array(coefficients, dtype=float)
         self.waypoints = np.array(waypoints, dtype=float)
+        pieces = (np.ones(self.piece_durations.size, dtype=int) if segment_pieces is None
+                  else np.asarray(segment_pieces, dtype=int))
+        if pieces.sum() != self.piece_durations.size or pieces.size != self.waypoints.shape[0] - 1:
+            raise InputError(f"segment_pieces: expected {self.waypoints.shape[0] - 1} counts adding up to "
+                             f"{self.piece_durations.size} pieces, got {pieces.tolist()}")
+        self._piece_breaks = np.concatenate([[0.0], np.cumsum(self.piece_durations)])
+        self._segment_starts = np.concatenate([[0], np.cumsum(pieces)])
+        self._breaks = self._piece_breaks[self._segment_starts]
+        self.durations = np.add.reduceat(self.piece_durations, self._segment_starts[:-1])
         self.requested_durations = np.array(self.durations if requested_durations is None
                                             else requested_durations, dtype=float)
-        for array in (self.durations, self.coefficients, self.waypoints, self.requested_durations):
+        for array in (self.durations, self.piece_durations, self.coefficients, self.waypoints,
+                      self.requested_durations):
             array.setflags(write=False)
-        self._breaks = np.concatenate([[0.0], np.cumsum(self.durations)])
         from scipy.interpolate import PPoly  # here: scipy.interpolate costs ~0.5 s at start-up
 
-        self._ppoly = PPoly(self.coefficients[::-1], self._breaks, extrapolate=False)
+        self._ppoly = PPoly(self.coefficients[::-1], self._piece_breaks, extrapolate=False)
 
     def __repr__(self) -> str:
         return (f"JointTrajectory({self.n} joints, {self.durations.size} segments, "
@@ -97,6 +112,11 @@ class JointTrajectory:
     def waypoint_times(self) -> NDArray[np.float64]:
         """Times [s] at which the trajectory passes the waypoints, ``(N + 1,)``."""
         return self._breaks.copy()
+
+    @property
+    def segment_pieces(self) -> NDArray[np.int64]:
+        """Number of polynomial pieces in each segment, ``(N,)``."""
+        return np.diff(self._segment_starts)
 
     @property
     def stretch(self) -> NDArray[np.float64]:
@@ -152,7 +172,8 @@ class JointTrajectory:
     # ----------------------------------------------------------------- peaks
     def segment_peaks(self, order: int) -> NDArray[np.float64]:
         """Exact largest ``|d^order q / dt^order|`` per segment and joint, ``(N, n)`` (order 1, 2 or 3)."""
-        return segment_peaks(self.coefficients, self.durations, order)
+        peaks = segment_peaks(self.coefficients, self.piece_durations, order)
+        return np.maximum.reduceat(peaks, self._segment_starts[:-1], axis=0)
 
     @property
     def position_range(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -161,7 +182,7 @@ class JointTrajectory:
         A quintic or min-jerk spline can overshoot its waypoints; these are its true extremes
         (turning points between waypoints included), not samples.
         """
-        low, high = segment_ranges(self.coefficients, self.durations)
+        low, high = segment_ranges(self.coefficients, self.piece_durations)
         return low.min(axis=0), high.max(axis=0)
 
     def position_limit_violations(self, robot: Robot, degrees: bool = False) -> list[str]:
@@ -218,7 +239,7 @@ class JointTrajectory:
         jerk = self.coefficients[3:] * factor[:, None, None]          # powers t^0 .. t^(k-3)
         exponents = np.arange(k1 - 3)
         e = exponents[:, None] + exponents[None, :] + 1
-        integral = self.durations[None, None, :] ** e[..., None] / e[..., None]   # (m, m, N)
+        integral = self.piece_durations[None, None, :] ** e[..., None] / e[..., None]   # (m, m, P)
         return np.einsum("iNn,jNn,ijN->n", jerk, jerk, integral)
 
     # ----------------------------------------------------------------- export
