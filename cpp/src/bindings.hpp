@@ -34,5 +34,6 @@ void bind_closed_form(nb::module_& m);  // subproblems, case solvers, closed-for
 void bind_numeric(nb::module_& m);      // Levenberg-Marquardt
 void bind_solve(nb::module_& m);        // the IK pipeline: wrap, verify, rank
 void bind_workspace(nb::module_& m);    // reachability: sampling, FK positions, voxel counts in one pass
+void bind_dynamics(nb::module_& m);     // inverse and forward dynamics, mass matrices
 
 }  // namespace armkit::bindings

@@ -38,6 +38,7 @@ from numpy.typing import NDArray
 
 from armkit.chain import MAX_VALUE, chain_from_frames
 from armkit.errors import RobotDefinitionError
+from armkit.inertial import Inertial
 from armkit.poe import rotation_z_to, unit_axis
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_euler
@@ -190,7 +191,9 @@ def robot_from_urdf(text: str | bytes, source: str = "URDF text", *, base: str |
     if not kinds:
         raise RobotDefinitionError(f"{source}: no moving joint between links {base!r} and {tip!r}")
     chain = chain_from_frames(kinds, before, after, limits=limits, max_velocity=velocity,
-                              T_tool=pending, names=names)
+                              T_tool=pending, names=names,
+                              max_torque=[force if force and force > 0 else None for force in effort],
+                              inertials=_inertials(base, path, joints, links, source))
     name = root.get("name") or Path(source).stem
     description = UrdfDescription(source, name, base, tip, tuple(frames), tuple(effort),
                                   _meshes(base, path, joints, links, source))
@@ -410,3 +413,55 @@ def _meshes(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], li
                 where = f"{source}, joint {joint.name!r}"
                 stack.append((joint.child, frame, T_frame_link @ _origin(joint.element, where)))
     return tuple(sorted(out, key=lambda m: (m.frame, m.link)))
+
+
+def _inertials(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], links: dict[str, ET.Element],
+               source: str) -> list[Inertial] | None:
+    """Per moving joint of ``path``, the ``<inertial>`` of every link moving with its child link,
+    in the child's frame: links fixed to it, side branches and links beyond the tip at joint
+    values zero. None if none of them has an ``<inertial>``."""
+    children: dict[str, list[_UrdfJoint]] = {}
+    for joint in joints.values():
+        children.setdefault(joint.parent, []).append(joint)
+    on_path = {joint.child for joint in path}
+    frame, T_frame_link, stack = 0, np.eye(4), []
+    for joint in path:
+        if joint.kind == "fixed":
+            T_frame_link = T_frame_link @ _origin(joint.element, f"{source}, joint {joint.name!r}")
+        else:
+            frame, T_frame_link = frame + 1, np.eye(4)
+        stack.append((joint.child, frame, T_frame_link))
+    bodies = [Inertial.zero() for _ in range(frame)]
+    found = False
+    while stack:
+        link, frame, T_frame_link = stack.pop()
+        element = links[link].find("inertial")
+        if element is not None and frame > 0:
+            body = _inertial(element, f"{source}, link {link!r}").moved(T_frame_link)
+            bodies[frame - 1] = bodies[frame - 1] + body
+            found = True
+        for joint in children.get(link, []):  # everything below, held at zero, except the chain itself
+            if joint.child not in on_path:
+                stack.append((joint.child, frame, T_frame_link @ _origin(joint.element,
+                                                                         f"{source}, joint {joint.name!r}")))
+    return bodies if found else None
+
+
+def _inertial(element: ET.Element, where: str) -> Inertial:
+    """An ``<inertial>`` in its link's frame: mass, centre-of-mass frame (``<origin>``), inertia in it."""
+    mass_element = element.find("mass")
+    if mass_element is None:
+        raise RobotDefinitionError(f"{where}: <inertial> has no <mass value=\"...\"/>")
+    mass = float(_floats(mass_element, "value", 1, where, default=None, bound=np.inf)[0])
+    if mass < 0:
+        raise RobotDefinitionError(f"{where}: <mass value=\"{mass_element.get('value')}\">: "
+                                   f"expected a mass >= 0 kg")
+    inertia_element = element.find("inertia")
+    inertia = np.zeros((3, 3))
+    if inertia_element is not None:
+        xx, xy, xz, yy, yz, zz = (
+            float(_floats(inertia_element, key, 1, where, default=[0.0], bound=np.inf)[0])
+            for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
+        inertia = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+    T_link_com = _origin(element, where)
+    return Inertial(mass, np.zeros(3), inertia).moved(T_link_com)
