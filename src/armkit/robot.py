@@ -431,7 +431,7 @@ class Robot:
         --------
         >>> import armkit
         >>> armkit.load("puma560").inverse_dynamics(np.zeros(6), np.zeros(6), np.zeros(6)).round(3)
-        array([ 0.   , 37.523,  0.266,  0.   ,  0.   ,  0.   ])
+        array([ 0.   , 37.484,  0.249,  0.   ,  0.   ,  0.   ])
         """
         from armkit import dynamics
 
