@@ -54,9 +54,11 @@ OPTIONS: dict[str, dict[str, str]] = {
     "sim": {"--random": "count", "--seed": "count", "--trajectory": "path", "--no-gravity": "",
             "--no-compensation": "", "--euler": "word", "--deg": "", "--force": "", "--json": ""},
     "lab": {"--robot": "robot", "--out": "path", "--quick": "", "--force": "", "--json": ""},
+    "dynamics": {"--qd": "number", "--qdd": "number", "--deg": "", "--payload": "number",
+                 "--estimate-inertia": "number", "--json": ""},
 }
 #: Commands whose first argument is a robot.
-WITH_ROBOT = {"fk", "jacobian", "ik", "traj", "move", "rotate", "show", "export", "sim"}
+WITH_ROBOT = {"fk", "jacobian", "ik", "traj", "move", "rotate", "show", "export", "sim", "dynamics"}
 
 number = st.one_of(st.sampled_from(NUMBERS), st.floats(allow_nan=True, allow_infinity=True).map(repr),
                    st.integers(-10**6, 10**6).map(str))

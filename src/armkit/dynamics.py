@@ -61,7 +61,8 @@ def _model(chain: Chain) -> _core.Dynamics:
         raise RobotDefinitionError(
             f"joint {missing} has no inertial parameters (mass, com, inertia), so no dynamics can be "
             f"computed; give them (robot file keys mass, com, inertia; URDF <inertial>) or ask for an "
-            f"estimate: robot.with_estimated_inertia(density=...)")
+            f"estimate: robot.with_estimated_inertia(density=...), --estimate-inertia DENSITY on the "
+            f"command line")
 
     def make() -> _core.Dynamics:
         bodies = [joint.inertial.moved(joint.T_after) for joint in chain.joints]
