@@ -333,15 +333,14 @@ def with_estimated_inertia(robot: Robot, density: float = 1000.0) -> Robot:
     >>> round(sum(j.inertial.mass for j in arm.chain.joints), 3)
     1.639
     """
-    from armkit.export.physical import DENSITY, physical_model
+    from armkit.export.physical import DENSITY, capsule_bodies
 
     if isinstance(density, bool) or not isinstance(density, int | float | np.floating) or not (
             np.isfinite(density) and density > 0):
         raise InputError(f"density: expected a positive number [kg/m^3], got {density!r}")
     scale = float(density) / DENSITY
-    model = physical_model(robot)
     inertials = []
-    for joint, body in zip(robot.chain.joints, model.bodies, strict=True):
+    for joint, body in zip(robot.chain.joints, capsule_bodies(robot)[2], strict=True):
         in_joint_frame = Inertial(body.mass * scale, body.com, body.inertia * scale)
         inertials.append(in_joint_frame.moved(np.linalg.inv(joint.T_after)))
     return _with_inertials(robot, inertials)
