@@ -57,19 +57,44 @@ void inverse_dynamics_batch(const Dynamics& model, In q, In qd, In qdd, In gravi
     });
 }
 
-// One state (n,) each, the common single call: tau (n,) as a new array, or None if a value is not
-// finite (the caller's error names it).
+// One state, the common single call: arrays (n,) each (qd, qdd may be None: zero). False if an
+// array has another shape or a value is not finite (the caller's checked path then names it).
+bool one_state(std::size_t n, std::initializer_list<const In*> arrays) {
+    bool ok = true;
+    for (const In* a : arrays) {
+        if (!a->is_valid()) continue;
+        ok &= a->ndim() == 1 && a->size() == n;
+        if (!ok) return false;
+        for (std::size_t j = 0; j < n; ++j) ok &= std::isfinite(a->data()[j]);
+    }
+    return ok;
+}
+
+// tau (n,) as a new array, or None (see one_state).
 nb::object inverse_dynamics_one(const Dynamics& model, In q, In qd, In qdd, In gravity) {
     const std::size_t n = std::size_t(model.chain.n);
-    if (q.size() != n || qd.size() != n || qdd.size() != n)
-        throw std::invalid_argument("inverse_dynamics_one: expected q, qd, qdd (n,)");
-    bool finite = true;
-    for (std::size_t j = 0; j < n; ++j)
-        finite &= std::isfinite(q.data()[j]) & std::isfinite(qd.data()[j]) & std::isfinite(qdd.data()[j]);
-    if (!finite) return nb::none();
+    if (!one_state(n, {&q, &qd, &qdd})) return nb::none();
     double tau[kMaxJoints];
-    inverse_dynamics(model, q.data(), qd.data(), qdd.data(), gravity_vector(gravity), tau);
+    inverse_dynamics(model, q.data(), data_or_null(qd), data_or_null(qdd), gravity_vector(gravity), tau);
     return owned_array(tau, n);
+}
+
+// M (n, n) as a new array, or None (see one_state).
+nb::object mass_matrix_one(const Dynamics& model, In q) {
+    const std::size_t n = std::size_t(model.chain.n);
+    if (!one_state(n, {&q})) return nb::none();
+    double M[kMaxJoints * kMaxJoints];
+    mass_matrix(model, q.data(), M);
+    return owned_array(M, n, n);
+}
+
+// qdd (n,) as a new array, or None (see one_state; also when the mass matrix is singular).
+nb::object forward_dynamics_one(const Dynamics& model, In q, In qd, In tau, In gravity) {
+    const std::size_t n = std::size_t(model.chain.n);
+    if (!qd.is_valid() || !tau.is_valid() || !one_state(n, {&q, &qd, &tau})) return nb::none();
+    double qdd[kMaxJoints];
+    if (!forward_dynamics(model, q.data(), qd.data(), tau.data(), gravity_vector(gravity), qdd)) return nb::none();
+    return owned_array(qdd, n);
 }
 
 void mass_matrix_batch(const Dynamics& model, In q, Out M, int threads) {
@@ -113,8 +138,14 @@ void bind_dynamics(nb::module_& m) {
     m.def("inverse_dynamics", &inverse_dynamics_batch, nb::arg("model"), nb::arg("q"), nb::arg("qd").none(),
           nb::arg("qdd").none(), nb::arg("gravity"), nb::arg("tau"), nb::arg("threads"), release,
           "Joint torques of the states (q, qd, qdd) (N, n) into tau (N, n); qd or qdd None: zero.");
-    m.def("inverse_dynamics_one", &inverse_dynamics_one, nb::arg("model"), nb::arg("q"), nb::arg("qd"),
-          nb::arg("qdd"), nb::arg("gravity"), "Joint torques (n,) of one state, each (n,), as a new array; None if a value is not finite.");
+    m.def("inverse_dynamics_one", &inverse_dynamics_one, nb::arg("model"), nb::arg("q"), nb::arg("qd").none(),
+          nb::arg("qdd").none(), nb::arg("gravity"),
+          "Joint torques (n,) of one state (n,) each, qd or qdd None: zero; None if a value is not finite.");
+    m.def("mass_matrix_one", &mass_matrix_one, nb::arg("model"), nb::arg("q"),
+          "The mass matrix (n, n) of one configuration (n,); None if a value is not finite.");
+    m.def("forward_dynamics_one", &forward_dynamics_one, nb::arg("model"), nb::arg("q"), nb::arg("qd"),
+          nb::arg("tau"), nb::arg("gravity"),
+          "Joint accelerations (n,) of one state; None if a value is not finite or M is singular.");
     m.def("mass_matrix", &mass_matrix_batch, nb::arg("model"), nb::arg("q"), nb::arg("M"), nb::arg("threads"),
           release, "Mass matrices of q (N, n) into M (N, n, n).");
     m.def("forward_dynamics", &forward_dynamics_batch, nb::arg("model"), nb::arg("q"), nb::arg("qd"),

@@ -56,6 +56,9 @@ def missing_inertia(chain: Chain) -> str | None:
 
 def _model(chain: Chain) -> _core.Dynamics:
     """The chain's bodies in their joint frames, as the core takes them (made once per chain)."""
+    made = chain.__dict__.get("dynamics")  # where Chain.derived keeps it: the one-state calls' fast path
+    if made is not None:
+        return made
     missing = missing_inertia(chain)
     if missing is not None:
         raise RobotDefinitionError(

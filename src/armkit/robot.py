@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armkit import _core, kinematics
+from armkit import _core, dynamics, kinematics
 from armkit._deprecation import renamed_argument
 from armkit.chain import Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
@@ -422,6 +422,9 @@ class Robot:
         return rng.uniform(lim[:, 0], lim[:, 1], size=(*shape, self.n))
 
     # ----------------------------------------------------------------- dynamics
+    # One state (arrays (n,) the core takes as they are, default gravity, no threads) goes straight
+    # to the core's one-state call, which answers None for anything it does not take as it is (a
+    # batch, a value not finite, a singular mass matrix): the checked path then answers or says why.
     def inverse_dynamics(self, q: ArrayLike, qd: ArrayLike | None = None, qdd: ArrayLike | None = None, *,
                          gravity: ArrayLike | None = None, threads: int | None = None) -> NDArray[np.float64]:
         """Joint torques ``(..., n)`` [N m or N] for positions, velocities and accelerations
@@ -433,12 +436,12 @@ class Robot:
         >>> armkit.load("puma560").inverse_dynamics(np.zeros(6), np.zeros(6), np.zeros(6)).round(3)
         array([ 0.   , 37.484,  0.249,  0.   ,  0.   ,  0.   ])
         """
-        from armkit import dynamics
-
-        if gravity is None and threads is None and self._one_ready(q) and self._one_ready(qd) \
-                and self._one_ready(qdd):
-            tau = _core.inverse_dynamics_one(dynamics._model(self.chain), q, qd, qdd, dynamics.GRAVITY)
-            if tau is not None:  # None: a value is not finite; the checked path names it
+        if gravity is None and threads is None:
+            try:
+                tau = _core.inverse_dynamics_one(dynamics._model(self.chain), q, qd, qdd, dynamics.GRAVITY)
+            except TypeError:  # not arrays: the checked path
+                tau = None
+            if tau is not None:
                 return tau
         return dynamics.inverse_dynamics(self.chain, q, qd, qdd, threads=threads,
                                          gravity=dynamics.GRAVITY if gravity is None else gravity)
@@ -446,31 +449,36 @@ class Robot:
     def mass_matrix(self, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.float64]:
         """Joint-space mass matrices ``(..., n, n)`` at ``q`` ``(..., n)``; see
         :func:`armkit.dynamics.mass_matrix`."""
-        from armkit import dynamics
-
+        if threads is None:
+            try:
+                M = _core.mass_matrix_one(dynamics._model(self.chain), q)
+            except TypeError:
+                M = None
+            if M is not None:
+                return M
         return dynamics.mass_matrix(self.chain, q, threads=threads)
 
     def gravity_torques(self, q: ArrayLike, *, gravity: ArrayLike | None = None,
                         threads: int | None = None) -> NDArray[np.float64]:
         """Torques ``(..., n)`` [N m or N] holding the arm still at ``q`` ``(..., n)``."""
-        from armkit import dynamics
-
-        return dynamics.gravity_torques(self.chain, q, threads=threads,
-                                        gravity=dynamics.GRAVITY if gravity is None else gravity)
+        return self.inverse_dynamics(q, gravity=gravity, threads=threads)
 
     def coriolis_torques(self, q: ArrayLike, qd: ArrayLike, *,
                          threads: int | None = None) -> NDArray[np.float64]:
         """Coriolis and centrifugal torques ``C(q, qd) qd`` ``(..., n)`` [N m or N]."""
-        from armkit import dynamics
-
         return dynamics.coriolis_torques(self.chain, q, qd, threads=threads)
 
     def forward_dynamics(self, q: ArrayLike, qd: ArrayLike, tau: ArrayLike, *,
                          gravity: ArrayLike | None = None, threads: int | None = None) -> NDArray[np.float64]:
         """Joint accelerations ``(..., n)`` under torques ``tau`` ``(..., n)``; see
         :func:`armkit.dynamics.forward_dynamics`."""
-        from armkit import dynamics
-
+        if gravity is None and threads is None:
+            try:
+                qdd = _core.forward_dynamics_one(dynamics._model(self.chain), q, qd, tau, dynamics.GRAVITY)
+            except TypeError:
+                qdd = None
+            if qdd is not None:
+                return qdd
         return dynamics.forward_dynamics(self.chain, q, qd, tau, threads=threads,
                                          gravity=dynamics.GRAVITY if gravity is None else gravity)
 
@@ -479,16 +487,12 @@ class Robot:
         """This robot carrying a payload [kg] fixed to the tool frame (``com`` [m] in it,
         ``inertia`` [kg m^2] about it), added to the last link's own; see
         :func:`armkit.dynamics.with_payload`."""
-        from armkit.dynamics import with_payload
-
-        return with_payload(self, mass, com, inertia)
+        return dynamics.with_payload(self, mass, com, inertia)
 
     def with_estimated_inertia(self, density: float = 1000.0) -> Robot:
         """This robot with every link's inertia estimated from MJCF export's capsules of
         ``density`` [kg/m^3]; see :func:`armkit.dynamics.with_estimated_inertia`."""
-        from armkit.dynamics import with_estimated_inertia
-
-        return with_estimated_inertia(self, density)
+        return dynamics.with_estimated_inertia(self, density)
 
     # ----------------------------------------------------------------- locked joints
     def lock(self, values: Mapping[int | str, float]) -> LockedRobot:
@@ -592,10 +596,8 @@ class LockedRobot(Robot):
                 pending = None
         tool = chain.T_tool if pending is None else pending @ chain.T_tool
         if any(joint.inertial is not None for joint in chain.joints):  # locked links ride on the one before
-            from armkit.dynamics import locked_inertials
-
-            joints = [replace(joint, inertial=inertial)
-                      for joint, inertial in zip(joints, locked_inertials(chain, self.locked), strict=True)]
+            joints = [replace(joint, inertial=inertial) for joint, inertial in
+                      zip(joints, dynamics.locked_inertials(chain, self.locked), strict=True)]
         names = ", ".join(f"{full_robot.joint_names[i]} = {v:.6g}" for i, v in self.locked.items())
         super().__init__(Chain(tuple(joints), chain.T_base, tool), name=f"{full_robot.name} ({names} locked)",
                          source=full_robot.source, description=full_robot.description)
