@@ -325,3 +325,18 @@ def test_urdf_inertial_and_effort_are_read():
 def test_urdf_inertial_mistakes_name_the_link(inertial, message):
     with pytest.raises(RobotDefinitionError, match=message):
         armkit.urdf.robot_from_urdf(URDF.format(inertial=inertial, effort="1"))
+
+
+def test_one_state_in_any_form_gives_the_batch_answer_in_its_shape():
+    robot = arm("puma560")
+    q, qd, qdd = robot.random_q(rng=1), np.full(6, 0.25), np.full(6, -0.5)  # float32-exact
+    expected = robot.inverse_dynamics(q[None], qd[None], qdd[None], threads=1)
+    assert expected.shape == (1, 6)
+    for args in ((q, qd, qdd), (q.tolist(), qd.tolist(), qdd.tolist()), (q, qd.astype(np.float32), qdd)):
+        np.testing.assert_allclose(robot.inverse_dynamics(*args), expected[0], rtol=1e-15)
+    assert robot.mass_matrix(q[None]).shape == (1, 6, 6)
+    np.testing.assert_allclose(robot.mass_matrix(q), robot.mass_matrix(q[None])[0], rtol=1e-15)
+    tau = expected[0]
+    np.testing.assert_allclose(robot.forward_dynamics(q, qd, tau), qdd, rtol=1e-10, atol=1e-12)
+    with pytest.raises(InputError, match=r"tau: expected finite joint values, got nan at index 5"):
+        robot.forward_dynamics(q, qd, np.array([0, 0, 0, 0, 0, np.nan]))
