@@ -20,6 +20,7 @@ from typer.testing import CliRunner
 
 import armkit
 from armkit.cli.main import main
+from armkit.lab import dynamics as lab_dynamics
 from armkit.lab import fk_ik, motion
 from armkit.lab.report import Section
 
@@ -111,7 +112,8 @@ def instant_lab():
         return Section("fake", "fake experiment", "", headline="done")
     names = [(fk_ik, "fk_check"), (fk_ik, "ik_check"), (motion, "linear_motion"),
              (motion, "trajectory_experiment"), (motion, "fixed_point_rotation"),
-             (fk_ik, "fk_table_zju"), (fk_ik, "fk_table_scara")]
+             (fk_ik, "fk_table_zju"), (fk_ik, "fk_table_scara"),
+             (lab_dynamics, "dynamics_experiment")]
     saved = [(module, name, getattr(module, name)) for module, name in names]
     for module, name in names:
         setattr(module, name, experiment)
