@@ -163,9 +163,8 @@ def inverse_dynamics(robot: Robot | Chain, q: ArrayLike, qd: ArrayLike | None = 
     """
     chain = as_chain(robot)
     model = _model(chain)
-    q, qd, qdd = _states(chain, q=q, qd=qd, qdd=qdd)
-    tau = np.empty(q.shape if qd is None and qdd is None else (qd if qd is not None else qdd).shape)
-    q = np.ascontiguousarray(np.broadcast_to(q, tau.shape))
+    q, qd, qdd = _states(chain, q=q, qd=qd, qdd=qdd)  # broadcast to one shape
+    tau = np.empty(q.shape)
     _core.inverse_dynamics(model, q, qd, qdd, _gravity(gravity), tau, _threads(threads))
     return tau
 
