@@ -13,11 +13,16 @@ namespace armkit::bindings {
 
 namespace {
 
-Dynamics make_dynamics(const Chain& chain, In mass, In moment, In inertia) {
+Vec3 gravity_vector(const In& gravity) {
+    if (gravity.size() != 3) throw std::invalid_argument("gravity: expected (3,)");
+    return vec3(gravity.data());
+}
+
+Dynamics make_dynamics(const Chain& chain, In mass, In moment, In inertia, In gravity) {
     const std::size_t n = std::size_t(chain.n);
     if (mass.size() != n || moment.size() != 3 * n || inertia.size() != 9 * n)
         throw std::invalid_argument("Dynamics: expected mass (n,), moment (n, 3), inertia (n, 3, 3)");
-    Dynamics model{chain, {}, {}, {}};
+    Dynamics model{chain, {}, {}, {}, gravity_vector(gravity)};
     for (std::size_t i = 0; i < n; ++i) {
         model.mass.push_back(mass.data()[i]);
         model.moment.push_back(vec3(moment.data() + 3 * i));
@@ -25,11 +30,6 @@ Dynamics make_dynamics(const Chain& chain, In mass, In moment, In inertia) {
         model.inertia.push_back(Mat3{{vec3(I), vec3(I + 3), vec3(I + 6)}});
     }
     return model;
-}
-
-Vec3 gravity_vector(const In& gravity) {
-    if (gravity.size() != 3) throw std::invalid_argument("gravity: expected (3,)");
-    return vec3(gravity.data());
 }
 
 // The number of states N of an (N, n) array, checked against the other (N, n) arrays given.
@@ -71,11 +71,11 @@ bool one_state(std::size_t n, std::initializer_list<const In*> arrays) {
 }
 
 // tau (n,) as a new array, or None (see one_state).
-nb::object inverse_dynamics_one(const Dynamics& model, In q, In qd, In qdd, In gravity) {
+nb::object inverse_dynamics_one(const Dynamics& model, In q, In qd, In qdd) {
     const std::size_t n = std::size_t(model.chain.n);
     if (!one_state(n, {&q, &qd, &qdd})) return nb::none();
     double tau[kMaxJoints];
-    inverse_dynamics(model, q.data(), data_or_null(qd), data_or_null(qdd), gravity_vector(gravity), tau);
+    inverse_dynamics(model, q.data(), data_or_null(qd), data_or_null(qdd), model.gravity, tau);
     return owned_array(tau, n);
 }
 
@@ -89,11 +89,11 @@ nb::object mass_matrix_one(const Dynamics& model, In q) {
 }
 
 // qdd (n,) as a new array, or None (see one_state; also when the mass matrix is singular).
-nb::object forward_dynamics_one(const Dynamics& model, In q, In qd, In tau, In gravity) {
+nb::object forward_dynamics_one(const Dynamics& model, In q, In qd, In tau) {
     const std::size_t n = std::size_t(model.chain.n);
     if (!qd.is_valid() || !tau.is_valid() || !one_state(n, {&q, &qd, &tau})) return nb::none();
     double qdd[kMaxJoints];
-    if (!forward_dynamics(model, q.data(), qd.data(), tau.data(), gravity_vector(gravity), qdd)) return nb::none();
+    if (!forward_dynamics(model, q.data(), qd.data(), tau.data(), model.gravity, qdd)) return nb::none();
     return owned_array(qdd, n);
 }
 
@@ -132,20 +132,23 @@ long long forward_dynamics_batch(const Dynamics& model, In q, In qd, In tau, In 
 
 void bind_dynamics(nb::module_& m) {
     nb::class_<Dynamics>(m, "Dynamics", "A chain and the mass, first moment and inertia about the origin of "
-                                        "each body, in its joint frame.")
-        .def(nb::new_(&make_dynamics), nb::arg("chain"), nb::arg("mass"), nb::arg("moment"), nb::arg("inertia"));
+                                        "each body, in its joint frame; the one-state calls' gravity.")
+        .def(nb::new_(&make_dynamics), nb::arg("chain"), nb::arg("mass"), nb::arg("moment"), nb::arg("inertia"),
+             nb::arg("gravity"));
     const auto release = nb::call_guard<nb::gil_scoped_release>();
     m.def("inverse_dynamics", &inverse_dynamics_batch, nb::arg("model"), nb::arg("q"), nb::arg("qd").none(),
           nb::arg("qdd").none(), nb::arg("gravity"), nb::arg("tau"), nb::arg("threads"), release,
           "Joint torques of the states (q, qd, qdd) (N, n) into tau (N, n); qd or qdd None: zero.");
     m.def("inverse_dynamics_one", &inverse_dynamics_one, nb::arg("model"), nb::arg("q"), nb::arg("qd").none(),
-          nb::arg("qdd").none(), nb::arg("gravity"),
-          "Joint torques (n,) of one state (n,) each, qd or qdd None: zero; None if a value is not finite.");
+          nb::arg("qdd").none(),
+          "Joint torques (n,) of one state (n,) each, qd or qdd None: zero, the model's gravity; None if a "
+          "value is not finite.");
     m.def("mass_matrix_one", &mass_matrix_one, nb::arg("model"), nb::arg("q"),
           "The mass matrix (n, n) of one configuration (n,); None if a value is not finite.");
     m.def("forward_dynamics_one", &forward_dynamics_one, nb::arg("model"), nb::arg("q"), nb::arg("qd"),
-          nb::arg("tau"), nb::arg("gravity"),
-          "Joint accelerations (n,) of one state; None if a value is not finite or M is singular.");
+          nb::arg("tau"),
+          "Joint accelerations (n,) of one state, the model's gravity; None if a value is not finite or M is "
+          "singular.");
     m.def("mass_matrix", &mass_matrix_batch, nb::arg("model"), nb::arg("q"), nb::arg("M"), nb::arg("threads"),
           release, "Mass matrices of q (N, n) into M (N, n, n).");
     m.def("forward_dynamics", &forward_dynamics_batch, nb::arg("model"), nb::arg("q"), nb::arg("qd"),

@@ -72,7 +72,7 @@ def _model(chain: Chain) -> _core.Dynamics:
         mass = np.array([b.mass for b in bodies])
         moment = np.array([b.mass * b.com for b in bodies])
         inertia = np.array([b.about_origin() for b in bodies])
-        return _core.Dynamics(chain._core, mass, moment, inertia)
+        return _core.Dynamics(chain._core, mass, moment, inertia, GRAVITY)  # GRAVITY: for one-state calls
 
     return chain.derived("dynamics", make)
 

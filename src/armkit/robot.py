@@ -422,9 +422,9 @@ class Robot:
         return rng.uniform(lim[:, 0], lim[:, 1], size=(*shape, self.n))
 
     # ----------------------------------------------------------------- dynamics
-    # One state (arrays (n,) the core takes as they are, default gravity, no threads) goes straight
-    # to the core's one-state call, which answers None for anything it does not take as it is (a
-    # batch, a value not finite, a singular mass matrix): the checked path then answers or says why.
+    # One state (arrays (n,) the core takes as they are, default gravity: the model's, no threads) goes
+    # straight to the core's one-state call, which answers None for anything it does not take as it is
+    # (a batch, a value not finite, a singular mass matrix): the checked path then answers or says why.
     def inverse_dynamics(self, q: ArrayLike, qd: ArrayLike | None = None, qdd: ArrayLike | None = None, *,
                          gravity: ArrayLike | None = None, threads: int | None = None) -> NDArray[np.float64]:
         """Joint torques ``(..., n)`` [N m or N] for positions, velocities and accelerations
@@ -438,7 +438,7 @@ class Robot:
         """
         if gravity is None and threads is None:
             try:
-                tau = _core.inverse_dynamics_one(dynamics._model(self.chain), q, qd, qdd, dynamics.GRAVITY)
+                tau = _core.inverse_dynamics_one(dynamics._model(self.chain), q, qd, qdd)
             except TypeError:  # not arrays: the checked path
                 tau = None
             if tau is not None:
@@ -474,7 +474,7 @@ class Robot:
         :func:`armkit.dynamics.forward_dynamics`."""
         if gravity is None and threads is None:
             try:
-                qdd = _core.forward_dynamics_one(dynamics._model(self.chain), q, qd, tau, dynamics.GRAVITY)
+                qdd = _core.forward_dynamics_one(dynamics._model(self.chain), q, qd, tau)
             except TypeError:
                 qdd = None
             if qdd is not None:

@@ -20,6 +20,7 @@ struct Dynamics {
     std::vector<double> mass;      // n [kg]
     std::vector<Vec3> moment;      // n, m c [kg m] in F_i
     std::vector<Mat3> inertia;     // n, about the origin of F_i [kg m^2]
+    Vec3 gravity;                  // the one-state calls' gravity [m/s^2] in F_0 (the batch calls take one)
 };
 
 // tau (n) = M(q) qdd + C(q, qd) qd - (gravity's generalized force); qd or qdd may be null (zero).
