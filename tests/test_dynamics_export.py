@@ -90,3 +90,22 @@ def test_an_inertia_no_rigid_body_has_is_made_one_keeping_its_largest_moment():
     assert bodies[0].mass == MIN_MASS and bodies[1].mass == 17.4
     model = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))  # MuJoCo takes it
     assert model.body_mass[1:].sum() == pytest.approx(23.45 + MIN_MASS, rel=1e-14)
+
+
+def test_computed_torque_feedforward_from_armkit_tracks_better_than_bias_compensation():
+    from armkit.sim import Simulation
+    from armkit.trajectory import min_jerk
+
+    robot = armkit.load("stanford").with_estimated_inertia(1000.0)  # what the simulation model has
+    sim = Simulation(robot, gravity=True)
+    q0 = robot.home
+    traj = min_jerk([q0, q0 + [0.6, -0.4, 0.1, 0.5, 0.3, -0.6]], [1.5])
+    samples = traj.sample(1000.0)
+    compensated = sim.run(samples.t, samples.q, samples.qd)
+    tau = robot.inverse_dynamics(samples.q, samples.qd, samples.qdd)
+    feedforward = tau + sim.model.dof_armature * samples.qdd  # the MJCF's rotor inertia too
+    fed = sim.run(samples.t, samples.q, samples.qd, feedforward=feedforward)
+    assert fed.feedforward and not compensated.feedforward
+    assert np.abs(fed.joint_error).max() < 0.5 * np.abs(compensated.joint_error).max()
+    with pytest.raises(armkit.InputError, match=r"feedforward: expected shape \(1501, 6\), one torque per"):
+        sim.run(samples.t, samples.q, samples.qd, feedforward=feedforward[:-1])

@@ -303,3 +303,4 @@ def test_the_dynamics_experiment_finds_armkit_and_mujoco_agree(seed_report):
     assert (seed_report.index.parent / "dynamics_torques.png").is_file()
     assert "armkit = MuJoCo to" in section.headline
     assert [row[0] for row in section.tables[0].rows] == armkit.load("probot-anno").joint_names
+    assert section.tables[1].columns[2] == "computed-torque feedforward (armkit's)"

@@ -41,7 +41,10 @@ def dynamics_experiment(ctx: LabContext) -> Section:
         "gravity. " + ("The masses and inertias are the robot file's own. " if own else
                        "The robot file gives no masses: both use the simulation model's capsules (density "
                        "1000 kg/m^3, what robot.with_estimated_inertia(density=1000) gives). ")
-        + "MuJoCo's joints also carry a reflected rotor inertia (armature), whose torque is taken off."))
+        + "MuJoCo's joints also carry a reflected rotor inertia (armature), whose torque is taken off. "
+        "Then MuJoCo tracks the motion twice with the same servos: with its own gravity and bias "
+        "compensation (as in experiment 4), and with armkit's torques (plus the armature's) as "
+        "computed-torque feedforward."))
     robot = simulated_robot(ctx)
     q_waypoints, _, _, durations = _waypoints(ctx)
     trajectory = plan_trajectory(robot, q_waypoints, durations)
@@ -71,8 +74,18 @@ def dynamics_experiment(ctx: LabContext) -> Section:
         section.status = "failed"
         section.notes.append(f"armkit and MuJoCo differ by {worst:.1e} of the largest torque, more than "
                              f"{AGREEMENT:g}")
+    compensated = ctx.sim.run(samples.t, samples.q, samples.qd)
+    feedforward = torques.tau + model.dof_armature * samples.qdd  # the servo model's rotor inertia too
+    fed = ctx.sim.run(samples.t, samples.q, samples.qd, feedforward=feedforward)
+    error = {"bias": np.abs(compensated.joint_error).max(axis=0), "fed": np.abs(fed.joint_error).max(axis=0)}
+    section.tables.append(Table("Tracking in MuJoCo: max |q_MuJoCo - q_command|", [
+        "joint", "bias compensation (MuJoCo's)", "computed-torque feedforward (armkit's)"],
+        [[name, fmt_error(error["bias"][j]), fmt_error(error["fed"][j])]
+         for j, name in enumerate(robot.joint_names)],
+        note="Same servos, same trajectory; rad for revolute joints, m for prismatic ones."))
     section.headline = (f"peak {fmt(float(torques.peak.max()), 2)} N m; armkit = MuJoCo to {worst:.0e} "
-                        f"(relative) over {samples.t.size} states")
+                        f"(relative) over {samples.t.size} states; feedforward tracks to "
+                        f"{error['fed'].max():.0e} (bias compensation {error['bias'].max():.0e})")
     figure = Figure(figsize=(8.5, 3.2))
     ax_tau, ax_diff = figure.subplots(1, 2)
     for j, name in enumerate(robot.joint_names):
