@@ -18,6 +18,7 @@ _MODULES = {
     "armkit.export": ["mjcf_from_robot", "urdf_from_robot", "write_mjcf", "write_urdf"],
     "armkit.ik": ["IKResult", "IKResultBatch", "IKSolutions", "NumericIK", "analyze_structure",
                   "ik_position", "ik_solutions", "numeric_ik", "position_solutions"],
+    "armkit.inertial": ["Inertial"],
     "armkit.kinematics": ["ChainKernel"],
     "armkit.robot": ["LockedRobot", "Robot"],
     "armkit.robot_file": ["builtin_robots", "load", "robot_from_dict", "robot_to_toml"],
