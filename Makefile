@@ -29,7 +29,7 @@ test: $(VENV)/.installed-test
 
 fuzz: $(VENV)/.installed-test  # the fuzz and property tests (CLI, robot files, URDF, IK) with many more examples
 	HYPOTHESIS_PROFILE=fuzz ARMKIT_FUZZ_EXAMPLES=20000 $(BIN)/python -m pytest -q tests/test_cli_fuzz.py \
-		tests/test_ik_property.py tests/test_robot_file_fuzz.py tests/test_urdf.py \
+		tests/test_ik_property.py tests/test_robot_file_fuzz.py tests/test_urdf.py tests/test_params.py \
 		-k "fuzz or property or documents or mutated"
 
 bench: $(VENV)/.installed-test

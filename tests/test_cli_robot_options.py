@@ -4,6 +4,7 @@ Panda of example-robot-data through ik, traj, sim and lab (issue 11's done-when)
 from __future__ import annotations
 
 import json
+import warnings
 from importlib.metadata import distribution
 from pathlib import Path
 
@@ -74,13 +75,28 @@ def test_fk_with_a_locked_joint_is_the_full_fk(capsys):
 @pytest.mark.parametrize(("options", "message"), [
     (["--lock", "elbow_joint"], "--lock 'elbow_joint': expected JOINT=VALUE"),
     (["--lock", "7=0"], "joint number 7; expected 1 to 6"),
-    (["--lock", "wrist=0"], "joint 'wrist' to lock: expected a joint name"),
+    (["--lock", "wrist=0"], "--lock 'wrist=0': no joint 'wrist'; expected a joint number 1 to 6 or a name "
+                            "(shoulder_pan_joint, "),
     (["--lock", "1=abc"], "is not a number"),
     (["--lock", "1=9"], "cannot lock joint shoulder_pan_joint = 9 rad is outside its limits"),
+    (["--lock", "-1=0.3"], "--lock '-1=0.3': joint number -1; expected 1 to 6"),
+    (["--lock", "0=0.3"], "--lock '0=0.3': joint number 0; expected 1 to 6"),
+    (["--lock", "1=0.3", "--lock", "1=0.4"],
+     "--lock '1=0.4': joint shoulder_pan_joint is already locked by --lock '1=0.3'; lock each joint once"),
+    (["--lock", "shoulder_pan_joint=0.3", "--lock", "1=0.4"],
+     "--lock '1=0.4': joint shoulder_pan_joint is already locked by --lock 'shoulder_pan_joint=0.3'"),
+    (["--lock", "2=0.3", "--lock", "shoulder_lift_joint=0.3"],
+     "--lock 'shoulder_lift_joint=0.3': joint shoulder_lift_joint is already locked by --lock '2=0.3'"),
+    (["--lock", "6=1e300"], "joint wrist_3_joint: lock value 1e+300 is not a finite number from -1e+06 to "
+                            "1e+06 (rad or m)"),
+    (["--lock", "6=nan"], "joint wrist_3_joint: lock value nan is not a finite number"),
+    (["--lock", "6=-inf"], "joint wrist_3_joint: lock value -inf is not a finite number"),
     (["--tip", "hand"], "tip link 'hand' is not in the file"),
 ])
 def test_bad_options_get_one_line(capsys, options, message):
-    code, _, err = run(capsys, "show", UR5, *([] if "--tip" in options else ["--tip", "tool0"]), *options)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # one line, no RuntimeWarning before it
+        code, _, err = run(capsys, "show", UR5, *([] if "--tip" in options else ["--tip", "tool0"]), *options)
     assert code == 1 and message in err and len(err.strip().splitlines()) == 1
 
 

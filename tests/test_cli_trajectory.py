@@ -80,8 +80,8 @@ def test_too_short_durations_are_stretched_and_reported(capsys):
 
 @pytest.mark.parametrize(("args", "message"), [
     (["--durations", "10", "10"], "4 waypoints need 3 segment durations, got 2"),
-    (["--durations", "10", "0", "10"], "must be positive .* got 0 for segment 2"),
-    (["--durations", "10", "-1", "10"], "must be positive"),
+    (["--durations", "10", "0", "10"], r"must be from 1e-06 s to 1e\+06 s, got 0 s for segment 2"),
+    (["--durations", "10", "-1", "10"], r"must be from 1e-06 s to 1e\+06 s, got -1 s"),
     (["--durations", "10", "x", "10"], "--durations: 'x' is not a number"),
     (["--durations", "10", "nan", "10"], "durations: contains NaN"),
     ([], r"give one of --durations D1 D2 ... .* --times T1 T2 ... .* or --auto-time"),

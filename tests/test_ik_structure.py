@@ -50,13 +50,23 @@ def test_random_pieper_arms_are_recognised(kind, convention, seed):
 
 @settings(max_examples=20, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1))
-def test_general_6r_has_no_closed_form(seed):
+def test_general_6r_goes_to_the_general_solver(seed):
     rng = np.random.default_rng(seed)
     rows = [DHRow(rng.uniform(0.3, 2.8), rng.uniform(0.1, 0.4), rng.uniform(0.1, 0.4),
                   rng.uniform(-3, 3)) for _ in range(6)]
     structure = analyze_structure(chain_from_dh(rows, "standard"))
-    assert structure.kind == "none" and not structure.closed_form
+    assert structure.kind == "general-6r" and structure.closed_form and structure.max_solutions == 16
     assert "no three consecutive axes meet" in structure.description
+    assert "Raghavan-Roth" in structure.description
+
+
+def test_general_6r_with_a_prismatic_joint_has_no_closed_form_and_says_why():
+    rng = np.random.default_rng(5)
+    rows = [DHRow(rng.uniform(0.3, 2.8), rng.uniform(0.1, 0.4), rng.uniform(0.1, 0.4),
+                  rng.uniform(-3, 3), "prismatic" if j == 2 else "revolute") for j in range(6)]
+    structure = analyze_structure(chain_from_dh(rows, "standard"))
+    assert structure.kind == "none" and not structure.closed_form
+    assert "revolute joints only" in structure.description
 
 
 def test_same_arm_in_both_conventions_and_with_base_and_tool():

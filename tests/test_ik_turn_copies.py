@@ -7,6 +7,7 @@ the limits of a joint that spans more than a turn.
 
 from __future__ import annotations
 
+import importlib
 import json
 import math
 import warnings
@@ -20,7 +21,7 @@ import armkit
 from armkit import Robot
 from armkit.chain import LIMIT_TOLERANCE, DHRow, chain_from_dh
 from armkit.cli.main import main
-from armkit.errors import SolutionsLeftOffWarning
+from armkit.errors import InputError, SolutionsLeftOffWarning
 from armkit.ik import ik_solutions
 from armkit.ik.pipeline import MAX_SOLUTIONS
 
@@ -181,3 +182,20 @@ def test_prismatic_joints_with_wide_limits_have_no_copies():
     rows = [DHRow(0, 0.3, 0, 0), DHRow(0, 0.2, 0, 0, "prismatic")]
     chain = chain_from_dh(rows, "standard", limits=[(-math.pi, math.pi), (-20.0, 20.0)])
     assert chain.spans_turns == ()
+
+
+def test_a_batch_whose_turn_copies_would_not_fit_is_refused_before_listing_them(monkeypatch):
+    solve_module = importlib.import_module("armkit.ik.solve")
+    monkeypatch.setattr(solve_module, "MAX_BATCH_ROWS", 2000)  # 1e7 in use: the rule, at a test's scale
+    T = UR5.fk(UR5.random_q(3, rng=0))  # 512, 256 and 512 solutions with their copies
+    message = (r"T_base_tool: 5 poses whose whole-turn copies give up to 512 solutions each \(pose 1\) "
+               r"would list 2,560 rows \(about 0.000184 GB\), more than MAX_BATCH_ROWS = 2,000; solve at "
+               r"most 3 poses at a time, or pass turn_copies=False")
+    batch = np.concatenate([T, T[:2]])
+    with pytest.raises(InputError, match=message):
+        ik_solutions(UR5, batch)
+    with pytest.raises(InputError, match=r"5 poses whose whole-turn copies"):
+        UR5.ik(batch, all_solutions=True)
+    assert ik_solutions(UR5, T).counts.tolist() == [512, 256, 512]  # 3 x 512 rows fit
+    once = ik_solutions(UR5, batch, turn_copies=False).counts  # each solution once: 512 = 8 x 2^6
+    assert once.tolist() == [8, 4, 8, 8, 4]

@@ -81,6 +81,14 @@ def test_non_utf8_file(tmp_path):
         load_bytes(tmp_path, b'name = "\xff\xfe"\n' + GOOD.encode())
 
 
+def test_a_byte_order_mark_is_skipped_as_in_urdf(tmp_path):
+    with_mark = load_bytes(tmp_path, b"\xef\xbb\xbf" + GOOD.encode())
+    without = load_bytes(tmp_path, GOOD.encode())
+    q = without.random_q(4, rng=3)
+    np.testing.assert_array_equal(with_mark.fk(q), without.fk(q))
+    assert with_mark.joint_names == without.joint_names
+
+
 def test_arrays_nested_5000_deep(tmp_path):
     text = GOOD.replace("a = 300", "a = " + "[" * 5000 + "]" * 5000)
     with pytest.raises(RobotDefinitionError, match="nested too deeply"):

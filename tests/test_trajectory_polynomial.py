@@ -78,11 +78,12 @@ def test_lspb_triangle_limit_and_rejects_impossible_speed():
 
 
 @pytest.mark.parametrize(("call", "message"), [
-    (lambda: quintic(0, 1, 0.0), "duration: every segment duration must be positive"),
+    (lambda: quintic(0, 1, 0.0),
+     r"duration: every segment duration must be from 1e-06 s to 1e\+06 s, got 0 s"),
     (lambda: quintic(0, np.nan, 1.0), "q1: contains NaN"),
     (lambda: quintic([0, 1], [1, 2, 3], 1.0), "incompatible shapes"),
     (lambda: quintic(0, 1, 1.0).at_time(1.5), r"t: expected times in \[0, 1\] s"),
-    (lambda: cubic(0, 1, -2.0), "must be positive"),
+    (lambda: cubic(0, 1, -2.0), r"must be from 1e-06 s to 1e\+06 s, got -2 s"),
 ])
 def test_bad_input_is_a_clear_error(call, message):
     with pytest.raises(InputError, match=message):

@@ -225,3 +225,64 @@ def test_a_wrist_singular_target_flags_its_families():
         assert viewer._ghosts[family].handle.batched_colors[0].tolist() == list(Colours.GHOST_FAMILY)
         assert "singular family" in viewer._ik_status.content
         np.testing.assert_allclose(robot.fk(found.q[family]), robot.fk(q), atol=1e-12)
+
+
+def _send_messages(url: str, frames: list) -> None:
+    """Send each frame to the viewer's websocket as a browser tab would, one connection each
+    (a frame the server cannot read ends its connection)."""
+    import asyncio
+
+    import websockets
+
+    async def send() -> None:
+        for frame in frames:
+            protocol = f"viser-v{viser.__version__}"
+            async with websockets.connect(url.replace("http", "ws"), subprotocols=[protocol]) as connection:
+                await connection.send(frame)
+                await asyncio.sleep(0.3)
+
+    asyncio.run(send())
+
+
+def test_a_zero_quaternion_on_the_ik_handle_is_a_status_line_not_a_traceback(capfd):
+    import msgspec
+
+    with Viewer("probot-anno", port=0) as viewer:
+        before = viewer.target.copy()
+        _send_messages(viewer.url, [msgspec.msgpack.encode(
+            {"type": "TransformControlsUpdateMessage", "name": "/target", "wxyz": [0.0, 0.0, 0.0, 0.0],
+             "position": [0.2, 0.1, 0.3]})])
+        deadline = time.monotonic() + 30
+        while "data-armkit='error'" not in viewer._status.content and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert "quaternion: expected a non-zero quaternion, got norm 0" in viewer._status.content
+        np.testing.assert_array_equal(viewer.target, before)
+    _, err = capfd.readouterr()
+    assert "Traceback" not in err, err
+
+
+def test_junk_websocket_frames_are_one_line_each_and_the_server_stays_up(tmp_path):
+    import msgspec
+
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", "probot-anno", "--port", "0",
+                                "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env=env, cwd=tmp_path)
+    frames = [b"\x00\x01junk", "a text frame", b"\x81\xa3", msgspec.msgpack.encode({"type": "NoSuchMessage"}),
+              msgspec.msgpack.encode([1, 2, 3]),
+              msgspec.msgpack.encode({"type": "TransformControlsUpdateMessage", "name": "/target",
+                                      "wxyz": "abc", "position": [0.2, 0.1, 0.3]})]
+    try:
+        url = process.stdout.readline().split(" at ")[1].split()[0]
+        _send_messages(url, frames)
+        with urllib.request.urlopen(url, timeout=30) as response:  # still serving
+            assert b"<html" in response.read(2000).lower()
+        assert process.poll() is None
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+    finally:
+        process.kill()
+    lines = err.strip().splitlines()
+    assert "Traceback" not in err and lines[-1] == "armkit view: stopped", err
+    assert len(lines) == len(frames) + 1, err
+    assert all(line.startswith("armkit view: ignored a message it cannot read (") for line in lines[:-1]), err

@@ -93,7 +93,7 @@ def test_planar_arm_gets_one_voxel_layer():
 @pytest.mark.parametrize(("kwargs", "match"), [
     ({"resolution": -1.0}, "resolution: expected a positive length"),
     ({"resolution": 1e-6}, "choose a coarser one"),
-    ({"samples": 0}, "samples: expected a positive whole number"),
+    ({"samples": 0}, "samples: expected a whole number from 1 to 9007199254740992, got 0"),
     ({"method": "halton"}, "sampling method 'halton'"),
 ])
 def test_bad_settings_are_named(kwargs, match):

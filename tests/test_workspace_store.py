@@ -147,3 +147,45 @@ def test_cli_sweep_report_names_the_arm_and_shows_every_value(tmp_path, capsys):
     again = workspace.open(tmp_path / "s.zarr")
     assert [round(v, 3) for v in again.values] == [0.15, 0.3]
     assert again.table()[1]["reachable_volume"] == summary["values"][1]["reachable_volume"]
+
+
+def _interrupt_after(monkeypatch, accumulator: type, chunks: int) -> None:
+    """Ctrl-C arrives once ``chunks`` chunks have been added to ``accumulator``."""
+    real_add, calls = accumulator.add, []
+
+    def add_then_interrupt(self, result):
+        if len(calls) == chunks:
+            raise KeyboardInterrupt
+        calls.append(1)
+        real_add(self, result)
+
+    monkeypatch.setattr(accumulator, "add", add_then_interrupt)
+
+
+@pytest.mark.parametrize(("module", "accumulator", "unfinished"), [
+    ("armkit.workspace.dexterity", "_Counts", "dexterity"),
+    ("armkit.workspace.manipulability", "_Stats", "manipulability"),
+])
+def test_an_interrupted_run_is_never_reported_complete_and_resume_completes_it(
+        tmp_path, puma, monkeypatch, module, accumulator, unfinished):
+    settings = SMALL | {"resolution": 0.05, "manipulability_samples": 16_000}
+    whole = workspace.compute(puma, **settings)
+    assert whole.complete and whole.summary()["complete"]
+    with monkeypatch.context() as patch:
+        _interrupt_after(patch, getattr(importlib.import_module(module), accumulator), 2)
+        with pytest.raises(workspace.InterruptedRun, match=f"after 2 of .* chunks of {unfinished}"):
+            workspace.compute(puma, out=tmp_path / "m.zarr", **settings)
+    cut = workspace.open(tmp_path / "m.zarr")
+    summary = cut.summary()
+    assert not cut.complete and summary["complete"] is False and summary["reachability_complete"] is True
+    assert summary[unfinished]["complete"] is False
+    if unfinished == "dexterity":
+        assert 0 < summary["dexterity"]["voxels_tested"] < summary["dexterity"]["voxels_to_test"]
+    else:
+        assert summary["maps_missing"] == ["dexterity"]
+        assert 0 < summary["manipulability"]["samples"] < 16_000
+    resumed = workspace.compute(puma, out=tmp_path / "m.zarr", resume=True, **settings)
+    again = workspace.open(tmp_path / "m.zarr")
+    assert resumed.complete and again.complete and "maps_missing" not in again.summary()
+    np.testing.assert_array_equal(again.dexterity.reachable_fraction, whole.dexterity.reachable_fraction)
+    np.testing.assert_array_equal(again.manipulability.arrays["count"], whole.manipulability.arrays["count"])

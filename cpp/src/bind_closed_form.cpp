@@ -84,7 +84,7 @@ void pair_field(const nb::kwargs& kw, const char* name, double (&x)[2]) {
 
 constexpr const char* kFields[] = {"kind", "position_case", "h", "p", "prismatic", "c", "o", "u", "hp", "a1", "a2",
                                    "a3", "Q", "Q_inv", "f", "rank1", "lam", "mu", "snap_t2", "q5_aligned",
-                                   "b_aligned", "revolute_joints", "prismatic_joint", "k"};
+                                   "b_aligned", "revolute_joints", "prismatic_joint", "k", "general_shift"};
 
 // A CaseGeometry from the keyword arguments named like the fields of ik_cases.hpp (k
 // optional: 2 for planar arms, else 8), checked for sizes and ranges.
@@ -97,7 +97,7 @@ CaseGeometry make_geometry(const nb::kwargs& kw) {
     }
     CaseGeometry g;
     const int kind = integer(kw, "kind"), position_case = integer(kw, "position_case");
-    if (kind < 0 || kind > 4) throw nb::value_error("CaseGeometry: kind must be 0 (spherical) .. 4 (point)");
+    if (kind < 0 || kind > 5) throw nb::value_error("CaseGeometry: kind must be 0 (spherical) .. 5 (general)");
     if (position_case < -1 || position_case > 5) throw nb::value_error("CaseGeometry: position_case must be -1 .. 5");
     g.kind = CaseKind(kind);
     g.position_case = PositionCase(position_case);
@@ -141,7 +141,14 @@ CaseGeometry make_geometry(const nb::kwargs& kw) {
         throw nb::value_error("CaseGeometry: prismatic_joint must be -1 or a joint index");
     if (g.kind == CaseKind::Planar && g.revolute_joints.size() != 2 && g.revolute_joints.size() != 3)
         throw nb::value_error("CaseGeometry: a planar arm needs 2 or 3 revolute_joints");
-    g.k = g.kind == CaseKind::Planar ? 2 : (g.kind == CaseKind::Point ? 4 : 8);
+    if (g.kind == CaseKind::General) {
+        if (std::any_of(g.prismatic.begin(), g.prismatic.end(), [](std::uint8_t v) { return v != 0; }))
+            throw nb::value_error("CaseGeometry: the general 6R case takes revolute joints only");
+        const int shift = kw.contains("general_shift") ? integer(kw, "general_shift") : 0;
+        if (shift < 0 || shift > 5) throw nb::value_error("CaseGeometry: general_shift must be 0 .. 5");
+        prepare_general(g.h.data(), g.p.data(), shift, g.general);
+    }
+    g.k = g.kind == CaseKind::Planar ? 2 : g.kind == CaseKind::Point ? 4 : g.kind == CaseKind::General ? kGeneralRoots : 8;
     if (kw.contains("k") && integer(kw, "k") != g.k)
         throw nb::value_error(("CaseGeometry: k must be " + std::to_string(g.k) + " for this kind").c_str());
     return g;

@@ -26,7 +26,7 @@ ClosedForm make_closed_form(const Chain& chain, const CaseGeometry& geometry, In
     if (geometry.n != chain.n || index.size() != n || sign.size() != n || M_inv.size() != 16 || k < 1 ||
         k > kMaxCandidates)
         throw std::invalid_argument("ClosedForm: expected a geometry of the chain's n joints, index and sign "
-                                    "(n,), M_inv (4, 4), 1 <= k <= 8");
+                                    "(n,), M_inv (4, 4), 1 <= k <= 16");
     ClosedForm cf;
     cf.chain = chain;
     cf.geometry = geometry;
@@ -44,6 +44,10 @@ ClosedForm make_closed_form(const Chain& chain, const CaseGeometry& geometry, In
     cf.k = k;
     cf.verify = verify;
     cf.polish = polish;
+    if (geometry.kind == CaseKind::General) {
+        cf.polish_steps = kGeneralNewtonSteps;
+        cf.polish_stop = kPolished * geometry.size;
+    }
     cf.verify_tolerance = verify_tolerance;
     return cf;
 }

@@ -15,7 +15,7 @@ void joint_motion(const ClosedForm& cf, const Pose& T, Mat3& R, Vec3& t) {
     t = G.position();
 }
 
-void newton(const Chain& chain, const Pose& T, double* q, int steps) {
+void newton(const Chain& chain, const Pose& T, double* q, int steps, double stop) {
     const int n = chain.n;
     static constexpr int rows[6] = {0, 1, 2, 3, 4, 5};  // every task row
     const double free[kMaxJoints] = {};                  // no joint held at a bound
@@ -25,6 +25,7 @@ void newton(const Chain& chain, const Pose& T, double* q, int steps) {
         const Pose F = joint_axes(chain, q, axes, points);
         jacobian_from_axes(F, axes, points, chain.prismatic.data(), n, J);
         pose_error(T, F, e);
+        if (stop > 0.0 && std::all_of(e, e + 6, [stop](double v) { return std::fabs(v) <= stop; })) return;
         damped_step(J, n, e, rows, 6, free, 1e-14, dq);
         for (int j = 0; j < n; ++j) q[j] += dq[j];
     }
@@ -220,7 +221,7 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
         }
         for (int j = 0; j < n; ++j) finite = finite && std::isfinite(qs[j]);
         valid[s] = valid[s] && finite;
-        if (cf.polish && valid[s]) newton(cf.chain, T, qs, 2);
+        if (cf.polish && valid[s]) newton(cf.chain, T, qs, cf.polish_steps, cf.polish_stop);
         for (int j = 0; j < n; ++j)
             if (!cf.chain.prismatic[j]) qs[j] = wrap_angle(qs[j]);
         if (cf.verify && valid[s]) valid[s] = fk_difference(cf.chain, T, qs) <= cf.verify_tolerance;

@@ -924,6 +924,9 @@ void solve_pose(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* v
         case CaseKind::Point:
             point(g, t, q, valid, family);
             break;
+        case CaseKind::General:
+            general_six_r(g.general, R, t, q, valid, family);
+            break;
     }
 }
 

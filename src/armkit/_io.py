@@ -1,14 +1,17 @@
-"""The one check every writer runs before creating an output file."""
+"""What every writer runs: the check of an output path, and the atomic write of the file."""
 
 from __future__ import annotations
 
+import os
+import secrets
+import stat
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 
 from armkit.errors import InputError
 
-__all__ = ["check_output_path", "writing"]
+__all__ = ["atomic_write", "check_output_path"]
 
 
 def check_output_path(path: str | Path, overwrite: bool, *, remedy: str = "pass overwrite=True") -> Path:
@@ -40,19 +43,57 @@ def check_output_path(path: str | Path, overwrite: bool, *, remedy: str = "pass 
 
 
 @contextmanager
-def writing(path: str | Path) -> Iterator[Path]:
-    """Turn an :class:`OSError` while writing ``path`` into one :class:`InputError` naming it.
+def atomic_write(path: str | Path) -> Iterator[Path]:
+    """Write a file through a temporary file beside ``path``, renamed over ``path`` only when complete.
 
-    A folder the user may not write to (``/proc``, a read-only mount, a full disk) is bad
-    input, not a bug: the message names the file and the system's reason.
+    The ``with`` body writes to the path it is given (in ``path``'s folder, with ``path``'s
+    extension, so writers that choose a format by extension behave alike); when the body
+    finishes the file is renamed onto ``path`` in one step (:func:`os.replace`). If the body
+    fails (a full disk, a file-size limit, Ctrl-C, any exception), the temporary file is
+    removed and the previous file at ``path``, if any, is left as it was. A file that
+    replaces another keeps the other's permission bits; a new one gets the usual ones
+    (``0o666`` less the umask). An :class:`OSError` becomes one :class:`InputError` naming
+    ``path`` and the system's reason: a folder the user may not write to (``/proc``, a
+    read-only mount, a full disk) is bad input, not a bug.
 
-    >>> with writing("/proc/armkit-test.csv") as path:  # doctest: +IGNORE_EXCEPTION_DETAIL
-    ...     path.write_text("t")
+    Parameters
+    ----------
+    path : str or Path
+        The file to create or replace.
+
+    Yields
+    ------
+    Path
+        The temporary file to write, ``.<name>-<random>.partial<suffix>`` beside ``path``.
+
+    Raises
+    ------
+    InputError
+        If the temporary file cannot be created, written or renamed.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> target = Path(tempfile.mkdtemp()) / "a.txt"
+    >>> with atomic_write(target) as partial:
+    ...     _ = partial.write_text("done")
+    >>> target.read_text()
+    'done'
+    >>> with atomic_write("/proc/armkit-test.csv") as partial:  # doctest: +IGNORE_EXCEPTION_DETAIL
+    ...     _ = partial.write_text("t")
     Traceback (most recent call last):
     armkit.errors.InputError: cannot write '/proc/armkit-test.csv': No such file or directory
     """
     path = Path(path)
+    partial = path.with_name(f".{path.stem}-{secrets.token_hex(4)}.partial{path.suffix}")
     try:
-        yield path
+        os.close(os.open(partial, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o666))
+        if path.is_file():
+            os.chmod(partial, stat.S_IMODE(path.stat().st_mode))
+        yield partial
+        os.replace(partial, path)
     except OSError as exc:
         raise InputError(f"cannot write {str(path)!r}: {exc.strerror or exc}") from exc
+    finally:
+        with suppress(OSError):
+            partial.unlink(missing_ok=True)

@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike, NDArray
 from PIL import Image
 
 from armkit import kinematics
-from armkit._io import writing
+from armkit._io import atomic_write
 from armkit.errors import InputError
 from armkit.export.physical import PhysicalModel, physical_model
 from armkit.robot import Robot
@@ -193,8 +193,8 @@ def plot_configurations(robot: Robot, q: ArrayLike, path: str | Path | None = No
         _axis_legend(ax)
     figure.subplots_adjust(left=0.02, right=0.95, bottom=0.03, top=0.93, wspace=0.05)
     if path is not None:
-        with writing(path):
-            figure.savefig(path, dpi=dpi)
+        with atomic_write(path) as partial:
+            figure.savefig(partial, dpi=dpi)
     return figure
 
 
@@ -281,6 +281,6 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
         for artist in added:
             artist.remove()
     path = Path(path)
-    with writing(path):
-        images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+    with atomic_write(path) as partial:
+        images[0].save(partial, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
     return path

@@ -26,10 +26,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
+from armkit._params import positive_float, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, RobotDefinitionError
 from armkit.inertial import Inertial
-from armkit.kinematics import _threads, non_finite_error
+from armkit.kinematics import non_finite_error
 from armkit.spatial.transforms import rot_z, trans_z
 
 if TYPE_CHECKING:  # armkit.robot imports this module lazily
@@ -165,7 +166,7 @@ def inverse_dynamics(robot: Robot | Chain, q: ArrayLike, qd: ArrayLike | None = 
     model = _model(chain)
     q, qd, qdd = _states(chain, q=q, qd=qd, qdd=qdd)  # broadcast to one shape
     tau = np.empty(q.shape)
-    _core.inverse_dynamics(model, q, qd, qdd, _gravity(gravity), tau, _threads(threads))
+    _core.inverse_dynamics(model, q, qd, qdd, _gravity(gravity), tau, thread_count(threads))
     return tau
 
 
@@ -204,7 +205,7 @@ def mass_matrix(robot: Robot | Chain, q: ArrayLike, *, threads: int | None = Non
     model = _model(chain)
     (q,) = _states(chain, q=q)
     M = np.empty((*q.shape, chain.n))
-    _core.mass_matrix(model, q, M, _threads(threads))
+    _core.mass_matrix(model, q, M, thread_count(threads))
     return M
 
 
@@ -234,7 +235,7 @@ def forward_dynamics(robot: Robot | Chain, q: ArrayLike, qd: ArrayLike, tau: Arr
     model = _model(chain)
     q, qd, tau = _states(chain, q=q, qd=qd, tau=tau)
     qdd = np.empty(q.shape)
-    bad = _core.forward_dynamics(model, q, qd, tau, _gravity(gravity), qdd, _threads(threads))
+    bad = _core.forward_dynamics(model, q, qd, tau, _gravity(gravity), qdd, thread_count(threads))
     if bad >= 0:
         where = np.unravel_index(bad, q.shape[:-1]) if q.ndim > 1 else ()
         state = f" at state {tuple(int(i) for i in where)}" if where else ""
@@ -337,10 +338,7 @@ def with_estimated_inertia(robot: Robot, density: float = 1000.0) -> Robot:
     """
     from armkit.export.physical import DENSITY, capsule_bodies
 
-    if isinstance(density, bool) or not isinstance(density, int | float | np.floating) or not (
-            np.isfinite(density) and density > 0):
-        raise InputError(f"density: expected a positive number [kg/m^3], got {density!r}")
-    scale = float(density) / DENSITY
+    scale = positive_float(density, "density [kg/m^3]") / DENSITY
     inertials = []
     for joint, body in zip(robot.chain.joints, capsule_bodies(robot)[2], strict=True):
         in_joint_frame = Inertial(body.mass * scale, body.com, body.inertia * scale)

@@ -59,9 +59,9 @@ class Inertial:
         if not (np.isfinite(mass) and mass >= 0):
             raise RobotDefinitionError(f"mass = {self.mass!r} kg; expected a finite number >= 0")
         if com.shape != (3,) or not np.isfinite(com).all():
-            raise RobotDefinitionError(f"com = {self.com!r}; expected 3 finite numbers [m]")
+            raise RobotDefinitionError(f"com = {com.tolist()}; expected 3 finite numbers [m]")
         if inertia.shape != (3, 3) or not np.isfinite(inertia).all():
-            raise RobotDefinitionError(f"inertia = {self.inertia!r}; expected a finite 3x3 matrix [kg m^2]")
+            raise RobotDefinitionError(f"inertia = {inertia.tolist()}; expected a finite 3x3 matrix [kg m^2]")
         scale = max(float(np.abs(inertia).max()), 1e-300)
         if not np.allclose(inertia, inertia.T, rtol=0, atol=1e-9 * scale):
             raise RobotDefinitionError(f"inertia = {inertia.tolist()} is not symmetric; expected "

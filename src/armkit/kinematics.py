@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
+from armkit._params import thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError
 from armkit.spatial.rotations import angular_velocity_matrix, euler_from_matrix
@@ -78,14 +79,6 @@ def _raise_if_bad(q: NDArray[np.float64], bad: int) -> None:
         raise non_finite_error(q, bad=bad)
 
 
-def _threads(threads: int | None) -> int:
-    if threads is None:
-        return 0
-    if not isinstance(threads, int | np.integer) or threads < 1:
-        raise InputError(f"threads: expected a positive whole number (or None: every core), got {threads!r}")
-    return int(threads)
-
-
 def fk(robot: Robot | Chain, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.float64]:
     """Tool poses ``T_base_tool`` [m], shape ``(..., 4, 4)``, for joint values ``(..., n)``.
 
@@ -96,7 +89,8 @@ def fk(robot: Robot | Chain, q: ArrayLike, *, threads: int | None = None) -> NDA
     q : array_like, shape (..., n)
         Joint values [rad or m].
     threads : int, optional
-        Threads for a batch (default: every core); the result does not depend on it.
+        Threads for a batch: ``None`` or 0 (default) every core, else 1 to 1024; the result
+        does not depend on it.
 
     Raises
     ------
@@ -112,7 +106,7 @@ def fk(robot: Robot | Chain, q: ArrayLike, *, threads: int | None = None) -> NDA
     """
     chain = as_chain(robot)
     q = _joint_values(chain, q)
-    return _fk(chain, q, _threads(threads))
+    return _fk(chain, q, thread_count(threads))
 
 
 # The unchecked forms below are for callers that have checked q already (Robot.check_q).
@@ -129,7 +123,7 @@ def joint_frames(robot: Robot | Chain, q: ArrayLike, *,
     Joint ``i`` moves about or along the z axis of frame ``i`` of the first result.
     """
     chain = as_chain(robot)
-    return _joint_frames(chain, _joint_values(chain, q), _threads(threads))
+    return _joint_frames(chain, _joint_values(chain, q), thread_count(threads))
 
 
 def _joint_frames(chain: Chain, q: NDArray[np.float64],
@@ -166,10 +160,11 @@ def geometric_jacobian(robot: Robot | Chain, q: ArrayLike, frame: str = "base", 
         Frame the twist is expressed in. ``"base"``: ``[v; w]`` of the tool origin in base
         coordinates; ``"tool"``: the same twist in tool coordinates.
     threads : int, optional
-        Threads for a batch (default: every core); the result does not depend on it.
+        Threads for a batch: ``None`` or 0 (default) every core, else 1 to 1024; the result
+        does not depend on it.
     """
     chain = as_chain(robot)
-    return _geometric_jacobian(chain, _joint_values(chain, q), frame, _threads(threads))
+    return _geometric_jacobian(chain, _joint_values(chain, q), frame, thread_count(threads))
 
 
 def _pose_jacobian(chain: Chain, q: NDArray[np.float64],

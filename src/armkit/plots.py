@@ -20,7 +20,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the "3d" projection)
 
-from armkit._io import check_output_path, writing
+from armkit._io import atomic_write, check_output_path
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.trajectory.joint_trajectory import JointTrajectory
@@ -37,8 +37,8 @@ def save_figure(figure: Figure, path: str | Path, overwrite: bool = False, dpi: 
     if path.suffix.lower() not in _FORMATS:
         raise InputError(f"{path}: expected a figure file ending in {', '.join(_FORMATS)}")
     check_output_path(path, overwrite)
-    with writing(path):
-        figure.savefig(path, dpi=dpi)
+    with atomic_write(path) as partial:
+        figure.savefig(partial, dpi=dpi)
     return path
 
 

@@ -18,7 +18,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core, dynamics, kinematics
 from armkit._deprecation import renamed_argument
-from armkit.chain import Chain, DHConvention, DHRow, JointKind, chain_from_dh
+from armkit._params import thread_count, whole_number
+from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.inertial import Inertial
 from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
@@ -285,7 +286,7 @@ class Robot:
             T = _core.fk_one(self.chain._core, q)  # one configuration: one core call (None: not finite)
             if T is not None:
                 return T
-        return kinematics._fk(self.chain, self._checked(q), kinematics._threads(threads))
+        return kinematics._fk(self.chain, self._checked(q), thread_count(threads))
 
     def pose(self, q: ArrayLike, convention: str = "xyz-fixed",
              degrees: bool = False) -> NDArray[np.float64]:
@@ -303,7 +304,7 @@ class Robot:
             J = _core.jacobian_one(self.chain._core, q)  # as in fk
             if J is not None:
                 return J
-        threads = kinematics._threads(threads)
+        threads = thread_count(threads)
         return kinematics._geometric_jacobian(self.chain, self._checked(q), frame, threads)
 
     def analytic_jacobian(self, q: ArrayLike, convention: str = "xyz-fixed") -> NDArray[np.float64]:
@@ -340,6 +341,12 @@ class Robot:
             Reference configuration [rad or m]; default zeros.
         within_limits : bool
             Only solutions inside the joint limits (default).
+        free_joint : int or str, optional (keyword)
+            A redundant arm's joint held fixed (index or name), the others solved exactly by
+            the closed form of :meth:`lock` (a 7R arm: every solution at that joint value;
+            see :func:`armkit.self_motion` for the whole self-motion).
+        free_value : float, optional (keyword)
+            The value it is held at [rad or m]; default ``near``'s value of it, or 0.
 
         Returns
         -------
@@ -368,6 +375,14 @@ class Robot:
         if options and "all" in options:
             all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
                                              all_solutions, False)
+        if options and ("free_joint" in options or "free_value" in options):
+            from armkit.ik.self_motion import ik_at_free_joint
+
+            if options.get("free_joint") is None:
+                raise InputError("free_value: given without free_joint; name the joint it holds")
+            joint, value = options.pop("free_joint"), options.pop("free_value", None)
+            return ik_at_free_joint(self, T_base_tool, joint, value, all_solutions=all_solutions, near=near,
+                                    within_limits=within_limits, **options)
         one_near = near is None or (kinematics.is_ready(near, self.n) and near.ndim == 1)
         if _one_pose_ready(T_base_tool) and one_near:
             # the usual call: the core checks the pose and near itself (errors: ik's messages)
@@ -409,7 +424,8 @@ class Robot:
 
         An unbounded revolute joint (URDF ``continuous``) is drawn from ``[-pi, pi]`` (one
         whole turn), an unbounded prismatic one from ``[-1, 1]`` m. ``rng``: a generator, a
-        non-negative integer seed, or ``None`` (fresh entropy).
+        non-negative integer seed, or ``None`` (fresh entropy). ``size``: whole numbers from 0
+        to 2**31 - 1 (:func:`armkit._params.whole_number`).
         """
         try:
             rng = np.random.default_rng(rng)
@@ -418,7 +434,8 @@ class Robot:
                              f"got {rng!r}") from exc
         unbounded = np.where(self.chain.prismatic, 1.0, np.pi)[:, None] * [[-1.0, 1.0]]
         lim = np.where(np.isfinite(self.limits), self.limits, unbounded)
-        shape = (() if size is None else (size,) if isinstance(size, int) else tuple(size))
+        shape = () if size is None else tuple(size) if isinstance(size, tuple | list) else (size,)
+        shape = tuple(whole_number(k, "size", minimum=0) for k in shape)
         return rng.uniform(lim[:, 0], lim[:, 1], size=(*shape, self.n))
 
     # ----------------------------------------------------------------- dynamics
@@ -553,6 +570,9 @@ class Robot:
             except (TypeError, ValueError) as exc:
                 raise InputError(f"joint {self.joint_names[index]}: lock value {value!r} is not a "
                                  f"number") from exc
+            if not abs(number) <= MAX_VALUE:
+                raise InputError(f"joint {self.joint_names[index]}: lock value {value!r} is not a finite "
+                                 f"number from {-MAX_VALUE:g} to {MAX_VALUE:g} (rad or m)")
             out[index] = number
         if len(out) == self.n:
             raise InputError(f"locking all {self.n} joints leaves no robot; keep at least one free")

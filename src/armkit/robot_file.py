@@ -154,7 +154,7 @@ def _no_links(base: str | None, tip: str | None, source: str) -> None:
 
 def _load_text(data: bytes, source: str) -> Robot:
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # a byte order mark (some Windows editors write one) is skipped
     except UnicodeDecodeError as exc:
         raise RobotDefinitionError(f"{source}: not UTF-8 text (byte {exc.start}); save the robot file "
                                    f"as UTF-8") from exc
@@ -359,8 +359,9 @@ def _inertial(table: dict, where: str, length: float) -> Inertial | None:
                 raise RobotDefinitionError(f"{where}, key {key!r}: needs 'mass' [kg] too")
         return None
     mass = _number(table["mass"], f"{where}, key 'mass'")
-    if mass < 0:
-        raise RobotDefinitionError(f"{where}, key 'mass': expected a mass >= 0 kg, got {table['mass']!r}")
+    if not 0 <= mass <= MAX_VALUE:
+        raise RobotDefinitionError(f"{where}, key 'mass': expected a mass from 0 to {MAX_VALUE:g} kg, "
+                                   f"got {table['mass']!r}")
     com = _vector(table.get("com", [0, 0, 0]), f"{where}, key 'com'", length)
     value, key = table.get("inertia", [0, 0, 0]), f"{where}, key 'inertia'"
     if isinstance(value, list) and len(value) == 3 and all(isinstance(row, list) for row in value):

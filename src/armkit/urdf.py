@@ -15,20 +15,34 @@ What is read
     (default: the only leaf below ``base``); ``<limit>`` ``lower``/``upper``/``velocity``
     (a velocity of 0, written by some files for "none", is no limit; so is a position limit
     beyond :data:`armkit.chain.MAX_VALUE`, such as Gazebo's ``1e16``) and ``effort`` (kept
-    in :class:`UrdfDescription`); the ``<visual>`` meshes of every link that moves with
-    the chain (file name as written: ``package://`` or relative, origin and scale).
-    Everything else (inertia, collision, transmissions, ``<gazebo>``) is ignored.
+    in :class:`UrdfDescription` and as the joint's ``max_torque``; 0 is no limit); the
+    ``<visual>`` meshes of every link that moves with the chain (file name as written:
+    ``package://`` or relative, origin and scale); every ``<inertial>`` (mass, origin,
+    inertia) of the links that move with a chain link, merged into that link as pinocchio's
+    reduced model does: links fixed to it, and side branches and links beyond the tip held
+    at zero (a hand and its fingers), in its link frame. Links fixed to the base carry no
+    load and are left out; a file without any ``<inertial>`` on the moving links gives a
+    robot without inertia (:mod:`armkit.dynamics` then asks for it). Everything else
+    (collision, transmissions, ``<gazebo>``) is ignored.
 Refused, with one :class:`~armkit.errors.RobotDefinitionError` naming the joint or line
     Malformed XML, a document type declaration (``<!DOCTYPE``/``<!ENTITY``: entities can
     expand without bound, so no DTD is accepted at all; the standard library's parser then
     has nothing to expand), a root other than ``<robot>``, missing or repeated link and joint
     names, links with two parents or no single root, ``mimic``/``floating``/``planar``
     joints on the chosen path, a revolute or prismatic joint without ``<limit>``, a zero
-    axis, numbers that are not finite, origins beyond :data:`armkit.chain.MAX_VALUE`.
+    axis, numbers that are not plain decimals as the spec writes them (``1_0``, ``inf``,
+    ``nan`` and non-ASCII digits are refused) or not finite, origins beyond
+    :data:`armkit.chain.MAX_VALUE`. A UTF-8 byte order mark is skipped.
+Read with the spec's defaults, explicitly
+    A ``<limit>`` without ``lower`` or ``upper`` takes 0 for the missing one, as the URDF spec
+    and urdfdom do; one with neither holds a revolute or prismatic joint at ``[0, 0]`` and is
+    loaded so (real files write it: example-robot-data's Centauro wheels, the quadruped's
+    knees) with a ``UserWarning`` naming the joint, since it is rarely what was meant.
 """
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -37,7 +51,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit.chain import MAX_VALUE, chain_from_frames
-from armkit.errors import RobotDefinitionError
+from armkit.errors import RobotDefinitionError, warn_at_caller
 from armkit.inertial import Inertial
 from armkit.poe import rotation_z_to, unit_axis
 from armkit.robot import Robot
@@ -209,6 +223,7 @@ def _parse(text: str | bytes, source: str) -> ET.Element:
         except UnicodeDecodeError as exc:
             raise RobotDefinitionError(f"{source}: not UTF-8 text (byte {exc.start}); save the URDF "
                                        f"as UTF-8") from exc
+    text = text.removeprefix("\ufeff")  # a byte order mark, as utf-8-sig skips it in bytes
     for declaration in ("<!DOCTYPE", "<!ENTITY"):
         if declaration in text:
             line = text[:text.index(declaration)].count("\n") + 1
@@ -265,13 +280,15 @@ def _refuse_cycles(links: dict, joints: dict[str, _UrdfJoint], source: str) -> N
     """Every link must lead up to a root (with one parent each, else the parents loop)."""
     rooted: set[str] = set()
     for start in links:
-        walk, link = [], start
+        walk: dict[str, None] = {}  # the links met, in order; a dict so membership is O(1) at any depth
+        link = start
         while link in joints and link not in rooted:
             if link in walk:
-                loop = walk[walk.index(link):]
+                met = list(walk)
+                loop = met[met.index(link):]
                 raise RobotDefinitionError(f"{source}: links {', '.join(sorted(loop))} form a cycle; "
                                            f"a URDF is a tree")
-            walk.append(link)
+            walk[link] = None
             link = joints[link].parent
         rooted.update(walk)
 
@@ -334,6 +351,11 @@ def _only_leaf(base: str, links: dict, joints: dict[str, _UrdfJoint], source: st
 
 
 # ------------------------------------------------------------------ numbers and elements
+#: A number as the URDF spec writes one: a plain decimal float in ASCII digits (Python's
+#: ``float`` also reads ``1_0``, ``inf``, ``nan`` and other scripts' digits; URDF has none of them).
+_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+
 def _floats(element: ET.Element, key: str, count: int, where: str,
             default: list[float] | None, bound: float = MAX_VALUE) -> NDArray[np.float64]:
     text = element.get(key)
@@ -341,10 +363,8 @@ def _floats(element: ET.Element, key: str, count: int, where: str,
         if default is None:
             raise RobotDefinitionError(f"{where}: <{element.tag}> has no {key}=\"...\"")
         return np.array(default, dtype=float)
-    try:
-        values = np.array([float(word) for word in text.split()])
-    except ValueError:
-        values = np.array([])
+    words = text.split()
+    values = np.array([float(word) for word in words] if all(map(_DECIMAL.fullmatch, words)) else [])
     if values.shape != (count,) or not np.isfinite(values).all() or np.abs(values).max() > bound:
         limit = "" if bound == np.inf else f" of magnitude at most {bound:g}"
         raise RobotDefinitionError(f"{where}: <{element.tag} {key}=\"{text}\">: expected {count} finite "
@@ -369,6 +389,10 @@ def _limit(joint: _UrdfJoint, where: str) -> tuple[tuple[float, float], float | 
             return (-np.inf, np.inf), None, None
         raise RobotDefinitionError(f"{where}: a {joint.kind} joint needs <limit lower=... upper=... "
                                    f"velocity=... effort=...> (or type continuous, unbounded)")
+    if joint.kind != "continuous" and "lower" not in element.attrib and "upper" not in element.attrib:
+        warn_at_caller(UserWarning(f"{where}: <limit> has neither lower nor upper, so the URDF spec's "
+                                   f"defaults hold the {joint.kind} joint at [0, 0] (as urdfdom and "
+                                   f"pinocchio read it); write both, or type continuous for no limits"))
     lower, upper, velocity, effort = (
         float(_floats(element, key, 1, where, default=[0.0], bound=np.inf)[0])
         for key in ("lower", "upper", "velocity", "effort"))
@@ -452,7 +476,7 @@ def _inertial(element: ET.Element, where: str) -> Inertial:
     mass_element = element.find("mass")
     if mass_element is None:
         raise RobotDefinitionError(f"{where}: <inertial> has no <mass value=\"...\"/>")
-    mass = float(_floats(mass_element, "value", 1, where, default=None, bound=np.inf)[0])
+    mass = float(_floats(mass_element, "value", 1, where, default=None)[0])
     if mass < 0:
         raise RobotDefinitionError(f"{where}: <mass value=\"{mass_element.get('value')}\">: "
                                    f"expected a mass >= 0 kg")
@@ -460,8 +484,11 @@ def _inertial(element: ET.Element, where: str) -> Inertial:
     inertia = np.zeros((3, 3))
     if inertia_element is not None:
         xx, xy, xz, yy, yz, zz = (
-            float(_floats(inertia_element, key, 1, where, default=[0.0], bound=np.inf)[0])
+            float(_floats(inertia_element, key, 1, where, default=[0.0])[0])
             for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
         inertia = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
     T_link_com = _origin(element, where)
-    return Inertial(mass, np.zeros(3), inertia).moved(T_link_com)
+    try:
+        return Inertial(mass, np.zeros(3), inertia).moved(T_link_com)
+    except RobotDefinitionError as exc:
+        raise RobotDefinitionError(f"{where}: <inertial>: {exc}") from exc

@@ -15,7 +15,7 @@
 namespace armkit {
 
 //: Largest number of candidates per pose of any case solver.
-constexpr int kMaxCandidates = 8;
+constexpr int kMaxCandidates = kGeneralRoots;
 //: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution
 //: (armkit.ik.closed_form.DUPLICATE_TOLERANCE).
 constexpr double kDuplicateTolerance = 1e-9;
@@ -34,18 +34,28 @@ struct ClosedForm {
     bool inverted = false;   // the solver's chain describes T^-1
     int k = kMaxCandidates;  // candidates per pose
     bool verify = false;     // check candidates by FK
-    bool polish = false;     // Newton steps on the full pose (quartic paths)
+    bool polish = false;     // Newton steps on the full pose (quartic paths, general 6R)
+    int polish_steps = 2;    // ... this many (general 6R: at most kGeneralNewtonSteps)
+    double polish_stop = 0;  // ... stopping below this pose error (general 6R: kPolished x size)
     double verify_tolerance = 0.0;  // max |fk(q) - T| of a kept candidate (top three rows)
 };
 
 // G = T M^-1 (or T^-1 M^-1 for an inverted chain): its rotation R and translation t.
 void joint_motion(const ClosedForm& cf, const Pose& T, Mat3& R, Vec3& t);
 
+//: Newton steps at most for a general 6R candidate: the elimination loses digits on arms
+//: near a Pieper class (candidates ~1e-4 off at deviations of 1e-6), and quadratic
+//: convergence takes 1e-4 to rounding in four steps; a few more for a slow start.
+constexpr int kGeneralNewtonSteps = 8;
+//: Newton stops early once the pose error [m, rad] is below this times the arm's size.
+constexpr double kPolished = 1e-15;
+
 // `steps` damped Newton steps on fk(q) = T (all six rows, damping 1e-14) for one
-// candidate q (n), in place. Where a quartic root meets another singularity (a double
-// root near an aligned wrist) a candidate may carry errors of ~1e-7; two steps bring it
-// to rounding level, and the FK check then decides.
-void newton(const Chain& chain, const Pose& T, double* q, int steps);
+// candidate q (n), in place, stopping early where the pose error is at most `stop` [m,
+// rad]. Where a quartic root meets another singularity (a double root near an aligned
+// wrist) a candidate may carry errors of ~1e-7; two steps bring it to rounding level, and
+// the FK check then decides.
+void newton(const Chain& chain, const Pose& T, double* q, int steps, double stop = 0.0);
 
 // max |fk(q) - T| over the top three rows.
 double fk_difference(const Chain& chain, const Pose& T, const double* q);

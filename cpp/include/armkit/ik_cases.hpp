@@ -11,13 +11,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "armkit/ik_general.hpp"
 #include "armkit/vec.hpp"
 
 namespace armkit {
 
 // Point: joints 1-3 of any chain carry a tool point to a target position (position IK, 4
-// candidates); the others solve full poses.
-enum class CaseKind : int { Spherical = 0, ThreeParallel = 1, ParallelBase = 2, Planar = 3, Point = 4 };
+// candidates); General: any 6R arm (ik_general.hpp, 16 candidates); the others solve full poses.
+enum class CaseKind : int { Spherical = 0, ThreeParallel = 1, ParallelBase = 2, Planar = 3, Point = 4, General = 5 };
 
 // How joints 1-3 of a spherical-wrist arm place the wrist centre
 // (armkit.ik.cases.POSITION_CASES, same order).
@@ -45,7 +46,8 @@ struct CaseGeometry {
     double b_aligned = 0.0;
     std::vector<int> revolute_joints;  // planar: the revolute joints (2 or 3)
     int prismatic_joint = -1;          // planar: the prismatic joint, or -1
-    int k = 8;                         // candidates per pose (8, or 2 for planar)
+    GeneralSixR general;               // general: the elimination's constants
+    int k = 8;                         // candidates per pose (8; 2 planar, 4 point, 16 general)
     double size = 1.0;                 // length scale [m]: 1 + the largest coordinate of p
 };
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import sys
 from collections.abc import Sequence
 from typing import Annotated, Any
@@ -67,19 +68,34 @@ def load_robot(name_or_path: str, base: str | None = None, tip: str | None = Non
     robot = load(name_or_path, base=base, tip=tip)
     if not lock:
         return robot
-    values: dict[int | str, float] = {}
+    values: dict[int, float] = {}
+    given: dict[int, str] = {}  # the --lock word that locked each joint, for the "twice" message
     for word in lock:
-        key, sep, value = word.partition("=")
-        key = key.strip()
-        if not sep or not key:
-            raise InputError(f"--lock {word!r}: expected JOINT=VALUE, e.g. --lock "
-                             f"{robot.joint_names[-1]}=0.3")
-        if key not in robot.joint_names and key.isdigit():  # a joint number as 'armkit show' counts
-            if not 1 <= int(key) <= robot.n:
-                raise InputError(f"--lock {word!r}: joint number {key}; expected 1 to {robot.n}")
-            key = int(key) - 1
-        values[key] = parse_floats([value], f"--lock {word!r}")[0]
+        index, value = _lock_word(robot, word)
+        if index in given:
+            raise InputError(f"--lock {word!r}: joint {robot.joint_names[index]} is already locked by "
+                             f"--lock {given[index]!r}; lock each joint once")
+        values[index], given[index] = value, word
     return robot.lock(values)
+
+
+def _lock_word(robot: Robot, word: str) -> tuple[int, float]:
+    """The 0-based joint and the value of one ``--lock JOINT=VALUE`` word (a name, or a number
+    from 1 as ``armkit show`` counts)."""
+    key, sep, value = word.partition("=")
+    key = key.strip()
+    if not sep or not key:
+        raise InputError(f"--lock {word!r}: expected JOINT=VALUE, e.g. --lock {robot.joint_names[-1]}=0.3")
+    if key in robot.joint_names:
+        index = robot.joint_names.index(key)
+    elif re.fullmatch(r"[+-]?[0-9]+", key):
+        if not 1 <= int(key) <= robot.n:
+            raise InputError(f"--lock {word!r}: joint number {key}; expected 1 to {robot.n}")
+        index = int(key) - 1
+    else:
+        raise InputError(f"--lock {word!r}: no joint {key!r}; expected a joint number 1 to {robot.n} "
+                         f"or a name ({', '.join(robot.joint_names)})")
+    return index, parse_floats([value], f"--lock {word!r}")[0]
 
 
 def to_si(robot: Robot, q: Sequence[float | str], degrees: bool) -> np.ndarray:

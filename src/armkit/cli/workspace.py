@@ -26,8 +26,10 @@ def _count(text: str, option: str) -> int:
         value = float(text)
     except ValueError as exc:
         raise InputError(f"{option}: {text!r} is not a number") from exc
-    if not (value >= 0 and value == int(value)):
-        raise InputError(f"{option}: expected a whole number >= 0, got {text!r}")
+    from armkit.workspace.sampling import MAX_SAMPLES
+
+    if not (0 <= value <= MAX_SAMPLES and value == int(value)):
+        raise InputError(f"{option}: expected a whole number from 0 to {MAX_SAMPLES:.4g}, got {text!r}")
     return int(value)
 
 

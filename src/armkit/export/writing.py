@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from armkit._io import check_output_path, writing
+from armkit._io import atomic_write, check_output_path
 
 __all__ = ["write_text"]
 
@@ -19,6 +19,6 @@ def write_text(path: str | Path, text: str, *, overwrite: bool = False) -> Path:
         or the system refuses the write.
     """
     path = check_output_path(path, overwrite)
-    with writing(path):
-        path.write_text(text, encoding="utf-8")
+    with atomic_write(path) as partial:
+        partial.write_text(text, encoding="utf-8")
     return path

@@ -35,7 +35,7 @@ internal axes and points ``(n, 3)`` [-, m], ``prismatic`` ``(n,)``; ``c``, ``o``
 ``Q_inv`` ``(2, 2)``, ``f``, ``lam``, ``mu`` ``(2,)``, ``rank1``, ``snap_t2``: the
 constant part of the case's two-angle system; ``q5_aligned``, ``b_aligned``: the aligned
 wrist of the three-parallel case; ``revolute_joints``, ``prismatic_joint``: the joints of
-a planar arm; optional ``k`` (candidates per pose: 8, or 2 for planar arms).
+a planar arm; optional ``k`` (candidates per pose: 8; 2 for planar arms, 16 general).
 :func:`solve_pose` ``(geometry, R (3, 3), t (3,)) -> (q (k, n), valid (k,), family (k,))``
 solves one joint motion.
 """
@@ -47,10 +47,11 @@ import math
 from armkit._core import CaseGeometry, solve_pose
 
 __all__ = ["CaseGeometry", "solve_pose", "SPHERICAL", "THREE_PARALLEL", "PARALLEL_BASE", "PLANAR", "POINT",
-           "POSITION_CASES", "TWO_PI"]
+           "GENERAL", "POSITION_CASES", "TWO_PI"]
 
-#: Solver kinds (``CaseGeometry.kind``); POINT: joints 1-3 carry a tool point to a position.
-SPHERICAL, THREE_PARALLEL, PARALLEL_BASE, PLANAR, POINT = range(5)
+#: Solver kinds (``CaseGeometry.kind``); POINT: joints 1-3 carry a tool point to a position;
+#: GENERAL: any 6R arm (Raghavan-Roth elimination, ``cpp/src/ik_general.cpp``, 16 candidates).
+SPHERICAL, THREE_PARALLEL, PARALLEL_BASE, PLANAR, POINT, GENERAL = range(6)
 #: How joints 1-3 of a spherical-wrist arm place the wrist centre (``CaseGeometry.position_case``).
 POSITION_CASES = ("parallel-23", "parallel-12", "intersect-23", "intersect-12-revolute",
                   "intersect-12-prismatic", "general-123")

@@ -32,12 +32,14 @@ from armkit._deprecation import deprecated_constants
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.cases import (
+    GENERAL,
     PARALLEL_BASE,
     PLANAR,
     POSITION_CASES,
     SPHERICAL,
     THREE_PARALLEL,
     CaseGeometry,
+    solve_pose,
 )
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
 from armkit.ik.subproblems import sp4, trig_coeffs
@@ -164,6 +166,10 @@ class ClosedFormSolver:
         elif kind == "three-parallel":
             fields.update(kind=THREE_PARALLEL, **self._three_parallel(poe))
             polish = not fields["rank1"]
+        elif kind == "general-6r":
+            poe, shift = _general_formulation(chain, poe, fields)
+            fields.update(kind=GENERAL, general_shift=shift, **case_fields(poe, None, None))
+            verify = polish = True
         else:
             fields.update(kind=PLANAR, **self._planar(poe))
         self.geometry = CaseGeometry(**fields)
@@ -171,8 +177,8 @@ class ClosedFormSolver:
         M_inv = np.eye(4)
         M_inv[:3, :3] = poe.M[:3, :3].T
         M_inv[:3, 3] = -poe.M[:3, :3].T @ poe.M[:3, 3]
-        #: Candidates per pose: 8, or 2 for SCARA and planar arms.
-        self.k = 8 if fields["kind"] != PLANAR else 2
+        #: Candidates per pose: 8; 2 for SCARA and planar arms, 16 for a general 6R arm.
+        self.k = self.geometry.k
         #: The compiled per-pose loop's view of this solver (``_core.ClosedForm``; it holds
         #: copies of the chain and the geometry, so it lives on its own).
         self.core = _core.ClosedForm(chain._core, self.geometry,
@@ -268,6 +274,47 @@ class ClosedFormSolver:
         y = poe.points[rev[2]] if len(rev) == 3 else poe.points[rev[1]] + u
         return {"hp": _vector(h), "u": _vector(u), "a1": _vector(y),
                 "revolute_joints": np.array(rev, dtype=np.int64), "prismatic_joint": pri[0] if pri else -1}
+
+
+#: Configurations at which :func:`_general_formulation` compares the two formulations.
+_FORMULATION_SAMPLES = 12
+
+
+def _general_formulation(chain: Chain, poe, fields: dict):
+    """The chain (``poe`` or ``poe.reversed()``) and the loop's first joint (``shift``, 0-5)
+    on which the general 6R solver is best conditioned for this arm.
+
+    The elimination keeps three consecutive joints of the loop and eliminates the other
+    three; which ones decides the conditioning. An arm with parallel or meeting axes (many
+    zero DH entries) degenerates in some loops and not in others, and an arm near a Pieper
+    class loses digits in one order and far fewer in another (a PUMA with axes moved by
+    1e-6: raw candidates ~1e-4 off in chain order, ~1e-8 reversed). All 12 loops are run,
+    once per arm, on the poses of ``_FORMULATION_SAMPLES`` seeded random configurations; the
+    one whose raw candidates come closest to the generating configurations (worst sample,
+    then mean) wins, ties to the first tried.
+    """
+    from armkit.kinematics import fk
+
+    rng = np.random.default_rng(0)
+    q = rng.uniform(-np.pi, np.pi, (_FORMULATION_SAMPLES, 6))
+    T = fk(chain, q)
+    scores, loops = [], []
+    for candidate in (poe, poe.reversed()):
+        M_inv = np.linalg.inv(candidate.M)
+        for shift in range(6):
+            geometry = CaseGeometry(**{**fields, **case_fields(candidate, None, None), "kind": GENERAL,
+                                       "general_shift": shift})
+            errors = []
+            for q_user, T_user in zip(q, T, strict=True):
+                G = (np.linalg.inv(T_user) if candidate.inverted else T_user) @ M_inv
+                R, t = np.ascontiguousarray(G[:3, :3]), np.ascontiguousarray(G[:3, 3])
+                found, valid, _ = solve_pose(geometry, R, t)
+                q_int = candidate.sign * q_user[candidate.index]
+                gaps = np.abs(np.angle(np.exp(1j * (found[valid] - q_int)))).max(axis=1, initial=0.0)
+                errors.append(gaps.min(initial=np.pi))
+            scores.append((max(errors), float(np.mean(errors))))
+            loops.append((candidate, shift))
+    return loops[min(range(len(loops)), key=scores.__getitem__)]
 
 
 def closed_form_solver(robot: Robot | Chain) -> ClosedFormSolver:

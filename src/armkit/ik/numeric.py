@@ -51,6 +51,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
 from armkit._deprecation import deprecated_property, renamed_argument
+from armkit._params import non_negative_float, positive_float, thread_count, whole_number
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError
 
@@ -236,20 +237,19 @@ class NumericIK:
                  respect_limits: bool | None = None) -> None:
         within_limits = renamed_argument("NumericIK", "respect_limits", "within_limits", respect_limits,
                                          within_limits, True)
-        if max_iterations < 1:
-            raise InputError(f"max_iterations: expected at least 1 step per attempt, got {max_iterations}")
-        if max_restarts < 0:
-            raise InputError(f"max_restarts: expected 0 or more random restarts, got {max_restarts}")
-        if not time_budget >= 0.0:
-            raise InputError(f"time_budget: expected a wall-clock budget >= 0 s, got {time_budget}")
+        tolerances = (positive_float(position_tolerance, "position_tolerance"),
+                      positive_float(orientation_tolerance, "orientation_tolerance"))
+        damping_terms = (non_negative_float(damping_gain, "damping_gain"),
+                         non_negative_float(damping, "damping"))
+        self.max_iterations = whole_number(max_iterations, "max_iterations", minimum=1)
+        self.max_restarts = whole_number(max_restarts, "max_restarts", minimum=0)
+        self.time_budget = non_negative_float(time_budget, "time_budget", infinite=True)
         self.chain = chain = as_chain(robot)
         self.rows = _task_rows(mask)
-        self.max_iterations, self.max_restarts = int(max_iterations), int(max_restarts)
-        self.time_budget, self.within_limits = float(time_budget), bool(within_limits)
-        self._solver = _core.NumericSolver(
-            chain._core, self.rows, float(position_tolerance), float(orientation_tolerance),
-            float(damping_gain), float(damping), self.max_iterations, self.max_restarts, self.time_budget,
-            self.within_limits)
+        self.within_limits = bool(within_limits)
+        self._solver = _core.NumericSolver(chain._core, self.rows, *tolerances, *damping_terms,
+                                           self.max_iterations, self.max_restarts, self.time_budget,
+                                           self.within_limits)
 
     respect_limits = deprecated_property("respect_limits", "within_limits")
 
@@ -292,7 +292,8 @@ class NumericIK:
             One seed for the whole batch: target ``i`` draws its restart seeds from stream
             ``i`` of it (target 0 from the stream :meth:`solve` uses with the same ``rng``).
         threads : int, optional
-            Threads to spread the targets over; default (``None`` or 0) all cores.
+            Threads to spread the targets over: ``None`` or 0 (default) all cores, else 1 to
+            :data:`armkit._params.MAX_THREADS`.
 
         Returns
         -------
@@ -305,7 +306,7 @@ class NumericIK:
         ------
         InputError
             If ``T_base_tool`` is not finite ``(N, 4, 4)``, ``q0`` not finite ``(N, n)`` or
-            ``(n,)``, or ``threads`` negative.
+            ``(n,)``, or ``threads`` not a thread count.
 
         Examples
         --------
@@ -330,15 +331,11 @@ class NumericIK:
             if seeds.shape != (N, n) or not math.isfinite(seeds.sum()):
                 raise InputError(f"q0: expected finite joint values ({N}, {n}) or ({n},), got "
                                  + _shape_or_values(seeds, seeds.shape == (N, n)))
-        if threads is None:
-            threads = 0
-        if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 0:
-            raise InputError(f"threads: expected 0 (all cores) or a positive number of threads, "
-                             f"got {threads!r}")
+        threads = thread_count(threads)
         q, success = np.empty((N, n)), np.empty(N, dtype=bool)
         iterations, restarts = np.empty(N, dtype=np.int64), np.empty(N, dtype=np.int64)
         position, orientation = np.empty(N), np.empty(N)
-        self._solver.solve_batch(T, seeds, _seed(rng), int(threads), q, success, iterations, restarts,
+        self._solver.solve_batch(T, seeds, _seed(rng), threads, q, success, iterations, restarts,
                                  position, orientation)
         return IKResultBatch(q, success, iterations, restarts, position, orientation)
 

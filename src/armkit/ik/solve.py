@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
 from armkit._deprecation import deprecated_constants, renamed_argument
+from armkit._params import thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError, SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
@@ -34,9 +35,14 @@ from armkit.spatial.transforms import RIGID_TOLERANCE, check_transform
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
-__all__ = ["SOLUTION_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
+__all__ = ["MAX_BATCH_ROWS", "SOLUTION_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
 __getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "SOLUTION_TOLERANCE"},
                                    {"SOLUTION_TOLERANCE": SOLUTION_TOLERANCE})
+
+#: Most solution rows a batch of poses lists with whole-turn copies (poses x the most rows of any
+#: pose, as :class:`IKSolutionsBatch` pads them): 1e7 rows of a 6-joint arm are about 0.7 GB. A
+#: UR5 at +-360 deg lists up to 512 per pose, so about 20,000 poses at a time.
+MAX_BATCH_ROWS = 10_000_000
 
 
 def _plain(v: object, n: int) -> bool:
@@ -127,6 +133,25 @@ def _listed(chain: Chain, targets: _Targets, found: Found, i: int, turn_copies: 
     return IKSolutions(q, inside[source], family[source], errors[:, 0], errors[:, 1])
 
 
+def _listed_batch(chain: Chain, targets: _Targets, found: Found, turn_copies: bool,
+                  left_off: list[float] | None = None) -> list[IKSolutions]:
+    """:func:`_listed` for every pose, refused as soon as one pose has so many whole-turn copies
+    that the batch, padded to that pose's count as :class:`IKSolutionsBatch` is, would hold more
+    than :data:`MAX_BATCH_ROWS` rows (before the memory is taken, not after)."""
+    listed, widest, poses = [], 1, len(found.q)
+    for i in range(poses):
+        listed.append(_listed(chain, targets, found, i, turn_copies, left_off))
+        widest = max(widest, len(listed[-1].q))
+        if poses * widest > MAX_BATCH_ROWS:
+            gigabytes = poses * widest * (chain.n + 3) * 8 / 1e9
+            raise InputError(f"T_base_tool: {poses:,} poses whose whole-turn copies give up to {widest} "
+                             f"solutions each (pose {i + 1}) would list {poses * widest:,} rows (about "
+                             f"{gigabytes:.3g} GB), more than MAX_BATCH_ROWS = {MAX_BATCH_ROWS:,}; solve at "
+                             f"most {MAX_BATCH_ROWS // widest:,} poses at a time, or pass turn_copies=False "
+                             f"(each solution once, its copy nearest to near)")
+    return listed
+
+
 def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
                  weights: ArrayLike | None = None, turn_copies: bool = True,
                  threads: int = 0) -> IKSolutions | IKSolutionsBatch:
@@ -152,8 +177,8 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
         List the whole-turn copies inside the limits (default). ``False``: each solution
         once, the copy nearest to ``near``.
     threads : int
-        Threads a batch of poses is split over (default 0: all cores); the answers do not
-        depend on it.
+        Threads a batch of poses is split over: 0 (default) or ``None`` all cores, else 1 to
+        1024 (:func:`armkit._params.thread_count`); the answers do not depend on it.
 
     Returns
     -------
@@ -177,6 +202,7 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
     (8, 4, True)
     """
     chain = as_chain(robot)
+    threads = thread_count(threads)
     targets = _Targets(chain, T_base_tool, near, weights)
     solver = solver_or_reason(chain)
     if isinstance(solver, NoClosedFormError):
@@ -186,7 +212,7 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
         return _listed(chain, targets, c, 0, turn_copies)
     if turn_copies and chain.spans_turns:
         left_off: list[float] = []
-        listed = [_listed(chain, targets, c, i, True, left_off) for i in range(len(c.q))]
+        listed = _listed_batch(chain, targets, c, True, left_off)
         if left_off:
             warn_at_caller(SolutionsLeftOffWarning(
                 f"{len(left_off)} of {len(c.q)} poses have more solutions inside the limits than "
@@ -235,8 +261,8 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
         With ``all_solutions``: list the whole-turn copies inside the limits of joints whose
         limits span more than a whole turn (default); ``False``: each solution once.
     threads : int
-        Threads a batch of poses is split over (default 0: all cores); the answers do not
-        depend on it.
+        Threads a batch of poses is split over: 0 (default) or ``None`` all cores, else 1 to
+        1024 (:func:`armkit._params.thread_count`); the answers do not depend on it.
     **numeric_options
         Passed to :func:`armkit.ik.numeric.numeric_ik` (``position_tolerance``, ``mask``,
         ``max_restarts``, ``time_budget``, ``rng``, ...). A ``mask`` selects the numeric
@@ -268,6 +294,7 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     True
     """
     chain = as_chain(robot)
+    threads = thread_count(threads)
     if numeric_options and "all" in numeric_options:
         all_solutions = renamed_argument("ik", "all", "all_solutions", numeric_options.pop("all"),
                                          all_solutions, False)
@@ -307,5 +334,5 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
         answer_or_raise(chain, c, targets.T, targets.near_rows(chain.n), labels, within_limits)
     if not all_solutions:
         return c.q[0, 0] if not batch else c.q[:, 0].reshape(*batch, chain.n)
-    listed = [_listed(chain, targets, c, i, turn_copies).q for i in range(len(c.q))]
+    listed = [solutions.q for solutions in _listed_batch(chain, targets, c, turn_copies)]
     return listed if batch else listed[0]

@@ -54,7 +54,8 @@ class ArmStructure:
     ----------
     kind : str
         ``"spherical-wrist"``, ``"spherical-base"``, ``"three-parallel"``, ``"scara"``,
-        ``"planar-2r"``, ``"planar-3r"``, ``"rank-deficient"`` (fewer independent
+        ``"planar-2r"``, ``"planar-3r"``, ``"general-6r"`` (any other 6R arm: every
+        solution by elimination), ``"rank-deficient"`` (fewer independent
         directions of motion than joints, up to 6) or ``"none"``.
     closed_form : bool
         Whether :func:`armkit.ik.closed_form_ik` solves this chain.
@@ -259,14 +260,22 @@ def _planar(poe: PoeChain, tol: float) -> SolverPlan | None:
                       poe, kind)
 
 
+def _general(poe: PoeChain) -> SolverPlan:
+    """Any other 6R arm: the general solver (Raghavan-Roth elimination, up to 16 solutions)."""
+    why = ("general 6R arm: no three consecutive axes meet at one point or are parallel; every "
+           "solution by Raghavan-Roth elimination (a 24 x 24 eigenproblem), up to 16 solutions")
+    return SolverPlan(ArmStructure("general-6r", True, 16, why), poe, "general")
+
+
 def _no_closed_form(chain: Chain, poe: PoeChain, tol: float) -> ArmStructure:
     n = chain.n
     if n > 6:
         why = (f"{n} joints: a redundant arm has infinitely many solutions per pose, so no "
                f"closed form; use numeric IK")
     elif n == 6:
-        why = ("6 joints, but no three consecutive axes meet at one point or are parallel "
-               "(Pieper's conditions): no closed form; use numeric IK")
+        why = ("6 joints with a prismatic one, and no three consecutive axes meet at one point or "
+               "are parallel (Pieper's conditions): the general solver takes revolute joints only; "
+               "use numeric IK")
     else:
         why = (f"{n} joints that are not a planar 2R/3R arm or a SCARA (parallel revolute axes, "
                f"prismatic along them): no closed form; use numeric IK")
@@ -333,6 +342,8 @@ def plan_closed_form(chain: Chain, tol: float = 1e-9) -> SolverPlan:
                     or _three_parallel(poe, tol, 0) or _three_parallel(poe.reversed(), tol, 0))
         if plan is not None:
             return plan
+        if not poe.prismatic.any():
+            return _general(poe)
     elif chain.n <= 4:
         plan = _planar(poe, tol)
         if plan is not None:

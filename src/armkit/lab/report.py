@@ -19,6 +19,7 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from armkit._io import atomic_write
 from armkit.errors import InputError
 
 __all__ = ["MARKER", "Section", "Table", "check_folder", "install_report", "prepare_folder", "staging_folder",
@@ -212,8 +213,9 @@ def write_report(folder: Path, title: str, subtitle: str, summary: Table, sectio
             f"</p><nav>{nav}</nav>{_table_html(summary)}"
             + "".join(_section_html(folder, s, seeds) for s in sections) + "</body></html>\n")
     index = folder / "index.html"
-    index.write_text(page, encoding="utf-8")
     manifest = {"generator": generator, "files": sorted({*files, "index.html"})}
-    (folder / MARKER).write_text(json.dumps(manifest, indent=1) + "\n", encoding="utf-8")
+    for path, text in ((index, page), (folder / MARKER, json.dumps(manifest, indent=1) + "\n")):
+        with atomic_write(path) as partial:
+            partial.write_text(text, encoding="utf-8")
     return index
 

@@ -7,7 +7,15 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError
 
-__all__ = ["check_durations", "check_finite", "check_waypoints", "durations_from_times"]
+__all__ = ["MAX_DURATION", "MIN_DURATION", "check_durations", "check_finite", "check_waypoints",
+           "durations_from_times"]
+
+#: Shortest and longest segment duration [s] a trajectory takes: a microsecond (a thousandth of
+#: a 1 kHz servo period) to about 11.6 days. The polynomials hold powers of the duration up to
+#: the fifth and their inverses, so durations such as 1e-300 s or 1e200 s overflow float64
+#: (NaN coefficients); these bounds keep every power within about 1e30 of 1.
+MIN_DURATION = 1e-6
+MAX_DURATION = 1e6
 
 
 def check_finite(values: ArrayLike, name: str) -> NDArray[np.float64]:
@@ -23,17 +31,18 @@ def check_finite(values: ArrayLike, name: str) -> NDArray[np.float64]:
 
 def check_durations(durations: ArrayLike, count: int | None = None,
                     name: str = "durations") -> NDArray[np.float64]:
-    """Segment durations [s] as ``(N,)``, all positive; ``count`` is the expected ``N``."""
+    """Segment durations [s] as ``(N,)``, each in ``[MIN_DURATION, MAX_DURATION]``; ``count`` is
+    the expected ``N``."""
     durations = np.atleast_1d(check_finite(durations, name))
     if durations.ndim != 1:
         raise InputError(f"{name}: expected a list of segment durations, got shape {durations.shape}")
     if count is not None and durations.size != count:
         raise InputError(f"{name}: {count + 1} waypoints need {count} segment durations, "
                          f"got {durations.size}")
-    bad = np.flatnonzero(durations <= 0)
+    bad = np.flatnonzero((durations < MIN_DURATION) | (durations > MAX_DURATION))
     if bad.size:
-        raise InputError(f"{name}: every segment duration must be positive (seconds), got "
-                         f"{durations[bad[0]]:g} for segment {bad[0] + 1}")
+        raise InputError(f"{name}: every segment duration must be from {MIN_DURATION:g} s to "
+                         f"{MAX_DURATION:g} s, got {durations[bad[0]]:g} s for segment {bad[0] + 1}")
     return durations
 
 

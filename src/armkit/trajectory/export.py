@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from armkit._io import check_output_path, writing
+from armkit._io import atomic_write, check_output_path
 from armkit.errors import InputError
 from armkit.robot import Robot
 
@@ -35,8 +35,8 @@ def write_csv(samples, path: str | Path, overwrite: bool = False) -> Path:
     path = check_output_path(path, overwrite)
     table = sample_columns(samples)
     names = column_names(samples.q.shape[1])
-    with writing(path):
-        np.savetxt(path, table, delimiter=",", header=",".join(names), comments="", fmt="%.17g")
+    with atomic_write(path) as partial:
+        np.savetxt(partial, table, delimiter=",", header=",".join(names), comments="", fmt="%.17g")
     return path
 
 
@@ -50,8 +50,8 @@ def write_npz(samples, path: str | Path, overwrite: bool = False) -> Path:
         raise InputError(f"{path}: an NPZ file name must end in .npz")
     table = sample_columns(samples)
     names = column_names(samples.q.shape[1])
-    with writing(path):
-        np.savez(path, **{name: table[:, i] for i, name in enumerate(names)})
+    with atomic_write(path) as partial:
+        np.savez(partial, **{name: table[:, i] for i, name in enumerate(names)})
     return path
 
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armkit._io import check_output_path
+from armkit._io import atomic_write, check_output_path
 from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.robot import Robot
 from armkit.spatial.transforms import transform_from_pose
@@ -74,7 +74,8 @@ def write_waypoints(path: str | Path, robot: Robot, waypoints: ArrayLike, overwr
     path = check_output_path(path, overwrite, remedy=remedy)
     header = (f"# {robot.name}: {len(waypoints)} joint waypoints (rad, prismatic m)\n"
               + ",".join(f"q{j}" for j in range(1, robot.n + 1)))
-    np.savetxt(path, waypoints, delimiter=",", header=header, comments="", fmt="%.17g")
+    with atomic_write(path) as partial:
+        np.savetxt(partial, waypoints, delimiter=",", header=header, comments="", fmt="%.17g")
     return path
 
 

@@ -11,8 +11,10 @@ from __future__ import annotations
 import contextlib
 import html
 import io
+import logging
 import threading
 import time
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +36,7 @@ from armkit.view import readout
 from armkit.view.geometry import arm_size, ellipsoid_axes, unit_sphere
 from armkit.view.playback import Playback
 from armkit.view.scene import ArmDrawing, Colours
+from armkit.view.server_log import SERVER_LOGGERS, OneLineMessageErrors
 
 __all__ = ["Viewer"]
 
@@ -110,6 +113,11 @@ class Viewer:
         self._closed = False
         self._size = arm_size(self.robot)
         self._radius = float(np.clip(0.025 * self._size, 0.004, 0.05))
+        self._message_errors = OneLineMessageErrors()
+        for name in SERVER_LOGGERS:
+            logging.getLogger(name).addFilter(self._message_errors)
+        # a value of the wrong type in a client's message: viser warns, then its handler fails (one line)
+        warnings.filterwarnings("ignore", r"\[viser\] .* does not match annotation", UserWarning)
         with contextlib.redirect_stdout(io.StringIO()) if not verbose else contextlib.nullcontext():
             self._server = viser.ViserServer(host=host, port=port, label=f"armkit view: {self.robot.name}",
                                              verbose=verbose)
@@ -311,6 +319,8 @@ class Viewer:
         self._playing = False
         with contextlib.redirect_stdout(io.StringIO()) if not self._verbose else contextlib.nullcontext():
             self._server.stop()
+        for name in SERVER_LOGGERS:
+            logging.getLogger(name).removeFilter(self._message_errors)
 
     def __enter__(self) -> Viewer:
         return self
@@ -571,10 +581,11 @@ class Viewer:
 
     def _on_handle(self, event: Any) -> None:
         handle = event.target
-        T = transform_from(matrix_from_quaternion_wxyz(np.asarray(handle.wxyz)), np.asarray(handle.position))
         final = getattr(event, "phase", "end") == "end"
 
-        def solve() -> None:
+        def solve() -> None:  # the pose is read inside the guard: a zero quaternion is an error line
+            R = matrix_from_quaternion_wxyz(np.asarray(handle.wxyz))
+            T = transform_from(R, np.asarray(handle.position))
             self._target = T
             self._solve(T, follow=self._follow.value, final=final)
 

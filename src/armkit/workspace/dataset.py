@@ -33,7 +33,7 @@ from armkit.robot import Robot
 from armkit.robot_file import robot_to_toml
 from armkit.workspace.engine import run_chunks
 from armkit.workspace.sampling import SamplePlan, configurations, robot_from_toml
-from armkit.workspace.store import create_store
+from armkit.workspace.store import create_store, store_lock
 
 __all__ = ["IKDataset", "ik_dataset"]
 
@@ -118,32 +118,34 @@ def ik_dataset(robot: Robot, samples: int, out: str | Path, *, seed: int = 0, me
 
     plan = SamplePlan(int(samples), int(chunk_size), int(seed), method)
     k, n = structure.max_solutions, robot.n
-    store = create_store(out, store_meta("ik-dataset", robot, None) | {"plan": plan.to_attrs()},
-                         overwrite=overwrite, resume=resume)
-    if store.attrs["armkit"].get("plan") != plan.to_attrs():
-        raise InputError(f"cannot resume {str(out)!r}: it holds another sample plan "
-                         f"({store.attrs['armkit'].get('plan')}); rerun with --force to replace it")
-    shapes = {"q": ((n,), "float64"), "pose": ((4, 4), "float64"), "solutions": ((k, n), "float64"),
-              "counts": ((), "int16"), "within_limits": ((k,), "bool")}
-    units = {"q": "rad or m", "pose": "m", "solutions": "rad or m"}
-    if "chunk_done" not in store:
-        for name, (tail, dtype) in shapes.items():
-            store.create_array(name, shape=(plan.samples, *tail), chunks=(plan.chunk_size, *tail),
-                               dtype=dtype, fill_value=np.nan if dtype == "float64" else 0,
-                               attributes={"unit": units.get(name, "")})
-        store.create_array("chunk_done", shape=(plan.n_chunks,), chunks=(1,), dtype="bool", fill_value=False)
-    done = np.asarray(store["chunk_done"][...])
-    start = time.perf_counter()
+    with store_lock(out):
+        store = create_store(out, store_meta("ik-dataset", robot, None) | {"plan": plan.to_attrs()},
+                             overwrite=overwrite, resume=resume)
+        if store.attrs["armkit"].get("plan") != plan.to_attrs():
+            raise InputError(f"cannot resume {str(out)!r}: it holds another sample plan "
+                             f"({store.attrs['armkit'].get('plan')}); rerun with --force to replace it")
+        shapes = {"q": ((n,), "float64"), "pose": ((4, 4), "float64"), "solutions": ((k, n), "float64"),
+                  "counts": ((), "int16"), "within_limits": ((k,), "bool")}
+        units = {"q": "rad or m", "pose": "m", "solutions": "rad or m"}
+        if "chunk_done" not in store:
+            for name, (tail, dtype) in shapes.items():
+                store.create_array(name, shape=(plan.samples, *tail), chunks=(plan.chunk_size, *tail),
+                                   dtype=dtype, fill_value=np.nan if dtype == "float64" else 0,
+                                   attributes={"unit": units.get(name, "")})
+            store.create_array("chunk_done", shape=(plan.n_chunks,), chunks=(1,), dtype="bool",
+                               fill_value=False)
+        done = np.asarray(store["chunk_done"][...])
+        start = time.perf_counter()
 
-    def write(chunk: int, rows: dict[str, NDArray]) -> None:
-        rows_of = slice(chunk * plan.chunk_size, chunk * plan.chunk_size + len(rows["q"]))
-        for name, values in rows.items():
-            store[name][rows_of] = values
-        store["chunk_done"][chunk] = True
+        def write(chunk: int, rows: dict[str, NDArray]) -> None:
+            rows_of = slice(chunk * plan.chunk_size, chunk * plan.chunk_size + len(rows["q"]))
+            for name, values in rows.items():
+                store[name][rows_of] = values
+            store["chunk_done"][chunk] = True
 
-    todo = [c for c in range(plan.n_chunks) if not done[c]]
-    run_chunks(partial(_rows_of_chunk, _Task(robot_to_toml(robot), plan, k)), todo, write, engine=engine,
-               progress=progress, description="IK data set")
-    data = IKDataset(store, str(out))
-    store.attrs["summary"] = json_safe({**data.summary(), "seconds": time.perf_counter() - start})
+        todo = [c for c in range(plan.n_chunks) if not done[c]]
+        run_chunks(partial(_rows_of_chunk, _Task(robot_to_toml(robot), plan, k)), todo, write, engine=engine,
+                   progress=progress, description="IK data set")
+        data = IKDataset(store, str(out))
+        store.attrs["summary"] = json_safe({**data.summary(), "seconds": time.perf_counter() - start})
     return data

@@ -54,6 +54,8 @@ class DexterityMap:
     orientations : int
     tested : int
         Voxels tested (all candidates unless the run was interrupted).
+    candidates : int
+        Voxels to test.
     """
 
     grid: Grid
@@ -62,13 +64,20 @@ class DexterityMap:
     max_solutions: NDArray[np.int16]
     orientations: int
     tested: int
+    candidates: int
 
     @classmethod
     def from_section(cls, grid: Grid, arrays: dict[str, NDArray], attrs: dict) -> DexterityMap:
         """The map a store's ``dexterity`` group holds."""
-        tested = min(int(attrs["chunks_done"]) * attrs["voxels_per_chunk"], attrs["candidate_voxels"])
+        candidates = int(attrs["candidate_voxels"])
+        tested = min(int(attrs["chunks_done"]) * attrs["voxels_per_chunk"], candidates)
         values = (arrays[key].reshape(grid.shape) for key in _Counts.KEYS)
-        return cls(grid, *values, int(attrs["orientations"]), tested)
+        return cls(grid, *values, int(attrs["orientations"]), tested, candidates)
+
+    @property
+    def complete(self) -> bool:
+        """Whether every candidate voxel is tested (not an interrupted run's part)."""
+        return self.tested == self.candidates
 
     @property
     def reachable(self) -> NDArray[np.bool_]:

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from armkit._params import positive_float
 from armkit.robot import Robot
 from armkit.robot_file import robot_to_toml
 from armkit.workspace.grid import Grid, grid_for
@@ -73,6 +74,11 @@ class ManipulabilityMap:
         plan = SamplePlan(**{key: attrs[key] for key in ("samples", "chunk_size", "seed", "method")})
         return cls(grid, stats.published(grid.shape), plan, int(attrs["chunks_done"]),
                    float(attrs["threshold"]))
+
+    @property
+    def complete(self) -> bool:
+        """Whether every chunk of the plan is counted (not an interrupted run's part)."""
+        return self.chunks_done == self.plan.n_chunks
 
     @property
     def samples(self) -> int:
@@ -183,6 +189,7 @@ def manipulability(robot: Robot, *, resolution: float = 0.02, grid: Grid | None 
     >>> bool(np.nanmax(stats.mean_inverse_condition) <= 1.0), int(stats.arrays["count"].sum())
     (True, 2000)
     """
+    threshold = positive_float(threshold, "threshold")
     grid = grid_for(robot, resolution) if grid is None else grid
     plan = SamplePlan(int(samples), int(chunk_size), int(seed), method)
     accumulator = _Stats(grid)

@@ -9,14 +9,17 @@ from typing import Any
 
 import numpy as np
 
+from armkit._params import positive_float
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.robot_file import robot_to_toml
+from armkit.workspace.budget import check_memory
 from armkit.workspace.dexterity import DexterityMap, dexterity
 from armkit.workspace.grid import Grid, grid_for
 from armkit.workspace.manipulability import SINGULAR_THRESHOLD, ManipulabilityMap, manipulability
 from armkit.workspace.reachability import CHUNK_SIZE, ReachabilityMap, reachability
-from armkit.workspace.store import create_store, load_section, open_store
+from armkit.workspace.sampling import SamplePlan
+from armkit.workspace.store import create_store, load_section, open_store, store_lock
 
 __all__ = ["Workspace", "compute", "json_safe", "open", "store_meta", "workspace_from_group", "write_axes"]
 
@@ -38,6 +41,8 @@ class Workspace:
         Wall-clock time of the run [s] (of the last part of a resumed run).
     path : str or None
         The store, if any.
+    missing : tuple of str
+        Maps the run was asked for that its store does not hold (it was interrupted before them).
     """
 
     robot: Robot
@@ -47,24 +52,34 @@ class Workspace:
     dexterity: DexterityMap | None = None
     seconds: float = float("nan")
     path: str | None = None
+    missing: tuple[str, ...] = ()
+
+    @property
+    def complete(self) -> bool:
+        """Whether every map asked for is there and complete (an interrupted run's store is not)."""
+        maps = (self.reachability, self.manipulability, self.dexterity)
+        return not self.missing and all(m.complete for m in maps if m is not None)
 
     def summary(self) -> dict[str, Any]:
         """What ``--json`` prints: volume [m^3 or m^2] and its error, voxels, samples, seconds."""
         out: dict[str, Any] = {"robot": self.robot.name, "resolution_m": self.grid.resolution,
                                "grid_shape": list(self.grid.shape), "voxels": self.grid.size,
-                               "seconds": self.seconds, "store": self.path}
+                               "seconds": self.seconds, "store": self.path, "complete": self.complete}
+        if self.missing:
+            out["maps_missing"] = list(self.missing)
         if self.reachability is not None:
             reach = self.reachability
             volume = reach.volume()
             out |= {"samples": reach.samples, "samples_requested": reach.plan.samples,
-                    "complete": reach.complete, "method": reach.plan.method, "seed": reach.plan.seed,
+                    "reachability_complete": reach.complete, "method": reach.plan.method,
+                    "seed": reach.plan.seed,
                     "reachable_volume": volume.value, "reachable_volume_error": volume.error,
                     "volume_unit": volume.unit, "volume": volume.as_dict(),
                     "mean_hits_per_reached_voxel": reach.samples / max(volume.occupied, 1),
                     "outer_boundary_voxels": int(reach.outer_boundary.sum())}
         if self.manipulability is not None:
             manip = self.manipulability
-            out["manipulability"] = {"samples": manip.samples,
+            out["manipulability"] = {"samples": manip.samples, "complete": manip.complete,
                                      "mean": _nanmean(manip.mean_manipulability),
                                      "mean_inverse_condition": _nanmean(manip.mean_inverse_condition),
                                      "singular_threshold": manip.threshold,
@@ -72,6 +87,7 @@ class Workspace:
         if self.dexterity is not None:
             dex = self.dexterity
             out["dexterity"] = {"orientations": dex.orientations, "voxels_tested": dex.tested,
+                                "voxels_to_test": dex.candidates, "complete": dex.complete,
                                 "ik_solves": dex.tested * dex.orientations,
                                 "mean_reachability_index": dex.mean_index(),
                                 "voxels_reached": int(dex.reachable.sum()),
@@ -139,24 +155,33 @@ def compute(robot: Robot, *, resolution: float = 0.02, samples: int = 1_000_000,
     ['reachable_volume', 'reachable_volume_error']
     """
     start = time.perf_counter()
+    positive_float(singular_threshold, "singular_threshold")
     grid = grid_for(robot, resolution)
-    store = None
-    if out is not None:
-        store = create_store(out, store_meta("maps", robot, grid), overwrite=overwrite, resume=resume)
-        if "x" not in store:
-            write_axes(store, grid)
-    common = {"grid": grid, "seed": seed, "method": method, "engine": engine, "store": store,
-              "resume": resume, "progress": progress}
-    reach = reachability(robot, samples=samples, chunk_size=chunk_size, **common)
-    manip = (manipulability(robot, samples=manipulability_samples, threshold=singular_threshold,
-                            chunk_size=max(1, chunk_size // 4), **common)
-             if manipulability_samples else None)
-    dex = (dexterity(robot, reach=reach, orientations=orientations, engine=engine, store=store, resume=resume,
-                     progress=progress) if orientations else None)
-    result = Workspace(robot, grid, reach, manip, dex, time.perf_counter() - start,
-                       None if out is None else str(out))
-    if store is not None:
-        store.attrs["summary"] = json_safe(result.summary())
+    plan = SamplePlan(int(samples), int(chunk_size), int(seed), method)  # checked before the estimate
+    check_memory(grid, samples=plan.samples, chunk_size=plan.chunk_size, method=method,
+                 manipulability_samples=int(manipulability_samples), orientations=int(orientations),
+                 engine=engine)
+    with store_lock(out):
+        store = None
+        if out is not None:
+            store = create_store(out, store_meta("maps", robot, grid), overwrite=overwrite, resume=resume)
+            if "x" not in store:
+                write_axes(store, grid)
+            asked = {"reachability": True, "manipulability": manipulability_samples,
+                     "dexterity": orientations}
+            store.attrs["maps_requested"] = [name for name, wanted in asked.items() if wanted]
+        common = {"grid": grid, "seed": seed, "method": method, "engine": engine, "store": store,
+                  "resume": resume, "progress": progress}
+        reach = reachability(robot, samples=samples, chunk_size=chunk_size, **common)
+        manip = (manipulability(robot, samples=manipulability_samples, threshold=singular_threshold,
+                                chunk_size=max(1, chunk_size // 4), **common)
+                 if manipulability_samples else None)
+        dex = (dexterity(robot, reach=reach, orientations=orientations, engine=engine, store=store,
+                         resume=resume, progress=progress) if orientations else None)
+        result = Workspace(robot, grid, reach, manip, dex, time.perf_counter() - start,
+                           None if out is None else str(out))
+        if store is not None:
+            store.attrs["summary"] = json_safe(result.summary())
     return result
 
 
@@ -199,10 +224,14 @@ def open(path: str | Path) -> Any:  # noqa: A001  (armkit.workspace.open, like z
 
 
 def workspace_from_group(group: Any, robot: Robot, grid: Grid, prefix: str, path: str | None) -> Workspace:
+    """The maps under ``prefix`` of a store, with the ones its run asked for and did not reach."""
     maps = {}
     for name, cls in _MAPS.items():
         loaded = load_section(group, f"{prefix}{name}")
         maps[name] = None if loaded is None else cls.from_section(grid, *loaded)
+    requested = group.attrs.get("maps_requested", [name for name, m in maps.items() if m is not None])
+    missing = tuple(name for name in requested if maps[name] is None)
     seconds = group.attrs.get("summary", {}).get("seconds") if not prefix else None
-    return Workspace(robot, grid, **maps, seconds=float("nan") if seconds is None else seconds, path=path)
+    return Workspace(robot, grid, **maps, seconds=float("nan") if seconds is None else seconds, path=path,
+                     missing=missing)
 

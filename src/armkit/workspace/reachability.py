@@ -137,6 +137,7 @@ class ReachabilityMap:
 
     @property
     def complete(self) -> bool:
+        """Whether every chunk of the plan is counted (not an interrupted run's part)."""
         return self.chunks_done == self.plan.n_chunks
 
     @property

@@ -30,6 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit import _core
+from armkit._params import whole_number
 from armkit.errors import InputError
 from armkit.ik import analyze_structure, ik_solutions, numeric_ik
 from armkit.kinematics import fk
@@ -39,10 +40,14 @@ from armkit.robot_file import robot_from_dict
 if TYPE_CHECKING:
     from armkit.workspace.grid import Grid
 
-__all__ = ["METHODS", "SamplePlan", "configurations", "has_closed_form", "ik_solution_counts", "joint_box",
+__all__ = ["MAX_SAMPLES", "METHODS", "SamplePlan", "configurations", "has_closed_form", "ik_solution_counts",
+           "joint_box",
            "robot_from_toml", "singular_values", "tool_positions", "voxel_hits"]
 
 METHODS = ("uniform", "sobol")
+#: Most samples (and configurations per chunk) of a plan: the largest count a float (JSON, ``1e15``
+#: on the command line) holds exactly.
+MAX_SAMPLES = 2**53
 #: Wall-clock budget [s] of one numeric IK solve (restarts from random seeds until then).
 NUMERIC_BUDGET = 0.05
 #: Travel [m] sampled for a prismatic joint without limits (as :meth:`armkit.Robot.random_q`).
@@ -69,9 +74,7 @@ class SamplePlan:
 
     def __post_init__(self) -> None:
         for name in ("samples", "chunk_size"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | np.integer) and value > 0):
-                raise InputError(f"{name}: expected a positive whole number, got {value!r}")
+            whole_number(getattr(self, name), name, minimum=1, maximum=MAX_SAMPLES)
         if self.method not in METHODS:
             raise InputError(f"sampling method {self.method!r}; expected one of {', '.join(METHODS)}")
         if not (isinstance(self.seed, int | np.integer) and self.seed >= 0):

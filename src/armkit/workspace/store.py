@@ -15,12 +15,20 @@ A map group is a checkpoint: its arrays hold the reduction of chunks ``0 .. chun
 the group's ``writing`` attribute, then writes the arrays, then the attributes with the new
 ``chunks_done`` and ``writing = false``; a group found with ``writing = true`` was cut off
 mid-write (killed, not Ctrl-C, which waits for the write) and is not resumed from.
+
+A run holds an exclusive lock on its store for its whole length (:func:`store_lock`: ``flock``
+on a file ``.NAME.lock`` beside the store, released when the run ends or its process dies), so a
+second run on the same store, with ``--force`` or ``--resume``, is refused instead of removing
+or mixing the first one's results.
 """
 
 from __future__ import annotations
 
+import fcntl
+import os
 import shutil
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -31,7 +39,7 @@ from armkit.errors import InputError
 from armkit.workspace.engine import InterruptedRun, run_chunks
 
 __all__ = ["FORMAT", "Accumulator", "create_store", "load_section", "open_store", "run_resumable",
-           "save_section"]
+           "save_section", "store_lock"]
 
 FORMAT = "armkit-workspace"
 VERSION = 1
@@ -49,6 +57,35 @@ def _is_store(path: Path) -> bool:
     return (path / "zarr.json").is_file()
 
 
+@contextmanager
+def store_lock(path: str | Path | None) -> Iterator[None]:
+    """Hold the store at ``path`` for one run (see the module notes); nothing if ``path`` is None.
+
+    Raises
+    ------
+    InputError
+        If another run holds it, or the lock file cannot be created beside it.
+    """
+    if path is None:
+        yield
+        return
+    path = Path(path)
+    lock = path.with_name(f".{path.name}.lock")
+    try:
+        handle = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+    except OSError as exc:
+        raise InputError(f"cannot lock {str(path)!r}: {exc.strerror or exc} ({str(lock)!r})") from exc
+    try:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise InputError(f"{str(path)!r} is being written by another run; wait for it to end or "
+                             f"choose another --out (out=)") from None
+        yield
+    finally:
+        os.close(handle)  # releases the lock
+
+
 def create_store(path: str | Path, meta: dict, *, overwrite: bool = False, resume: bool = False) -> Any:
     """Open a store to write into: a new one, or (``resume``) the one at ``path`` made for the same ``meta``.
 
@@ -56,10 +93,13 @@ def create_store(path: str | Path, meta: dict, *, overwrite: bool = False, resum
     ------
     InputError
         If ``path`` exists and neither ``overwrite`` nor ``resume`` is given; if ``overwrite`` would
-        remove a folder that is not a Zarr store; if ``resume`` finds a store made for another
-        robot, grid or kind of run.
+        remove a folder that is not a Zarr store; if ``resume`` finds no store, or one made for
+        another robot, grid or kind of run.
     """
     zarr, path = _zarr(), Path(path)
+    if resume and not path.exists():
+        raise InputError(f"cannot resume {str(path)!r}: there is no store there; run without --resume "
+                         f"(resume=False) to start one")
     if resume and _is_store(path):
         group = zarr.open_group(path, mode="r+")
         saved = dict(group.attrs.get("armkit", {}))

@@ -22,11 +22,13 @@ from numpy.typing import NDArray
 
 from armkit.errors import InputError
 from armkit.robot import Robot
+from armkit.workspace.budget import check_memory
 from armkit.workspace.dexterity import dexterity
 from armkit.workspace.grid import Grid, grid_for
 from armkit.workspace.maps import Workspace, json_safe, store_meta, workspace_from_group, write_axes
 from armkit.workspace.reachability import CHUNK_SIZE, reachability
-from armkit.workspace.store import create_store
+from armkit.workspace.sampling import SamplePlan
+from armkit.workspace.store import create_store, store_lock
 
 __all__ = ["Sweep", "parse_sweep", "robot_with", "sweep"]
 
@@ -90,6 +92,8 @@ class Sweep:
         One per value, on one shared grid.
     seconds : float
     path : str or None
+    complete : bool
+        Whether every value's maps are there and complete (an interrupted run's store is not).
     """
 
     robot: Robot
@@ -98,6 +102,7 @@ class Sweep:
     maps: list[Workspace]
     seconds: float = float("nan")
     path: str | None = None
+    complete: bool = True
 
     def table(self) -> list[dict[str, Any]]:
         """Per value: reachable volume and its error [m^3], mean reachability index."""
@@ -114,7 +119,7 @@ class Sweep:
         first = self.maps[0]
         return {"robot": self.robot.name, "parameter": self.parameter, "resolution_m": first.grid.resolution,
                 "voxels": first.grid.size, "samples": first.reachability.samples, "seconds": self.seconds,
-                "store": self.path, "values": self.table()}
+                "store": self.path, "complete": self.complete, "values": self.table()}
 
     @classmethod
     def from_store(cls, group: Any, robot: Robot, path: str) -> Sweep:
@@ -126,7 +131,8 @@ class Sweep:
                 for k, v in enumerate(values) if f"sweep/{k}" in group]
         seconds = group.attrs.get("summary", {}).get("seconds")
         seconds = float("nan") if seconds is None else seconds
-        return cls(robot, f"{name}{row}", values[:len(maps)], maps, seconds, path)
+        complete = len(maps) == len(values) and all(m.complete for m in maps)
+        return cls(robot, f"{name}{row}", values[:len(maps)], maps, seconds, path, complete)
 
 
 def sweep(robot: Robot, spec: str, *, resolution: float = 0.02, samples: int = 1_000_000, seed: int = 0,
@@ -153,23 +159,28 @@ def sweep(robot: Robot, spec: str, *, resolution: float = 0.02, samples: int = 1
     grid = grid_for(robots[0], resolution)
     for other in robots[1:]:
         grid = grid.union(grid_for(other, resolution))
-    store = None
-    if out is not None:
-        meta = store_meta("sweep", robot, grid) | {"sweep_parameter": name, "sweep_row": row,
-                                                   "sweep_values": values.tolist()}
-        store = create_store(out, meta, overwrite=overwrite, resume=resume)
-        if "x" not in store:
-            write_axes(store, grid)
-    maps = []
-    for k, variant in enumerate(robots):
-        common = {"engine": engine, "store": store, "resume": resume, "progress": progress}
-        reach = reachability(variant, grid=grid, samples=samples, seed=seed, method=method,
-                             chunk_size=chunk_size, section=f"sweep/{k}/reachability", **common)
-        dex = (dexterity(variant, reach=reach, orientations=orientations, section=f"sweep/{k}/dexterity",
-                         **common) if orientations else None)
-        maps.append(Workspace(variant, grid, reach, None, dex))
-    path = None if out is None else str(out)
-    result = Sweep(robot, f"{name}{row}", values, maps, time.perf_counter() - start, path)
-    if store is not None:
-        store.attrs["summary"] = json_safe(result.summary())
+    plan = SamplePlan(int(samples), int(chunk_size), int(seed), method)  # checked before the estimate
+    check_memory(grid, samples=plan.samples, chunk_size=plan.chunk_size, method=method,
+                 orientations=int(orientations), engine=engine, maps=len(robots))
+    with store_lock(out):
+        store = None
+        if out is not None:
+            meta = store_meta("sweep", robot, grid) | {"sweep_parameter": name, "sweep_row": row,
+                                                       "sweep_values": values.tolist()}
+            store = create_store(out, meta, overwrite=overwrite, resume=resume)
+            if "x" not in store:
+                write_axes(store, grid)
+            store.attrs["maps_requested"] = ["reachability", *(["dexterity"] if orientations else [])]
+        maps = []
+        for k, variant in enumerate(robots):
+            common = {"engine": engine, "store": store, "resume": resume, "progress": progress}
+            reach = reachability(variant, grid=grid, samples=samples, seed=seed, method=method,
+                                 chunk_size=chunk_size, section=f"sweep/{k}/reachability", **common)
+            dex = (dexterity(variant, reach=reach, orientations=orientations, section=f"sweep/{k}/dexterity",
+                             **common) if orientations else None)
+            maps.append(Workspace(variant, grid, reach, None, dex))
+        path = None if out is None else str(out)
+        result = Sweep(robot, f"{name}{row}", values, maps, time.perf_counter() - start, path)
+        if store is not None:
+            store.attrs["summary"] = json_safe(result.summary())
     return result

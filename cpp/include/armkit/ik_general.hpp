@@ -1,0 +1,59 @@
+// Every IK solution of a general 6R arm: Raghavan and Roth's elimination (1993), with the
+// coefficient matrices found numerically.
+//
+// The chain is taken as screw axes at q = 0, G = exp(xi_1 q_1) ... exp(xi_6 q_6) (the joint
+// motion, as for the other cases). Joint 6 fixes its own line, so joints 1-5 carry the
+// line of axis 6 (point p6, direction h6) onto its image under G:
+//
+//     e3 e4 e5 (p6, h6)  =  e2^-1 e1^-1 G (p6, h6)                       (left = right)
+//
+// The 14 quantities of Raghavan and Roth (p, l, p.p, p.l, p x l, (p.p) l - 2 (p.l) p) of
+// either side are trigonometric polynomials of degree one in each joint angle (Raghavan and
+// Roth prove it for DH coordinates; a rigid change of coordinates keeps it), so sampling
+// each side at three angles per joint gives their coefficients exactly (a three-point DFT):
+// the left side once per arm (27 samples: it holds no pose), the right side per pose (9).
+// Eliminating the 8 monomials in q1, q2 leaves 6 equations in q3, q4, q5; with half-angle
+// tangents x_i they are quadratic in each x_i, and the 6 equations and their multiples by
+// x4 are a 12 x 12 matrix polynomial M(x3) = M0 + M1 x3 + M2 x3^2 acting on the monomials
+// x4^i x5^j (i <= 3, j <= 2). det M(x3) = 0 is a 24 x 24 generalised eigenproblem (Eigen's
+// real QZ: no home-made eigen solver); its eigenvectors give x4 and x5, the right side's
+// least-squares solution gives q1, q2, and q6 follows from the rotation left over. The
+// roots x3 = +-i (four each) are spurious; at most 16 real roots remain.
+//
+// The joint angles are measured from offsets (kGeneralOffsets), so that no root of a
+// generic pose lies at a half-angle tangent of infinity. Candidates are rough (1e-12 ..
+// 1e-6 where the arm is near a Pieper class); the pipeline polishes them by Newton steps on
+// the full pose and checks them by FK (closed_form.cpp).
+#pragma once
+
+#include "armkit/vec.hpp"
+
+namespace armkit {
+
+//: Real solutions of a general 6R arm at most (and candidates the solver writes).
+constexpr int kGeneralRoots = 16;
+//: The 14 quantities of each side.
+constexpr int kQuantities = 14;
+
+// What the per-pose solver needs of one arm, computed once by prepare_general.
+struct GeneralSixR {
+    Vec3 h[6], p[6];                      // axes and points at q = 0 (internal joint order)
+    int shift = 0;                        // the loop starts at joint shift + 1 (see general_six_r)
+    double left[kQuantities][3][3][3];    // shift 0: left side over (1, cos, sin) of t3, t4, t5
+};
+
+// The arm's constants from its axes h and points p (6 each) and the loop's shift (0 .. 5).
+void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g);
+
+// The loop may start at any joint: with shift s, e_{s+1} ... e_6 e_1' ... e_s' = G, where e_j'
+// = G^-1 e_j G turns about G^-1 of joint j's line, so joints s+3 .. s+5 (cyclically) stay
+// and s+1, s+2, s+6 are eliminated; for s > 0 the left side holds the pose and is sampled per
+// pose. Which joints are eliminated decides the conditioning: an arm with parallel or
+// meeting axes (many zero DH entries, a Kinova Jaco) degenerates in some loops, not in all.
+//
+// Every real candidate for the joint motion G = (R, t) into q (kGeneralRoots x 6, row-major),
+// valid (kGeneralRoots; false for unused rows) and family (all false: the pipeline flags
+// families). Returns the number of valid candidates.
+int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
+
+}  // namespace armkit

@@ -1,0 +1,288 @@
+#include "armkit/ik_general.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+#include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
+
+namespace armkit {
+
+namespace {
+
+//: Joints 3, 4, 5 are measured from these angles [rad]: a root at a half-angle tangent of
+//: infinity (t = pi) then needs the arm to stand at offset + pi, which a generic pose does
+//: not ask. Any values do; these are far from 0, pi/2, pi and from each other.
+constexpr double kGeneralOffsets[3] = {0.3, 0.7, 1.1};
+//: A root x3 = alpha / beta counts as real when |Im alpha| is at most this times |(alpha,
+//: beta)|: a double root (a fold of the pose) splits into a complex pair ~1e-8 apart, and
+//: an arm near a Pieper class loses digits; a complex candidate that is no solution fails
+//: the pipeline's Newton steps and FK check, so the bar can be generous.
+constexpr double kRealRoot = 1e-4;
+//: The companion matrix needs the leading (or trailing) coefficient matrix inverted; below
+//: this reciprocal condition number of both the pencil goes to QZ instead.
+constexpr double kCompanionCondition = 1e-10;
+
+// The three sample angles of a three-point DFT and the matrix taking samples to the
+// coefficients of (1, cos t, sin t).
+constexpr double kSamples[3] = {0.0, 2.0 * kPi / 3.0, 4.0 * kPi / 3.0};
+constexpr double kS = 0.57735026918962576451;  // 1 / sqrt(3)
+constexpr double kFromSamples[3][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {2.0 / 3, -1.0 / 3, -1.0 / 3}, {0.0, kS, -kS}};
+// (1 + x^2) (a + b cos t + c sin t) with x = tan(t / 2): rows are powers of x, columns (1, cos, sin).
+constexpr double kHalfAngle[3][3] = {{1, 1, 0}, {0, 0, 2}, {1, -1, 0}};
+
+// exp(xi q) applied to a point: the joint (h, p) turns x by q about its line.
+Vec3 turn_point(Vec3 h, Vec3 p, double q, Vec3 x) { return p + rotate(h, q, x - p); }
+
+// The 14 quantities of a point p and a direction l.
+void quantities(Vec3 p, Vec3 l, double* out) {
+    const double pp = dot(p, p), pl = dot(p, l);
+    const Vec3 pxl = cross(p, l), last = pp * l - (2.0 * pl) * p;
+    const double v[kQuantities] = {p.x, p.y, p.z, l.x, l.y, l.z, pp, pl, pxl.x, pxl.y, pxl.z, last.x, last.y, last.z};
+    std::copy(v, v + kQuantities, out);
+}
+
+using Mat12 = Eigen::Matrix<double, 12, 12>;
+using Mat24 = Eigen::Matrix<double, 24, 24>;
+using Mat14x8 = Eigen::Matrix<double, kQuantities, 8>;
+using Vec14 = Eigen::Matrix<double, kQuantities, 1>;
+
+// The right side's coefficients over (1, cos, sin) of q1, q2 (no offsets) for the image
+// (gp, gh) of the line of axis 6.
+void right_side(const Vec3* h, const Vec3* p, Vec3 gp, Vec3 gh, double (&right)[kQuantities][3][3]) {
+    double samples[3][3][kQuantities];
+    for (int a = 0; a < 3; ++a) {
+        const Vec3 p1 = turn_point(h[0], p[0], -kSamples[a], gp), l1 = rotate(h[0], -kSamples[a], gh);
+        for (int b = 0; b < 3; ++b)
+            quantities(turn_point(h[1], p[1], -kSamples[b], p1), rotate(h[1], -kSamples[b], l1), samples[a][b]);
+    }
+    for (int z = 0; z < kQuantities; ++z)
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+                double s = 0.0;
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b) s += kFromSamples[i][a] * kFromSamples[j][b] * samples[a][b][z];
+                right[z][i][j] = s;
+            }
+}
+
+// The angle of the loop's last joint from the rotation left once the others (q, 5) are known.
+double sixth_angle(const Vec3* h, const Mat3& R, const double* q) {
+    const Vec3 h6 = h[5];
+    const Vec3 axis = std::fabs(h6.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    Vec3 u = cross(h6, axis);
+    u = (1.0 / norm(u)) * u;
+    Vec3 v = R * u;  // R6 u = R5^T ... R1^T R u
+    for (int j = 0; j < 5; ++j) v = rotate(h[j], -q[j], v);
+    return std::atan2(dot(h6, cross(u, v)), dot(u, v));
+}
+
+
+// A vector z (12) with A z = 0 for a singular A: full-pivot LU, P A Q = L U, then U w = 0
+// with w_11 = 1 by back substitution, z = Q w.
+void null_vector(const Mat12& A, Eigen::Matrix<double, 12, 1>& z) {
+    const Eigen::FullPivLU<Mat12> lu(A);
+    const Mat12& U = lu.matrixLU();
+    Eigen::Matrix<double, 12, 1> w;
+    w(11) = 1.0;
+    for (int i = 10; i >= 0; --i) {
+        double s = 0.0;
+        for (int k = i + 1; k < 12; ++k) s += U(i, k) * w(k);
+        w(i) = U(i, i) != 0.0 ? -s / U(i, i) : 0.0;
+    }
+    z = lu.permutationQ() * w;
+}
+
+// The real roots of det(M0 + M1 x + M2 x^2) as angles t = 2 atan(x) (x = infinity: t = pi)
+// into t (at most kGeneralRoots, the most nearly real first); returns their number. A
+// companion matrix of the better conditioned of M2 (roots x) and M0 (roots 1 / x) goes to
+// Eigen's real Schur eigenvalue solver; where both are nearly singular, Eigen's QZ takes
+// the pencil itself.
+int half_angle_roots(const Mat12 (&M)[3], double* t) {
+    const Eigen::PartialPivLU<Mat12> lead(M[2]), trail(M[0]);
+    const double rc_lead = lead.rcond(), rc_trail = trail.rcond();
+    std::complex<double> x[24];  // eigenvalues, as x = tan(t / 2) or as 1 / x
+    bool inverted = false;
+    if (std::max(rc_lead, rc_trail) >= kCompanionCondition) {
+        inverted = rc_trail > rc_lead;
+        const Eigen::PartialPivLU<Mat12>& lu = inverted ? trail : lead;
+        const Mat12& low = inverted ? M[2] : M[0];
+        Mat24 C = Mat24::Zero();
+        C.topRightCorner<12, 12>().setIdentity();
+        C.bottomLeftCorner<12, 12>() = -lu.solve(low);
+        C.bottomRightCorner<12, 12>() = -lu.solve(M[1]);
+        const Eigen::EigenSolver<Mat24> eig(C, false);
+        if (eig.info() != Eigen::Success) return 0;
+        for (int r = 0; r < 24; ++r) x[r] = eig.eigenvalues()(r);
+    } else {
+        Mat24 A = Mat24::Zero(), B = Mat24::Zero();
+        A.topRightCorner<12, 12>().setIdentity();
+        A.bottomLeftCorner<12, 12>() = -M[0];
+        A.bottomRightCorner<12, 12>() = -M[1];
+        B.topLeftCorner<12, 12>().setIdentity();
+        B.bottomRightCorner<12, 12>() = M[2];
+        const Eigen::GeneralizedEigenSolver<Mat24> qz(A, B, false);
+        if (qz.info() != Eigen::Success) return 0;
+        for (int r = 0; r < 24; ++r) {
+            const double beta = qz.betas()(r);
+            // beta ~ 0: a root at infinity, taken as 1 / x = 0
+            x[r] = std::fabs(beta) > 0.0 ? qz.alphas()(r) / beta : std::complex<double>(1e300, 0.0);
+        }
+    }
+    int order[24], count = 0;
+    double imag[24];
+    for (int r = 0; r < 24; ++r) {
+        imag[r] = std::fabs(x[r].imag()) / std::max(1.0, std::abs(x[r]));
+        if (imag[r] <= kRealRoot && x[r].imag() >= 0.0 && std::isfinite(x[r].real())) order[count++] = r;
+    }
+    std::sort(order, order + count, [&](int a, int b) { return imag[a] < imag[b]; });
+    count = std::min(count, kGeneralRoots);
+    for (int c = 0; c < count; ++c) {
+        const double v = x[order[c]].real();
+        t[c] = inverted ? 2.0 * std::atan2(1.0, v) : 2.0 * std::atan(v);
+    }
+    return count;
+}
+// The left side's coefficients over (1, cos, sin) of t3, t4, t5 for the loop's joints h, p (6).
+void left_side(const Vec3* h, const Vec3* p, double (&left)[kQuantities][3][3][3]) {
+    double samples[3][3][3][kQuantities];
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            for (int c = 0; c < 3; ++c) {
+                const double q3 = kGeneralOffsets[0] + kSamples[a], q4 = kGeneralOffsets[1] + kSamples[b],
+                             q5 = kGeneralOffsets[2] + kSamples[c];
+                Vec3 x = turn_point(h[4], p[4], q5, p[5]), l = rotate(h[4], q5, h[5]);
+                x = turn_point(h[3], p[3], q4, x);
+                l = rotate(h[3], q4, l);
+                quantities(turn_point(h[2], p[2], q3, x), rotate(h[2], q3, l), samples[a][b][c]);
+            }
+    for (int z = 0; z < kQuantities; ++z)
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                for (int k = 0; k < 3; ++k) {
+                    double s = 0.0;
+                    for (int a = 0; a < 3; ++a)
+                        for (int b = 0; b < 3; ++b)
+                            for (int c = 0; c < 3; ++c)
+                                s += kFromSamples[i][a] * kFromSamples[j][b] * kFromSamples[k][c] * samples[a][b][c][z];
+                    left[z][i][j][k] = s;
+                }
+}
+
+}  // namespace
+
+void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g) {
+    std::copy(h, h + 6, g.h);
+    std::copy(p, p + 6, g.p);
+    g.shift = shift;
+    if (shift == 0) left_side(h, p, g.left);
+}
+
+int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    std::fill(valid, valid + kGeneralRoots, false);
+    std::fill(family, family + kGeneralRoots, false);
+    std::fill(q, q + kGeneralRoots * 6, 0.0);
+    // the loop e_{s+1} ... e_6 e_1' ... e_s' = G, e' = G^-1 e G turning about G^-1 of its line
+    Vec3 h[6], p[6];
+    for (int k = 0; k < 6; ++k) {
+        const int j = (k + g.shift) % 6;
+        const bool moved = k >= 6 - g.shift;
+        h[k] = moved ? mul_transposed(R, g.h[j]) : g.h[j];
+        p[k] = moved ? mul_transposed(R, g.p[j] - t) : g.p[j];
+    }
+    double left[kQuantities][3][3][3];
+    if (g.shift == 0)
+        std::copy(&g.left[0][0][0][0], &g.left[0][0][0][0] + kQuantities * 27, &left[0][0][0][0]);
+    else
+        left_side(h, p, left);
+    double right[kQuantities][3][3];
+    right_side(h, p, R * p[5] + t, R * h[5], right);
+
+    // left - constant of the right = Q y, y the 8 monomials of q1, q2 other than 1
+    Mat14x8 Q;
+    for (int z = 0; z < kQuantities; ++z) {
+        left[z][0][0][0] -= right[z][0][0];
+        for (int m = 1; m < 9; ++m) Q(z, m - 1) = right[z][m / 3][m % 3];
+    }
+    const Eigen::ColPivHouseholderQR<Mat14x8> qr(Q);
+    const Eigen::Matrix<double, kQuantities, kQuantities> basis_q = qr.householderQ();
+    const Eigen::Matrix<double, 6, kQuantities> N = basis_q.rightCols<6>().transpose();  // N Q = 0
+
+    // 6 equations over (1, cos, sin)^3, then over powers of x3, x4, x5 (times the denominators)
+    double E[6][3][3][3];
+    for (int e = 0; e < 6; ++e)
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                for (int k = 0; k < 3; ++k) {
+                    double s = 0.0;
+                    for (int z = 0; z < kQuantities; ++z) s += N(e, z) * left[z][i][j][k];
+                    E[e][i][j][k] = s;
+                }
+    Mat12 M[3];
+    for (auto& m : M) m.setZero();
+    for (int e = 0; e < 6; ++e)
+        for (int p3 = 0; p3 < 3; ++p3)
+            for (int p4 = 0; p4 < 3; ++p4)
+                for (int p5 = 0; p5 < 3; ++p5) {
+                    double s = 0.0;
+                    for (int i = 0; i < 3; ++i)
+                        for (int j = 0; j < 3; ++j)
+                            for (int k = 0; k < 3; ++k)
+                                s += kHalfAngle[p3][i] * kHalfAngle[p4][j] * kHalfAngle[p5][k] * E[e][i][j][k];
+                    for (int shift = 0; shift < 2; ++shift) M[p3](e + 6 * shift, (p4 + shift) * 3 + p5) = s;
+                }
+
+    // det(M0 + M1 x + M2 x^2) = 0: the roots x3 = tan(t3 / 2) as angles t3
+    double roots[24];
+    const int count = half_angle_roots(M, roots);
+
+    int found = 0;
+    for (int c = 0; c < count; ++c) {
+        const double t3 = roots[c];
+        const double x3 = std::tan(0.5 * t3);
+        // the monomials x4^i x5^j (index 3 i + j): the null vector of M(x3) (or of M(x3) / x3^2)
+        const double w0 = std::fabs(x3) <= 1.0 ? 1.0 : 1.0 / (x3 * x3);
+        const Mat12 Mx = w0 * M[0] + (w0 * x3) * M[1] + (w0 * x3 * x3) * M[2];
+        Eigen::Matrix<double, 12, 1> z;
+        null_vector(Mx, z);
+        int i4 = 0, i5 = 0;
+        for (int m = 0; m < 12; ++m) {
+            if (m / 3 <= 2 && std::fabs(z(m)) > std::fabs(z(i4))) i4 = m;
+            if (m % 3 <= 1 && std::fabs(z(m)) > std::fabs(z(i5))) i5 = m;
+        }
+        if (!(std::fabs(z(i4)) > 0.0) || !(std::fabs(z(i5)) > 0.0)) continue;
+        const double t4 = 2.0 * std::atan(z(i4 + 3) / z(i4));
+        const double t5 = 2.0 * std::atan(z(i5 + 1) / z(i5));
+        // q1, q2 from Q y = left(t3, t4, t5)
+        const double trig[3][3] = {{1.0, std::cos(t3), std::sin(t3)}, {1.0, std::cos(t4), std::sin(t4)},
+                                   {1.0, std::cos(t5), std::sin(t5)}};
+        Vec14 rhs;
+        for (int zq = 0; zq < kQuantities; ++zq) {
+            double s = 0.0;
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j)
+                    for (int k = 0; k < 3; ++k) s += left[zq][i][j][k] * trig[0][i] * trig[1][j] * trig[2][k];
+            rhs(zq) = s;
+        }
+        const Eigen::Matrix<double, 8, 1> y = qr.solve(rhs);  // monomial m of (1, c1, s1) x (1, c2, s2) at y(m - 1)
+        double loop[6];  // in the loop's order
+        loop[0] = std::atan2(y(5), y(2));
+        loop[1] = std::atan2(y(1), y(0));
+        loop[2] = wrap_angle(kGeneralOffsets[0] + t3);
+        loop[3] = wrap_angle(kGeneralOffsets[1] + t4);
+        loop[4] = wrap_angle(kGeneralOffsets[2] + t5);
+        loop[5] = sixth_angle(h, R, loop);
+        double* row = q + 6 * found;
+        bool finite = true;
+        for (int k = 0; k < 6; ++k) {
+            row[(k + g.shift) % 6] = loop[k];
+            finite = finite && std::isfinite(loop[k]);
+        }
+        if (!finite) continue;
+        valid[found++] = true;
+    }
+    return found;
+}
+
+}  // namespace armkit

@@ -1,0 +1,91 @@
+"""Checks of numeric parameters, one per kind: each returns the value as a Python number or
+raises one :class:`~armkit.errors.InputError` naming the parameter, the value and the valid range.
+
+``threads=`` means the same everywhere (FK, Jacobians, IK, numeric IK batches): ``None`` or
+``0`` is every core, ``1`` to :data:`MAX_THREADS` exactly that many threads, anything else
+is refused.
+"""
+
+from __future__ import annotations
+
+import math
+from numbers import Integral, Real
+
+from armkit.errors import InputError
+
+__all__ = ["MAX_COUNT", "MAX_THREADS", "non_negative_float", "positive_float", "thread_count", "whole_number"]
+
+#: Most threads a batch is split over (more only add start-up cost on any machine made yet).
+MAX_THREADS = 1024
+
+#: Largest count (iterations, restarts) the compiled core takes: its 32-bit ``int``.
+MAX_COUNT = 2**31 - 1
+
+
+def _real(value: object) -> float | None:
+    """``value`` as a float if it is a real number (not a bool, not a string), else ``None``."""
+    if isinstance(value, bool) or not isinstance(value, Real):
+        return None
+    return float(value)
+
+
+def positive_float(value: object, name: str, *, maximum: float = math.inf) -> float:
+    """``value`` as a finite float in ``(0, maximum]``.
+
+    >>> positive_float(1e-9, "position_tolerance")
+    1e-09
+    >>> positive_float(-1, "position_tolerance")
+    Traceback (most recent call last):
+    armkit.errors.InputError: position_tolerance: expected a finite number > 0, got -1
+    """
+    number = _real(value)
+    if number is None or not 0.0 < number <= maximum or not math.isfinite(number):
+        bound = "> 0" if maximum == math.inf else f"in (0, {maximum:g}]"
+        raise InputError(f"{name}: expected a finite number {bound}, got {value!r}")
+    return number
+
+
+def non_negative_float(value: object, name: str, *, infinite: bool = False) -> float:
+    """``value`` as a float ``>= 0``, finite unless ``infinite`` allows ``inf`` ("no bound").
+
+    >>> non_negative_float(float("nan"), "damping")
+    Traceback (most recent call last):
+    armkit.errors.InputError: damping: expected a finite number >= 0, got nan
+    >>> non_negative_float(float("inf"), "time_budget", infinite=True)
+    inf
+    """
+    number = _real(value)
+    if number is None or not number >= 0.0 or (number == math.inf and not infinite):
+        kind = "a number >= 0 (inf: no bound)" if infinite else "a finite number >= 0"
+        raise InputError(f"{name}: expected {kind}, got {value!r}")
+    return number
+
+
+def whole_number(value: object, name: str, *, minimum: int, maximum: int = MAX_COUNT) -> int:
+    """``value`` as an int in ``[minimum, maximum]`` (a bool or a float such as ``3.0`` is refused).
+
+    >>> whole_number(10**12, "max_iterations", minimum=1)
+    Traceback (most recent call last):
+    armkit.errors.InputError: max_iterations: expected a whole number from 1 to 2147483647, got 1000000000000
+    """
+    if isinstance(value, bool) or not isinstance(value, Integral) or not minimum <= value <= maximum:
+        raise InputError(f"{name}: expected a whole number from {minimum} to {maximum}, got {value!r}")
+    return int(value)
+
+
+def thread_count(value: object, name: str = "threads") -> int:
+    """Threads to split a batch over, for the core: ``0`` for every core (``None`` or ``0``), else
+    ``1`` to :data:`MAX_THREADS`.
+
+    >>> thread_count(None), thread_count(2)
+    (0, 2)
+    >>> thread_count(-1)
+    Traceback (most recent call last):
+    armkit.errors.InputError: threads: expected None or 0 (every core) or 1 to 1024 threads, got -1
+    """
+    if value is None:
+        return 0
+    if isinstance(value, bool) or not isinstance(value, Integral) or not 0 <= value <= MAX_THREADS:
+        raise InputError(f"{name}: expected None or 0 (every core) or 1 to {MAX_THREADS} threads, "
+                         f"got {value!r}")
+    return int(value)

@@ -1,0 +1,202 @@
+"""Every IK solution of a redundant arm along one free joint: the self-motion of a 7R arm.
+
+With one joint held at a value, a 7-joint arm is a 6-joint arm (:meth:`armkit.Robot.lock`)
+whose every solution the closed form lists (a Pieper class, or the general 6R solver). Doing
+that at many values of the free joint samples each branch of the self-motion manifold; the
+samples are joined into branches by continuity (each solution continues the branch whose
+last sample is nearest, within a bound that grows with the step of the free joint).
+
+Example
+-------
+>>> import numpy as np, armkit
+>>> panda = armkit.load("panda")
+>>> q = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
+>>> motion = armkit.self_motion(panda, panda.fk(q), free_joint=2, samples=9)
+>>> motion.q.shape[1:], bool(np.isfinite(motion.q).any())
+((9, 7), True)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armkit.errors import InputError
+
+if TYPE_CHECKING:
+    from armkit.robot import Robot
+
+__all__ = ["SelfMotion", "free_joint_index", "ik_at_free_joint", "self_motion"]
+
+#: A solution continues a branch when it lies within this many times the free joint's step
+#: of the branch's last sample (every joint, modulo 2 pi): along a smooth branch the other
+#: joints move in proportion to the free one, faster only near a singularity of the branch.
+_BRANCH_REACH = 20.0
+
+
+@dataclass(frozen=True)
+class SelfMotion:
+    """The self-motion of a redundant arm at one pose, sampled along its free joint.
+
+    Attributes
+    ----------
+    free_joint : int
+        Index of the free joint (0-based).
+    values : ndarray (N,)
+        The free joint's values [rad or m].
+    q : ndarray (branches, N, n)
+        Every branch's configuration at each value [rad or m]; NaN where the branch has no
+        solution (the pose is out of reach there, or the branch has not begun or has ended).
+    within_limits : ndarray of bool (branches, N)
+        The configuration is inside every joint limit (False where NaN).
+    """
+
+    free_joint: int
+    values: NDArray[np.float64]
+    q: NDArray[np.float64]
+    within_limits: NDArray[np.bool_]
+
+    def plot(self, path: str | None = None, *, joint_names: list[str] | None = None, overwrite: bool = False):
+        """Each joint against the free joint, one line per branch; saved to ``path`` if given.
+
+        Returns the matplotlib figure.
+        """
+        import matplotlib
+
+        if path is not None:
+            matplotlib.use("Agg", force=False)
+        import matplotlib.pyplot as plt
+
+        from armkit._io import check_output_path
+
+        n = self.q.shape[-1]
+        names = joint_names or [f"q{j + 1}" for j in range(n)]
+        shown = [j for j in range(n) if j != self.free_joint]
+        fig, axes = plt.subplots(len(shown), 1, figsize=(7, 1.4 * len(shown) + 0.8), sharex=True,
+                                 constrained_layout=True)
+        for b, branch in enumerate(self.q):
+            for j, ax in zip(shown, axes, strict=True):
+                y = np.degrees(branch[:, j])
+                y[1:][np.abs(np.diff(y)) > 180.0] = np.nan  # no line across the +-180 deg seam
+                ax.plot(np.degrees(self.values), y, lw=1.2, label=f"branch {b + 1}")
+        for j, ax in zip(shown, axes, strict=True):
+            ax.set_ylabel(f"{names[j]} [deg]")
+            ax.grid(alpha=0.3)
+        axes[-1].set_xlabel(f"free joint {names[self.free_joint]} [deg]")
+        axes[0].set_title(f"Self-motion: {len(self.q)} branches")
+        if len(self.q) <= 16:
+            axes[0].legend(fontsize=7, ncol=4, loc="upper right")
+        if path is not None:
+            target = check_output_path(path, overwrite=overwrite)
+            fig.savefig(target, dpi=120)
+        return fig
+
+
+def free_joint_index(robot: Robot, free_joint: int | str) -> int:
+    """The 0-based index of ``free_joint`` (an index or a joint name), checked."""
+    if isinstance(free_joint, str) and free_joint in robot.joint_names:
+        return robot.joint_names.index(free_joint)
+    whole = isinstance(free_joint, int | np.integer) and not isinstance(free_joint, bool)
+    if whole and 0 <= free_joint < robot.n:
+        return int(free_joint)
+    raise InputError(f"free_joint {free_joint!r}: expected a joint name ({', '.join(robot.joint_names)}) "
+                     f"or an index 0 to {robot.n - 1}")
+
+
+def ik_at_free_joint(robot: Robot, T_base_tool: ArrayLike, free_joint: int | str, free_value: float | None, *,
+                     all_solutions: bool = False, near: ArrayLike | None = None, within_limits: bool = True,
+                     **options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
+    """IK of ``robot`` with joint ``free_joint`` held at ``free_value`` (default: ``near``'s
+    value of it, or 0), the other joints solved exactly by the closed form of
+    :meth:`armkit.Robot.lock` (what ``robot.ik(..., free_joint=J, free_value=v)`` calls).
+
+    Returns the whole robot's configurations, shaped as :meth:`armkit.Robot.ik` returns them.
+    """
+    index = free_joint_index(robot, free_joint)
+    near_q = None if near is None else robot.check_q(near, "near")
+    if free_value is None:
+        free_value = 0.0 if near_q is None else float(np.reshape(near_q, (-1, robot.n))[0, index])
+    arm = robot.lock({index: free_value})
+    near_arm = None if near_q is None else arm.reduced_q(near_q)
+    q = arm.ik(T_base_tool, all_solutions=all_solutions, near=near_arm, within_limits=within_limits,
+               **options)
+    if isinstance(q, list):
+        return [arm.full_q(x) if len(x) else np.empty((0, robot.n)) for x in q]
+    return arm.full_q(q) if q.size else np.empty((*q.shape[:-1], robot.n))
+
+
+def self_motion(robot: Robot, T_base_tool: ArrayLike, *, free_joint: int | str, samples: int = 64,
+                values: ArrayLike | None = None) -> SelfMotion:
+    """Every branch of ``robot``'s solutions at one pose, sampled along ``free_joint``.
+
+    Parameters
+    ----------
+    robot : Robot
+        A 7-joint arm (any arm with one joint more than the closed form needs).
+    T_base_tool : array_like (4, 4)
+        Target tool pose [m].
+    free_joint : int or str
+        The joint swept (0-based index or name).
+    samples : int
+        Number of values, spread evenly over the free joint's limits (``[-pi, pi]`` for an
+        unbounded revolute joint); ignored when ``values`` is given.
+    values : array_like (N,), optional
+        The free joint's values [rad or m], in order.
+
+    Returns
+    -------
+    SelfMotion
+        ``q`` of shape ``(branches, N, n)``, NaN where a branch does not exist.
+
+    Raises
+    ------
+    InputError
+        For an unknown joint, fewer than two samples, or values outside the joint's limits.
+    """
+    index = free_joint_index(robot, free_joint)
+    if values is None:
+        whole = isinstance(samples, int | np.integer) and not isinstance(samples, bool)
+        if not whole or not 2 <= samples <= 100_000:
+            raise InputError(f"samples: expected a whole number from 2 to 100000, got {samples!r}")
+        low, high = robot.limits[index]
+        unbounded = np.pi if not robot.chain.prismatic[index] else 1.0
+        low, high = (low if np.isfinite(low) else -unbounded), (high if np.isfinite(high) else unbounded)
+        values = np.linspace(low, high, int(samples))
+    values = np.asarray(values, dtype=float)
+    if values.ndim != 1 or len(values) < 2 or not np.isfinite(values).all():
+        raise InputError(f"values: expected at least two finite values of the free joint, got {values!r}")
+    step = float(np.abs(np.diff(values)).max())
+    revolute = ~robot.chain.prismatic
+    branches: list[list[NDArray[np.float64] | None]] = []
+    for k, value in enumerate(values):
+        found = list(ik_at_free_joint(robot, T_base_tool, index, float(value), all_solutions=True,
+                                      within_limits=False, turn_copies=False))
+        for branch in branches:  # each open branch takes its nearest solution, if near enough
+            last = branch[k - 1] if k else None
+            if last is None or not found:
+                branch.append(None)
+                continue
+            gap = [_distance(last, q, revolute) for q in found]
+            best = int(np.argmin(gap))
+            branch.append(found.pop(best) if gap[best] <= _BRANCH_REACH * step + 1e-9 else None)
+        for q in found:  # the others start branches of their own
+            branches.append([None] * k + [q])
+    q = np.full((len(branches), len(values), robot.n), np.nan)
+    for b, branch in enumerate(branches):
+        for k, sample in enumerate(branch):
+            if sample is not None:
+                q[b, k] = sample
+    inside = np.zeros(q.shape[:2], dtype=bool)
+    finite = np.isfinite(q).all(axis=-1)
+    inside[finite] = robot.chain.within_limits(q[finite])
+    return SelfMotion(index, values, q, inside)
+
+
+def _distance(a: NDArray[np.float64], b: NDArray[np.float64], revolute: NDArray[np.bool_]) -> float:
+    """The largest joint difference, revolute joints modulo 2 pi."""
+    d = np.abs(b - a)
+    d[revolute] = np.abs(np.angle(np.exp(1j * (b - a)[revolute])))
+    return float(d.max())

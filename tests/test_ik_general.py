@@ -1,0 +1,188 @@
+"""Every IK solution of a general 6R arm (Raghavan-Roth elimination in the core).
+
+The ground truth for "every solution" is a many-seed search by SciPy's Levenberg-Marquardt
+(``scipy.optimize.least_squares``, not armkit's solver) on armkit's FK (itself checked
+against pinocchio): every solution it finds must be listed, every listed one must reproduce
+its pose to 1e-9, and the configuration that generated the pose must be among them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.optimize import least_squares
+
+import armkit
+from armkit.chain import DHRow
+from armkit.ik.structure import analyze_structure, poe_from_chain
+
+#: Seeds of the numeric search per pose.
+SEARCH_SEEDS = 40
+
+
+def general_arm(rng: np.random.Generator) -> armkit.Robot:
+    """A random 6R arm in standard DH with every length and twist non-zero (no Pieper class)."""
+    rows = [DHRow(rng.uniform(0.2, 2.9) * rng.choice([-1, 1]), rng.uniform(0.05, 0.5), rng.uniform(-0.4, 0.4),
+                  rng.uniform(-np.pi, np.pi)) for _ in range(6)]
+    return armkit.Robot.from_dh(rows, "standard", name="general")
+
+
+def calibrated(name: str, deviation: float, rng: np.random.Generator) -> armkit.Robot:
+    """Built-in ``name`` with every joint line moved by about ``deviation`` (a calibrated arm)."""
+    poe = poe_from_chain(armkit.load(name).chain)
+    axes = poe.axes + deviation * rng.normal(size=(6, 3))
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+    return armkit.Robot.from_poe(axes, poe.points + deviation * rng.normal(size=(6, 3)), poe.M, name=name)
+
+
+def angle_gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Largest joint difference modulo 2 pi, over the last axis."""
+    return np.abs(np.angle(np.exp(1j * (a - b)))).max(axis=-1)
+
+
+def numeric_solutions(robot: armkit.Robot, T: np.ndarray, rng: np.random.Generator) -> list[np.ndarray]:
+    """The distinct solutions SciPy's LM finds from SEARCH_SEEDS random seeds (residual < 1e-10)."""
+
+    def residual(q):
+        F = robot.fk(q)
+        return np.concatenate([(F[:3, :3] - T[:3, :3]).ravel(), F[:3, 3] - T[:3, 3]])
+
+    found: list[np.ndarray] = []
+    for _ in range(SEARCH_SEEDS):
+        fit = least_squares(residual, rng.uniform(-np.pi, np.pi, robot.n), method="lm",
+                            xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        q = np.angle(np.exp(1j * fit.x))
+        if np.abs(fit.fun).max() < 1e-10 and all(angle_gap(q, f) > 1e-6 for f in found):
+            found.append(q)
+    return found
+
+
+def check_every_solution(robot: armkit.Robot, rng: np.random.Generator, poses: int) -> None:
+    for _ in range(poses):
+        q0 = rng.uniform(-np.pi, np.pi, robot.n)
+        T = robot.fk(q0)
+        listed = robot.ik(T, all_solutions=True, within_limits=False)
+        assert 1 <= len(listed) <= 16
+        for q in listed:
+            assert np.abs(robot.fk(q) - T).max() <= 1e-9
+        for q in [q0, *numeric_solutions(robot, T, rng)]:
+            assert angle_gap(listed, q).min() <= 1e-6, f"solution {q} of the pose is not listed"
+        gaps = angle_gap(listed[:, None], listed[None])[~np.eye(len(listed), dtype=bool)]
+        assert gaps.min(initial=np.inf) > 1e-9, "a solution is listed twice"
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_general_arms_list_every_solution_a_numeric_search_finds(seed):
+    rng = np.random.default_rng(seed)
+    robot = general_arm(rng)
+    assert analyze_structure(robot).kind == "general-6r"
+    check_every_solution(robot, rng, poses=2)
+
+
+@pytest.mark.parametrize("name", ["ur5", "puma560", "probot-anno"])
+@pytest.mark.parametrize("deviation", [1e-3, 1e-5, 1e-6])
+def test_calibrated_arms_near_a_class_list_every_solution_of_the_real_arm(name, deviation):
+    rng = np.random.default_rng(int(deviation * 1e9) % 1000 + len(name))
+    robot = calibrated(name, deviation, rng)
+    assert analyze_structure(robot).kind == "general-6r"
+    check_every_solution(robot, rng, poses=2)
+
+
+def test_a_7r_arm_with_a_joint_locked_is_solved_exactly_at_that_value():
+    panda = armkit.load("panda")
+    arm = panda.lock({panda.joint_names[2]: 0.4})  # the upper-arm roll: no Pieper class is left
+    assert analyze_structure(arm).kind == "general-6r"
+    rng = np.random.default_rng(3)
+    check_every_solution(arm, rng, poses=2)
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_the_generating_configuration_is_always_listed(seed):
+    rng = np.random.default_rng(seed)
+    robot = general_arm(rng)
+    q0 = rng.uniform(-np.pi, np.pi, 6)
+    T = robot.fk(q0)
+    found = armkit.ik_solutions(robot, T)
+    assert angle_gap(found.q, q0).min() <= 1e-7
+    assert np.all(found.position_error <= 1e-9) and np.all(found.orientation_error <= 1e-9)
+
+
+def test_a_pose_out_of_reach_of_a_general_arm_is_an_unreachable_error():
+    robot = general_arm(np.random.default_rng(1))
+    T = np.eye(4)
+    T[:3, 3] = [50.0, 0.0, 0.0]
+    with pytest.raises(armkit.errors.UnreachableError):
+        robot.ik(T, all_solutions=True)
+
+
+def panda_pose() -> tuple[armkit.Robot, np.ndarray, np.ndarray]:
+    panda = armkit.load("panda")
+    q = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
+    return panda, q, panda.fk(q)
+
+
+def test_ik_at_a_free_joint_of_a_7r_arm_lists_every_solution_at_that_value():
+    panda, q0, T = panda_pose()
+    listed = panda.ik(T, all_solutions=True, free_joint=2, free_value=0.2, within_limits=False)
+    assert listed.shape[1] == 7 and np.all(listed[:, 2] == 0.2)
+    assert angle_gap(listed, q0).min() <= 1e-9
+    for q in listed:
+        assert np.abs(panda.fk(q) - T).max() <= 1e-9
+    # the same as solving the locked arm, mapped back
+    arm = panda.lock({2: 0.2})
+    assert np.allclose(arm.full_q(arm.ik(T, all_solutions=True, within_limits=False)), listed)
+
+
+def test_nearest_solution_at_a_free_joint_holds_near_s_value():
+    panda, q0, T = panda_pose()
+    near = q0 + 0.05
+    q = panda.ik(T, near=near, free_joint="q3")
+    assert q[2] == near[2] and np.abs(panda.fk(q) - T).max() <= 1e-9
+
+
+def test_free_value_without_free_joint_and_unknown_free_joint_are_input_errors():
+    panda, _, T = panda_pose()
+    with pytest.raises(armkit.InputError, match="free_value: given without free_joint"):
+        panda.ik(T, free_value=0.3)
+    with pytest.raises(armkit.InputError, match="free_joint 9: expected a joint name"):
+        panda.ik(T, all_solutions=True, free_joint=9)
+
+
+def test_self_motion_branches_are_solutions_and_hold_the_generating_configuration(tmp_path):
+    panda, q0, T = panda_pose()
+    values = q0[2] + np.linspace(-1.0, 1.0, 21)  # the generating value at index 10
+    motion = armkit.self_motion(panda, T, free_joint=2, values=values)
+    assert motion.q.ndim == 3 and motion.q.shape[1:] == (21, 7)
+    finite = np.isfinite(motion.q).all(axis=-1)
+    assert finite.any(axis=1).all()  # no empty branch
+    for q in motion.q[finite]:
+        assert np.abs(panda.fk(q) - T).max() <= 1e-9
+    assert np.all(motion.q[finite][:, 2] == np.broadcast_to(values, finite.shape)[finite])
+    assert angle_gap(motion.q[:, 10][finite[:, 10]], q0).min() <= 1e-9
+    # continuity: neighbouring samples of a branch are close (the free joint moves 0.1 rad)
+    steps = angle_gap(motion.q[:, 1:], motion.q[:, :-1])
+    assert np.nanmax(steps) <= 20 * 0.1 + 1e-9
+    motion.plot(tmp_path / "self_motion.png")
+    assert (tmp_path / "self_motion.png").stat().st_size > 10_000
+
+
+def test_self_motion_checks_its_arguments():
+    panda, _, T = panda_pose()
+    with pytest.raises(armkit.InputError, match="samples: expected a whole number"):
+        armkit.self_motion(panda, T, free_joint=2, samples=1)
+    with pytest.raises(armkit.InputError, match="values: expected at least two finite values"):
+        armkit.self_motion(panda, T, free_joint=2, values=[0.1, np.nan])
+
+
+def test_an_arm_with_parallel_and_meeting_axes_outside_every_class_lists_every_solution():
+    # axes 2 and 3 parallel, 3 and 4 meeting, wrist twists of 55 degrees (no Pieper class):
+    # the loop through joints 3-5 degenerates, so the solver must pick another loop
+    rows = [DHRow(np.pi / 2, 0.0, 0.275, 0.0), DHRow(np.pi, 0.41, 0.0, 0.0),
+            DHRow(np.pi / 2, 0.0, -0.01, 0.0), DHRow(np.radians(55), 0.0, -0.25, 0.0),
+            DHRow(np.radians(55), 0.0, -0.085, 0.0), DHRow(0.0, 0.0, -0.16, 0.0)]
+    robot = armkit.Robot.from_dh(rows, "standard", name="offset wrist")
+    assert analyze_structure(robot).kind == "general-6r"
+    check_every_solution(robot, np.random.default_rng(4), poses=3)
