@@ -20,6 +20,7 @@ from typer.testing import CliRunner
 
 import armkit
 from armkit.cli.main import main
+from armkit.lab import dynamics as lab_dynamics
 from armkit.lab import fk_ik, motion
 from armkit.lab.report import Section
 
@@ -43,7 +44,8 @@ OPTIONS: dict[str, dict[str, str]] = {
            "--deg": "", "--all": "", "--outside": "", "--near": "numbers", "--json": ""},
     "traj": {"--waypoints": "path", "--poses": "", "--euler": "word", "--durations": "numbers",
              "--times": "numbers", "--auto-time": "", "--rate": "number", "--out": "path", "--plot": "path",
-             "--plot-path": "path", "--force": "", "--deg": "", "--json": ""},
+             "--plot-path": "path", "--force": "", "--deg": "", "--json": "", "--torques": "",
+             "--estimate-inertia": "number"},
     "move": {"--from": "numbers", "--by": "numbers", "--duration": "number", "--frame": "word",
              "--dt": "number", "--deg": "", "--json": ""},
     "rotate": {"--from": "numbers", "--axis": "numbers", "--angle": "number", "--rate": "number",
@@ -54,9 +56,11 @@ OPTIONS: dict[str, dict[str, str]] = {
     "sim": {"--random": "count", "--seed": "count", "--trajectory": "path", "--no-gravity": "",
             "--no-compensation": "", "--euler": "word", "--deg": "", "--force": "", "--json": ""},
     "lab": {"--robot": "robot", "--out": "path", "--quick": "", "--force": "", "--json": ""},
+    "dynamics": {"--qd": "number", "--qdd": "number", "--deg": "", "--payload": "number",
+                 "--estimate-inertia": "number", "--json": ""},
 }
 #: Commands whose first argument is a robot.
-WITH_ROBOT = {"fk", "jacobian", "ik", "traj", "move", "rotate", "show", "export", "sim"}
+WITH_ROBOT = {"fk", "jacobian", "ik", "traj", "move", "rotate", "show", "export", "sim", "dynamics"}
 
 number = st.one_of(st.sampled_from(NUMBERS), st.floats(allow_nan=True, allow_infinity=True).map(repr),
                    st.integers(-10**6, 10**6).map(str))
@@ -108,7 +112,8 @@ def instant_lab():
         return Section("fake", "fake experiment", "", headline="done")
     names = [(fk_ik, "fk_check"), (fk_ik, "ik_check"), (motion, "linear_motion"),
              (motion, "trajectory_experiment"), (motion, "fixed_point_rotation"),
-             (fk_ik, "fk_table_zju"), (fk_ik, "fk_table_scara")]
+             (fk_ik, "fk_table_zju"), (fk_ik, "fk_table_scara"),
+             (lab_dynamics, "dynamics_experiment")]
     saved = [(module, name, getattr(module, name)) for module, name in names]
     for module, name in names:
         setattr(module, name, experiment)

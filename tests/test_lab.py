@@ -23,7 +23,8 @@ from armkit.spatial.transforms import transform_from_pose
 from armkit.trajectory import read_trajectory, read_waypoints
 
 PNGS = ["fk_configuration.png", "ik_solutions.png", "line_tracking.png", "trajectory_pva.png",
-        "trajectory_tracking.png", "rotation.png", "zju_configuration.png", "scara_configuration.png"]
+        "trajectory_tracking.png", "rotation.png", "zju_configuration.png", "scara_configuration.png",
+        "dynamics_torques.png"]
 EXAMPLE_ARM = Path(__file__).parents[1] / "examples" / "data" / "my_arm.toml"
 GIFS = ["ik_solutions.gif", "line.gif", "trajectory.gif", "rotation.gif"]
 DATA = [motion.TRAJECTORY_FILE, motion.WAYPOINTS_FILE]
@@ -37,7 +38,7 @@ def seed_report(tmp_path_factory):
 
 def test_every_seed_experiment_is_reproduced(seed_report):
     keys = [s.key for s in seed_report.sections]
-    assert keys == ["fk", "ik", "line", "trajectory", "rotation", "zju", "scara", "dh"]
+    assert keys == ["fk", "ik", "line", "trajectory", "rotation", "dynamics", "zju", "scara", "dh"]
     problems = [(s.key, s.notes) for s in seed_report.sections if s.status != "ok"]
     assert not problems
     ik = next(s for s in seed_report.sections if s.key == "ik")
@@ -70,7 +71,7 @@ def test_report_tables_show_published_computed_and_simulated_values(seed_report)
         assert title in page
     for published in ("0.150035", "0.199922", "-148.05", "36.31", "141.4214", "370.1666", "0.303826"):
         assert published in page
-    assert page.count(">reproduced<") == 2 * 7 and ">checked<" not in page  # badges and summary
+    assert page.count(">reproduced<") == 2 * 8 and ">checked<" not in page  # badges and summary
     assert "its text says &quot;3 solutions in range&quot; but it prints 4" in page
     fk_errors = re.findall(r"max \|MuJoCo - armkit\| ([0-9.e+-]+) m", page)
     assert fk_errors and float(fk_errors[0]) < 1e-9
@@ -195,12 +196,13 @@ def test_twist_possible_follows_the_jacobian_range():
 
 
 def _fake_experiments(monkeypatch, failing: str | None = None, interrupt: str | None = None):
-    """Replace the five experiments by instant ones (``failing`` fails, ``interrupt`` raises Ctrl-C)."""
-    from armkit.lab import fk_ik
+    """Replace the six experiments by instant ones (``failing`` fails, ``interrupt`` raises Ctrl-C)."""
+    from armkit.lab import dynamics, fk_ik
     from armkit.lab.report import Section
 
     for module, name in ((fk_ik, "fk_check"), (fk_ik, "ik_check"), (motion, "linear_motion"),
-                         (motion, "trajectory_experiment"), (motion, "fixed_point_rotation")):
+                         (motion, "trajectory_experiment"), (motion, "fixed_point_rotation"),
+                         (dynamics, "dynamics_experiment")):
         def experiment(ctx, name=name):
             if name == interrupt:
                 raise KeyboardInterrupt
@@ -224,7 +226,7 @@ def test_a_failed_experiment_makes_the_run_exit_1(tmp_path, capsys, monkeypatch)
     _fake_experiments(monkeypatch)
     assert main(["lab", "--robot", "puma560", "--out", str(out), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["failed"] == 0 and [s["status"] for s in data["sections"]] == ["ok"] * 6
+    assert data["failed"] == 0 and [s["status"] for s in data["sections"]] == ["ok"] * 7
 
 
 def test_an_interrupted_run_leaves_the_previous_report_whole(tmp_path, capsys, monkeypatch):
@@ -293,3 +295,12 @@ def test_lab_view_opens_the_viewer_with_the_trajectory_and_its_waypoints(seed_re
         assert viewer.playback.duration == t[-1] > 0
     finally:
         viewer.close()
+
+
+def test_the_dynamics_experiment_finds_armkit_and_mujoco_agree(seed_report):
+    section = next(s for s in seed_report.sections if s.key == "dynamics")
+    assert section.status == "ok", section.notes
+    assert (seed_report.index.parent / "dynamics_torques.png").is_file()
+    assert "armkit = MuJoCo to" in section.headline
+    assert [row[0] for row in section.tables[0].rows] == armkit.load("probot-anno").joint_names
+    assert section.tables[1].columns[2] == "computed-torque feedforward (armkit's)"

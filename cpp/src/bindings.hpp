@@ -35,5 +35,6 @@ void bind_numeric(nb::module_& m);      // Levenberg-Marquardt
 void bind_solve(nb::module_& m);        // the IK pipeline: wrap, verify, rank
 void bind_workspace(nb::module_& m);    // reachability: sampling, FK positions, voxel counts in one pass
 void bind_topp(nb::module_& m);         // time-optimal path parameterisation (TOPP-RA), polynomial peaks
+void bind_dynamics(nb::module_& m);     // inverse and forward dynamics, mass matrices
 
 }  // namespace armkit::bindings

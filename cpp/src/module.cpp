@@ -1,11 +1,12 @@
 #include "bindings.hpp"
 
 NB_MODULE(_core, m) {
-    m.doc() = "armkit's compiled core: kinematics and IK kernels (C++17). Internal: use armkit's Python API.";
+    m.doc() = "armkit's compiled core: kinematics, IK and dynamics kernels (C++17). Internal: use armkit's Python API.";
     armkit::bindings::bind_kinematics(m);
     armkit::bindings::bind_closed_form(m);
     armkit::bindings::bind_numeric(m);
     armkit::bindings::bind_solve(m);
     armkit::bindings::bind_workspace(m);
     armkit::bindings::bind_topp(m);
+    armkit::bindings::bind_dynamics(m);
 }

@@ -19,6 +19,7 @@ _MODULES = {
     "armkit.ik": ["IKResult", "IKResultBatch", "IKSolutions", "NumericIK", "analyze_structure",
                   "ik_position", "ik_solutions", "numeric_ik", "position_solutions", "SelfMotion",
                   "self_motion"],
+    "armkit.inertial": ["Inertial"],
     "armkit.kinematics": ["ChainKernel"],
     "armkit.robot": ["LockedRobot", "Robot"],
     "armkit.robot_file": ["builtin_robots", "load", "robot_from_dict", "robot_to_toml"],

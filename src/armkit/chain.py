@@ -25,6 +25,7 @@ from numpy.typing import NDArray
 
 from armkit import _core
 from armkit.errors import InputError, RobotDefinitionError
+from armkit.inertial import Inertial
 from armkit.spatial.transforms import rot_x, rot_z, trans_x, trans_z
 
 if TYPE_CHECKING:  # armkit.robot imports this module
@@ -100,6 +101,11 @@ class Joint:
     max_velocity, max_acceleration : float or None
         Optional limits [rad/s or m/s, rad/s^2 or m/s^2].
     name : str
+    inertial : Inertial or None
+        The link this joint moves (with every body fixed to it), in this joint's link frame
+        (after ``T_after``); None if not given (:mod:`armkit.dynamics` then refuses the arm).
+    max_torque : float or None
+        Optional torque limit [N m] (revolute) or force limit [N] (prismatic).
     """
 
     kind: JointKind
@@ -110,6 +116,8 @@ class Joint:
     max_velocity: float | None = None
     max_acceleration: float | None = None
     name: str = ""
+    inertial: Inertial | None = None
+    max_torque: float | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in ("revolute", "prismatic"):
@@ -119,7 +127,7 @@ class Joint:
             raise RobotDefinitionError(
                 f"joint {self.name!r}: limits [{self.lower}, {self.upper}] are not increasing")
         for label, value in (("max_velocity", self.max_velocity),
-                             ("max_acceleration", self.max_acceleration)):
+                             ("max_acceleration", self.max_acceleration), ("max_torque", self.max_torque)):
             if value is not None and not (np.isfinite(value) and value > 0):
                 raise RobotDefinitionError(
                     f"joint {self.name!r}: {label} = {value}; expected a positive number")
@@ -295,7 +303,9 @@ def chain_from_dh(rows: Sequence[DHRow], convention: DHConvention, *,
                   base_rows: Sequence[DHRow] = (), tool_rows: Sequence[DHRow] = (),
                   T_base: NDArray[np.float64] | None = None,
                   T_tool: NDArray[np.float64] | None = None,
-                  names: Sequence[str] | None = None) -> Chain:
+                  names: Sequence[str] | None = None,
+                  inertials: Sequence[Inertial | None] | None = None,
+                  max_torque: Sequence[float | None] | None = None) -> Chain:
     """Build a :class:`Chain` from DH rows in either convention.
 
     Parameters
@@ -313,6 +323,8 @@ def chain_from_dh(rows: Sequence[DHRow], convention: DHConvention, *,
         Extra fixed transforms, applied before the base rows and after the tool rows.
     names : sequence of str, optional
         Joint names, default ``q1 ... qn``.
+    inertials, max_torque : sequence, optional
+        Per joint, as for :func:`chain_from_frames` (inertials in the DH link frames).
     """
     if len(rows) == 0:
         raise RobotDefinitionError("a DH table needs at least one joint row, got none")
@@ -330,7 +342,8 @@ def chain_from_dh(rows: Sequence[DHRow], convention: DHConvention, *,
         tool = tool @ np.asarray(T_tool, dtype=float)
     return chain_from_frames([row.joint for row in rows], before, after, limits=limits,
                              max_velocity=max_velocity, max_acceleration=max_acceleration,
-                             T_base=base, T_tool=tool, names=names)
+                             T_base=base, T_tool=tool, names=names, inertials=inertials,
+                             max_torque=max_torque)
 
 
 def chain_from_frames(kinds: Sequence[JointKind], T_before: Sequence[NDArray[np.float64]],
@@ -340,7 +353,9 @@ def chain_from_frames(kinds: Sequence[JointKind], T_before: Sequence[NDArray[np.
                       max_acceleration: Sequence[float | None] | None = None,
                       T_base: NDArray[np.float64] | None = None,
                       T_tool: NDArray[np.float64] | None = None,
-                      names: Sequence[str] | None = None) -> Chain:
+                      names: Sequence[str] | None = None,
+                      inertials: Sequence[Inertial | None] | None = None,
+                      max_torque: Sequence[float | None] | None = None) -> Chain:
     """Build a :class:`Chain` from each joint's fixed transforms (what every description fills).
 
     Parameters
@@ -355,6 +370,10 @@ def chain_from_frames(kinds: Sequence[JointKind], T_before: Sequence[NDArray[np.
     T_base, T_tool : ndarray (4, 4), optional
     names : sequence of str, optional
         Joint names, default ``q1 ... qn``.
+    inertials : sequence of Inertial or None, optional
+        Per joint, its link's mass properties in its link frame (see :class:`Joint`).
+    max_torque : sequence of float or None, optional
+        Per joint, a torque [N m] or force [N] limit.
 
     Examples
     --------
@@ -369,9 +388,11 @@ def chain_from_frames(kinds: Sequence[JointKind], T_before: Sequence[NDArray[np.
     limits = list(limits) if limits is not None else [None] * n
     max_velocity = list(max_velocity) if max_velocity is not None else [None] * n
     max_acceleration = list(max_acceleration) if max_acceleration is not None else [None] * n
+    inertials = list(inertials) if inertials is not None else [None] * n
+    max_torque = list(max_torque) if max_torque is not None else [None] * n
     for label, values in (("T_before", T_before), ("T_after", T_after), ("limits", limits),
                           ("max_velocity", max_velocity), ("max_acceleration", max_acceleration),
-                          ("names", names)):
+                          ("names", names), ("inertials", inertials), ("max_torque", max_torque)):
         if len(values) != n:
             raise RobotDefinitionError(f"{label} has {len(values)} entries; expected {n}, "
                                        f"one per joint")
@@ -380,6 +401,6 @@ def chain_from_frames(kinds: Sequence[JointKind], T_before: Sequence[NDArray[np.
         lower, upper = limits[i] if limits[i] is not None else (
             (-np.pi, np.pi) if kind == "revolute" else (-np.inf, np.inf))
         joints.append(Joint(kind, T_before[i], T_after[i], float(lower), float(upper),
-                            max_velocity[i], max_acceleration[i], names[i]))
+                            max_velocity[i], max_acceleration[i], names[i], inertials[i], max_torque[i]))
     return Chain(tuple(joints), np.eye(4) if T_base is None else T_base,
                  np.eye(4) if T_tool is None else T_tool)

@@ -28,7 +28,7 @@ from armkit.trajectory.joint_trajectory import JointTrajectory
 __all__ = ["plot_pva", "plot_tool_path", "save_figure"]
 
 _FORMATS = (".png", ".svg", ".pdf")
-_QUANTITIES = (("position", ""), ("velocity", "/s"), ("acceleration", "/s²"))
+_QUANTITIES = (("position", ""), ("velocity", "/s"), ("acceleration", "/s²"), ("torque", ""))
 
 
 def save_figure(figure: Figure, path: str | Path, overwrite: bool = False, dpi: int = 150) -> Path:
@@ -54,13 +54,14 @@ def _rate(trajectory: JointTrajectory, rate_hz: float | None) -> float:
 
 
 def plot_pva(trajectory: JointTrajectory, robot: Robot | None = None, *, rate_hz: float | None = None,
-             title: str | None = None) -> Figure:
-    """Position, velocity and acceleration of every joint against time, one panel each.
+             title: str | None = None, torques: bool = False) -> Figure:
+    """Position, velocity and acceleration (and torque) of every joint against time, one panel each.
 
-    Rows are position, velocity and acceleration; columns are joints. Velocity and
-    acceleration limits of ``robot`` (if given and finite) are drawn as dashed red lines,
-    its position limits when within 1.5 times the curve's range of it; waypoints are
-    marked with dots and dotted vertical lines.
+    Rows are position, velocity and acceleration, and with ``torques`` the joint torques
+    (:meth:`JointTrajectory.torques`); columns are joints. Velocity, acceleration and torque
+    limits of ``robot`` (if given and finite) are drawn as dashed red lines, its position
+    limits when within 1.5 times the curve's range of it; waypoints are marked with dots
+    and dotted vertical lines.
 
     Parameters
     ----------
@@ -70,19 +71,32 @@ def plot_pva(trajectory: JointTrajectory, robot: Robot | None = None, *, rate_hz
     rate_hz : float, optional
         Sampling rate of the curves [Hz]; default about 2000 points, at least 50 Hz.
     title : str, optional
+    torques : bool
+        Add a row of joint torques [N m or N]; needs ``robot`` with inertial parameters.
+
+    Raises
+    ------
+    InputError
+        If ``torques`` is asked for without a robot.
     """
+    if torques and robot is None:
+        raise InputError("plot_pva(torques=True): expected the robot too (its masses give the torques)")
     samples = trajectory.sample(_rate(trajectory, rate_hz))
+    rows = [*samples[1:4]]
+    if torques:
+        rows.append(robot.inverse_dynamics(samples.q, samples.qd, samples.qdd))
     n = trajectory.n
     names = robot.joint_names if robot is not None else [f"q{j + 1}" for j in range(n)]
     prismatic = robot.chain.prismatic if robot is not None else [False] * n
     limits = ([None if robot is None else robot.limits,
                None if robot is None else robot.max_velocity,
-               None if robot is None else robot.max_acceleration])
-    figure = Figure(figsize=(2.6 * n + 1.0, 7.2), layout="constrained")
-    axes = figure.subplots(3, n, sharex=True, squeeze=False)
+               None if robot is None else robot.max_acceleration,
+               None if robot is None else robot.max_torque])
+    figure = Figure(figsize=(2.6 * n + 1.0, 2.4 * len(rows)), layout="constrained")
+    axes = figure.subplots(len(rows), n, sharex=True, squeeze=False)
     times = trajectory.waypoint_times
     colors = [f"C{j}" for j in range(n)]
-    for row, ((quantity, per), values) in enumerate(zip(_QUANTITIES, samples[1:4], strict=False)):
+    for row, ((quantity, per), values) in enumerate(zip(_QUANTITIES, rows, strict=False)):
         for j in range(n):
             ax = axes[row, j]
             ax.plot(samples.t, values[:, j], color=colors[j], lw=1.6)
@@ -92,12 +106,14 @@ def plot_pva(trajectory: JointTrajectory, robot: Robot | None = None, *, rate_hz
                 ax.plot(times, trajectory.waypoints[:, j], "o", color="k", ms=4, zorder=3)
                 ax.set_title(names[j], fontsize=10)
             _draw_limits(ax, limits[row], j, values[:, j], row)
-            unit = ("m" if prismatic[j] else "rad") + per
+            if quantity == "torque":
+                unit = "N" if prismatic[j] else "N m"
+            else:
+                unit = ("m" if prismatic[j] else "rad") + per
             ax.set_ylabel(f"{quantity} [{unit}]" if j == 0 else f"[{unit}]", fontsize=9)
             ax.tick_params(labelsize=8)
             ax.grid(True, lw=0.3, alpha=0.5)
-        axes[2, 0].set_xlabel("time [s]", fontsize=9)
-    for ax in axes[2, 1:]:
+    for ax in axes[-1, :]:
         ax.set_xlabel("time [s]", fontsize=9)
     label = title or (f"{robot.name + ': ' if robot is not None else ''}minimum-jerk trajectory, "
                       f"{trajectory.durations.size} segments, {trajectory.duration:.3g} s "

@@ -16,11 +16,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armkit import _core, kinematics
+from armkit import _core, dynamics, kinematics
 from armkit._deprecation import renamed_argument
 from armkit._params import thread_count, whole_number
 from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
+from armkit.inertial import Inertial
 from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
 
 if TYPE_CHECKING:  # the descriptions' modules import this one
@@ -52,6 +53,24 @@ class DHDescription:
 def _one_pose_ready(T: object) -> bool:
     """Whether ``T`` is one C-ordered float64 (4, 4) array (the IK fast path's input)."""
     return type(T) is np.ndarray and T.shape == (4, 4) and T.dtype == np.float64 and T.flags.c_contiguous
+
+
+def _with_base_inertials(chain: Chain, inertials: Sequence[Inertial | None] | None,
+                         max_torque: Sequence[float | None] | None) -> Chain:
+    """``chain`` with per-joint ``max_torque`` and ``inertials`` given in the base frame at
+    ``q = 0`` (moved into each joint's link frame)."""
+    n = chain.n
+    inertials = [None] * n if inertials is None else list(inertials)
+    max_torque = [None] * n if max_torque is None else list(max_torque)
+    if len(inertials) != n or len(max_torque) != n:
+        raise InputError(f"inertials and max_torque: expected {n} entries each, one per joint, got "
+                         f"{len(inertials)} and {len(max_torque)}")
+    joints, T_base_link = [], np.eye(4)
+    for joint, inertial, limit in zip(chain.joints, inertials, max_torque, strict=True):
+        T_base_link = T_base_link @ joint.T_before @ joint.T_after
+        moved = None if inertial is None else inertial.moved(np.linalg.inv(T_base_link))
+        joints.append(replace(joint, inertial=moved, max_torque=limit))
+    return Chain(tuple(joints), chain.T_base, chain.T_tool)
 
 
 class Robot:
@@ -98,17 +117,20 @@ class Robot:
                 base_rows: Sequence[DHRow] = (), tool_rows: Sequence[DHRow] = (),
                 length_unit: str = "m", angle_unit: str = "rad",
                 names: Sequence[str] | None = None, T_base: ArrayLike | None = None,
-                T_tool: ArrayLike | None = None) -> Robot:
+                T_tool: ArrayLike | None = None, inertials: Sequence[Inertial | None] | None = None,
+                max_torque: Sequence[float | None] | None = None) -> Robot:
         """Build a robot from DH rows in SI units (see :func:`armkit.chain.chain_from_dh`).
 
         ``T_base`` ``(4, 4)`` places the DH base frame in the world (before any base rows),
         ``T_tool`` ``(4, 4)`` follows the tool rows (or the last joint's link frame) [m].
+        ``inertials`` per joint in its DH link frame, ``max_torque`` [N m or N] per joint.
         """
         T_base = None if T_base is None else np.array(T_base, dtype=float)
         T_tool = None if T_tool is None else np.array(T_tool, dtype=float)
         chain = chain_from_dh(rows, convention, limits=limits, max_velocity=max_velocity,
                               max_acceleration=max_acceleration, base_rows=base_rows,
-                              tool_rows=tool_rows, names=names, T_base=T_base, T_tool=T_tool)
+                              tool_rows=tool_rows, names=names, T_base=T_base, T_tool=T_tool,
+                              inertials=inertials, max_torque=max_torque)
         dh = DHDescription(convention, tuple(rows), tuple(base_rows), tuple(tool_rows),
                            length_unit, angle_unit, T_base, T_tool)
         return cls(chain, name=name, dh=dh)
@@ -120,12 +142,14 @@ class Robot:
                  max_velocity: Sequence[float | None] | None = None,
                  max_acceleration: Sequence[float | None] | None = None,
                  names: Sequence[str] | None = None, length_unit: str = "m",
-                 angle_unit: str = "rad") -> Robot:
+                 angle_unit: str = "rad", inertials: Sequence[Inertial | None] | None = None,
+                 max_torque: Sequence[float | None] | None = None) -> Robot:
         """Build a robot from joint lines at ``q = 0`` (product of exponentials, SI units).
 
         ``axes[i]`` ``(n, 3)`` is joint ``i``'s direction and ``points[i]`` a point on its
         line [m], both in the base frame; ``M`` ``(4, 4)`` the tool pose at ``q = 0``. See
-        :func:`armkit.poe.chain_from_poe` for the other parameters.
+        :func:`armkit.poe.chain_from_poe` for the other parameters. ``inertials`` per joint
+        are given like the lines, in the base frame at ``q = 0``; ``max_torque`` [N m or N].
 
         Examples
         --------
@@ -138,6 +162,8 @@ class Robot:
 
         chain = chain_from_poe(axes, points, M, kinds=kinds, T_base=T_base, limits=limits,
                                max_velocity=max_velocity, max_acceleration=max_acceleration, names=names)
+        if inertials is not None or max_torque is not None:
+            chain = _with_base_inertials(chain, inertials, max_torque)
         axes = np.asarray(axes, dtype=float)
         poe = PoeDescription(axes / np.linalg.norm(axes, axis=1, keepdims=True),
                              np.asarray(points, dtype=float), np.asarray(M, dtype=float),
@@ -189,6 +215,11 @@ class Robot:
         """``(n,)`` acceleration limits [rad/s^2 or m/s^2]; ``inf`` where none was given."""
         return np.array([np.inf if j.max_acceleration is None else j.max_acceleration
                          for j in self.chain.joints])
+
+    @property
+    def max_torque(self) -> NDArray[np.float64]:
+        """``(n,)`` torque [N m] or force [N] limits (URDF ``effort``); ``inf`` where none was given."""
+        return np.array([np.inf if j.max_torque is None else j.max_torque for j in self.chain.joints])
 
     # ----------------------------------------------------------------- checks
     def check_q(self, q: ArrayLike, name: str = "q") -> NDArray[np.float64]:
@@ -410,6 +441,79 @@ class Robot:
         shape = tuple(whole_number(k, "size", minimum=0) for k in shape)
         return rng.uniform(lim[:, 0], lim[:, 1], size=(*shape, self.n))
 
+    # ----------------------------------------------------------------- dynamics
+    # One state (arrays (n,) the core takes as they are, default gravity: the model's, no threads) goes
+    # straight to the core's one-state call, which answers None for anything it does not take as it is
+    # (a batch, a value not finite, a singular mass matrix): the checked path then answers or says why.
+    def inverse_dynamics(self, q: ArrayLike, qd: ArrayLike | None = None, qdd: ArrayLike | None = None, *,
+                         gravity: ArrayLike | None = None, threads: int | None = None) -> NDArray[np.float64]:
+        """Joint torques ``(..., n)`` [N m or N] for positions, velocities and accelerations
+        ``(..., n)`` (recursive Newton-Euler); see :func:`armkit.dynamics.inverse_dynamics`.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> armkit.load("puma560").inverse_dynamics(np.zeros(6), np.zeros(6), np.zeros(6)).round(3)
+        array([ 0.   , 37.484,  0.249,  0.   ,  0.   ,  0.   ])
+        """
+        if gravity is None and threads is None:
+            try:
+                tau = _core.inverse_dynamics_one(dynamics._model(self.chain), q, qd, qdd)
+            except TypeError:  # not arrays: the checked path
+                tau = None
+            if tau is not None:
+                return tau
+        return dynamics.inverse_dynamics(self.chain, q, qd, qdd, threads=threads,
+                                         gravity=dynamics.GRAVITY if gravity is None else gravity)
+
+    def mass_matrix(self, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.float64]:
+        """Joint-space mass matrices ``(..., n, n)`` at ``q`` ``(..., n)``; see
+        :func:`armkit.dynamics.mass_matrix`."""
+        if threads is None:
+            try:
+                M = _core.mass_matrix_one(dynamics._model(self.chain), q)
+            except TypeError:
+                M = None
+            if M is not None:
+                return M
+        return dynamics.mass_matrix(self.chain, q, threads=threads)
+
+    def gravity_torques(self, q: ArrayLike, *, gravity: ArrayLike | None = None,
+                        threads: int | None = None) -> NDArray[np.float64]:
+        """Torques ``(..., n)`` [N m or N] holding the arm still at ``q`` ``(..., n)``."""
+        return self.inverse_dynamics(q, gravity=gravity, threads=threads)
+
+    def coriolis_torques(self, q: ArrayLike, qd: ArrayLike, *,
+                         threads: int | None = None) -> NDArray[np.float64]:
+        """Coriolis and centrifugal torques ``C(q, qd) qd`` ``(..., n)`` [N m or N]."""
+        return dynamics.coriolis_torques(self.chain, q, qd, threads=threads)
+
+    def forward_dynamics(self, q: ArrayLike, qd: ArrayLike, tau: ArrayLike, *,
+                         gravity: ArrayLike | None = None, threads: int | None = None) -> NDArray[np.float64]:
+        """Joint accelerations ``(..., n)`` under torques ``tau`` ``(..., n)``; see
+        :func:`armkit.dynamics.forward_dynamics`."""
+        if gravity is None and threads is None:
+            try:
+                qdd = _core.forward_dynamics_one(dynamics._model(self.chain), q, qd, tau)
+            except TypeError:
+                qdd = None
+            if qdd is not None:
+                return qdd
+        return dynamics.forward_dynamics(self.chain, q, qd, tau, threads=threads,
+                                         gravity=dynamics.GRAVITY if gravity is None else gravity)
+
+    def with_payload(self, mass: float, com: ArrayLike = (0.0, 0.0, 0.0),
+                     inertia: ArrayLike = ((0.0,) * 3,) * 3) -> Robot:
+        """This robot carrying a payload [kg] fixed to the tool frame (``com`` [m] in it,
+        ``inertia`` [kg m^2] about it), added to the last link's own; see
+        :func:`armkit.dynamics.with_payload`."""
+        return dynamics.with_payload(self, mass, com, inertia)
+
+    def with_estimated_inertia(self, density: float = 1000.0) -> Robot:
+        """This robot with every link's inertia estimated from MJCF export's capsules of
+        ``density`` [kg/m^3]; see :func:`armkit.dynamics.with_estimated_inertia`."""
+        return dynamics.with_estimated_inertia(self, density)
+
     # ----------------------------------------------------------------- locked joints
     def lock(self, values: Mapping[int | str, float]) -> LockedRobot:
         """The robot with some joints fixed at given values: a robot of the other joints.
@@ -514,6 +618,9 @@ class LockedRobot(Robot):
                 joints.append(joint if pending is None else replace(joint, T_before=pending @ joint.T_before))
                 pending = None
         tool = chain.T_tool if pending is None else pending @ chain.T_tool
+        if any(joint.inertial is not None for joint in chain.joints):  # locked links ride on the one before
+            joints = [replace(joint, inertial=inertial) for joint, inertial in
+                      zip(joints, dynamics.locked_inertials(chain, self.locked), strict=True)]
         names = ", ".join(f"{full_robot.joint_names[i]} = {v:.6g}" for i, v in self.locked.items())
         super().__init__(Chain(tuple(joints), chain.T_base, tool), name=f"{full_robot.name} ({names} locked)",
                          source=full_robot.source, description=full_robot.description)

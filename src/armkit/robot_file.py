@@ -23,6 +23,18 @@ DH format (every length in ``length_unit``, every angle in ``angle_unit``)::
     d = 55
     theta = 0
 
+Dynamics (optional, per joint; every joint or none)::
+
+    mass = 4.8                     # kg, the link the joint moves
+    com = [-20.3, -14.1, 70]       # centre of mass, length_unit, in the joint's link frame
+    inertia = [0.066e6, 0.086e6, 0.0125e6]  # kg length_unit^2 about the centre of mass, link
+                                   # frame axes: 3 numbers (the diagonal) or a 3x3 matrix
+    max_torque = 89.4              # N m (revolute) or N (prismatic), optional on its own
+
+``com`` (default the frame origin) and ``inertia`` (default zero) need ``mass``. The link
+frame is DH link frame ``i`` of a DH file; in a POE file ``com`` and ``inertia`` are in the
+base frame with every joint at zero, like ``axis`` and ``point``. See ``docs/dynamics.md``.
+
 ``[[base]]`` rows work like ``[[tool]]`` rows, before the first joint. Instead of rows,
 ``[base]`` and ``[tool]`` may be single tables holding a plain transform: ``xyz`` (lengths)
 and ``rpy`` (angles, fixed axes: ``R = Rz(yaw) Ry(pitch) Rx(roll)``), or ``matrix`` (4x4,
@@ -64,6 +76,7 @@ from numpy.typing import NDArray
 
 from armkit.chain import MAX_VALUE, DHRow
 from armkit.errors import InputError, RobotDefinitionError
+from armkit.inertial import Inertial
 from armkit.poe import poe_from_chain
 from armkit.robot import Robot
 from armkit.spatial.rotations import euler_from_matrix, matrix_from_euler
@@ -77,7 +90,8 @@ _ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 _TOP_KEYS = {"name", "convention", "length_unit", "angle_unit", "description", "joints",
              "tool", "base"}
 _ROW_KEYS = {"alpha", "a", "d", "theta"}
-_COMMON_JOINT_KEYS = {"type", "limits", "max_velocity", "max_acceleration", "name"}
+_COMMON_JOINT_KEYS = {"type", "limits", "max_velocity", "max_acceleration", "name", "mass", "com", "inertia",
+                      "max_torque"}
 _JOINT_KEYS = _ROW_KEYS | _COMMON_JOINT_KEYS
 _POE_KEYS = {"axis", "point"}
 _TRANSFORM_KEYS = {"xyz", "rpy", "matrix"}
@@ -291,6 +305,7 @@ def robot_from_dict(data: dict, source: str = "robot description", require_units
         raise RobotDefinitionError(f"{source}: 'joints' must be a non-empty array of tables "
                                    f"([[joints]]), got {_shown(joints)}")
     rows, axes, points, kinds, limits, vmax, amax, names = [], [], [], [], [], [], [], []
+    inertials, max_torque = [], []
     seen: set[str] = set()
     for i, table in enumerate(joints):
         where = f"{source}, joint {i + 1}"
@@ -308,23 +323,58 @@ def robot_from_dict(data: dict, source: str = "robot description", require_units
         vmax.append(_positive(table.get("max_velocity"), f"{where}, key 'max_velocity'", unit))
         amax.append(_positive(table.get("max_acceleration"), f"{where}, key 'max_acceleration'", unit))
         names.append(_joint_name(table, where, i, seen))
+        inertials.append(_inertial(table, where, length))
+        max_torque.append(_positive(table.get("max_torque"), f"{where}, key 'max_torque'", 1.0))
+    given = [inertial is not None for inertial in inertials]
+    if any(given) and not all(given):
+        raise RobotDefinitionError(f"{source}, joint {given.index(False) + 1}: no 'mass' while joint "
+                                   f"{given.index(True) + 1} has one; give mass (com, inertia) for every "
+                                   f"joint or for none")
+    inertials = inertials if any(given) else None
     base_rows, T_base = _end(data, "base", source, length, angle, poe)
     tool_rows, T_tool = _end(data, "tool", source, length, angle, poe)
     name = _text(data.get("name", Path(source).stem), f"{source}, key 'name'")
     if poe:
         robot = Robot.from_poe(axes, points, np.eye(4) if T_tool is None else T_tool, name=name, kinds=kinds,
                                T_base=T_base, limits=limits, max_velocity=vmax, max_acceleration=amax,
-                               names=names, length_unit=length_unit, angle_unit=angle_unit)
+                               names=names, length_unit=length_unit, angle_unit=angle_unit,
+                               inertials=inertials, max_torque=max_torque)
     else:
         robot = Robot.from_dh(rows, convention, name=name, limits=limits, max_velocity=vmax,
                               max_acceleration=amax, base_rows=base_rows, tool_rows=tool_rows,
                               length_unit=length_unit, angle_unit=angle_unit, names=names,
-                              T_base=T_base, T_tool=T_tool)
+                              T_base=T_base, T_tool=T_tool, inertials=inertials, max_torque=max_torque)
     if not np.isfinite(robot.chain.T_between).all():
         raise RobotDefinitionError(f"{source}: the fixed transforms overflow; check the lengths")
     robot.source = source
     robot.description = _text(data.get("description", ""), f"{source}, key 'description'")
     return robot
+
+
+def _inertial(table: dict, where: str, length: float) -> Inertial | None:
+    """A joint's ``mass``, ``com`` and ``inertia`` (file units) as SI, or None without ``mass``."""
+    if "mass" not in table:
+        for key in ("com", "inertia"):
+            if key in table:
+                raise RobotDefinitionError(f"{where}, key {key!r}: needs 'mass' [kg] too")
+        return None
+    mass = _number(table["mass"], f"{where}, key 'mass'")
+    if not 0 <= mass <= MAX_VALUE:
+        raise RobotDefinitionError(f"{where}, key 'mass': expected a mass from 0 to {MAX_VALUE:g} kg, "
+                                   f"got {table['mass']!r}")
+    com = _vector(table.get("com", [0, 0, 0]), f"{where}, key 'com'", length)
+    value, key = table.get("inertia", [0, 0, 0]), f"{where}, key 'inertia'"
+    if isinstance(value, list) and len(value) == 3 and all(isinstance(row, list) for row in value):
+        inertia = np.array([_vector(row, key, length**2) for row in value])
+    elif isinstance(value, list) and len(value) == 3:
+        inertia = np.diag(_vector(value, key, length**2))
+    else:
+        raise RobotDefinitionError(f"{key}: expected 3 numbers (the diagonal) or a 3x3 matrix "
+                                   f"[kg length_unit^2], got {_shown(value)}")
+    try:
+        return Inertial(mass, com, inertia)
+    except RobotDefinitionError as exc:
+        raise RobotDefinitionError(f"{where}: {exc}") from exc
 
 
 def _limits(value: Any, where: str, unit: float) -> tuple[float, float] | None:
@@ -365,6 +415,10 @@ def robot_to_toml(robot: Robot) -> str:
     lines = [f"name = {_toml_string(robot.name)}",
              *([f"description = {_toml_string(robot.description)}"] if robot.description else []),
              f'convention = "{convention}"', 'length_unit = "m"', 'angle_unit = "rad"']
+    T_base_link, frame = [], np.eye(4)  # POE: each link frame in the base frame at q = 0
+    for joint in robot.chain.joints:
+        frame = frame @ joint.T_before @ joint.T_after
+        T_base_link.append(frame)
     for i, joint in enumerate(robot.chain.joints):
         lines += ["", "[[joints]]", f"name = {_toml_string(joint.name)}", f'type = "{joint.kind}"']
         if poe is None:
@@ -373,9 +427,13 @@ def robot_to_toml(robot: Robot) -> str:
             lines += [f"axis = {_array(poe.axes[i])}", f"point = {_array(poe.points[i])}"]
         if math.isfinite(joint.lower) and math.isfinite(joint.upper):
             lines.append(f"limits = [{joint.lower!r}, {joint.upper!r}]")
-        for key in ("max_velocity", "max_acceleration"):
+        for key in ("max_velocity", "max_acceleration", "max_torque"):
             if getattr(joint, key) is not None:
                 lines.append(f"{key} = {getattr(joint, key)!r}")
+        if joint.inertial is not None:
+            inertial = joint.inertial if poe is None else joint.inertial.moved(T_base_link[i])
+            lines += [f"mass = {inertial.mass!r}", f"com = {_array(inertial.com)}",
+                      f"inertia = [{', '.join(_array(row) for row in inertial.inertia)}]"]
     if poe is None:
         for key, rows, T in (("base", robot.dh.base_rows, robot.dh.T_base),
                              ("tool", robot.dh.tool_rows, robot.dh.T_tool)):

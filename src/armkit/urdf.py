@@ -15,9 +15,15 @@ What is read
     (default: the only leaf below ``base``); ``<limit>`` ``lower``/``upper``/``velocity``
     (a velocity of 0, written by some files for "none", is no limit; so is a position limit
     beyond :data:`armkit.chain.MAX_VALUE`, such as Gazebo's ``1e16``) and ``effort`` (kept
-    in :class:`UrdfDescription`); the ``<visual>`` meshes of every link that moves with
-    the chain (file name as written: ``package://`` or relative, origin and scale).
-    Everything else (inertia, collision, transmissions, ``<gazebo>``) is ignored.
+    in :class:`UrdfDescription` and as the joint's ``max_torque``; 0 is no limit); the
+    ``<visual>`` meshes of every link that moves with the chain (file name as written:
+    ``package://`` or relative, origin and scale); every ``<inertial>`` (mass, origin,
+    inertia) of the links that move with a chain link, merged into that link as pinocchio's
+    reduced model does: links fixed to it, and side branches and links beyond the tip held
+    at zero (a hand and its fingers), in its link frame. Links fixed to the base carry no
+    load and are left out; a file without any ``<inertial>`` on the moving links gives a
+    robot without inertia (:mod:`armkit.dynamics` then asks for it). Everything else
+    (collision, transmissions, ``<gazebo>``) is ignored.
 Refused, with one :class:`~armkit.errors.RobotDefinitionError` naming the joint or line
     Malformed XML, a document type declaration (``<!DOCTYPE``/``<!ENTITY``: entities can
     expand without bound, so no DTD is accepted at all; the standard library's parser then
@@ -46,6 +52,7 @@ from numpy.typing import NDArray
 
 from armkit.chain import MAX_VALUE, chain_from_frames
 from armkit.errors import RobotDefinitionError, warn_at_caller
+from armkit.inertial import Inertial
 from armkit.poe import rotation_z_to, unit_axis
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_euler
@@ -198,7 +205,9 @@ def robot_from_urdf(text: str | bytes, source: str = "URDF text", *, base: str |
     if not kinds:
         raise RobotDefinitionError(f"{source}: no moving joint between links {base!r} and {tip!r}")
     chain = chain_from_frames(kinds, before, after, limits=limits, max_velocity=velocity,
-                              T_tool=pending, names=names)
+                              T_tool=pending, names=names,
+                              max_torque=[force if force and force > 0 else None for force in effort],
+                              inertials=_inertials(base, path, joints, links, source))
     name = root.get("name") or Path(source).stem
     description = UrdfDescription(source, name, base, tip, tuple(frames), tuple(effort),
                                   _meshes(base, path, joints, links, source))
@@ -428,3 +437,58 @@ def _meshes(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], li
                 where = f"{source}, joint {joint.name!r}"
                 stack.append((joint.child, frame, T_frame_link @ _origin(joint.element, where)))
     return tuple(sorted(out, key=lambda m: (m.frame, m.link)))
+
+
+def _inertials(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], links: dict[str, ET.Element],
+               source: str) -> list[Inertial] | None:
+    """Per moving joint of ``path``, the ``<inertial>`` of every link moving with its child link,
+    in the child's frame: links fixed to it, side branches and links beyond the tip at joint
+    values zero. None if none of them has an ``<inertial>``."""
+    children: dict[str, list[_UrdfJoint]] = {}
+    for joint in joints.values():
+        children.setdefault(joint.parent, []).append(joint)
+    on_path = {joint.child for joint in path}
+    frame, T_frame_link, stack = 0, np.eye(4), []
+    for joint in path:
+        if joint.kind == "fixed":
+            T_frame_link = T_frame_link @ _origin(joint.element, f"{source}, joint {joint.name!r}")
+        else:
+            frame, T_frame_link = frame + 1, np.eye(4)
+        stack.append((joint.child, frame, T_frame_link))
+    bodies = [Inertial.zero() for _ in range(frame)]
+    found = False
+    while stack:
+        link, frame, T_frame_link = stack.pop()
+        element = links[link].find("inertial")
+        if element is not None and frame > 0:
+            body = _inertial(element, f"{source}, link {link!r}").moved(T_frame_link)
+            bodies[frame - 1] = bodies[frame - 1] + body
+            found = True
+        for joint in children.get(link, []):  # everything below, held at zero, except the chain itself
+            if joint.child not in on_path:
+                stack.append((joint.child, frame, T_frame_link @ _origin(joint.element,
+                                                                         f"{source}, joint {joint.name!r}")))
+    return bodies if found else None
+
+
+def _inertial(element: ET.Element, where: str) -> Inertial:
+    """An ``<inertial>`` in its link's frame: mass, centre-of-mass frame (``<origin>``), inertia in it."""
+    mass_element = element.find("mass")
+    if mass_element is None:
+        raise RobotDefinitionError(f"{where}: <inertial> has no <mass value=\"...\"/>")
+    mass = float(_floats(mass_element, "value", 1, where, default=None)[0])
+    if mass < 0:
+        raise RobotDefinitionError(f"{where}: <mass value=\"{mass_element.get('value')}\">: "
+                                   f"expected a mass >= 0 kg")
+    inertia_element = element.find("inertia")
+    inertia = np.zeros((3, 3))
+    if inertia_element is not None:
+        xx, xy, xz, yy, yz, zz = (
+            float(_floats(inertia_element, key, 1, where, default=[0.0])[0])
+            for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
+        inertia = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+    T_link_com = _origin(element, where)
+    try:
+        return Inertial(mass, np.zeros(3), inertia).moved(T_link_com)
+    except RobotDefinitionError as exc:
+        raise RobotDefinitionError(f"{where}: <inertial>: {exc}") from exc

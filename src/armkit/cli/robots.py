@@ -115,6 +115,19 @@ def joint_line_table(robot: Robot) -> Table:
     return table
 
 
+def _dynamics_line(robot: Robot) -> str:
+    """The link masses and torque limits, one line (or that the robot has no inertia)."""
+    torque = ", ".join("none" if not math.isfinite(t) else f"{t:.6g} {'N m' if kind == 'revolute' else 'N'}"
+                       for t, kind in zip(robot.max_torque, robot.joint_types, strict=True))
+    joints = robot.chain.joints
+    if any(joint.inertial is None for joint in joints):
+        mass = "no inertial parameters (armkit dynamics ... --estimate-inertia DENSITY estimates them)"
+    else:
+        masses = [joint.inertial.mass for joint in joints]
+        mass = f"{', '.join(f'{m:.6g}' for m in masses)} kg (moving: {sum(masses):.6g} kg)"
+    return f"link masses: {mass}\ntorque limits: {torque}"
+
+
 @app.command("show")
 def show_command(
     robot: RobotArg,
@@ -135,6 +148,8 @@ def show_command(
                     "urdf": None if arm.urdf is None else {
                         "base": arm.urdf.base, "tip": arm.urdf.tip, "links": arm.urdf.links,
                         "effort": arm.urdf.effort, "meshes": len(arm.urdf.meshes)},
+                    "mass": [None if j.inertial is None else j.inertial.mass for j in arm.chain.joints],
+                    "max_torque": arm.max_torque,
                     "locked": None if not isinstance(arm, LockedRobot) else {
                         arm.full_robot.joint_names[i]: v for i, v in arm.locked.items()},
                     "structure": dataclasses.asdict(structure)})
@@ -148,6 +163,7 @@ def show_command(
     if arm.urdf is not None:
         console.print(f"URDF {arm.urdf.path}: links {arm.urdf.base} to {arm.urdf.tip}, "
                       f"{len(arm.urdf.meshes)} visual meshes", highlight=False)
+    console.print(_dynamics_line(arm), markup=False)
     home = arm.fk(np.zeros(arm.n))
     console.print(f"tool at q = 0: position {fmt_numbers(home[:3, 3], 6)} m", markup=False)
     console.print(f"kind: {structure.description}", markup=False)

@@ -26,6 +26,7 @@ from armkit.cli.app import (
     reject_unknown_options,
     warn,
 )
+from armkit.cli.dynamics import DensityOpt, with_inertia_options
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.trajectory._checks import durations_from_times
@@ -33,7 +34,10 @@ from armkit.trajectory.export import write_csv, write_npz
 from armkit.trajectory.waypoints import read_waypoints
 
 if TYPE_CHECKING:  # the trajectory object and its planner load SciPy: imported where a plan is made
-    from armkit.trajectory.joint_trajectory import JointTrajectory
+    from armkit.trajectory.joint_trajectory import JointTrajectory, TrajectoryTorques
+
+#: Sampling rate [Hz] of ``--torques``' peaks (a 1 kHz controller's).
+TORQUE_RATE_HZ = 1000.0
 
 
 def _check_output(path: Path | None, suffixes: tuple[str, ...], force: bool, what: str) -> None:
@@ -90,6 +94,18 @@ def _summary(robot: Robot, traj: JointTrajectory, degrees: bool) -> Table:
                                           f"{units[j]}/s"),
                       *_limit_cells(traj.peak_acceleration[j], robot.max_acceleration[j], scale[j],
                                     f"{units[j]}/s²"))
+    return table
+
+
+def _torque_table(robot: Robot, torques: TrajectoryTorques, rate_hz: float) -> Table:
+    """Peak |torque| per joint along the trajectory against the robot's torque limits."""
+    table = Table(title="Joint torques (inverse dynamics of the samples)",
+                  caption=f"at {rate_hz:g} Hz; ratio = peak / limit; none: no torque limit given")
+    for column in ("joint", "peak |torque|", "limit", "ratio"):
+        table.add_column(column, justify="right")
+    for j, name in enumerate(robot.joint_names):
+        table.add_row(escape(name), *_limit_cells(torques.peak[j], robot.max_torque[j], 1.0,
+                                                  "N" if robot.chain.prismatic[j] else "N m"))
     return table
 
 
@@ -152,6 +168,10 @@ def traj_command(
     force: Annotated[bool, typer.Option("--force", help="Replace existing output files.")] = False,
     json_output: Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of "
                                                              "tables.")] = False,
+    torques: Annotated[bool, typer.Option("--torques", help="Joint torques along the motion (N m, N; "
+                                                            "sampled at 1 kHz) against the torque limits, "
+                                                            "and a torque row in --plot.")] = False,
+    estimate_inertia: DensityOpt = None,
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
@@ -167,7 +187,7 @@ def traj_command(
         _check_output(path, (".png", ".svg", ".pdf"), force, what)
     if not rate > 0:
         raise InputError(f"--rate: expected a positive sampling rate (Hz), got {rate:g}")
-    arm = load_robot(robot, base, tip, lock)
+    arm = with_inertia_options(load_robot(robot, base, tip, lock), estimate_inertia, None)
     rows = read_waypoints(waypoints, 6 if poses else arm.n)
     if deg:  # revolute joint columns, or the three pose angles
         angles = np.zeros(rows.shape[1], dtype=bool)
@@ -181,6 +201,7 @@ def traj_command(
 
     traj = plan_trajectory(arm, rows, segment_durations, poses=poses, convention=euler)
     samples = traj.sample(rate) if out is not None else None
+    torque_samples = traj.torques(arm, TORQUE_RATE_HZ) if torques else None
     warnings = [*traj.position_limit_violations(arm, deg)]
     if auto_time and (message := _unlimited_warning(arm)) is not None:
         warnings.append(message)
@@ -197,7 +218,7 @@ def traj_command(
     if plot is not None or plot_path is not None:
         from armkit.plots import plot_pva, plot_tool_path, save_figure  # matplotlib only when plotting
     if plot is not None:
-        written.append((save_figure(plot_pva(traj, arm), plot, force), ""))
+        written.append((save_figure(plot_pva(traj, arm, torques=torques), plot, force), ""))
     if plot_path is not None:
         written.append((save_figure(plot_tool_path(arm, traj), plot_path, force), ""))
     if json_output:
@@ -206,13 +227,18 @@ def traj_command(
                     "waypoint_times_s": traj.waypoint_times, "waypoints": traj.waypoints,
                     "peak_velocity": traj.peak_velocity, "max_velocity": arm.max_velocity,
                     "peak_acceleration": traj.peak_acceleration, "max_acceleration": arm.max_acceleration,
-                    "units": "SI: rad or m, per s, per s²; limits null where the robot file gives none",
+                    "peak_torque": None if torque_samples is None else torque_samples.peak,
+                    "max_torque": arm.max_torque,
+                    "units": "SI: rad or m, per s, per s², N m or N; limits null where the robot file "
+                             "gives none",
                     "warnings": warnings, "samples": None if samples is None else samples.t.size,
                     "rate_hz": rate, "written": [str(path) for path, _ in written]})
         return
     if poses:
         console.print(_waypoint_table(arm, traj, deg))
     console.print(_summary(arm, traj, deg))
+    if torque_samples is not None:
+        console.print(_torque_table(arm, torque_samples, TORQUE_RATE_HZ))
     final = ", ".join(f"{d:.4g}" for d in traj.durations)
     console.print(f"segment durations [s]: {final}", markup=False)
     for path, what in written:

@@ -13,8 +13,15 @@ Geometry
     the joint axis, then straight to the next origin (the "L" of a DH offset). ``r`` is
     ``LINK_RADIUS_RATIO`` times the arm's total link length, at least ``MIN_RADIUS``.
 Mass
-    Density ``DENSITY`` (a light, partly hollow arm), inertia of solid cylinders and
-    spheres, combined with the parallel-axis theorem.
+    The robot's own inertial parameters when it has them (robot file ``mass``/``com``/
+    ``inertia``, URDF ``<inertial>``; see :mod:`armkit.dynamics`), moved into the joint
+    frames; a body no simulator takes is made one that it does, without changing the
+    moment about its largest principal axis: a massless link gets ``MIN_MASS``, principal
+    moments ``A + B < C`` (no rigid body has them, e.g. roboticstoolbox's PUMA 560 link 1,
+    which holds only its rotor's moment about the joint axis) are raised until ``A + B = C``,
+    and none is below ``MIN_MOMENT``. Otherwise density ``DENSITY`` (a light, partly hollow
+    arm), inertia of solid cylinders and spheres, combined with the parallel-axis theorem
+    (:func:`capsule_bodies`; :meth:`armkit.Robot.with_estimated_inertia` is the same estimate).
 Servos
     Per joint a position servo (gain ``kp``) and a velocity servo (gain ``kv``) with
     critical damping at ``SERVO_BANDWIDTH_HZ``, computed from the largest inertia the
@@ -25,16 +32,18 @@ Servos
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from armkit import kinematics
+from armkit.dynamics import missing_inertia
 from armkit.errors import RobotDefinitionError
+from armkit.inertial import Inertial
 from armkit.robot import Robot
 
-__all__ = ["BodyShape", "PhysicalModel", "physical_model"]
+__all__ = ["BodyShape", "PhysicalModel", "capsule_bodies", "physical_model"]
 
 DENSITY = 1000.0  # kg/m^3
 LINK_RADIUS_RATIO = 0.025
@@ -43,6 +52,10 @@ SERVO_BANDWIDTH_HZ = 20.0
 ARMATURE_RATIO = 0.25
 TIMESTEP = 1e-3  # s, the physics and command rate
 GRAVITY = 9.81  # m/s^2
+#: Smallest mass [kg] and principal moment of inertia [kg m^2] an exported body gets (MuJoCo refuses
+#: moving bodies without them).
+MIN_MASS = 1e-9
+MIN_MOMENT = 1e-12
 _MIN_SEGMENT = 1e-6  # m; shorter offsets get no cylinder (MuJoCo rejects degenerate capsules)
 _GAIN_SAMPLES = 32
 
@@ -91,8 +104,8 @@ class PhysicalModel:
         Reflected rotor inertia [kg m^2 or kg], position gain [N m/rad or N/m] and
         velocity gain [N m s/rad or N s/m] per joint.
     effort : ndarray (n,)
-        A generous torque/force bound per joint [N m or N] (five times the worst static
-        gravity load), written to the URDF.
+        Per joint [N m or N], written to the URDF: the robot's ``max_torque`` where it has
+        one, else a generous bound (five times the worst static gravity load).
     """
 
     robot: Robot
@@ -146,6 +159,17 @@ def _shape(offset: NDArray[np.float64], radius: float, housing: bool) -> BodySha
     return BodyShape(segments, float(mass), com, inertia)
 
 
+def _with_inertial(body: BodyShape, inertial: Inertial) -> BodyShape:
+    """``body``'s geometry with ``inertial``'s mass, made one a simulator takes (see the module notes)."""
+    inertia = np.array(inertial.inertia)
+    moments, axes = np.linalg.eigh(inertia)  # ascending
+    shortfall = moments[2] - moments[0] - moments[1]
+    if shortfall > 0 or moments[0] < MIN_MOMENT:
+        moments[:2] += max(shortfall, 0.0) / 2
+        inertia = axes @ np.diag(np.maximum(moments, MIN_MOMENT)) @ axes.T
+    return replace(body, mass=max(inertial.mass, MIN_MASS), com=inertial.com, inertia=inertia)
+
+
 def _check_simulatable(robot: Robot, total_length: float) -> None:
     if not total_length > 1e-6:
         raise RobotDefinitionError(
@@ -183,6 +207,23 @@ def _gravity_bound(robot: Robot, bodies: tuple[BodyShape, ...], reach: float) ->
     return 5 * GRAVITY * downstream_mass * lever
 
 
+def capsule_bodies(robot: Robot) -> tuple[float, BodyShape, tuple[BodyShape, ...]]:
+    """The capsule geometry and its masses (density :data:`DENSITY`): ``(radius [m], base, bodies)``,
+    each body in its joint frame.
+
+    Raises
+    ------
+    RobotDefinitionError
+        If the arm has no size at all (every DH length zero).
+    """
+    offsets = robot.chain.T_between[:, :3, 3]
+    total_length = float(np.linalg.norm(offsets, axis=-1).sum())
+    _check_simulatable(robot, total_length)
+    radius = max(LINK_RADIUS_RATIO * total_length, MIN_RADIUS)
+    base = _shape(offsets[0], radius, housing=False)
+    return radius, base, tuple(_shape(offsets[i + 1], radius, housing=True) for i in range(robot.n))
+
+
 def physical_model(robot: Robot) -> PhysicalModel:
     """The simulation model of ``robot``: body frames, shapes, masses and servo gains.
 
@@ -200,12 +241,11 @@ def physical_model(robot: Robot) -> PhysicalModel:
     """
     chain = robot.chain
     between = chain.T_between
-    offsets = between[:, :3, 3]
-    total_length = float(np.linalg.norm(offsets, axis=-1).sum())
-    _check_simulatable(robot, total_length)
-    radius = max(LINK_RADIUS_RATIO * total_length, MIN_RADIUS)
-    base = _shape(offsets[0], radius, housing=False)
-    bodies = tuple(_shape(offsets[i + 1], radius, housing=True) for i in range(chain.n))
+    radius, base, bodies = capsule_bodies(robot)
+    reach = float(np.linalg.norm(between[:, :3, 3], axis=-1).sum())  # the total link length [m]
+    if missing_inertia(chain) is None:  # the robot's own masses, in the joint frames
+        bodies = tuple(_with_inertial(body, joint.inertial.moved(joint.T_after))
+                       for body, joint in zip(bodies, chain.joints, strict=True))
     q = np.vstack([robot.home, robot.random_q(_GAIN_SAMPLES, rng=0)])
     inertia = _joint_inertias(robot, bodies, q).max(axis=0)
     armature = ARMATURE_RATIO * inertia
@@ -214,4 +254,5 @@ def physical_model(robot: Robot) -> PhysicalModel:
     return PhysicalModel(robot=robot, radius=radius, T_parent_body=between[:-1].copy(),
                          T_last_tool=between[-1].copy(), base=base, bodies=bodies,
                          armature=armature, kp=driven * omega**2, kv=2 * driven * omega,
-                         effort=_gravity_bound(robot, bodies, total_length))
+                         effort=np.where(np.isfinite(robot.max_torque), robot.max_torque,
+                                         _gravity_bound(robot, bodies, reach)))

@@ -61,13 +61,14 @@ def _frame_along(start: NDArray[np.float64], end: NDArray[np.float64]) -> NDArra
 def _add_link(robot_el: ET.Element, name: str, shape: BodyShape | None, radius: float,
               housing: bool) -> None:
     link = ET.SubElement(robot_el, "link", name=name)
-    if shape is None or shape.mass <= 0:
+    if shape is None:
         return
-    inertial = ET.SubElement(link, "inertial")
-    ET.SubElement(inertial, "origin", xyz=_numbers(shape.com), rpy="0 0 0")
-    ET.SubElement(inertial, "mass", value=repr(shape.mass))
-    ET.SubElement(inertial, "inertia",
-                  **{key: repr(float(shape.inertia[ij])) for key, ij in _INERTIA_KEYS.items()})
+    if shape.mass > 0 or shape.inertia.any():  # a massless link with inertia (a rotor) keeps it
+        inertial = ET.SubElement(link, "inertial")
+        ET.SubElement(inertial, "origin", xyz=_numbers(shape.com), rpy="0 0 0")
+        ET.SubElement(inertial, "mass", value=repr(shape.mass))
+        ET.SubElement(inertial, "inertia",
+                      **{key: repr(float(shape.inertia[ij])) for key, ij in _INERTIA_KEYS.items()})
     pieces = [(np.eye(4), ("sphere", {"radius": repr(1.5 * radius)}))] if housing else []
     for start, end in shape.segments:
         pieces.append((_frame_along(start, end),

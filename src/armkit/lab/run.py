@@ -2,8 +2,9 @@
 
 With no robot the lab reproduces report 000 on the PROBOT Anno (FK check, IK with every
 in-limit solution, straight line by velocity control, minimum-jerk trajectory, fixed-point
-rotation) plus the FK tables of the ZJU-I (report 003) and the GRB400 SCARA (report 004).
-With a robot file it runs experiments 1-5 on that arm, choosing reachable targets itself.
+rotation), compares the trajectory's joint torques with MuJoCo's inverse dynamics, and adds
+the FK tables of the ZJU-I (report 003) and the GRB400 SCARA (report 004). With a robot
+file it runs experiments 1-6 on that arm, choosing reachable targets itself.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 import armkit
 from armkit.errors import ArmkitError
-from armkit.lab import fk_ik, motion
+from armkit.lab import dynamics, fk_ik, motion
 from armkit.lab.context import LabContext
 from armkit.lab.report import (
     Section,
@@ -162,7 +163,8 @@ def _run_stages(ctx: LabContext, started: float, progress: bool) -> list[Section
     stages: list[tuple[str, Experiment]] = [
         ("FK check", fk_ik.fk_check), ("IK, every solution", fk_ik.ik_check),
         ("straight line", motion.linear_motion), ("minimum-jerk trajectory", motion.trajectory_experiment),
-        ("fixed-point rotation", motion.fixed_point_rotation)]
+        ("fixed-point rotation", motion.fixed_point_rotation),
+        ("joint torques", dynamics.dynamics_experiment)]
     if seeds:
         stages += [("ZJU-I table", fk_ik.fk_table_zju), ("SCARA table", fk_ik.fk_table_scara)]
     sections = []

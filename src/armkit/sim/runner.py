@@ -54,6 +54,8 @@ class SimResult:
         Simulated tool pose (the MJCF ``tool`` site) in the base frame [m].
     gravity, gravity_compensation : bool
     mode : {"position", "velocity"}
+    feedforward : bool
+        Whether given joint torques (computed-torque feedforward) replaced the gravity compensation.
     """
 
     t: NDArray[np.float64]
@@ -65,6 +67,7 @@ class SimResult:
     gravity: bool
     gravity_compensation: bool
     mode: CommandMode
+    feedforward: bool = False
 
     @property
     def joint_error(self) -> NDArray[np.float64]:
@@ -157,7 +160,7 @@ class Simulation:
         return grid, spline(grid), spline(grid, 1)
 
     def run(self, t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = None, *,
-            mode: CommandMode = "position") -> SimResult:
+            mode: CommandMode = "position", feedforward: ArrayLike | None = None) -> SimResult:
         """Drive the servos along a joint trajectory and record every physics step.
 
         Parameters
@@ -172,6 +175,10 @@ class Simulation:
             Samples are interpolated (cubic Hermite) to the 1 kHz physics rate.
         mode : {"position", "velocity"}
             ``"velocity"``: only the velocity servo acts (no position feedback).
+        feedforward : array_like (K, n), optional
+            Joint torques [N m or N] at the sample times (interpolated linearly to the physics
+            rate), applied instead of the gravity compensation: computed-torque feedforward,
+            e.g. armkit's inverse dynamics of the commanded motion; the servos correct the rest.
 
         Returns
         -------
@@ -180,8 +187,8 @@ class Simulation:
         Raises
         ------
         InputError
-            If ``q`` does not have one column per joint, the times are not increasing, or
-            a value is not finite.
+            If ``q`` (or ``feedforward``) does not have one column per joint, the times are
+            not increasing, or a value is not finite.
 
         Examples
         --------
@@ -195,6 +202,13 @@ class Simulation:
             raise InputError(f"mode {mode!r}: expected 'position' or 'velocity'")
         grid, q_cmd, qd_cmd = self._commands(t, q, qd)
         m, d, n = self.model, self.data, self.robot.n
+        if feedforward is not None:
+            tau = self.robot.check_q(feedforward, "feedforward")
+            if tau.shape != (len(np.atleast_1d(t)), n):
+                raise InputError(f"feedforward: expected shape {(len(np.atleast_1d(t)), n)}, one torque per "
+                                 f"sample and joint, got {tau.shape}")
+            times = np.asarray(t, dtype=float)
+            feedforward = np.stack([np.interp(grid, times, tau[:, j]) for j in range(n)], axis=-1)
         mujoco.mj_resetData(m, d)
         d.qpos[:], d.qvel[:] = q_cmd[0], qd_cmd[0]
         steps = len(grid)
@@ -204,10 +218,14 @@ class Simulation:
             q_sim[k], qd_sim[k], poses[k] = d.qpos, d.qvel, self._site_pose()
             d.ctrl[0::2] = q_cmd[k] if mode == "position" else d.qpos
             d.ctrl[1::2] = qd_cmd[k]
-            d.qfrc_applied[:] = d.qfrc_bias if self.gravity_compensation else 0.0
+            if feedforward is not None:
+                d.qfrc_applied[:] = feedforward[k]
+            else:
+                d.qfrc_applied[:] = d.qfrc_bias if self.gravity_compensation else 0.0
             mujoco.mj_step2(m, d)
         return SimResult(t=grid, q=q_sim, qd=qd_sim, q_command=q_cmd, qd_command=qd_cmd, T_tool=poses,
-                         gravity=self.gravity, gravity_compensation=self.gravity_compensation, mode=mode)
+                         gravity=self.gravity, gravity_compensation=self.gravity_compensation, mode=mode,
+                         feedforward=feedforward is not None)
 
     def move(self, q_start: ArrayLike, q_goal: ArrayLike, duration: float = 1.0,
              settle: float = 0.5) -> SimResult:

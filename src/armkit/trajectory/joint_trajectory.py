@@ -26,7 +26,7 @@ from armkit.trajectory._checks import check_finite
 from armkit.trajectory.peaks import segment_peaks, segment_ranges
 from armkit.trajectory.polynomial import TIME_TOLERANCE
 
-__all__ = ["MAX_SAMPLE_BYTES", "JointTrajectory", "TrajectorySamples"]
+__all__ = ["MAX_SAMPLE_BYTES", "JointTrajectory", "TrajectorySamples", "TrajectoryTorques"]
 
 #: Most memory [bytes] that :meth:`JointTrajectory.sample` may ask for (1 GiB): a rate that needs
 #: more is refused with the sample count, rather than exhausting the machine.
@@ -41,6 +41,15 @@ class TrajectorySamples(NamedTuple):
     qd: NDArray[np.float64]
     qdd: NDArray[np.float64]
     qddd: NDArray[np.float64]
+
+
+class TrajectoryTorques(NamedTuple):
+    """Joint torques along a trajectory: ``t`` ``(K,)`` [s], ``tau`` ``(K, n)`` [N m or N] and
+    ``peak`` ``(n,)``, the largest ``|tau|`` per joint over the samples."""
+
+    t: NDArray[np.float64]
+    tau: NDArray[np.float64]
+    peak: NDArray[np.float64]
 
 
 class JointTrajectory:
@@ -168,6 +177,33 @@ class JointTrajectory:
                              f"{fits:.4g} Hz")
         t = rate_time_grid(self.duration, rate, TIME_TOLERANCE * max(1.0, self.duration))
         return TrajectorySamples(t, *self._evaluate(t, 4))
+
+    def torques(self, robot: Robot, rate_hz: float = 1000.0, *,
+                gravity: ArrayLike | None = None) -> TrajectoryTorques:
+        """The joint torques that drive ``robot`` along this trajectory, sampled at ``rate_hz``
+        (inverse dynamics of :meth:`sample`'s positions, velocities and accelerations).
+
+        Parameters
+        ----------
+        robot : Robot
+            With inertial parameters (see :mod:`armkit.dynamics`).
+        rate_hz : float
+            Sampling rate [Hz]; default 1 kHz.
+        gravity : array_like, shape (3,), optional
+            [m/s^2] in the robot's world frame; default (0, 0, -9.81).
+
+        Examples
+        --------
+        >>> import armkit
+        >>> from armkit.trajectory import min_jerk
+        >>> robot = armkit.load("puma560")
+        >>> torques = min_jerk([robot.home, [0.5, 0.3, -0.2, 0, 0.4, 0]], [2.0]).torques(robot)
+        >>> torques.tau.shape, bool(torques.peak[1] > 30)
+        ((2001, 6), True)
+        """
+        samples = self.sample(rate_hz)
+        tau = robot.inverse_dynamics(samples.q, samples.qd, samples.qdd, gravity=gravity)
+        return TrajectoryTorques(samples.t, tau, np.abs(tau).max(axis=0))
 
     # ----------------------------------------------------------------- peaks
     def segment_peaks(self, order: int) -> NDArray[np.float64]:
