@@ -5,8 +5,8 @@ Run: python benchmarks/bench_ik_general.py [--quick] [--rtb] [--ssik]
 
 For each of a few random general 6R arms (standard DH, every length and twist non-zero):
 - preparation: a new arm from its DH table to its first listing (armkit: ``Robot.from_dh``
-  then ``robot.ik(T, all_solutions=True)``, modules already imported; rtb: ``General6RIK(robot)``, which derives the
-  equations symbolically and generates Python code);
+  then ``robot.ik(T, all_solutions=True)``, modules already imported; rtb:
+  ``General6RIK(robot)``, which derives the equations symbolically and generates Python code);
 - one pose at a time: median time of ``robot.ik(T, all_solutions=True, within_limits=False)``
   and of rtb's ``solve(T, joint_limits=False)``; armkit's batched ``ik_solutions`` per pose;
 - solutions per pose that reproduce the pose to 1e-6 (armkit's FK, which pinocchio checks),
