@@ -42,6 +42,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from enum import IntEnum
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -53,7 +54,16 @@ from armkit.trajectory.min_jerk import min_jerk
 from armkit.trajectory.polynomial import quintic_coefficients
 from armkit.trajectory.timing import _MARGIN, _checked_limits, limit_ratio
 
-__all__ = ["LinearConstraint", "ToppResult", "ToppStatus", "geometric_path", "parameterize", "time_optimal"]
+if TYPE_CHECKING:
+    from armkit.robot import Robot
+
+__all__ = ["LinearConstraint", "ToppResult", "ToppStatus", "geometric_path", "parameterize", "time_optimal",
+           "torque_constraint", "slowed_to_torque_limits"]
+
+#: Rounds of the 1 kHz torque check, and the margin each slowing adds (the samples of a slower
+#: trajectory fall between the last round's; the margin makes the next round's sure).
+_TORQUE_ROUNDS = 5
+_TORQUE_MARGIN = 1e-6
 
 #: Grid intervals per waypoint segment, at least; and over the whole path, at least.
 GRID_PER_SEGMENT = 16
@@ -383,3 +393,59 @@ def _smoothed_profile(result: ToppResult, tau: float, s_waypoints: NDArray[np.fl
     s_all[[0, -1]] = s_waypoints[[0, -1]]
     at_waypoint = np.concatenate([[0], np.flatnonzero(order >= keep.sum()), [all_knots.size - 1]])
     return all_knots, s_all, sd, sdd, at_waypoint
+
+
+def torque_constraint(robot: Robot, gravity: ArrayLike | None = None) -> ConstraintFunction:
+    """The rows that keep ``robot``'s joint torques within ``robot.max_torque`` along a path.
+
+    ``tau = a sdd + b sd^2 + c`` with ``a = ID(q, 0, q') - g``, ``b = ID(q, q', q'') - g``,
+    ``c = g`` (``ID`` :meth:`armkit.Robot.inverse_dynamics`, ``g`` the gravity torques), for
+    :func:`time_optimal`'s ``constraints``. Joints without a limit get ``+-inf``.
+    """
+    limits = np.asarray(robot.max_torque, dtype=float)
+
+    def rows(s: NDArray[np.float64], q: NDArray[np.float64], dq: NDArray[np.float64],
+             ddq: NDArray[np.float64]) -> LinearConstraint:
+        g = robot.gravity_torques(q, gravity=gravity)
+        a = robot.inverse_dynamics(q, np.zeros_like(dq), dq, gravity=gravity) - g
+        b = robot.inverse_dynamics(q, dq, ddq, gravity=gravity) - g
+        return LinearConstraint(a, b, g, -limits, limits)
+
+    return rows
+
+
+def slowed_to_torque_limits(trajectory: JointTrajectory, robot: Robot, *, rate_hz: float = 1000.0,
+                            gravity: ArrayLike | None = None) -> JointTrajectory:
+    """``trajectory`` run as much slower as needed for its torques, sampled at ``rate_hz``, to stay
+    within ``robot.max_torque`` (unchanged where they do).
+
+    Run ``k`` times slower, the torques are ``g(q) + d / k^2`` at the same points of the path
+    (``d`` the part that moves: inertia, Coriolis), so the smallest ``k`` that keeps every
+    sample within its limit is exact for those points; the slower trajectory's own samples
+    fall elsewhere on the path, so it is checked again (at most a few rounds, each slower).
+
+    Raises
+    ------
+    InputError
+        Where gravity alone needs more than a joint's limit (no timing can help).
+    """
+    limits = np.asarray(robot.max_torque, dtype=float)
+    if not np.any(np.isfinite(limits)):
+        return trajectory
+    for _ in range(_TORQUE_ROUNDS):
+        samples = trajectory.sample(rate_hz)
+        g = robot.gravity_torques(samples.q, gravity=gravity)
+        d = robot.inverse_dynamics(samples.q, samples.qd, samples.qdd, gravity=gravity) - g
+        held = np.abs(g) >= limits
+        if held.any():
+            k, j = np.argwhere(held)[0]
+            raise InputError(f"max_torque: joint {robot.joint_names[j]} needs {abs(g[k, j]):.6g} to hold the "
+                             f"arm against gravity at t = {samples.t[k]:.6g} s, at or above its limit "
+                             f"{limits[j]:.6g}; no timing keeps it within")
+        with np.errstate(divide="ignore", invalid="ignore"):
+            room = np.where(d > 0, (limits - g) / d, np.where(d < 0, (-limits - g) / d, np.inf))
+        u = float(np.min(np.where(np.isfinite(limits), room, np.inf), initial=np.inf))
+        if u >= 1.0:
+            return trajectory
+        trajectory = _scaled(trajectory, (1.0 + _TORQUE_MARGIN) / np.sqrt(u))
+    return trajectory
