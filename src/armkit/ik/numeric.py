@@ -35,9 +35,10 @@ cpp/src/ik_numeric.cpp): the tool pose and Jacobian, the pose error, the project
 active set, the Cholesky solve, the restart seeds and the time budget, about 1 us per step on
 a 7-joint arm. The restart seeds come from a small deterministic generator (xoshiro256**)
 seeded once per solve from ``rng`` (default :data:`DEFAULT_SEED`), so the same call gives the
-same answer on every run and platform. :meth:`NumericIK.solve_batch` solves many targets over threads with the GIL released;
-pose ``i`` draws from stream ``i`` of one seed, so its answer does not depend on the thread count
-(unless the time budget, which each pose has for itself, cuts its solve short).
+same answer on every run and platform. :meth:`NumericIK.solve_batch` solves many targets over
+threads with the GIL released; pose ``i`` draws from stream ``i`` of one seed, so its answer does
+not depend on the thread count (unless a time budget, which each pose has for itself, cuts its
+solve short).
 """
 
 from __future__ import annotations
