@@ -15,6 +15,9 @@ differences in radians and metres (weights ``w`` default 1), after the ``2 pi`` 
 
 from __future__ import annotations
 
+import difflib
+import inspect
+from functools import cache
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -37,6 +40,35 @@ if TYPE_CHECKING:
 __all__ = ["SOLUTION_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
 __getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "SOLUTION_TOLERANCE"},
                                    {"SOLUTION_TOLERANCE": SOLUTION_TOLERANCE})
+
+
+#: ``numeric_ik`` keywords that :func:`ik` sets itself (``q0`` is ``near``).
+_SET_BY_IK = frozenset({"robot", "T_base_tool", "q0", "within_limits", "respect_limits"})
+
+
+@cache
+def _keywords() -> tuple[frozenset[str], frozenset[str]]:
+    """The keywords :func:`ik` takes: its own, and the numeric options it passes on."""
+    own = frozenset(name for name, p in inspect.signature(ik).parameters.items()
+                    if p.kind is p.KEYWORD_ONLY)
+    numeric = frozenset(inspect.signature(numeric_ik).parameters) - _SET_BY_IK
+    return own, numeric
+
+
+def _check_keywords(options: dict[str, object]) -> None:
+    """Refuse a keyword neither :func:`ik` nor the numeric solver takes: a misspelled option
+    (``nearr=``, ``positon_tolerance=``) would otherwise be ignored by the closed form."""
+    own, numeric = _keywords()
+    unknown = [name for name in options if name not in numeric]
+    if not unknown:
+        return
+    valid = sorted(own | numeric)
+    named = []
+    for name in unknown:
+        close = difflib.get_close_matches(name, valid, n=1)
+        named.append(f"{name!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+    raise InputError(f"ik: unknown keyword argument{'s' if len(unknown) > 1 else ''} {', '.join(named)}; "
+                     f"expected one of {', '.join(valid)}")
 
 
 def _plain(v: object, n: int) -> bool:
@@ -251,7 +283,8 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     Raises
     ------
     InputError
-        If a target is not a rigid transform, contains NaN, or ``near`` has a wrong shape.
+        If a target is not a rigid transform, contains NaN, ``near`` has a wrong shape, or a
+        keyword is neither one of these nor a numeric option (a misspelling is not ignored).
     UnreachableError
         If a target is out of reach; the message says how far the closest pose found is.
     JointLimitError
@@ -268,9 +301,11 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     True
     """
     chain = as_chain(robot)
-    if numeric_options and "all" in numeric_options:
-        all_solutions = renamed_argument("ik", "all", "all_solutions", numeric_options.pop("all"),
-                                         all_solutions, False)
+    if numeric_options:
+        if "all" in numeric_options:
+            all_solutions = renamed_argument("ik", "all", "all_solutions", numeric_options.pop("all"),
+                                             all_solutions, False)
+        _check_keywords(numeric_options)
     T = T_base_tool
     if (type(T) is np.ndarray and T.shape == (4, 4) and T.dtype.char == "d" and not numeric_options
             and (near is None or _plain(near, chain.n)) and (weights is None or _plain(weights, chain.n))):
