@@ -160,14 +160,16 @@ def _listed(chain: Chain, targets: _Targets, found: Found, i: int, turn_copies: 
 
 
 def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
-                 weights: ArrayLike | None = None, turn_copies: bool = True,
+                 weights: ArrayLike | None = None, turn_copies: bool = False,
                  threads: int = 0) -> IKSolutions | IKSolutionsBatch:
     """Every closed-form solution of a target pose, inside the limits or not, with flags.
 
-    A solution inside the limits is listed with each of its whole-turn copies there (joints
-    whose limits span more than a whole turn, e.g. a UR5's +-360 degrees: 2^6 per solution;
-    at most :data:`~armkit.ik.pipeline.MAX_SOLUTIONS`, see :mod:`armkit.ik.pipeline`); one
-    outside the limits once.
+    Each solution is listed once (by default), the whole-turn copy nearest to ``near``; with
+    ``turn_copies=True`` a solution inside the limits is listed with each of its whole-turn
+    copies there (joints whose limits span more than a whole turn, e.g. a UR5's +-360 degrees:
+    2^6 per solution; at most :data:`~armkit.ik.pipeline.MAX_SOLUTIONS`, see
+    :mod:`armkit.ik.pipeline`), one outside the limits once. :func:`~armkit.ik.pipeline.count_turn_copies`
+    counts the copies without listing them.
 
     Parameters
     ----------
@@ -181,8 +183,8 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
     weights : array_like, shape (n,), optional
         Per-joint weights of the distance to ``near``; default ones.
     turn_copies : bool
-        List the whole-turn copies inside the limits (default). ``False``: each solution
-        once, the copy nearest to ``near``.
+        ``False`` (default): each solution once, the copy nearest to ``near``. ``True``: also
+        list its whole-turn copies inside the limits (distinct configurations, same pose).
     threads : int
         Threads a batch of poses is split over (default 0: all cores); the answers do not
         depend on it.
@@ -242,7 +244,7 @@ def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64]
 
 def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = False,
        near: ArrayLike | None = None, within_limits: bool = True,
-       weights: ArrayLike | None = None, turn_copies: bool = True, threads: int = 0,
+       weights: ArrayLike | None = None, turn_copies: bool = False, threads: int = 0,
        **numeric_options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
     """Inverse kinematics: every solution, or the one closest to ``near``.
 
@@ -253,8 +255,8 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
         Target tool pose(s) [m].
     all_solutions : bool
-        Return every closed-form solution (sorted by distance to ``near``) instead of one:
-        each inside the limits with its whole-turn copies there (see :func:`ik_solutions`).
+        Return every closed-form solution (sorted by distance to ``near``) instead of one,
+        each once (``turn_copies=True`` adds the whole-turn copies, see :func:`ik_solutions`).
         (``all=`` is its deprecated old name, which shadowed the builtin; it warns.)
     near : array_like, shape (n,) or (N, n), optional
         Reference configuration [rad or m], default zeros: the solution closest to it is
@@ -264,8 +266,9 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     weights : array_like, shape (n,), optional
         Per-joint weights of the distance to ``near`` (default ones).
     turn_copies : bool
-        With ``all_solutions``: list the whole-turn copies inside the limits of joints whose
-        limits span more than a whole turn (default); ``False``: each solution once.
+        With ``all_solutions``: also list the whole-turn copies inside the limits of joints
+        whose limits span more than a whole turn; default ``False``, each solution once. The
+        one nearest solution (``all_solutions=False``) is chosen among all copies either way.
     threads : int
         Threads a batch of poses is split over (default 0: all cores); the answers do not
         depend on it.
