@@ -93,8 +93,8 @@ def test_view_takes_base_tip_and_lock(capsys, monkeypatch):
 
 def test_workspace_takes_base_tip_and_lock(capsys):
     pytest.importorskip("zarr")
-    small = ["--resolution", "0.1", "--samples", "2e4", "--orientations", "0", "--manipulability-samples", "0",
-             "--json"]
+    small = ["--resolution", "0.1", "--samples", "2e4", "--orientations", "0",
+             "--manipulability-samples", "0", "--json"]
     code, out, err = run(capsys, "workspace", UR5, "--base", "world", "--tip", "tool0", "--lock",
                          "shoulder_pan_joint=0", *small)
     assert code == 0, err
@@ -146,7 +146,8 @@ def test_ur5_and_panda_urdfs_through_ik_traj_and_sim(capsys, tmp_path):
             assert len(solutions) == 8
             code, out, err = run(capsys, "ik", path, "--tip", tip, "--pose", *pose, "--all",
                                  "--turn-copies", "--json")
-            assert code == 0 and len(json.loads(out)["solutions"]) == 8 * 2 ** len(robot.chain.spans_turns) == 256
+            copies = 2 ** len(robot.chain.spans_turns)
+            assert code == 0 and len(json.loads(out)["solutions"]) == 8 * copies == 256
         waypoints = tmp_path / "poses.csv"
         np.savetxt(waypoints, robot.pose(np.stack([q, q - 0.2, q + 0.1])), delimiter=",")
         out_csv = tmp_path / f"{Path(path).stem}.csv"
