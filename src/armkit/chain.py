@@ -30,8 +30,8 @@ from armkit.spatial.transforms import rot_x, rot_z, trans_x, trans_z
 if TYPE_CHECKING:  # armkit.robot imports this module
     from armkit.robot import Robot
 
-__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERANCE", "MAX_JOINTS", "MAX_VALUE",
-           "as_chain", "chain_from_dh", "chain_from_frames"]
+__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERANCE", "MAX_JOINTS",
+           "MAX_VALUE", "as_chain", "chain_from_dh", "chain_from_frames"]
 
 #: Slack [rad or m] allowed beyond a joint limit before a value counts as outside it (the
 #: compiled core's ``kLimitTolerance``, so Python and C++ test limits alike).
