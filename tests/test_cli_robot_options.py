@@ -78,17 +78,29 @@ def test_every_command_taking_robot_has_base_tip_and_lock_and_says_what_robot_ca
         assert all(word in robot.help for word in ("URDF", "TOML", "uilt-in name")), (name, robot.help)
 
 
-def test_view_takes_base_tip_and_lock(capsys, monkeypatch):
-    import armkit.cli.view as view
+def test_view_takes_base_tip_and_lock(capsys):
+    """The page of a URDF's chain with a locked joint is served (the browser tests drive a page)."""
+    import os
+    import signal
+    import subprocess
+    import sys
 
-    served = []
-    monkeypatch.setattr(view, "serve", lambda viewer, open_browser: (served.append(viewer), viewer.close()))
-    code, _, err = run(capsys, "view", UR5, "--tip", "tool0", "--lock", "wrist_3_joint=0.1", "--port", "0",
-                       "--no-browser")
-    assert code == 0, err
-    robot = served[0].robot
-    assert robot.n == 5 and robot.joint_names[-1] == "wrist_2_joint"
-    assert_transform_close(robot.fk(np.zeros(5)), armkit.load(UR5, tip="tool0").fk([0, 0, 0, 0, 0, 0.1]))
+    from conftest import WAIT_S
+
+    command = [sys.executable, "-m", "armkit.cli.main", "view", UR5, "--tip", "tool0", "--port", "0",
+               "--no-browser", "--lock"]
+    process = subprocess.Popen([*command, "wrist_3_joint=0.1"], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    try:
+        assert process.stdout.readline().startswith("armkit view: ur5 (wrist_3_joint = 0.1 locked) at http://")
+        process.send_signal(signal.SIGINT)
+        process.communicate(timeout=WAIT_S)
+    finally:
+        process.kill()
+    assert process.returncode == 130
+    refused = subprocess.run([*command, "wrist_3_joint=9"], capture_output=True, text=True, timeout=WAIT_S)
+    assert refused.returncode == 1
+    assert refused.stderr.startswith("error: cannot lock joint wrist_3_joint = 9 rad")
 
 
 def test_workspace_takes_base_tip_and_lock(capsys):
