@@ -7,6 +7,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import WAIT_S
 from PIL import Image
 from test_trajectory_min_jerk import SEED_WAYPOINTS
 
@@ -74,5 +75,5 @@ def test_plots_never_import_pyplot():
     code = ("import sys, armkit, armkit.plots as p, armkit.trajectory as t; r = armkit.load('probot-anno'); "
             "tr = t.min_jerk([[0.0] * 6, [0.1] * 6], [1.0]); p.plot_pva(tr, r); p.plot_tool_path(r, tr); "
             "print('matplotlib.pyplot' in sys.modules)")
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=WAIT_S)
     assert result.stdout.strip() == "False", result.stderr

@@ -19,6 +19,7 @@ from armkit import workspace
 from armkit.robot_file import robot_to_toml
 
 distributed = pytest.importorskip("distributed")
+pytestmark = pytest.mark.slow
 
 
 @pytest.fixture(scope="module")
