@@ -27,7 +27,8 @@ from armkit.cli.app import (
     print_json,
     to_si,
 )
-from armkit.errors import InputError, NoClosedFormError
+from armkit.errors import InputError, JointLimitError, NoClosedFormError
+from armkit.ik.messages import outside_limits
 from armkit.ik.pipeline import count_turn_copies
 from armkit.ik.position import position_case, position_solutions
 from armkit.ik.solve import ik_solutions
@@ -163,15 +164,20 @@ def ik_command(
     T = _target(pose, matrix, position, convention, deg)
     structure = analyze_structure(arm.chain)
     closed = structure.closed_form
-    if position is not None:
-        q, number, family, closed, method = _position_ik(arm, T[:3, 3], all_solutions, q_near, outside,
-                                                          turn_copies)
-    else:
-        options = {"turn_copies": turn_copies} if all_solutions else {}
-        q = np.atleast_2d(arm.ik(T, all_solutions=all_solutions, near=q_near, within_limits=not outside,
-                                 **options))
-        number, family = _numbered(arm, T, q, q_near, closed, turn_copies)
-        method = "closed form" if closed else "numeric (Levenberg-Marquardt)"
+    try:
+        if position is not None:
+            q, number, family, closed, method = _position_ik(arm, T[:3, 3], all_solutions, q_near, outside,
+                                                              turn_copies)
+        else:
+            options = {"turn_copies": turn_copies} if all_solutions else {}
+            q = np.atleast_2d(arm.ik(T, all_solutions=all_solutions, near=q_near, within_limits=not outside,
+                                     **options))
+            number, family = _numbered(arm, T, q, q_near, closed, turn_copies)
+            method = "closed form" if closed else "numeric (Levenberg-Marquardt)"
+    except JointLimitError as exc:  # said again in the units the user typed
+        if not deg or exc.q is None:
+            raise
+        raise outside_limits(arm.chain, exc.q, "", degrees=True) from None
     order = np.argsort(number, kind="stable")
     q, number, family = q[order], number[order], family[order]
     inside = arm.within_limits(q)

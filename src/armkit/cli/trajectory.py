@@ -202,6 +202,10 @@ def traj_command(
         raise InputError(f"{'--durations' if durations else '--times'}: {len(rows)} waypoints need "
                          f"{wanted}, got {len(duration_values)}")
     from armkit.trajectory.plan import plan_trajectory, planning_limits
+    from armkit.trajectory.waypoints import joint_waypoints
+
+    if not poses:
+        joint_waypoints(arm, rows, deg)  # a waypoint outside a limit is said in the units typed
 
     limits = planning_limits(arm, _limit_option(max_velocity, arm, deg, "--max-velocity"),
                              _limit_option(max_acceleration, arm, deg, "--max-acceleration"))
