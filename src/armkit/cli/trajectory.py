@@ -228,7 +228,7 @@ def traj_command(
     if plot is not None or plot_path is not None:
         from armkit.plots import plot_pva, plot_tool_path, save_figure  # matplotlib only when plotting
     if plot is not None:
-        written.append((save_figure(plot_pva(traj, arm), plot, force), ""))
+        written.append((save_figure(plot_pva(traj, arm, degrees=deg), plot, force), ""))
     if plot_path is not None:
         written.append((save_figure(plot_tool_path(arm, traj), plot_path, force), ""))
     if json_output:
