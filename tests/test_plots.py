@@ -90,7 +90,8 @@ def test_pva_in_degrees_scales_curves_waypoints_and_limits_and_a_joint_at_rest_h
     np.testing.assert_allclose(deg[0, 1].get_lines()[0].get_ydata(),
                                np.degrees(rad[0, 1].get_lines()[0].get_ydata()), rtol=1e-12)
     limit = {round(line.get_ydata()[0], 6) for line in deg[1, 4].get_lines() if line.get_linestyle() == "--"}
-    assert limit == {round(np.degrees(robot.max_velocity[4]), 6), round(-np.degrees(robot.max_velocity[4]), 6)}
+    vmax = np.degrees(robot.max_velocity[4])
+    assert limit == {round(vmax, 6), round(-vmax, 6)}
     assert deg[1, 0].get_ylabel() == "velocity [deg/s]" and rad[1, 0].get_ylabel() == "velocity [rad/s]"
     for axes in (rad, deg):       # a flat line at its true scale, no "1e-16" above the axis
         assert all(axes[row, 3].yaxis.get_offset_text().get_text() == "" for row in range(3))
