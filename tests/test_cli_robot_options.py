@@ -176,6 +176,7 @@ def test_ur5_and_panda_urdfs_through_ik_traj_and_sim(capsys, tmp_path):
     assert "closed form" in json.loads(out)["method"]
 
 
+@pytest.mark.slow
 def test_lab_on_the_ur5_urdf(tmp_path, capsys):
     out = tmp_path / "report"
     code, stdout, err = run(capsys, "lab", "--quick", "--robot", UR5, "--tip", "tool0", "--out", out)

@@ -8,6 +8,9 @@ from pathlib import Path
 import pytest
 from conftest import WAIT_S
 
+#: One fresh process per example: not in `make test-fast`.
+pytestmark = pytest.mark.slow
+
 EXAMPLES = sorted((Path(__file__).parent.parent / "examples").glob("[0-9][0-9]_*.py"))
 
 
