@@ -21,7 +21,8 @@ COMMAND = [sys.executable, "-m", "armkit.cli.main", "workspace", "probot-anno", 
 
 
 def _start(out: Path, samples: str, *extra: str) -> subprocess.Popen:
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    env = {**os.environ, "PYTHONUNBUFFERED": "1", "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": f"{WAIT_S}s",
+           "DASK_DISTRIBUTED__COMM__TIMEOUTS__TCP": f"{WAIT_S}s"}  # --dask local's cluster, on a busy machine
     return subprocess.Popen([*COMMAND, "--samples", samples, "--out", str(out), *extra], env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
