@@ -161,29 +161,51 @@ def _pixel(page, client, point: np.ndarray) -> np.ndarray:
     return np.array([size["width"] / 2 + focal * p[0] / p[2], size["height"] / 2 + focal * p[1] / p[2]])
 
 
-def test_dragging_the_handle_in_the_page_solves_ik_and_the_arm_follows(session):
-    viewer, page, _ = session
-    viewer.q = [0.5, -0.4, 0.3, 0.2, 1.0, -0.6]
-    client = next(iter(viewer._server.get_clients().values()))
-    T0 = viewer.target
-    # the page has the new pose (the viewer moves its handle first) before the handle is grabbed, and
-    # has drawn it: the pointer hits what the last frame placed (a loaded machine renders slowly)
-    np.testing.assert_allclose(_wait_for_matrix(page, viewer.robot.fk(viewer.q)), T0, atol=1.5e-6)
+#: A drag on a busy machine can miss the handle (the page's frame lags the pointer): each attempt
+#: waits for the target to move, up to DRAG_WAIT_S [s], before it drags again.
+DRAG_ATTEMPTS, DRAG_WAIT_S = 5, 60.0
+
+
+def _drag_handle(page, viewer, client, T0: np.ndarray) -> None:
+    """Pull an arrow of the handle 40 px towards the handle's centre, once the page has drawn a
+    frame (the pointer hits what the last frame placed): the arrow that looks longest among those
+    whose tip is on the scene, left of the panel that floats over the page's right side."""
     page.evaluate("() => new Promise(done => requestAnimationFrame(() => requestAnimationFrame(done)))")
-    # grab the handle's arrow that looks longest on screen near its tip, and pull 40 px
-    arrows = [T0[:3, 3] + 0.9 * viewer._handle.scale * T0[:3, a] for a in range(3)]
+    heading = page.get_by_text(f"{viewer.robot.name}: {viewer.robot.n} joints").first
+    panel_left = heading.bounding_box()["x"] - 20                     # [px], the panel's padding off
     centre = _pixel(page, client, T0[:3, 3])
-    grip = max((_pixel(page, client, tip) for tip in arrows), key=lambda px: np.linalg.norm(px - centre))
-    direction = (grip - centre) / np.linalg.norm(grip - centre)
+    tips = [_pixel(page, client, T0[:3, 3] + 0.9 * viewer._handle.scale * T0[:3, a]) for a in range(3)]
+    free = [tip for tip in tips if 0 < tip[0] < panel_left and 0 < tip[1] < page.viewport_size["height"]]
+    grip = max(free, key=lambda px: np.linalg.norm(px - centre))
+    direction = (centre - grip) / np.linalg.norm(centre - grip)
     page.mouse.move(*grip)
     page.mouse.down()
     for step in range(1, 11):
         page.mouse.move(*(grip + 4 * step * direction))
     page.mouse.up()
+
+
+def test_dragging_the_handle_in_the_page_solves_ik_and_the_arm_follows(session):
+    viewer, page, _ = session
+    viewer.q = [0.5, -0.4, 0.3, 0.2, 1.0, -0.6]
+    client = next(iter(viewer._server.get_clients().values()))
+    T0 = viewer.target
+    # the page has the new pose (the viewer moves its handle first) before the handle is grabbed
+    np.testing.assert_allclose(_wait_for_matrix(page, viewer.robot.fk(viewer.q)), T0, atol=1.5e-6)
+
     def change(T):
         return max(np.linalg.norm(T[:3, 3] - T0[:3, 3]), rotation_angle_between(T, T0))
 
-    wait_until(lambda: change(viewer.target) > 5e-3, "the dragged handle to move the target")  # m or rad
+    for attempt in range(1, DRAG_ATTEMPTS + 1):
+        _drag_handle(page, viewer, client, T0)
+        try:        # the target moves within a round trip once the handle is caught
+            wait_until(lambda: change(viewer.target) > 5e-3, "the dragged handle to move the target",
+                       timeout_s=DRAG_WAIT_S)                                   # m or rad
+            break
+        except pytest.fail.Exception:
+            page.screenshot(path=ARTIFACTS / f"view_drag_missed_{attempt}.png", timeout=WAIT_MS)
+            if attempt == DRAG_ATTEMPTS:
+                raise
     moved = viewer.target
     np.testing.assert_allclose(viewer.robot.fk(viewer.q), moved, atol=1e-9)   # the arm followed
     shown = _wait_for_matrix(page, viewer.robot.fk(viewer.q))
