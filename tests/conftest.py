@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import signal
 import time
 from collections.abc import Callable
 
@@ -38,6 +39,22 @@ def wait_until(condition: Callable[[], bool], what: str, timeout_s: float = WAIT
         if time.monotonic() > deadline:
             pytest.fail(f"waited {timeout_s:.0f} s for {what}")
         time.sleep(poll_s)
+
+
+def interruptible() -> None:
+    """``preexec_fn`` of a child process the test interrupts with SIGINT: Ctrl-C's default action,
+    even when this run ignores SIGINT (a background job of a shell without job control, as CI may
+    start it), which the child would inherit."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@pytest.fixture
+def python_handles_sigint():
+    """Python's own Ctrl-C handler in this process for the test (``_thread.interrupt_main`` does
+    nothing where SIGINT is ignored), the previous one afterwards."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
 
 
 def assert_transform_close(T_actual, T_expected, position_tol: float = 1e-10,

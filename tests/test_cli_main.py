@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from conftest import WAIT_S
+from conftest import WAIT_S, interruptible
 
 from armkit.cli.main import INTERRUPTED, main
 
@@ -25,7 +25,7 @@ def _raise(exc):
     ["rotate", "probot-anno", "--axis", "1", "0", "0", "--angle", "0.5", "--duration", "900",
      "--dt", "0.0005"],
 ])
-def test_ctrl_c_in_a_running_command_is_one_line_and_exit_130(capsys, argv):
+def test_ctrl_c_in_a_running_command_is_one_line_and_exit_130(capsys, argv, python_handles_sigint):
     """A real interrupt of the main thread 0.5 s into a motion of 1.8 million control steps."""
     import _thread
     import threading
@@ -86,7 +86,7 @@ def test_ctrl_c_while_armkit_is_still_importing_is_one_line_and_exit_130():
                "run()\n")
     process = subprocess.Popen([sys.executable, "-c", started, "robots"], stdout=subprocess.PIPE,
                                stderr=subprocess.PIPE, text=True,
-                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                               preexec_fn=interruptible)
     try:
         assert process.stdout.readline() == "importing\n"
         process.send_signal(signal.SIGINT)

@@ -85,12 +85,13 @@ def test_view_takes_base_tip_and_lock(capsys):
     import subprocess
     import sys
 
-    from conftest import WAIT_S
+    from conftest import WAIT_S, interruptible
 
     command = [sys.executable, "-m", "armkit.cli.main", "view", UR5, "--tip", "tool0", "--port", "0",
                "--no-browser", "--lock"]
     process = subprocess.Popen([*command, "wrist_3_joint=0.1"], stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+                               stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"},
+                               preexec_fn=interruptible)
     try:
         assert process.stdout.readline().startswith("armkit view: ur5 (wrist_3_joint = 0.1 locked) at http://")
         process.send_signal(signal.SIGINT)

@@ -11,7 +11,7 @@ import urllib.request
 
 import numpy as np
 import pytest
-from conftest import WAIT_S, wait_until
+from conftest import WAIT_S, interruptible, wait_until
 
 import armkit
 from armkit.errors import InputError, JointLimitError, UnreachableError
@@ -194,7 +194,7 @@ def test_cli_view_serves_the_page_and_ctrl_c_ends_it_with_one_line(tmp_path):
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", "probot-anno", "--port", "0",
                                 "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env=env, cwd=tmp_path)
+                               env=env, cwd=tmp_path, preexec_fn=interruptible)
     try:
         line = process.stdout.readline()
         assert line.startswith("armkit view: PROBOT Anno at http://127.0.0.1:")

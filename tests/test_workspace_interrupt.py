@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import WAIT_S, wait_until
+from conftest import WAIT_S, interruptible, wait_until
 
 pytest.importorskip("zarr")
 pytestmark = pytest.mark.slow
@@ -24,7 +24,8 @@ def _start(out: Path, samples: str, *extra: str) -> subprocess.Popen:
     env = {**os.environ, "PYTHONUNBUFFERED": "1", "DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": f"{WAIT_S}s",
            "DASK_DISTRIBUTED__COMM__TIMEOUTS__TCP": f"{WAIT_S}s"}  # --dask local's cluster, on a busy machine
     return subprocess.Popen([*COMMAND, "--samples", samples, "--out", str(out), *extra], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=interruptible)
 
 
 def _chunks_done(out: Path) -> int:
