@@ -1,9 +1,9 @@
-# Two commands: `make demo` and `make test` (also `make fuzz`, `make bench`). All create .venv on first use.
+# Two commands: `make demo` and `make test` (also `make test-fast`, `make fuzz`, `make bench`). All create .venv on first use.
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test fuzz bench clean
+.PHONY: demo test test-fast fuzz bench clean
 
 $(BIN)/activate:
 	$(PYTHON) -m venv $(VENV)
@@ -23,9 +23,13 @@ $(VENV)/.installed-test: pyproject.toml $(CORE) | $(BIN)/activate
 demo: $(VENV)/.installed-demo
 	$(BIN)/armkit lab
 
-test: $(VENV)/.installed-test
+test: $(VENV)/.installed-test  # the whole suite, as CI runs it (.ci/run)
 	$(BIN)/ruff check src tests benchmarks examples
 	$(BIN)/python -m pytest -q
+
+test-fast: $(VENV)/.installed-test  # the edit-test loop: no browser, no cluster, no slow runs, a small fuzz
+	$(BIN)/ruff check src tests benchmarks examples
+	ARMKIT_FUZZ_EXAMPLES=30 $(BIN)/python -m pytest -q -m "not slow and not browser"
 
 fuzz: $(VENV)/.installed-test  # the fuzz and property tests (CLI, robot files, URDF, IK) with many more examples
 	HYPOTHESIS_PROFILE=fuzz ARMKIT_FUZZ_EXAMPLES=20000 $(BIN)/python -m pytest -q tests/test_cli_fuzz.py \

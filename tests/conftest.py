@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 import os
+import signal
+import time
+from collections.abc import Callable
 
 import numpy as np
+import pytest
 from hypothesis import settings
 
 from armkit.spatial.rotations import rotation_angle_between
@@ -18,6 +22,39 @@ if os.environ.get("HYPOTHESIS_PROFILE") == "fuzz":
     settings.load_profile("fuzz")
 elif os.environ.get("CI"):
     settings.load_profile("ci")
+
+
+#: Upper bound on any wait for an event (a page update, a subprocess's line or exit, a file
+#: appearing) [s]. Waits end as soon as the event happens, so the bound only decides how long a
+#: broken test hangs; it is generous so that a machine 3-5x slower than a quiet one (a shared CI
+#: runner, a 2-core laptop building something) still passes. ``ARMKIT_TEST_WAIT`` overrides it.
+WAIT_S = float(os.environ.get("ARMKIT_TEST_WAIT", "600"))
+
+
+def wait_until(condition: Callable[[], bool], what: str, timeout_s: float = WAIT_S,
+               poll_s: float = 0.05) -> None:
+    """Poll ``condition`` until it is true; fail the test naming ``what`` after ``timeout_s`` [s]."""
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() > deadline:
+            pytest.fail(f"waited {timeout_s:.0f} s for {what}")
+        time.sleep(poll_s)
+
+
+def interruptible() -> None:
+    """``preexec_fn`` of a child process the test interrupts with SIGINT: Ctrl-C's default action,
+    even when this run ignores SIGINT (a background job of a shell without job control, as CI may
+    start it), which the child would inherit."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@pytest.fixture
+def python_handles_sigint():
+    """Python's own Ctrl-C handler in this process for the test (``_thread.interrupt_main`` does
+    nothing where SIGINT is ignored), the previous one afterwards."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
 
 
 def assert_transform_close(T_actual, T_expected, position_tol: float = 1e-10,

@@ -247,3 +247,25 @@ def test_numeric_ik_says_within_limits_as_robot_ik_does():
         assert solver.respect_limits is False
     with pytest.warns(DeprecationWarning, match=r"NumericIK\(respect_limits=...\) is deprecated"):
         assert NumericIK(panda, respect_limits=False).within_limits is False
+
+
+def test_subpackages_work_after_a_plain_import_armkit_which_imports_none_of_them():
+    import subprocess
+    import sys
+
+    code = ("import sys, armkit\n"
+            "before = sorted(m for m in sys.modules if m.startswith('armkit.'))\n"
+            "names = [armkit.trajectory.read_waypoints, armkit.export.write_urdf, armkit.workspace.compute,\n"
+            "         armkit.ik.analyze_structure]\n"
+            "print(' '.join(f.__module__ + '.' + f.__name__ for f in names))\n"
+            "print(' '.join(before))\n"
+            "try:\n"
+            "    armkit.no_such_module\n"
+            "except AttributeError as exc:\n"
+            "    print(exc)\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    found, before, missing = result.stdout.splitlines()
+    assert found.split() == ["armkit.trajectory.waypoints.read_waypoints", "armkit.export.urdf.write_urdf",
+                             "armkit.workspace.maps.compute", "armkit.ik.structure.analyze_structure"]
+    assert not {"armkit.trajectory", "armkit.export", "armkit.workspace", "armkit.ik"} & set(before.split())
+    assert missing == "module 'armkit' has no attribute 'no_such_module'"

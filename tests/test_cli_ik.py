@@ -168,3 +168,19 @@ def test_ik_table_has_units_and_no_negative_zero(capsys):
     assert not re.search(r"-0\.0+(?![0-9])", out)
     code, _, err = run(capsys, "ik", "ur5", *SEED_POSE[:4], "1", "0", "0", "--euler", "quat")
     assert code == 1 and "output format" in err
+
+
+def test_a_pose_reachable_only_outside_the_limits_is_reported_in_degrees_after_deg(capsys, tmp_path):
+    from armkit.robot_file import robot_to_toml
+
+    puma = armkit.load("puma560")
+    narrow = armkit.Robot.from_dh(puma.dh.rows, puma.dh.convention, limits=[(-0.3, 0.3)] * 6, name="narrow")
+    path = tmp_path / "narrow.toml"
+    path.write_text(robot_to_toml(narrow))
+    q = np.full(6, 0.5)                                  # outside every limit: no solution inside
+    pose = [str(v) for v in narrow.pose(q, degrees=True)]
+    code, _, err = run(capsys, "ik", str(path), "--pose", *pose, "--deg")
+    assert code == 1 and len(err.strip().splitlines()) == 1
+    assert "only outside the joint limits" in err and "[-17.1887, 17.1887] deg" in err and " rad" not in err
+    code, _, err = run(capsys, "ik", str(path), "--pose", *map(str, narrow.pose(q)))
+    assert code == 1 and "[-0.3, 0.3] rad" in err

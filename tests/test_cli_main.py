@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pytest
+from conftest import WAIT_S, interruptible
 
 from armkit.cli.main import INTERRUPTED, main
 
@@ -24,7 +25,7 @@ def _raise(exc):
     ["rotate", "probot-anno", "--axis", "1", "0", "0", "--angle", "0.5", "--duration", "900",
      "--dt", "0.0005"],
 ])
-def test_ctrl_c_in_a_running_command_is_one_line_and_exit_130(capsys, argv):
+def test_ctrl_c_in_a_running_command_is_one_line_and_exit_130(capsys, argv, python_handles_sigint):
     """A real interrupt of the main thread 0.5 s into a motion of 1.8 million control steps."""
     import _thread
     import threading
@@ -71,14 +72,25 @@ def test_ctrl_c_while_armkit_is_still_importing_is_one_line_and_exit_130():
     import signal
     import subprocess
     import sys
-    import time
 
-    started = "from _armkit_entry import run; print('started', flush=True); run()"
+    # an import finder holds run()'s import of the CLI until the interrupt comes: the signal lands
+    # inside the import on a fast machine and on a slow one alike
+    started = ("import sys, time\n"
+               "class Hold:\n"
+               "    def find_spec(self, name, path, target=None):\n"
+               "        if name == 'armkit.cli':\n"
+               "            print('importing', flush=True)\n"
+               "            time.sleep(3600)\n"
+               "sys.meta_path.insert(0, Hold())\n"
+               "from _armkit_entry import run\n"
+               "run()\n")
     process = subprocess.Popen([sys.executable, "-c", started, "robots"], stdout=subprocess.PIPE,
                                stderr=subprocess.PIPE, text=True,
-                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
-    assert process.stdout.readline() == "started\n"
-    time.sleep(0.2)  # inside run(), importing armkit (NumPy, SciPy, numba: seconds)
-    process.send_signal(signal.SIGINT)
-    out, err = process.communicate(timeout=60)
+                               preexec_fn=interruptible)
+    try:
+        assert process.stdout.readline() == "importing\n"
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=WAIT_S)
+    finally:
+        process.kill()
     assert process.returncode == 130 and err == "interrupted (Ctrl-C)\n" and out == ""

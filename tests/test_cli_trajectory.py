@@ -174,3 +174,15 @@ def test_auto_time_without_acceleration_limits_warns_and_prints_none(capsys, tmp
     assert "no max_acceleration for base, shoulder, elbow" in err and "--auto-time cannot keep" in err
     assert not re.search(r"\binf\b|\s0\.000\s", out)  # no infinite limit, no ratio to it
     assert re.search(r"base\s.*90\.0000 deg/s.*90\.0000 deg/s.*1\.000.*deg/s².*none.*-", out)
+
+
+def test_a_waypoint_outside_a_limit_is_reported_in_the_units_typed(capsys, tmp_path):
+    path = tmp_path / "w.csv"
+    np.savetxt(path, [[0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 170, 0]], delimiter=",")
+    code, _, err = run(capsys, "traj", "puma560", "--waypoints", path, "--deg", "--auto-time")
+    assert code == 1
+    assert err.strip() == "error: waypoint 2: joint q5 = 170 deg is outside its limits [-100, 100] deg"
+    np.savetxt(path, [[0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 2, 0]], delimiter=",")
+    code, _, err = run(capsys, "traj", "puma560", "--waypoints", path, "--auto-time")
+    assert code == 1 and err.strip() == ("error: waypoint 2: joint q5 = 2 rad is outside its limits "
+                                         "[-1.74533, 1.74533] rad")

@@ -6,6 +6,10 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import WAIT_S
+
+#: One fresh process per example: not in `make test-fast`.
+pytestmark = pytest.mark.slow
 
 EXAMPLES = sorted((Path(__file__).parent.parent / "examples").glob("[0-9][0-9]_*.py"))
 
@@ -14,6 +18,6 @@ EXAMPLES = sorted((Path(__file__).parent.parent / "examples").glob("[0-9][0-9]_*
 def test_example_runs(script, tmp_path):
     env = {**os.environ, "MPLBACKEND": "Agg"}
     result = subprocess.run([sys.executable, str(script)], cwd=tmp_path, env=env, capture_output=True,
-                            text=True, timeout=300)
+                            text=True, timeout=WAIT_S)
     assert result.returncode == 0, result.stderr[-2000:]
     assert result.stdout.strip(), "an example should print what it shows"

@@ -66,6 +66,18 @@ def test_urdf_joint_types_and_tool_link():
         "base", *[f"link{i}" for i in range(1, 7)], "tool"]
 
 
+def test_joints_named_like_the_tool_joint_give_a_urdf_armkit_loads_with_the_same_fk(tmp_path):
+    dh = armkit.load("puma560").dh
+    robot = armkit.Robot.from_dh(dh.rows, dh.convention, limits=armkit.load("puma560").limits,
+                                 names=["q1", "q2", "q3", "tool_joint", "q5", "tool_joint_2"])
+    names = [j.get("name") for j in ET.fromstring(urdf_from_robot(robot)).findall("joint")]
+    assert names == [*robot.joint_names, "tool_joint_3"]
+    back = armkit.load(write_urdf(robot, tmp_path / "arm.urdf"))
+    assert back.joint_names == robot.joint_names
+    q = np.array([0.1, -0.4, 0.3, 0.2, 0.5, -0.1])
+    assert_transform_close(back.fk(q), robot.fk(q), 1e-12, 1e-12)
+
+
 def test_unbounded_revolute_becomes_continuous():
     link = np.eye(4)
     link[0, 3] = 0.3

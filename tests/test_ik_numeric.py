@@ -380,6 +380,18 @@ def test_a_zero_time_budget_stops_after_the_first_attempt():
     assert not result.success and result.restarts == 0
 
 
+def test_the_same_call_gives_the_same_answer_and_no_clock_cuts_it_short():
+    """Restarts are seeded by default and a time budget applies only when one is given."""
+    panda = armkit.load("panda")
+    for T in panda.fk(panda.random_q(40, rng=3)):
+        np.testing.assert_array_equal(panda.ik(T), panda.ik(T))
+    assert NumericIK(panda.chain).time_budget is None
+    far = transform_from(np.eye(3), [2.0, 0.0, 0.5])       # out of reach: every restart is tried
+    first, again = numeric_ik(panda.chain, far), numeric_ik(panda.chain, far)
+    assert first.restarts == again.restarts == 100
+    np.testing.assert_array_equal(first.q, again.q)
+
+
 def test_wrap_into_limits_broadcasts_and_moves_by_whole_turns():
     chain = armkit.load("stanford").chain  # joint 3 prismatic
     rng = np.random.default_rng(5)

@@ -146,11 +146,11 @@ def test_held_joints_keep_their_values_and_only_joints_1_to_3_are_copied():
     ur5 = armkit.load("ur5")
     near = np.array([0.1, -1.0, 1.0, 4.0, 0.5, -0.3])
     p = ur5.fk(near)[:3, 3]
-    every = ur5.ik_position(p, all_solutions=True, near=near, within_limits=False)
+    every = ur5.ik_position(p, all_solutions=True, near=near, within_limits=False, turn_copies=True)
     assert every.shape == (32, 6)
     np.testing.assert_array_equal(every[:, 3:], np.tile(near[3:], (32, 1)))
     np.testing.assert_allclose(every[0], near, atol=1e-9)
-    assert len(ur5.ik_position(p, all_solutions=True, near=near, turn_copies=False)) == 4
+    assert len(ur5.ik_position(p, all_solutions=True, near=near)) == 4     # each once by default
     np.testing.assert_allclose(ur5.fk(every)[:, :3, 3], np.tile(p, (32, 1)), atol=1e-9)
 
 
@@ -178,8 +178,9 @@ def test_robot_ik_position_takes_its_options_by_name():
         arm.ik_position([0.3, 0.1, 0.3], True)
 
 
-def test_cli_position_all_without_turn_copies(capsys):
-    assert main(["ik", "ur5", "--position", "0.3", "0.1", "0.3", "--all", "--json"]) == 0
+def test_cli_position_all_with_and_without_turn_copies(capsys):
+    assert main(["ik", "ur5", "--position", "0.3", "0.1", "0.3", "--all", "--turn-copies", "--json"]) == 0
     assert len(json.loads(capsys.readouterr().out)["solutions"]) == 32
-    assert main(["ik", "ur5", "--position", "0.3", "0.1", "0.3", "--all", "--no-turn-copies", "--json"]) == 0
-    assert len(json.loads(capsys.readouterr().out)["solutions"]) == 4
+    assert main(["ik", "ur5", "--position", "0.3", "0.1", "0.3", "--all", "--json"]) == 0
+    once = json.loads(capsys.readouterr().out)
+    assert len(once["solutions"]) == 4 and once["configurations_inside_limits"] == 32

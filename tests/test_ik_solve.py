@@ -474,3 +474,17 @@ def test_wrist_singular_poses_keep_the_generating_branch_of_joints_1_to_3(name):
         gap = np.where(robot.chain.prismatic[:3], np.abs(diff), np.abs(np.angle(np.exp(1j * diff))))
         missed += gap.max(axis=1).min(initial=np.inf) > 1e-6
     assert missed == 0
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])     # closed form and numeric alike
+def test_a_misspelled_keyword_is_an_input_error_naming_it_and_the_valid_ones(name):
+    robot = armkit.load(name)
+    q = robot.home + 0.1
+    T = robot.fk(q)
+    with pytest.raises(InputError, match=r"unknown keyword arguments 'nearr' \(did you mean 'near'\?\), "
+                                         r"'positon_tolerance' \(did you mean 'position_tolerance'\?\); "
+                                         r"expected one of all_solutions, .*max_restarts, near, "):
+        robot.ik(T, nearr=q, positon_tolerance=1.0)
+    with pytest.raises(InputError, match="unknown keyword argument 'q0'"):      # ik sets q0 from near
+        armkit.ik.ik(robot, T, q0=q)
+    np.testing.assert_allclose(robot.fk(robot.ik(T, near=q, position_tolerance=1e-10)), T, atol=1e-9)

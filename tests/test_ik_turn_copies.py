@@ -1,4 +1,5 @@
-"""All solutions list every whole-turn copy inside the limits (issue 10, item 5).
+"""All solutions list each solution once, or with ``turn_copies=True`` every whole-turn copy inside the
+limits (issue 10, item 5; issue 20, item 3).
 
 The expected copies are counted here independently: for each solution (listed once with
 ``turn_copies=False``) and each joint, the whole numbers ``t`` with ``q + 2 pi t`` inside
@@ -56,7 +57,7 @@ def as_set(q: np.ndarray) -> set[tuple[float, ...]]:
 
 def check_all_copies(robot: Robot, T: np.ndarray, near: np.ndarray) -> np.ndarray:
     once = robot.ik(T, all_solutions=True, near=near, turn_copies=False)
-    listed = robot.ik(T, all_solutions=True, near=near)
+    listed = robot.ik(T, all_solutions=True, near=near, turn_copies=True)
     expected = set()
     for q in once:
         for copy in np.stack(np.meshgrid(*expected_copies(robot, q), indexing="ij"), -1).reshape(-1, robot.n):
@@ -75,16 +76,17 @@ def test_ur5_at_plus_minus_360_degrees_lists_2_to_the_6_copies_of_each_solution(
     T = UR5.fk(Q)
     assert UR5.chain.spans_turns == (0, 1, 2, 3, 4, 5)
     listed = check_all_copies(UR5, T, Q)
-    assert len(UR5.ik(T, all_solutions=True, turn_copies=False)) == 8 and len(listed) == 512
-    found = ik_solutions(UR5, T, near=Q)
+    assert len(UR5.ik(T, all_solutions=True)) == 8 and len(listed) == 512   # each once by default
+    found = ik_solutions(UR5, T, near=Q, turn_copies=True)
     np.testing.assert_array_equal(found.q, listed)
     assert found.within_limits.all() and found.position_error.max() < 1e-12
     other = UR5.fk(-Q)  # a pose with 4 solutions
-    batch = ik_solutions(UR5, np.stack([T, other]), near=Q)
+    batch = ik_solutions(UR5, np.stack([T, other]), near=Q, turn_copies=True)
     assert batch.counts.tolist() == [512, 64 * len(UR5.ik(other, all_solutions=True, turn_copies=False))] \
         == [512, 256]
     np.testing.assert_array_equal(batch[0].q, listed)
-    assert len(UR5.ik(np.stack([T, T]), all_solutions=True, near=Q)[1]) == 512
+    assert len(UR5.ik(np.stack([T, T]), all_solutions=True, near=Q, turn_copies=True)[1]) == 512
+    assert len(UR5.ik(np.stack([T, T]), all_solutions=True, near=Q)[1]) == 8
 
 
 @settings(max_examples=25, deadline=None)
@@ -102,23 +104,23 @@ def test_a_joint_spanning_exactly_one_turn_holds_one_copy():
     robot = with_limits(UR5, [(-math.pi, math.pi)] * 6)
     q = np.array([math.pi, -1.0, 1.2, 0.4, 0.7, -math.pi])
     assert robot.chain.spans_turns == ()
-    listed = robot.ik(robot.fk(q), all_solutions=True, near=q)
-    assert len(listed) == len(robot.ik(robot.fk(q), all_solutions=True, turn_copies=False)) <= 8
+    listed = robot.ik(robot.fk(q), all_solutions=True, near=q, turn_copies=True)
+    assert len(listed) == len(robot.ik(robot.fk(q), all_solutions=True)) <= 8
 
 
 def test_unbounded_joints_hold_one_copy():
     robot = with_limits(UR5, [(-math.inf, math.inf)] + [(-math.pi, math.pi)] * 5)
     assert robot.chain.spans_turns == ()
     near = Q + np.array([4 * math.pi, 0, 0, 0, 0, 0])
-    listed = robot.ik(robot.fk(Q), all_solutions=True, near=near)
+    listed = robot.ik(robot.fk(Q), all_solutions=True, near=near, turn_copies=True)
     np.testing.assert_allclose(listed[0], near, atol=1e-9)  # the copy nearest to near, 2 turns up
 
 
 def test_outside_the_limits_a_solution_is_listed_once():
     T = UR5.fk(Q)
     narrow = with_limits(UR5, [(-2 * math.pi, 2 * math.pi)] + [(-0.2, 0.2)] * 5)
-    found = ik_solutions(narrow, T, near=Q)
-    once = ik_solutions(narrow, T, near=Q, turn_copies=False)
+    found = ik_solutions(narrow, T, near=Q, turn_copies=True)
+    once = ik_solutions(narrow, T, near=Q)
     assert not found.within_limits.any() and len(found.q) == len(once.q) == 8
 
 
@@ -126,7 +128,7 @@ def test_more_copies_than_listed_warn_and_keep_the_nearest():
     wide = with_limits(UR5, [(-math.radians(1000), math.radians(1000))] * 6)  # 5 or 6 copies a joint
     T = wide.fk(Q)
     with pytest.warns(SolutionsLeftOffWarning, match=r"solutions inside the limits .* the 4096 nearest"):
-        listed = wide.ik(T, all_solutions=True, near=Q)
+        listed = wide.ik(T, all_solutions=True, near=Q, turn_copies=True)
     assert len(listed) == MAX_SOLUTIONS
     np.testing.assert_allclose(listed[0], Q, atol=1e-12)
     distance = np.linalg.norm(listed - Q, axis=1)
@@ -143,17 +145,30 @@ def test_more_copies_than_listed_warn_and_keep_the_nearest():
         assert len(wide.ik(T, all_solutions=True, turn_copies=False)) == 8
 
 
-def test_cli_lists_the_copies_and_no_turn_copies_each_once(capsys):
+def test_cli_lists_each_solution_once_says_how_many_copies_and_turn_copies_lists_them(capsys):
     T = UR5.fk(Q)
     args = ["ik", "ur5", "--matrix", *map(str, T.ravel()), "--all", "--json"]
     assert main(args) == 0
-    listed = json.loads(capsys.readouterr().out)
-    assert main([*args, "--no-turn-copies"]) == 0
     once = json.loads(capsys.readouterr().out)
+    assert main([*args, "--turn-copies"]) == 0
+    listed = json.loads(capsys.readouterr().out)
     assert len(listed["solutions"]) == 512 and listed["numbers"] == list(range(1, 513))
     assert len(once["solutions"]) == 8 and once["numbers"] == list(range(1, 9))
+    assert once["configurations_inside_limits"] == len(listed["solutions"])
+    assert listed["configurations_inside_limits"] is None
     assert main(args[:-1]) == 0
+    out = capsys.readouterr().out
+    assert "8 IK solutions" in out and "the 8 solutions inside the limits make 512 configurations" in out
+    assert "--turn-copies lists them" in out
+    assert main([*args[:-1], "--turn-copies"]) == 0
     assert "Whole-turn copies are listed" in capsys.readouterr().out
+
+
+def test_the_nearest_solution_is_chosen_among_the_copies():
+    near = Q - np.array([2 * math.pi, 0, 0, 0, 2 * math.pi, 0])      # a copy of Q, turns away
+    np.testing.assert_allclose(UR5.ik(UR5.fk(Q), near=near), near, atol=1e-9)
+    once = UR5.ik(UR5.fk(Q), all_solutions=True, near=near)
+    np.testing.assert_allclose(once[0], near, atol=1e-9)           # each solution's nearest copy
 
 
 def test_the_warning_names_the_callers_line_and_a_batch_warns_once():
@@ -161,7 +176,7 @@ def test_the_warning_names_the_callers_line_and_a_batch_warns_once():
     T = wide.fk(np.stack([Q, Q * 0.5, Q * 0.25]))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        found = ik_solutions(wide, T, near=Q)
+        found = ik_solutions(wide, T, near=Q, turn_copies=True)
     left_off = [w for w in caught if issubclass(w.category, SolutionsLeftOffWarning)]
     assert len(left_off) == 1 and "3 of 3 poses" in str(left_off[0].message)
     assert left_off[0].filename == __file__  # this test's line, not armkit's
@@ -172,7 +187,7 @@ def test_a_stacked_batch_pads_with_nan():
     wide = with_limits(UR5, [(-2 * math.pi, 2 * math.pi)] + [(-math.pi, math.pi)] * 5)
     far = wide.fk(Q)
     far[:3, 3] += 10.0  # out of reach: no solution
-    mixed = ik_solutions(wide, np.stack([wide.fk(Q), far]), near=Q)
+    mixed = ik_solutions(wide, np.stack([wide.fk(Q), far]), near=Q, turn_copies=True)
     assert mixed.counts[0] == 16 and mixed.counts[1] == 0  # q1's two copies of each of 8
     assert np.isnan(mixed.q[1]).all() and np.isnan(mixed.position_error[1]).all()
     assert len(mixed[1].q) == 0

@@ -22,6 +22,9 @@ from armkit.lab.report import _CSS, MARKER, Table, _table_html, prepare_folder
 from armkit.spatial.transforms import transform_from_pose
 from armkit.trajectory import read_trajectory, read_waypoints
 
+#: The seed reports' experiments end to end, MuJoCo included: not in `make test-fast`.
+pytestmark = pytest.mark.slow
+
 PNGS = ["fk_configuration.png", "ik_solutions.png", "line_tracking.png", "trajectory_pva.png",
         "trajectory_tracking.png", "rotation.png", "zju_configuration.png", "scara_configuration.png",
         "dynamics_torques.png"]

@@ -7,6 +7,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import WAIT_S
 from PIL import Image
 from test_trajectory_min_jerk import SEED_WAYPOINTS
 
@@ -74,5 +75,24 @@ def test_plots_never_import_pyplot():
     code = ("import sys, armkit, armkit.plots as p, armkit.trajectory as t; r = armkit.load('probot-anno'); "
             "tr = t.min_jerk([[0.0] * 6, [0.1] * 6], [1.0]); p.plot_pva(tr, r); p.plot_tool_path(r, tr); "
             "print('matplotlib.pyplot' in sys.modules)")
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=WAIT_S)
     assert result.stdout.strip() == "False", result.stderr
+
+
+def test_pva_in_degrees_scales_curves_waypoints_and_limits_and_a_joint_at_rest_has_no_offset(robot):
+    waypoints = np.array(SEED_WAYPOINTS)
+    waypoints[:, 3] = [0.3, np.nextafter(0.3, 1), 0.3, 0.3]   # joint 4 at rest, but for a rounding step
+    traj = min_jerk(waypoints, [10, 10, 10])
+    plain, degrees = plot_pva(traj, robot), plot_pva(traj, robot, degrees=True)
+    for figure in (plain, degrees):
+        figure.canvas.draw()
+    rad, deg = np.array(plain.axes).reshape(3, 6), np.array(degrees.axes).reshape(3, 6)
+    np.testing.assert_allclose(deg[0, 1].get_lines()[0].get_ydata(),
+                               np.degrees(rad[0, 1].get_lines()[0].get_ydata()), rtol=1e-12)
+    limit = {round(line.get_ydata()[0], 6) for line in deg[1, 4].get_lines() if line.get_linestyle() == "--"}
+    vmax = np.degrees(robot.max_velocity[4])
+    assert limit == {round(vmax, 6), round(-vmax, 6)}
+    assert deg[1, 0].get_ylabel() == "velocity [deg/s]" and rad[1, 0].get_ylabel() == "velocity [rad/s]"
+    for axes in (rad, deg):       # a flat line at its true scale, no "1e-16" above the axis
+        assert all(axes[row, 3].yaxis.get_offset_text().get_text() == "" for row in range(3))
+        assert all(np.ptp(axes[row, 3].get_ylim()) >= 1.0 for row in range(3))

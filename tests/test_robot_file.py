@@ -136,3 +136,23 @@ def test_empty_joint_list_is_refused():
 def test_unknown_robot_lists_builtins():
     with pytest.raises(RobotDefinitionError, match=r"unknown robot 'kuka': not a built-in \(grb400-scara"):
         armkit.load("kuka")
+
+
+def test_a_robot_file_with_more_joints_than_armkit_handles_is_refused_at_load_in_one_line(tmp_path, capsys):
+    from armkit.chain import MAX_JOINTS
+    from armkit.cli.main import main
+
+    joint = '[[joints]]\nd = 0\na = 100\nalpha = 0\ntheta = 0\nlimits = [-90, 90]\n'
+    path = tmp_path / "long.toml"
+    head = 'name = "long"\nconvention = "standard"\nlength_unit = "mm"\nangle_unit = "deg"\n'
+    path.write_text(head + joint * (MAX_JOINTS + 1))
+    with pytest.raises(RobotDefinitionError, match=f"a chain of {MAX_JOINTS + 1} moving joints: armkit "
+                                                   f"handles at most {MAX_JOINTS}"):
+        armkit.load(path)
+    assert main(["show", str(path)]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and "at most 16" in err and len(err.strip().splitlines()) == 1
+    path.write_text(head + joint * MAX_JOINTS)        # the most it handles: FK and IK work
+    robot = armkit.load(path)
+    q = np.full(MAX_JOINTS, 0.05)
+    np.testing.assert_allclose(robot.fk(robot.ik(robot.fk(q), near=q)), robot.fk(q), atol=1e-9)

@@ -7,6 +7,7 @@ import re
 
 import mujoco
 import numpy as np
+from conftest import WAIT_S
 from PIL import Image
 
 from armkit.cli.main import main
@@ -103,7 +104,7 @@ def test_without_mujoco_the_cli_still_works_and_names_the_extra(tmp_path):
         "         main(['export', 'ur5', '--urdf', 'ur5.urdf'])]\n"
         "print('codes', codes)\n")
     result = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, capture_output=True, text=True,
-                            timeout=120)
+                            timeout=WAIT_S)
     assert "codes [0, 1, 0]" in result.stdout
     assert "needs MuJoCo: pip install 'armkit[sim]'" in result.stderr
     assert (tmp_path / "ur5.urdf").exists() and not (tmp_path / "armkit-report").exists()

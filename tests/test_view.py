@@ -7,11 +7,11 @@ import os
 import signal
 import subprocess
 import sys
-import time
 import urllib.request
 
 import numpy as np
 import pytest
+from conftest import WAIT_S, interruptible, wait_until
 
 import armkit
 from armkit.errors import InputError, JointLimitError, UnreachableError
@@ -180,9 +180,12 @@ def test_a_trajectory_file_from_armkit_traj_plays_on_the_timeline(probot, tmp_pa
     np.testing.assert_allclose(q, exact[0], atol=1e-4)
     np.testing.assert_allclose(qd, exact[1], atol=1e-3)
     probot.play()
-    time.sleep(0.5)
+    wait_until(lambda: probot.time > 0.2, "the timeline to move")
     probot.pause()
-    assert 0.2 < probot.time < 3.0
+    probot._player.join(WAIT_S)           # the player thread ends at the pause: the time stays put
+    paused = probot.time
+    assert 0.2 < paused < trajectory.duration and not probot._player.is_alive()
+    assert probot.time == paused
     with pytest.raises(InputError, match="joint columns"):
         Playback.from_file(trajectory.to_csv(tmp_path / "t.csv"), armkit.load("grb400-scara"))
 
@@ -191,15 +194,15 @@ def test_cli_view_serves_the_page_and_ctrl_c_ends_it_with_one_line(tmp_path):
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", "probot-anno", "--port", "0",
                                 "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env=env, cwd=tmp_path)
+                               env=env, cwd=tmp_path, preexec_fn=interruptible)
     try:
         line = process.stdout.readline()
         assert line.startswith("armkit view: PROBOT Anno at http://127.0.0.1:")
         url = line.split(" at ")[1].split()[0]
-        with urllib.request.urlopen(url, timeout=30) as response:
+        with urllib.request.urlopen(url, timeout=WAIT_S) as response:
             assert b"<html" in response.read(2000).lower()
         process.send_signal(signal.SIGINT)
-        out, err = process.communicate(timeout=60)
+        out, err = process.communicate(timeout=WAIT_S)
     finally:
         process.kill()
     assert process.returncode == 130
@@ -209,7 +212,7 @@ def test_cli_view_serves_the_page_and_ctrl_c_ends_it_with_one_line(tmp_path):
 
 def test_cli_view_of_an_unknown_robot_is_one_error_line():
     result = subprocess.run([sys.executable, "-m", "armkit.cli.main", "view", "no-such-arm", "--no-browser"],
-                            capture_output=True, text=True, timeout=120)
+                            capture_output=True, text=True, timeout=WAIT_S)
     assert result.returncode == 1
     assert result.stderr.strip().startswith("error: unknown robot 'no-such-arm'")
     assert len(result.stderr.strip().splitlines()) == 1
@@ -252,9 +255,7 @@ def test_a_zero_quaternion_on_the_ik_handle_is_a_status_line_not_a_traceback(cap
         _send_messages(viewer.url, [msgspec.msgpack.encode(
             {"type": "TransformControlsUpdateMessage", "name": "/target", "wxyz": [0.0, 0.0, 0.0, 0.0],
              "position": [0.2, 0.1, 0.3]})])
-        deadline = time.monotonic() + 30
-        while "data-armkit='error'" not in viewer._status.content and time.monotonic() < deadline:
-            time.sleep(0.05)
+        wait_until(lambda: "data-armkit='error'" in viewer._status.content, "the panel's error line")
         assert "quaternion: expected a non-zero quaternion, got norm 0" in viewer._status.content
         np.testing.assert_array_equal(viewer.target, before)
     _, err = capfd.readouterr()

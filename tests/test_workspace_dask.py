@@ -13,22 +13,29 @@ from functools import partial
 
 import numpy as np
 import pytest
+from conftest import WAIT_S
 
 import armkit
 from armkit import workspace
 from armkit.robot_file import robot_to_toml
 
+dask = pytest.importorskip("dask")
 distributed = pytest.importorskip("distributed")
+pytestmark = pytest.mark.slow
 
 
 @pytest.fixture(scope="module")
 def client():
-    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
-                                       dashboard_address=None)
-    client = distributed.Client(cluster)
-    yield client
-    client.close()
-    cluster.close()
+    # Dask's own 30 s connection timeouts are wall-clock guesses too: as generous as the tests' waits
+    timeouts = {"distributed.comm.timeouts.connect": f"{WAIT_S}s",
+                "distributed.comm.timeouts.tcp": f"{WAIT_S}s"}
+    with dask.config.set(timeouts):
+        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                           dashboard_address=None)
+        client = distributed.Client(cluster, timeout=f"{WAIT_S}s")
+        yield client
+        client.close()
+        cluster.close()
 
 
 def test_dask_gives_identical_counts_and_sums_to_the_local_run(client):

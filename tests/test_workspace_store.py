@@ -105,6 +105,7 @@ def test_open_names_a_folder_that_is_not_a_store(tmp_path):
         workspace.open(tmp_path)
 
 
+@pytest.mark.slow
 def test_cli_json_summary_and_report(tmp_path, capsys):
     out = tmp_path / "anno.zarr"
     code = main(["workspace", "probot-anno", "--resolution", "0.08", "--samples", "2e4",
@@ -135,6 +136,7 @@ def test_cli_errors_are_one_line(args, message, capsys):
     assert message in err and "Traceback" not in err
 
 
+@pytest.mark.slow
 def test_cli_sweep_report_names_the_arm_and_shows_every_value(tmp_path, capsys):
     code = main(["workspace", "probot-anno", "--sweep", "a3=0.15:0.3:2", "--resolution", "0.1",
                  "--samples", "1e4", "--orientations", "2", "--out", str(tmp_path / "s.zarr"), "--report",

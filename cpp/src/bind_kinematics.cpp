@@ -208,6 +208,7 @@ void bind_kinematics(nb::module_& m) {
         }, "The revolute joints whose finite limits span more than a whole turn (their angles have "
            "several whole-turn copies inside the limits).");
     m.attr("LIMIT_TOLERANCE") = kLimitTolerance;
+    m.attr("MAX_JOINTS") = kMaxJoints;
     const auto release = nb::call_guard<nb::gil_scoped_release>();
     m.def("fk", &fk, nb::arg("chain"), nb::arg("q"), nb::arg("T"), nb::arg("threads"), release,
           "Tool poses of q (N, n) into T (N, 4, 4); the flat index of the first non-finite q, or -1.");

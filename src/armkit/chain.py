@@ -31,12 +31,15 @@ from armkit.spatial.transforms import rot_x, rot_z, trans_x, trans_z
 if TYPE_CHECKING:  # armkit.robot imports this module
     from armkit.robot import Robot
 
-__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERANCE", "MAX_VALUE",
-           "as_chain", "chain_from_dh", "chain_from_frames"]
+__all__ = ["Chain", "DHRow", "Joint", "JointKind", "DHConvention", "LIMIT_TOLERANCE", "MAX_JOINTS",
+           "MAX_VALUE", "as_chain", "chain_from_dh", "chain_from_frames"]
 
 #: Slack [rad or m] allowed beyond a joint limit before a value counts as outside it (the
 #: compiled core's ``kLimitTolerance``, so Python and C++ test limits alike).
 LIMIT_TOLERANCE: float = _core.LIMIT_TOLERANCE
+#: The most joints a chain can have: the compiled core's fixed capacity (``kMaxJoints``, its
+#: per-configuration scratch arrays live on the stack).
+MAX_JOINTS: int = _core.MAX_JOINTS
 #: Largest magnitude of a length [m] or angle [rad] a robot description may hold: larger ones
 #: are typos (1000 km) and let FK overflow. Robot files and URDF import refuse them.
 MAX_VALUE = 1e6
@@ -152,6 +155,10 @@ class Chain:
     def __post_init__(self) -> None:
         if len(self.joints) == 0:
             raise RobotDefinitionError("a chain needs at least one joint, got none")
+        if len(self.joints) > MAX_JOINTS:
+            raise RobotDefinitionError(
+                f"a chain of {len(self.joints)} moving joints: armkit handles at most {MAX_JOINTS} (a URDF's "
+                f"--base/--tip can choose a shorter chain)")
         object.__setattr__(self, "joints", tuple(self.joints))
         object.__setattr__(self, "T_base", _frozen(self.T_base))
         object.__setattr__(self, "T_tool", _frozen(self.T_tool))

@@ -35,7 +35,18 @@ class RobotDefinitionError(ArmkitError, ValueError):
 
 
 class JointLimitError(ArmkitError, ValueError):
-    """A joint value lies outside the joint's limits."""
+    """A joint value lies outside the joint's limits.
+
+    Attributes
+    ----------
+    q : ndarray or None
+        The configuration ``(n,)`` [rad or m] the message is about, where there is one (so
+        that a caller can say it again in its own units), else None.
+    """
+
+    def __init__(self, message: str, q: object = None) -> None:
+        super().__init__(message)
+        self.q = q
 
 
 class UnreachableError(ArmkitError):

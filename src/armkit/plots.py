@@ -53,8 +53,12 @@ def _rate(trajectory: JointTrajectory, rate_hz: float | None) -> float:
     return min(max(50.0, 2000.0 / trajectory.duration), MAX_PLOT_SAMPLES / trajectory.duration)
 
 
+#: A curve whose range is below this fraction of its size is at rest: drawn flat, not magnified.
+_AT_REST = 1e-9
+
+
 def plot_pva(trajectory: JointTrajectory, robot: Robot | None = None, *, rate_hz: float | None = None,
-             title: str | None = None, torques: bool = False) -> Figure:
+             title: str | None = None, torques: bool = False, degrees: bool = False) -> Figure:
     """Position, velocity and acceleration (and torque) of every joint against time, one panel each.
 
     Rows are position, velocity and acceleration, and with ``torques`` the joint torques
@@ -73,6 +77,9 @@ def plot_pva(trajectory: JointTrajectory, robot: Robot | None = None, *, rate_hz
     title : str, optional
     torques : bool
         Add a row of joint torques [N m or N]; needs ``robot`` with inertial parameters.
+    degrees : bool
+        Revolute joints in deg, deg/s, deg/s² (as ``armkit traj --deg`` prints them); prismatic
+        ones stay in metres, torques in N m or N.
 
     Raises
     ------
@@ -87,10 +94,11 @@ def plot_pva(trajectory: JointTrajectory, robot: Robot | None = None, *, rate_hz
         rows.append(robot.inverse_dynamics(samples.q, samples.qd, samples.qdd))
     n = trajectory.n
     names = robot.joint_names if robot is not None else [f"q{j + 1}" for j in range(n)]
-    prismatic = robot.chain.prismatic if robot is not None else [False] * n
-    limits = ([None if robot is None else robot.limits,
-               None if robot is None else robot.max_velocity,
-               None if robot is None else robot.max_acceleration,
+    prismatic = np.asarray(robot.chain.prismatic if robot is not None else [False] * n)
+    scale = np.where(prismatic | (not degrees), 1.0, 180 / np.pi)  # SI to the shown unit, per joint
+    limits = ([None if robot is None else robot.limits * scale[:, None],
+               None if robot is None else robot.max_velocity * scale,
+               None if robot is None else robot.max_acceleration * scale,
                None if robot is None else robot.max_torque])
     figure = Figure(figsize=(2.6 * n + 1.0, 2.4 * len(rows)), layout="constrained")
     axes = figure.subplots(len(rows), n, sharex=True, squeeze=False)
@@ -99,19 +107,22 @@ def plot_pva(trajectory: JointTrajectory, robot: Robot | None = None, *, rate_hz
     for row, ((quantity, per), values) in enumerate(zip(_QUANTITIES, rows, strict=False)):
         for j in range(n):
             ax = axes[row, j]
-            ax.plot(samples.t, values[:, j], color=colors[j], lw=1.6)
+            shown = values[:, j] * (scale[j] if quantity != "torque" else 1.0)
+            ax.plot(samples.t, shown, color=colors[j], lw=1.6)
             for t in times:
                 ax.axvline(t, color="0.6", lw=0.6, ls=":")
             if row == 0:
-                ax.plot(times, trajectory.waypoints[:, j], "o", color="k", ms=4, zorder=3)
+                ax.plot(times, trajectory.waypoints[:, j] * scale[j], "o", color="k", ms=4, zorder=3)
                 ax.set_title(names[j], fontsize=10)
-            _draw_limits(ax, limits[row], j, values[:, j], row)
+            _draw_limits(ax, limits[row], j, shown, row)
             if quantity == "torque":
                 unit = "N" if prismatic[j] else "N m"
             else:
-                unit = ("m" if prismatic[j] else "rad") + per
+                unit = ("m" if prismatic[j] else "deg" if degrees else "rad") + per
             ax.set_ylabel(f"{quantity} [{unit}]" if j == 0 else f"[{unit}]", fontsize=9)
             ax.tick_params(labelsize=8)
+            if np.ptp(shown) <= _AT_REST * max(1.0, np.abs(shown).max()):  # no "1e-16" scale on a flat line
+                ax.set_ylim(shown.mean() - 1.0, shown.mean() + 1.0)
             ax.grid(True, lw=0.3, alpha=0.5)
     for ax in axes[-1, :]:
         ax.set_xlabel("time [s]", fontsize=9)

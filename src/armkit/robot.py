@@ -333,9 +333,9 @@ class Robot:
         T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
             Target tool pose(s) [m].
         all_solutions : bool
-            ``(k, n)``: every solution, nearest to ``near`` first (closed form only), with
-            the whole-turn copies inside the limits of joints whose limits span more than a
-            whole turn (``turn_copies=False``: each solution once; see :func:`armkit.ik.ik_solutions`).
+            ``(k, n)``: every solution, nearest to ``near`` first (closed form only), each
+            once; ``turn_copies=True`` adds the whole-turn copies inside the limits of joints
+            whose limits span more than a whole turn (see :func:`armkit.ik.ik_solutions`).
             ``all=`` is its deprecated old name (it shadowed the builtin); it warns.
         near : array_like, shape (n,) or (N, n), optional
             Reference configuration [rad or m]; default zeros.
@@ -404,7 +404,7 @@ class Robot:
                   **options)
 
     def ik_position(self, position: ArrayLike, *, all_solutions: bool = False, near: ArrayLike | None = None,
-                    within_limits: bool = True, turn_copies: bool = True) -> NDArray[np.float64]:
+                    within_limits: bool = True, turn_copies: bool = False) -> NDArray[np.float64]:
         """Position IK in closed form: joints 1-3 put the tool point at ``position`` [m]
         (orientation free; joints 4..n keep ``near``'s values). See :func:`armkit.ik.ik_position`.
 

@@ -49,7 +49,8 @@ QUATERNION_NAMES = ("quat", "quaternion", "wxyz")
 
 
 #: The robot argument and the options that shape it, shared by every command taking ROBOT.
-RobotArg = Annotated[str, typer.Argument(help="Built-in name, robot TOML file or URDF file.")]
+RobotArg = Annotated[str, typer.Argument(help="Built-in name (see 'armkit robots'), robot TOML file or URDF "
+                                              "file (--base/--tip choose its chain).")]
 BaseOpt = Annotated[str | None, typer.Option(
     "--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link).",
     show_default=False)]

@@ -27,7 +27,9 @@ from armkit.cli.app import (
     print_json,
     to_si,
 )
-from armkit.errors import InputError, NoClosedFormError
+from armkit.errors import InputError, JointLimitError, NoClosedFormError
+from armkit.ik.messages import outside_limits
+from armkit.ik.pipeline import count_turn_copies
 from armkit.ik.position import position_case, position_solutions
 from armkit.ik.solve import ik_solutions
 from armkit.ik.structure import analyze_structure
@@ -134,9 +136,10 @@ def ik_command(
     outside: Annotated[bool, typer.Option("--outside", help="Also list solutions outside the "
                                                             "joint limits.")] = False,
     turn_copies: Annotated[bool, typer.Option(
-        "--turn-copies/--no-turn-copies", help="With --all, list the whole-turn copies q + 360 deg of "
-                                               "joints whose limits span more than a turn (e.g. a UR5's "
-                                               "+-360 deg), or each solution once.")] = True,
+        "--turn-copies/--no-turn-copies", help="With --all, also list the whole-turn copies q + 360 deg "
+                                               "of joints whose limits span more than a turn (e.g. a "
+                                               "UR5's +-360 deg); default each solution once, with the "
+                                               "number of copies inside the limits.")] = False,
     near: Annotated[str | None, typer.Option(
         "--near", metavar="Q...", help="Return the solution closest to these joint values, e.g. "
                                        "--near 0 -0.5 0.5 0 1 0 or --near 0,-0.5,0.5,0,1,0 (rad and m; "
@@ -161,18 +164,25 @@ def ik_command(
     T = _target(pose, matrix, position, convention, deg)
     structure = analyze_structure(arm.chain)
     closed = structure.closed_form
-    if position is not None:
-        q, number, family, closed, method = _position_ik(arm, T[:3, 3], all_solutions, q_near, outside,
-                                                          turn_copies)
-    else:
-        options = {"turn_copies": turn_copies} if all_solutions else {}
-        q = np.atleast_2d(arm.ik(T, all_solutions=all_solutions, near=q_near, within_limits=not outside,
-                                 **options))
-        number, family = _numbered(arm, T, q, q_near, closed, turn_copies)
-        method = "closed form" if closed else "numeric (Levenberg-Marquardt)"
+    try:
+        if position is not None:
+            q, number, family, closed, method = _position_ik(arm, T[:3, 3], all_solutions, q_near, outside,
+                                                              turn_copies)
+        else:
+            options = {"turn_copies": turn_copies} if all_solutions else {}
+            q = np.atleast_2d(arm.ik(T, all_solutions=all_solutions, near=q_near, within_limits=not outside,
+                                     **options))
+            number, family = _numbered(arm, T, q, q_near, closed, turn_copies)
+            method = "closed form" if closed else "numeric (Levenberg-Marquardt)"
+    except JointLimitError as exc:  # said again in the units the user typed
+        if not deg or exc.q is None:
+            raise
+        raise outside_limits(arm.chain, exc.q, "", degrees=True) from None
     order = np.argsort(number, kind="stable")
     q, number, family = q[order], number[order], family[order]
     inside = arm.within_limits(q)
+    copies = (count_turn_copies(arm.chain, T, q[inside], None if position is None else np.arange(arm.n) < 3)
+              if all_solutions and not turn_copies else None)
     T_found = arm.fk(q)
     position_error = np.linalg.norm(T_found[:, :3, 3] - T[:3, 3], axis=-1)
     orientation_error = (rotation_angle_between(T_found, T) if position is None
@@ -182,6 +192,7 @@ def ik_command(
                     "structure": structure.description, "solutions": q, "numbers": number,
                     "within_limits": inside, "family": family,
                     "position_error": position_error, "orientation_error": orientation_error,
+                    "configurations_inside_limits": copies,
                     "joint_names": arm.joint_names, "units": "rad and m"})
         return
     unit = "deg" if deg else "rad"
@@ -205,10 +216,15 @@ def ik_command(
     natural = Measurement.get(console, console.options.update_width(1000), table).maximum
     # wider than the terminal rather than truncate a joint value
     Console(width=max(console.width, natural)).print(table)
-    if all_solutions and turn_copies and arm.chain.spans_turns:
+    if all_solutions and arm.chain.spans_turns:
         joints = ", ".join(arm.joint_names[j] for j in arm.chain.spans_turns)
-        console.print(escape(f"Whole-turn copies are listed: the limits of {joints} span more than a turn "
-                             f"(--no-turn-copies lists each solution once)."))
+        if turn_copies:
+            console.print(escape(f"Whole-turn copies are listed: the limits of {joints} span more than a "
+                                 f"turn (without --turn-copies each solution is listed once)."))
+        else:
+            console.print(escape(f"With their whole-turn copies the {int(inside.sum())} solutions inside the "
+                                 f"limits make {copies} configurations there (the limits of {joints} span "
+                                 f"more than a turn); --turn-copies lists them."))
     if family.any():
         console.print("family = yes: a singular pose; the row represents a one-parameter family "
                       "of solutions (e.g. only q4 + q6 is defined at a wrist singularity).")

@@ -17,8 +17,9 @@ from armkit.robot import Robot
 @app.command("lab")
 def lab_command(
     robot: Annotated[str | None, typer.Option(
-        help="A robot file, URDF file or built-in name to run the experiments on, choosing reachable "
-             "targets; default: the seed reports' arms.", show_default=False)] = None,
+        help="A built-in name, robot TOML file or URDF file (--base/--tip choose its chain) to run the "
+             "experiments on, choosing reachable targets; default: the seed reports' arms.",
+        show_default=False)] = None,
     out: Annotated[Path, typer.Option(help="Report folder.")] = Path("armkit-report"),
     quick: Annotated[bool, typer.Option("--quick", help="Small animations and short moves (fast).")] = False,
     force: Annotated[bool, typer.Option("--force", help="Write into a folder that is not an armkit "

@@ -81,19 +81,19 @@ def _limit_cells(peak: float, limit: float, scale: float, unit: str) -> list[str
             fmt_number(peak / limit, 3)]
 
 
-def _summary(robot: Robot, traj: JointTrajectory, degrees: bool) -> Table:
+def _summary(robot: Robot, traj: JointTrajectory, limits: tuple[np.ndarray, np.ndarray],
+             degrees: bool) -> Table:
     table = Table(title=escape(f"{robot.name}: {traj.durations.size} segments, "
                                f"{traj.duration:.4g} s"),
                   caption="peaks computed exactly from the polynomials; ratio = peak / limit; "
-                          "none: the robot file gives no limit")
+                          "none: neither the robot file nor --max-velocity/--max-acceleration gives a limit")
     for column in ("joint", "peak |qd|", "limit", "ratio", "peak |qdd|", "limit", "ratio"):
         table.add_column(column, justify="right")
     scale, units = _joint_scale(robot, degrees)
     for j, name in enumerate(robot.joint_names):
-        table.add_row(escape(name), *_limit_cells(traj.peak_velocity[j], robot.max_velocity[j], scale[j],
-                                          f"{units[j]}/s"),
-                      *_limit_cells(traj.peak_acceleration[j], robot.max_acceleration[j], scale[j],
-                                    f"{units[j]}/s²"))
+        table.add_row(escape(name),
+                      *_limit_cells(traj.peak_velocity[j], limits[0][j], scale[j], f"{units[j]}/s"),
+                      *_limit_cells(traj.peak_acceleration[j], limits[1][j], scale[j], f"{units[j]}/s²"))
     return table
 
 
@@ -121,19 +121,34 @@ def _waypoint_table(robot: Robot, traj: JointTrajectory, degrees: bool) -> Table
     return table
 
 
-def _unlimited_warning(robot: Robot) -> str | None:
-    """A warning naming the joints whose velocity or acceleration the robot file leaves unlimited."""
+def _unlimited_warning(robot: Robot, limits: tuple[np.ndarray, np.ndarray]) -> str | None:
+    """A warning naming the joints whose velocity or acceleration neither the robot file nor an
+    option limits."""
     parts = []
-    for what, limits in (("max_velocity", robot.max_velocity), ("max_acceleration", robot.max_acceleration)):
-        missing = [name for name, limit in zip(robot.joint_names, limits, strict=True)
+    for what, values in zip(("max_velocity", "max_acceleration"), limits, strict=True):
+        missing = [name for name, limit in zip(robot.joint_names, values, strict=True)
                    if not np.isfinite(limit)]
         if missing:
             parts.append(f"no {what} for {', '.join(missing)}")
     if not parts:
         return None
-    return (f"{robot.name}: {'; '.join(parts)} in the robot file, so --auto-time cannot keep those "
+    urdf = " (a URDF has no acceleration limits)" if robot.urdf is not None else ""
+    return (f"{robot.name}: {'; '.join(parts)} in the robot file{urdf}, so --auto-time cannot keep those "
             f"joints within such a limit; their peaks below are whatever the other limits give "
-            f"(add the limits to the robot file, or give --durations)")
+            f"(give them with --max-velocity/--max-acceleration, one value or one per joint, or add them "
+            f"to the robot file, or give --durations)")
+
+
+def _limit_option(text: str | None, robot: Robot, degrees: bool, option: str) -> np.ndarray | None:
+    """``--max-velocity``/``--max-acceleration``: one value or one per joint, comma-separated, in
+    SI units (revolute joints in deg/s, deg/s² with ``--deg``); None if not given."""
+    if text is None:
+        return None
+    values = np.array(parse_floats(text.replace(",", " ").split(), option))
+    if values.size not in (1, robot.n):
+        raise InputError(f"{option} {text!r}: expected one limit for every joint or {robot.n} (one per "
+                         f"joint, comma-separated), got {values.size}")
+    return np.where(degrees & ~np.asarray(robot.chain.prismatic), np.radians(values), values)
 
 
 @app.command("traj", context_settings=ALLOW_NEGATIVE)
@@ -172,6 +187,15 @@ def traj_command(
                                                             "sampled at 1 kHz) against the torque limits, "
                                                             "and a torque row in --plot.")] = False,
     estimate_inertia: DensityOpt = None,
+    max_velocity: Annotated[str | None, typer.Option(
+        "--max-velocity", metavar="V[,V...]",
+        help="Velocity limits in place of the robot file's: one value for every joint or one per joint, "
+             "comma-separated (rad/s, m/s; deg/s with --deg), e.g. for an arm whose file has none.",
+        show_default=False)] = None,
+    max_acceleration: Annotated[str | None, typer.Option(
+        "--max-acceleration", metavar="A[,A...]",
+        help="Acceleration limits in place of the robot file's (a URDF has none): one value or one per "
+             "joint, comma-separated (rad/s², m/s²; deg/s² with --deg).", show_default=False)] = None,
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
@@ -197,13 +221,20 @@ def traj_command(
         wanted = (f"{len(rows) - 1} segment durations" if durations else f"{len(rows)} waypoint times")
         raise InputError(f"{'--durations' if durations else '--times'}: {len(rows)} waypoints need "
                          f"{wanted}, got {len(duration_values)}")
-    from armkit.trajectory.plan import plan_trajectory
+    from armkit.trajectory.plan import plan_trajectory, planning_limits
+    from armkit.trajectory.waypoints import joint_waypoints
 
-    traj = plan_trajectory(arm, rows, segment_durations, poses=poses, convention=euler)
+    if not poses:
+        joint_waypoints(arm, rows, deg)  # a waypoint outside a limit is said in the units typed
+
+    limits = planning_limits(arm, _limit_option(max_velocity, arm, deg, "--max-velocity"),
+                             _limit_option(max_acceleration, arm, deg, "--max-acceleration"))
+    traj = plan_trajectory(arm, rows, segment_durations, poses=poses, convention=euler,
+                           max_velocity=limits[0], max_acceleration=limits[1])
     samples = traj.sample(rate) if out is not None else None
     torque_samples = traj.torques(arm, TORQUE_RATE_HZ) if torques else None
     warnings = [*traj.position_limit_violations(arm, deg)]
-    if auto_time and (message := _unlimited_warning(arm)) is not None:
+    if auto_time and (message := _unlimited_warning(arm, limits)) is not None:
         warnings.append(message)
     if segment_durations is not None and np.any(traj.stretch > 1):
         warnings.append("stretched to meet the limits: segment factors "
@@ -218,25 +249,25 @@ def traj_command(
     if plot is not None or plot_path is not None:
         from armkit.plots import plot_pva, plot_tool_path, save_figure  # matplotlib only when plotting
     if plot is not None:
-        written.append((save_figure(plot_pva(traj, arm, torques=torques), plot, force), ""))
+        written.append((save_figure(plot_pva(traj, arm, torques=torques, degrees=deg), plot, force), ""))
     if plot_path is not None:
         written.append((save_figure(plot_tool_path(arm, traj), plot_path, force), ""))
     if json_output:
         print_json({"robot": arm.name, "joint_names": arm.joint_names, "duration_s": traj.duration,
                     "segment_durations_s": traj.durations, "stretch": traj.stretch,
                     "waypoint_times_s": traj.waypoint_times, "waypoints": traj.waypoints,
-                    "peak_velocity": traj.peak_velocity, "max_velocity": arm.max_velocity,
-                    "peak_acceleration": traj.peak_acceleration, "max_acceleration": arm.max_acceleration,
+                    "peak_velocity": traj.peak_velocity, "max_velocity": limits[0],
+                    "peak_acceleration": traj.peak_acceleration, "max_acceleration": limits[1],
                     "peak_torque": None if torque_samples is None else torque_samples.peak,
                     "max_torque": arm.max_torque,
-                    "units": "SI: rad or m, per s, per s², N m or N; limits null where the robot file "
-                             "gives none",
+                    "units": "SI: rad or m, per s, per s², N m or N; limits null where neither the robot "
+                             "file nor --max-velocity/--max-acceleration gives one",
                     "warnings": warnings, "samples": None if samples is None else samples.t.size,
                     "rate_hz": rate, "written": [str(path) for path, _ in written]})
         return
     if poses:
         console.print(_waypoint_table(arm, traj, deg))
-    console.print(_summary(arm, traj, deg))
+    console.print(_summary(arm, traj, limits, deg))
     if torque_samples is not None:
         console.print(_torque_table(arm, torque_samples, TORQUE_RATE_HZ))
     final = ", ".join(f"{d:.4g}" for d in traj.durations)

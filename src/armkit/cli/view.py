@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from armkit.cli.app import app, console, err_console
+from armkit.cli.app import BaseOpt, LockOpt, RobotArg, TipOpt, app, console, err_console, load_robot
 
 #: Exit code after Ctrl-C (128 + SIGINT), as shells report it.
 INTERRUPTED = 130
@@ -29,13 +29,16 @@ def serve(viewer, open_browser: bool) -> None:
 
 @app.command("view")
 def view_command(
-    robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
+    robot: RobotArg,
     port: Annotated[int, typer.Option(help="TCP port of the page (the next free one if taken).")] = 8080,
     host: Annotated[str, typer.Option(help="Interface to listen on; 0.0.0.0 lets other machines "
                                            "open the page.")] = "127.0.0.1",
     trajectory: Annotated[Path | None, typer.Option(
         help="A trajectory file 'armkit traj' wrote, put on the timeline.", show_default=False)] = None,
     no_browser: Annotated[bool, typer.Option("--no-browser", help="Do not open a browser.")] = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Interactive 3-D teach panel in the browser: joint sliders, every IK solution, trajectories.
 
@@ -43,7 +46,7 @@ def view_command(
     """
     from armkit.view import Viewer
 
-    viewer = Viewer(robot, port=port, host=host)
+    viewer = Viewer(load_robot(robot, base, tip, lock), port=port, host=host)
     try:
         if trajectory is not None:
             viewer.load(trajectory)

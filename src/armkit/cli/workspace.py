@@ -10,7 +10,17 @@ from typing import Annotated
 import typer
 from rich.markup import escape
 
-from armkit.cli.app import app, console, err_console, load_robot, print_json
+from armkit.cli.app import (
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
+    app,
+    console,
+    err_console,
+    load_robot,
+    print_json,
+)
 from armkit.errors import InputError
 
 #: Exit code of a run ended by Ctrl-C (128 + SIGINT).
@@ -81,7 +91,7 @@ def _print_summary(summary: dict) -> None:
 
 @app.command("workspace")
 def workspace_command(
-    robot: Annotated[str, typer.Argument(help="Built-in name or robot TOML file.")],
+    robot: RobotArg,
     resolution: Annotated[float, typer.Option(help="Voxel edge in metres.")] = 0.02,
     samples: Annotated[str, typer.Option(help="Configurations for the reachability map, e.g. 1e8.")] = "1e6",
     method: Annotated[str, typer.Option(help="Sampling: uniform or sobol.")] = "uniform",
@@ -115,6 +125,9 @@ def workspace_command(
         show_default=False)] = None,
     json_output: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", help="No progress bars.")] = False,
+    base: BaseOpt = None,
+    tip: TipOpt = None,
+    lock: LockOpt = None,
 ) -> None:
     """Where the arm reaches, how well and in how many ways: maps on a voxel grid, in a Zarr store."""
     options = dict(locals())
@@ -137,10 +150,10 @@ def workspace_command(
 
 def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, manipulability_samples,
          singular_threshold, sweep, dataset, out, resume, force, threads, dask, report, report_dir,
-         json_output, quiet) -> None:
+         json_output, quiet, base, tip, lock) -> None:
     from armkit import workspace
 
-    arm = load_robot(robot)
+    arm = load_robot(robot, base, tip, lock)
     if resume and out is None:
         raise InputError("--resume needs --out: the store to continue")
     engine, cluster = _engine(dask, threads)

@@ -4,7 +4,8 @@ Written from the one internal chain (see :mod:`armkit.export.physical`): links `
 ``link1`` ... ``linkN`` and ``tool``. Link ``i`` is joint frame ``i`` of the chain (not
 the DH link frame): joint ``i``'s ``<origin>`` is the fixed transform from the previous
 joint frame (``T_between[i - 1]``), its axis is ``0 0 1``, and a fixed joint ``tool_joint``
-places the ``tool`` link at the tool frame. FK through the URDF therefore equals
+(``tool_joint_2`` ... if the robot has a joint of that name) places the ``tool`` link at the
+tool frame. FK through the URDF therefore equals
 :func:`armkit.kinematics.fk` whatever DH convention the robot came in.
 
 URDF has no capsules, so links are drawn as cylinders plus spheres at the joints. URDF
@@ -92,6 +93,15 @@ def _limit_attributes(robot: Robot, i: int, effort: float) -> dict[str, str] | N
             "velocity": repr(float(velocity))}
 
 
+def _unused_name(name: str, taken: list[str]) -> str:
+    """``name``, or ``name_2``, ``name_3`` ... : the first that is not in ``taken``."""
+    candidate, k = name, 1
+    while candidate in taken:
+        k += 1
+        candidate = f"{name}_{k}"
+    return candidate
+
+
 def urdf_from_robot(robot: Robot, *, model: PhysicalModel | None = None) -> str:
     """URDF text for ``robot``: links ``base``, ``link1..N``, ``tool``; joints named as the robot's.
 
@@ -134,7 +144,8 @@ def urdf_from_robot(robot: Robot, *, model: PhysicalModel | None = None) -> str:
             ET.SubElement(element, "limit", **limits)
         parent = child
     _add_link(root, "tool", None, model.radius, housing=False)
-    tool_joint = ET.SubElement(root, "joint", name="tool_joint", type="fixed")
+    tool_joint = ET.SubElement(root, "joint", name=_unused_name("tool_joint", robot.joint_names),
+                               type="fixed")
     _origin(tool_joint, model.T_last_tool)
     ET.SubElement(tool_joint, "parent", link=parent)
     ET.SubElement(tool_joint, "child", link="tool")

@@ -35,12 +35,15 @@ def angle_text(angle: float) -> str:
     return f"{angle:.3g} rad ({np.degrees(angle):.3g} deg)"
 
 
-def outside_limits(chain: Chain, q: NDArray[np.float64], label: str) -> JointLimitError:
-    bad = chain.limit_violations(q)
+def outside_limits(chain: Chain, q: NDArray[np.float64], label: str,
+                   degrees: bool = False) -> JointLimitError:
+    """The error for a pose reachable only outside the limits, ``q`` ``(n,)`` a solution there
+    (revolute values in degrees in the message with ``degrees``)."""
+    bad = chain.limit_violations(q, degrees)
     return JointLimitError(
         f"{label}the target pose is reachable, but only outside the joint limits (e.g. "
         f"{', '.join(bad)}): ask for solutions outside the limits with within_limits=False or "
-        f"'armkit ik --outside'")
+        f"'armkit ik --outside'", q=np.array(q, dtype=float))
 
 
 class Labels:

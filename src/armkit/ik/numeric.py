@@ -27,16 +27,18 @@ is zeroed), so the other joints take over instead of the step stalling against t
 bound: an active set, so every answer is inside the limits. One seed iterates at a time, first
 the caller's ``q0``: an attempt that has not halved its error in ``3`` steps, or has
 used ``max_iterations`` steps, is abandoned for a new uniform random seed inside the
-limits, until the restart or time budget runs out.
+limits, until ``max_restarts`` runs out (or a ``time_budget``, only when one is given: a solve
+cut short by the clock depends on the machine's load).
 
 The whole solve, restarts included, is one call of the compiled core (``armkit._core``,
 cpp/src/ik_numeric.cpp): the tool pose and Jacobian, the pose error, the projection, the
 active set, the Cholesky solve, the restart seeds and the time budget, about 1 us per step on
 a 7-joint arm. The restart seeds come from a small deterministic generator (xoshiro256**)
-seeded once per solve from ``rng``, so a given ``rng`` gives the same answer on every run and
-platform. :meth:`NumericIK.solve_batch` solves many targets over threads with the GIL released;
-pose ``i`` draws from stream ``i`` of one seed, so its answer does not depend on the thread count
-(unless the time budget, which each pose has for itself, cuts its solve short).
+seeded once per solve from ``rng`` (default :data:`DEFAULT_SEED`), so the same call gives the
+same answer on every run and platform. :meth:`NumericIK.solve_batch` solves many targets over
+threads with the GIL released; pose ``i`` draws from stream ``i`` of one seed, so its answer does
+not depend on the thread count (unless a time budget, which each pose has for itself, cuts its
+solve short).
 """
 
 from __future__ import annotations
@@ -58,7 +60,11 @@ from armkit.errors import InputError
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
-__all__ = ["IKResult", "IKResultBatch", "NumericIK", "numeric_ik", "wrap_into_limits"]
+__all__ = ["DEFAULT_SEED", "IKResult", "IKResultBatch", "NumericIK", "numeric_ik", "wrap_into_limits"]
+
+#: Seed of the random restarts unless ``rng`` says otherwise: two identical calls give the same
+#: answer (``rng=None`` draws fresh entropy instead).
+DEFAULT_SEED = 0
 
 
 @dataclass(frozen=True)
@@ -233,7 +239,7 @@ class NumericIK:
     def __init__(self, robot: Robot | Chain, *, position_tolerance: float = 1e-9,
                  orientation_tolerance: float = 1e-9, mask: ArrayLike | None = None,
                  damping_gain: float = 0.1, damping: float = 1e-9, max_iterations: int = 30,
-                 max_restarts: int = 100, time_budget: float = 0.5, within_limits: bool = True,
+                 max_restarts: int = 100, time_budget: float | None = None, within_limits: bool = True,
                  respect_limits: bool | None = None) -> None:
         within_limits = renamed_argument("NumericIK", "respect_limits", "within_limits", respect_limits,
                                          within_limits, True)
@@ -243,18 +249,20 @@ class NumericIK:
                          non_negative_float(damping, "damping"))
         self.max_iterations = whole_number(max_iterations, "max_iterations", minimum=1)
         self.max_restarts = whole_number(max_restarts, "max_restarts", minimum=0)
-        self.time_budget = non_negative_float(time_budget, "time_budget", infinite=True)
+        self.time_budget = (None if time_budget is None
+                            else non_negative_float(time_budget, "time_budget", infinite=True))
         self.chain = chain = as_chain(robot)
         self.rows = _task_rows(mask)
         self.within_limits = bool(within_limits)
         self._solver = _core.NumericSolver(chain._core, self.rows, *tolerances, *damping_terms,
-                                           self.max_iterations, self.max_restarts, self.time_budget,
+                                           self.max_iterations, self.max_restarts,
+                                           math.inf if self.time_budget is None else self.time_budget,
                                            self.within_limits)
 
     respect_limits = deprecated_property("respect_limits", "within_limits")
 
     def solve(self, T_base_tool: NDArray[np.float64], q0: ArrayLike | None = None,
-              rng: np.random.Generator | int | None = None) -> IKResult:
+              rng: np.random.Generator | int | None = DEFAULT_SEED) -> IKResult:
         """Solve ``fk(q) = T_base_tool`` ``(4, 4)`` from ``q0`` ``(n,)``; see :func:`numeric_ik`.
 
         Raises
@@ -278,7 +286,7 @@ class NumericIK:
         return IKResult(q, *found)
 
     def solve_batch(self, T_base_tool: ArrayLike, q0: ArrayLike | None = None,
-                    rng: np.random.Generator | int | None = None,
+                    rng: np.random.Generator | int | None = DEFAULT_SEED,
                     threads: int | None = None) -> IKResultBatch:
         """Solve ``N`` targets ``T_base_tool`` ``(N, 4, 4)`` at once, over threads.
 
@@ -290,7 +298,8 @@ class NumericIK:
             First seed per target [rad or m]; default the middle of the limits.
         rng : numpy Generator or int, optional
             One seed for the whole batch: target ``i`` draws its restart seeds from stream
-            ``i`` of it (target 0 from the stream :meth:`solve` uses with the same ``rng``).
+            ``i`` of it (target 0 from the stream :meth:`solve` uses with the same ``rng``);
+            default :data:`DEFAULT_SEED`, ``None`` for fresh entropy.
         threads : int, optional
             Threads to spread the targets over: ``None`` or 0 (default) all cores, else 1 to
             :data:`armkit._params.MAX_THREADS`.
@@ -299,8 +308,9 @@ class NumericIK:
         -------
         IKResultBatch
             One entry per target. Identical whatever ``threads`` is, except for targets whose
-            solve ran out of ``time_budget`` (each target has the full budget for itself; a
-            solve that stops on time rather than on ``max_restarts`` depends on the machine's load).
+            solve ran out of a ``time_budget``, if one was given (each target has the full budget
+            for itself; a solve that stops on time rather than on ``max_restarts`` depends on the
+            machine's load).
 
         Raises
         ------
@@ -353,8 +363,8 @@ class NumericIK:
 def numeric_ik(robot: Robot | Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike | None = None,
                position_tolerance: float = 1e-9, orientation_tolerance: float = 1e-9,
                mask: ArrayLike | None = None, damping_gain: float = 0.1, damping: float = 1e-9,
-               max_iterations: int = 30, max_restarts: int = 100, time_budget: float = 0.5,
-               within_limits: bool = True, rng: np.random.Generator | int | None = None,
+               max_iterations: int = 30, max_restarts: int = 100, time_budget: float | None = None,
+               within_limits: bool = True, rng: np.random.Generator | int | None = DEFAULT_SEED,
                respect_limits: bool | None = None) -> IKResult:
     """Solve ``fk(q) = T_base_tool`` numerically inside the joint limits.
 
@@ -384,15 +394,17 @@ def numeric_ik(robot: Robot | Chain, T_base_tool: NDArray[np.float64], *, q0: Ar
         Steps per attempt at most.
     max_restarts : int
         Random seeds drawn after the first attempt at most.
-    time_budget : float
-        Wall-clock budget [s], checked between attempts.
+    time_budget : float, optional
+        Wall-clock budget [s], checked between attempts; default none (``max_restarts`` bounds
+        the work, and the answer does not depend on the machine's speed).
     within_limits : bool
         Keep every step inside the joint limits (default). ``False`` accepts any solution,
         e.g. to refine a known one. The same word as :meth:`armkit.Robot.ik`'s.
     rng : numpy Generator or int, optional
         Source of the random restart seeds: an int in ``[0, 2**64)`` is the seed itself, a
-        Generator gives one draw per solve; the same ``rng`` gives the same answer (except a
-        solve cut short by ``time_budget``). Default fresh entropy.
+        Generator gives one draw per solve, ``None`` fresh entropy; the same ``rng`` gives the
+        same answer (except a solve cut short by a ``time_budget``). Default
+        :data:`DEFAULT_SEED`: the same call, the same answer.
     respect_limits : bool, optional
         Deprecated name of ``within_limits``; warns.
 

@@ -21,13 +21,14 @@ takes every candidate of the closed form (:mod:`armkit.ik.closed_form`) and
    limits a representative was inside is not taken; candidates that refinement or a walk
    brought onto the same solution are merged.
 
-Every solution is listed once per whole-turn copy inside the limits
-(:func:`with_turn_copies`): a revolute joint whose finite limits span more than a whole turn
-(a UR5's +-360 degrees) holds an angle ``q`` and ``q + 2 pi t`` for every ``t`` that stays
-inside, distinct configurations with the same tool pose (a UR5 solution has ``2^6``). A
-joint spanning at most a whole turn holds one, and so does an unbounded (continuous) one:
-its copies are endless, and the wrap above picks the nearest to ``near``. Solutions outside
-the limits are listed once.
+Asked for them (``turn_copies=True``), every solution is listed once per whole-turn copy
+inside the limits (:func:`with_turn_copies`; :func:`count_turn_copies` counts them): a revolute
+joint whose finite limits span more than a whole turn (a UR5's +-360 degrees) holds an angle
+``q`` and ``q + 2 pi t`` for every ``t`` that stays inside, distinct configurations with the same
+tool pose (a UR5 solution has ``2^6``). A joint spanning at most a whole turn holds one, and so
+does an unbounded (continuous) one: its copies are endless, and the wrap above picks the nearest
+to ``near``. Solutions outside the limits are listed once; by default each solution is listed
+once, the copy nearest to ``near``.
 
 When only the solution nearest to ``near`` is asked for, the candidates go through FK
 nearest first and the first that reproduces the target (inside the limits, if asked) is
@@ -46,7 +47,7 @@ from armkit.chain import Chain
 from armkit.errors import SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver
 
-__all__ = ["MAX_SOLUTIONS", "Found", "verified_solutions", "with_turn_copies"]
+__all__ = ["MAX_SOLUTIONS", "Found", "count_turn_copies", "verified_solutions", "with_turn_copies"]
 
 #: At most this many solutions of one pose are listed (whole-turn copies multiply: joints
 #: spanning two turns each give 2^n per solution); beyond it, the nearest to ``near``, with a
@@ -116,6 +117,28 @@ def verified_solutions(solver: ClosedFormSolver, T: NDArray[np.float64], near: N
     empty = _core.solve_batch(solver.core, T, near, weights, within_limits, nearest, rigid_tolerance,
                               *found, threads)
     return None if empty < 0 else (found, empty)
+
+
+def count_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64],
+                      joints: NDArray[np.bool_] | None = None) -> int:
+    """How many configurations inside the limits the solutions ``q`` ``(k, n)`` (inside the
+    limits) of pose ``T`` ``(4, 4)`` and their whole-turn copies make, without listing them:
+    ``k`` when no joint's limits span more than a whole turn. ``joints`` ``(n,)``: the joints
+    whose copies count (None: all), as in :func:`with_turn_copies`.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> ur5 = armkit.load("ur5")                  # every joint within +-360 degrees
+    >>> q = ur5.ik(ur5.fk([0.3, -1.0, 1.2, 0.4, 0.7, -0.2]), all_solutions=True)
+    >>> len(q), count_turn_copies(ur5.chain, ur5.fk(q[0]), q)
+    (8, 512)
+    """
+    n = chain.n
+    q = np.ascontiguousarray(q, dtype=np.float64).reshape(-1, n)
+    free = np.ones(n, dtype=bool) if joints is None else np.ascontiguousarray(joints, dtype=bool)
+    return int(_core.turn_copies(chain._core, np.ascontiguousarray(T, dtype=np.float64), q,
+                                 np.ones(len(q), dtype=bool), free, np.zeros(n), np.ones(n), 0)[3])
 
 
 def with_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64], inside: NDArray[np.bool_],

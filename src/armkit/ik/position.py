@@ -132,7 +132,7 @@ def _polish(chain: Chain, q: NDArray[np.float64], p: NDArray[np.float64]) -> NDA
 
 
 def position_solutions(robot: Robot | Chain, position: ArrayLike, *, near: ArrayLike | None = None,
-                       turn_copies: bool = True) -> IKSolutions:
+                       turn_copies: bool = False) -> IKSolutions:
     """Every closed-form solution for a tool position, inside the limits or not, with flags.
 
     Parameters
@@ -144,7 +144,8 @@ def position_solutions(robot: Robot | Chain, position: ArrayLike, *, near: Array
         Reference configuration [rad or m] for the ``2 pi`` wrap and the order; joints 4..n
         keep its values (default zeros).
     turn_copies : bool
-        List the whole-turn copies inside the limits (as :func:`armkit.ik.ik_solutions`).
+        Also list the whole-turn copies inside the limits (as :func:`armkit.ik.ik_solutions`);
+        default each solution once.
 
     Returns
     -------
@@ -197,7 +198,7 @@ def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copie
 
 def ik_position(robot: Robot | Chain, position: ArrayLike, *, all_solutions: bool = False,
                 near: ArrayLike | None = None, within_limits: bool = True,
-                turn_copies: bool = True) -> NDArray[np.float64]:
+                turn_copies: bool = False) -> NDArray[np.float64]:
     """Position IK in closed form: joints 1-3 put the tool point at ``position`` [m].
 
     Parameters

@@ -77,10 +77,10 @@ class IKSolutionsBatch(Sequence[IKSolutions]):
     >>> robot = armkit.load("ur5")
     >>> from armkit.ik import ik_solutions
     >>> T = robot.fk(robot.random_q(3, rng=0))
-    >>> found = ik_solutions(robot, T, turn_copies=False)
+    >>> found = ik_solutions(robot, T)             # each solution once
     >>> len(found), found.q.shape, found.counts, found[1].q.shape
     (3, (3, 8, 6), array([8, 4, 8]), (4, 6))
-    >>> ik_solutions(robot, T).counts  # with the whole-turn copies inside its +-360 degree limits
+    >>> ik_solutions(robot, T, turn_copies=True).counts  # with the whole-turn copies in its +-360 deg limits
     array([512, 256, 512])
     """
 

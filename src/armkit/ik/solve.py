@@ -15,6 +15,9 @@ differences in radians and metres (weights ``w`` default 1), after the ``2 pi`` 
 
 from __future__ import annotations
 
+import difflib
+import inspect
+from functools import cache
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -43,6 +46,35 @@ __getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "SOLUTION_TOLE
 #: pose, as :class:`IKSolutionsBatch` pads them): 1e7 rows of a 6-joint arm are about 0.7 GB. A
 #: UR5 at +-360 deg lists up to 512 per pose, so about 20,000 poses at a time.
 MAX_BATCH_ROWS = 10_000_000
+
+
+#: ``numeric_ik`` keywords that :func:`ik` sets itself (``q0`` is ``near``).
+_SET_BY_IK = frozenset({"robot", "T_base_tool", "q0", "within_limits", "respect_limits"})
+
+
+@cache
+def _keywords() -> tuple[frozenset[str], frozenset[str]]:
+    """The keywords :func:`ik` takes: its own, and the numeric options it passes on."""
+    own = frozenset(name for name, p in inspect.signature(ik).parameters.items()
+                    if p.kind is p.KEYWORD_ONLY)
+    numeric = frozenset(inspect.signature(numeric_ik).parameters) - _SET_BY_IK
+    return own, numeric
+
+
+def _check_keywords(options: dict[str, object]) -> None:
+    """Refuse a keyword neither :func:`ik` nor the numeric solver takes: a misspelled option
+    (``nearr=``, ``positon_tolerance=``) would otherwise be ignored by the closed form."""
+    own, numeric = _keywords()
+    unknown = [name for name in options if name not in numeric]
+    if not unknown:
+        return
+    valid = sorted(own | numeric)
+    named = []
+    for name in unknown:
+        close = difflib.get_close_matches(name, valid, n=1)
+        named.append(f"{name!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+    raise InputError(f"ik: unknown keyword argument{'s' if len(unknown) > 1 else ''} {', '.join(named)}; "
+                     f"expected one of {', '.join(valid)}")
 
 
 def _plain(v: object, n: int) -> bool:
@@ -153,14 +185,16 @@ def _listed_batch(chain: Chain, targets: _Targets, found: Found, turn_copies: bo
 
 
 def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
-                 weights: ArrayLike | None = None, turn_copies: bool = True,
+                 weights: ArrayLike | None = None, turn_copies: bool = False,
                  threads: int = 0) -> IKSolutions | IKSolutionsBatch:
     """Every closed-form solution of a target pose, inside the limits or not, with flags.
 
-    A solution inside the limits is listed with each of its whole-turn copies there (joints
-    whose limits span more than a whole turn, e.g. a UR5's +-360 degrees: 2^6 per solution;
-    at most :data:`~armkit.ik.pipeline.MAX_SOLUTIONS`, see :mod:`armkit.ik.pipeline`); one
-    outside the limits once.
+    Each solution is listed once (by default), the whole-turn copy nearest to ``near``; with
+    ``turn_copies=True`` a solution inside the limits is listed with each of its whole-turn
+    copies there (joints whose limits span more than a whole turn, e.g. a UR5's +-360 degrees:
+    2^6 per solution; at most :data:`~armkit.ik.pipeline.MAX_SOLUTIONS`, see
+    :mod:`armkit.ik.pipeline`), one outside the limits once. :func:`~armkit.ik.pipeline.count_turn_copies`
+    counts the copies without listing them.
 
     Parameters
     ----------
@@ -174,8 +208,8 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
     weights : array_like, shape (n,), optional
         Per-joint weights of the distance to ``near``; default ones.
     turn_copies : bool
-        List the whole-turn copies inside the limits (default). ``False``: each solution
-        once, the copy nearest to ``near``.
+        ``False`` (default): each solution once, the copy nearest to ``near``. ``True``: also
+        list its whole-turn copies inside the limits (distinct configurations, same pose).
     threads : int
         Threads a batch of poses is split over: 0 (default) or ``None`` all cores, else 1 to
         1024 (:func:`armkit._params.thread_count`); the answers do not depend on it.
@@ -236,7 +270,7 @@ def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64]
 
 def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = False,
        near: ArrayLike | None = None, within_limits: bool = True,
-       weights: ArrayLike | None = None, turn_copies: bool = True, threads: int = 0,
+       weights: ArrayLike | None = None, turn_copies: bool = False, threads: int = 0,
        **numeric_options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
     """Inverse kinematics: every solution, or the one closest to ``near``.
 
@@ -247,8 +281,8 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     T_base_tool : array_like, shape (4, 4) or (N, 4, 4)
         Target tool pose(s) [m].
     all_solutions : bool
-        Return every closed-form solution (sorted by distance to ``near``) instead of one:
-        each inside the limits with its whole-turn copies there (see :func:`ik_solutions`).
+        Return every closed-form solution (sorted by distance to ``near``) instead of one,
+        each once (``turn_copies=True`` adds the whole-turn copies, see :func:`ik_solutions`).
         (``all=`` is its deprecated old name, which shadowed the builtin; it warns.)
     near : array_like, shape (n,) or (N, n), optional
         Reference configuration [rad or m], default zeros: the solution closest to it is
@@ -258,8 +292,9 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     weights : array_like, shape (n,), optional
         Per-joint weights of the distance to ``near`` (default ones).
     turn_copies : bool
-        With ``all_solutions``: list the whole-turn copies inside the limits of joints whose
-        limits span more than a whole turn (default); ``False``: each solution once.
+        With ``all_solutions``: also list the whole-turn copies inside the limits of joints
+        whose limits span more than a whole turn; default ``False``, each solution once. The
+        one nearest solution (``all_solutions=False``) is chosen among all copies either way.
     threads : int
         Threads a batch of poses is split over: 0 (default) or ``None`` all cores, else 1 to
         1024 (:func:`armkit._params.thread_count`); the answers do not depend on it.
@@ -277,7 +312,8 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     Raises
     ------
     InputError
-        If a target is not a rigid transform, contains NaN, or ``near`` has a wrong shape.
+        If a target is not a rigid transform, contains NaN, ``near`` has a wrong shape, or a
+        keyword is neither one of these nor a numeric option (a misspelling is not ignored).
     UnreachableError
         If a target is out of reach; the message says how far the closest pose found is.
     JointLimitError
@@ -295,9 +331,11 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     """
     chain = as_chain(robot)
     threads = thread_count(threads)
-    if numeric_options and "all" in numeric_options:
-        all_solutions = renamed_argument("ik", "all", "all_solutions", numeric_options.pop("all"),
-                                         all_solutions, False)
+    if numeric_options:
+        if "all" in numeric_options:
+            all_solutions = renamed_argument("ik", "all", "all_solutions", numeric_options.pop("all"),
+                                             all_solutions, False)
+        _check_keywords(numeric_options)
     T = T_base_tool
     if (type(T) is np.ndarray and T.shape == (4, 4) and T.dtype.char == "d" and not numeric_options
             and (near is None or _plain(near, chain.n)) and (weights is None or _plain(weights, chain.n))):

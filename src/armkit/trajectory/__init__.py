@@ -19,7 +19,7 @@ __getattr__, __dir__, _lazy_names = lazy_exports(__name__, {
     "armkit.trajectory._checks": ["durations_from_times"],
     "armkit.trajectory.export": ["read_trajectory"],
     "armkit.trajectory.joint_trajectory": ["JointTrajectory", "TrajectorySamples", "TrajectoryTorques"],
-    "armkit.trajectory.plan": ["plan_trajectory"],
+    "armkit.trajectory.plan": ["plan_trajectory", "planning_limits"],
     "armkit.trajectory.polynomial": ["PolynomialSegment", "cubic", "quintic"],
     "armkit.trajectory.timing": ["auto_time", "limit_ratio", "limit_ratios", "stretch_to_limits"],
     "armkit.trajectory.trapezoid": ["TrapezoidSegment", "lspb"],

@@ -3,26 +3,61 @@
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
-from armkit.errors import JointLimitError
+from armkit.dynamics import missing_inertia
+from armkit.errors import InputError, JointLimitError
 from armkit.robot import Robot
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.min_jerk import min_jerk
-from armkit.trajectory.timing import stretch_to_limits
-from armkit.trajectory.topp import time_optimal
+from armkit.trajectory.timing import _limits, stretch_to_limits
+from armkit.trajectory.topp import slowed_to_torque_limits, time_optimal, torque_constraint
 from armkit.trajectory.waypoints import joint_waypoints, joint_waypoints_from_poses
 
-__all__ = ["plan_trajectory"]
+__all__ = ["plan_trajectory", "planning_limits"]
+
+
+def planning_limits(robot: Robot, max_velocity: ArrayLike | None = None,
+                    max_acceleration: ArrayLike | None = None
+                    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The velocity and acceleration limits ``(n,)`` a plan keeps: the robot's, or those given.
+
+    Parameters
+    ----------
+    robot : Robot
+    max_velocity, max_acceleration : float or (n,) array, optional
+        In place of the robot's limits [rad/s or m/s, rad/s^2 or m/s^2]: one value for every
+        joint or one per joint (``inf``: none), e.g. for a URDF arm, whose file has no
+        acceleration limits. Default: the robot's own.
+
+    Raises
+    ------
+    InputError
+        If a value is not positive, or there are neither one nor ``n`` of them.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("probot-anno")
+    >>> planning_limits(robot, max_acceleration=2.0)[1].tolist()
+    [2.0, 2.0, 2.0, 2.0, 2.0, 2.0]
+    """
+    vmax = robot.max_velocity if max_velocity is None else _limits(max_velocity, robot.n, "max_velocity")
+    amax = (robot.max_acceleration if max_acceleration is None
+            else _limits(max_acceleration, robot.n, "max_acceleration"))
+    return np.array(vmax, dtype=float), np.array(amax, dtype=float)
 
 
 def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | None = None, *,
                     poses: bool = False, convention: str = "xyz-fixed", q_start: ArrayLike | None = None,
-                    fit_limits: bool = True, tol: float = 1e-4) -> JointTrajectory:
+                    fit_limits: bool = True, tol: float = 1e-4, max_velocity: ArrayLike | None = None,
+                    max_acceleration: ArrayLike | None = None, torque_limits: bool | None = None
+                    ) -> JointTrajectory:
     """Joint trajectory of ``robot`` through ``waypoints``, at rest at both ends.
 
     With ``durations``, the minimum-jerk spline (stretched to the limits if needed); without,
-    the time-optimal timing along the minimum-jerk path (:func:`~armkit.trajectory.topp.time_optimal`).
+    the time-optimal timing along the minimum-jerk path (:func:`~armkit.trajectory.topp.time_optimal`),
+    within the velocity, acceleration and (where the robot has them) torque limits.
 
     Parameters
     ----------
@@ -30,8 +65,8 @@ def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | N
     waypoints : (M, n) or (M, 6) array
         Joint values [rad or m], or with ``poses=True`` tool poses ``x y z a b c`` [m, rad].
     durations : (M - 1,) array, optional
-        Segment durations [s]. Segments that would exceed the robot's ``max_velocity`` or
-        ``max_acceleration`` are lengthened as little as needed (``result.stretch`` says
+        Segment durations [s]. Segments that would exceed the velocity or acceleration
+        limits are lengthened as little as needed (``result.stretch`` says
         by how much) unless ``fit_limits=False``. Default: the fastest motion along the
         path within the limits (:func:`~armkit.trajectory.topp.time_optimal`).
     poses : bool
@@ -40,16 +75,26 @@ def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | N
         Angle convention of the poses (default ``"xyz-fixed"``, roll pitch yaw).
     q_start : (n,) array, optional
         Configuration the first pose's IK solution should be nearest (default zeros).
-
+    fit_limits : bool
+        Lengthen given ``durations`` as the limits need (default).
     tol : float
-        Relative accuracy of stretched durations (with ``durations``).
+        Relative accuracy of each fitted duration, in ``(0, 1)``.
+    max_velocity, max_acceleration : float or (n,) array, optional
+        Limits in place of the robot's [rad/s or m/s, rad/s^2 or m/s^2], one value or one
+        per joint: for an arm whose file gives none (a URDF has no acceleration limits),
+        or to move slower (:func:`planning_limits`).
+    torque_limits : bool, optional
+        Without ``durations``, keep the joint torques within ``robot.max_torque`` too
+        (checked at 1 kHz; :func:`~armkit.trajectory.topp.slowed_to_torque_limits`). Default:
+        wherever the robot has inertial parameters and a torque limit.
 
     Raises
     ------
     InputError, JointLimitError, UnreachableError
-        Bad waypoints or durations, a waypoint outside the joint limits, an unreachable pose;
-        without ``durations``, a path leaving the position limits between waypoints
-        (:class:`JointLimitError` naming the joint and its range).
+        Bad waypoints, durations, limits or ``tol``, a waypoint outside the joint limits, an
+        unreachable pose; without ``durations``, a path leaving the position limits between
+        waypoints (:class:`JointLimitError` naming the joint and its range), or a torque limit
+        below what gravity needs.
 
     Examples
     --------
@@ -61,15 +106,34 @@ def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | N
     >>> bool((traj.peak_velocity <= robot.max_velocity).all())
     True
     """
+    try:
+        tol_ok = 0.0 < float(tol) < 1.0
+    except (TypeError, ValueError):
+        tol_ok = False
+    if not tol_ok:
+        raise InputError(f"tol: expected a relative accuracy between 0 and 1 (e.g. 1e-4), got {tol!r}")
+    vmax, amax = planning_limits(robot, max_velocity, max_acceleration)
     q = (joint_waypoints_from_poses(robot, waypoints, convention, q_start) if poses else waypoints)
     q = joint_waypoints(robot, q)
-    limited = bool(np.any(np.isfinite(robot.max_velocity)) or np.any(np.isfinite(robot.max_acceleration)))
+    limited = bool(np.any(np.isfinite(vmax)) or np.any(np.isfinite(amax)))
     if durations is None:
-        trajectory = time_optimal(q, robot.max_velocity, robot.max_acceleration)
+        use_torques = _has_torque_limits(robot) if torque_limits is None else bool(torque_limits)
+        if use_torques and not _has_torque_limits(robot):
+            raise InputError("torque_limits=True: the robot needs inertial parameters and a max_torque "
+                             "for some joint (docs/dynamics.md)")
+        constraints = [torque_constraint(robot)] if use_torques else []
+        trajectory = time_optimal(q, vmax, amax, constraints=constraints)
+        if use_torques:
+            trajectory = slowed_to_torque_limits(trajectory, robot)
         if violations := trajectory.position_limit_violations(robot):
             raise JointLimitError("; ".join(violations) + " (the path through these waypoints overshoots: "
                                   "add a waypoint where it turns, or give durations)")
         return trajectory
     if fit_limits and limited:
-        return stretch_to_limits(q, durations, robot.max_velocity, robot.max_acceleration, tol=tol)
+        return stretch_to_limits(q, durations, vmax, amax, tol=float(tol))
     return min_jerk(q, durations)
+
+
+def _has_torque_limits(robot: Robot) -> bool:
+    """Whether ``robot`` has inertial parameters and a finite torque limit on some joint."""
+    return bool(np.any(np.isfinite(robot.max_torque))) and missing_inertia(robot.chain) is None

@@ -79,16 +79,17 @@ def write_waypoints(path: str | Path, robot: Robot, waypoints: ArrayLike, overwr
     return path
 
 
-def joint_waypoints(robot: Robot, waypoints: ArrayLike) -> NDArray[np.float64]:
-    """Joint waypoints ``(M, n)`` checked against the robot: joint count and position limits."""
+def joint_waypoints(robot: Robot, waypoints: ArrayLike, degrees: bool = False) -> NDArray[np.float64]:
+    """Joint waypoints ``(M, n)`` [rad or m] checked against the robot: joint count and position
+    limits (the error shows revolute values in degrees with ``degrees``, as they were typed)."""
     waypoints = check_waypoints(waypoints)
     if waypoints.shape[1] != robot.n:
         raise InputError(f"waypoints: {robot.name} has {robot.n} joints, so each waypoint needs "
                          f"{robot.n} values, got {waypoints.shape[1]}")
     for k, q in enumerate(waypoints, start=1):
-        violations = robot.limit_violations(q)
+        violations = robot.limit_violations(q, degrees)
         if violations:
-            raise JointLimitError(f"waypoint {k}: {'; '.join(violations)}")
+            raise JointLimitError(f"waypoint {k}: {'; '.join(violations)}", q=q.copy())
     return waypoints
 
 

@@ -404,8 +404,9 @@ class Viewer:
 
     def _move_handle(self, T: NDArray[np.float64]) -> None:
         self._target = T.copy()
-        self._handle.position = T[:3, 3]
-        self._handle.wxyz = quaternion_wxyz_from_matrix(T[:3, :3])
+        with self._server.atomic():
+            self._handle.position = T[:3, 3]
+            self._handle.wxyz = quaternion_wxyz_from_matrix(T[:3, :3])
 
     def _draw_waypoints(self) -> None:
         positions = (self.robot.fk(np.array(self._waypoints))[:, :3, 3] if self._waypoints
@@ -549,9 +550,9 @@ class Viewer:
     def _set_q(self, q: NDArray[np.float64], from_ik: bool = False) -> None:
         self._q = np.array(q, dtype=float)
         self._sync_sliders()
-        self._redraw()
-        if not from_ik:
+        if not from_ik:  # before the pose read-out: a page that shows the new pose has the handle there
             self._move_handle(self.robot.fk(self._q))
+        self._redraw()
 
     def _on_slider(self, j: int) -> None:
         if self._syncing:
