@@ -198,3 +198,19 @@ def test_an_arm_with_fewer_than_six_joints_is_told_why_it_missed():
     arm = armkit.load(Path(__file__).parent.parent / "examples" / "data" / "my_arm.toml")
     result = move_linear(arm, np.radians([10, 20, 30]), [0.05, 0.0, 0.0], 2.0)
     assert not result.success and "an arm with 3 joints cannot follow every pose path" in result.message
+
+
+def test_a_motion_reports_the_torques_that_drive_it():
+    robot = armkit.load("puma560")
+    q0 = np.array([0.0, 0.6, -0.8, 0.0, 0.5, 0.0])
+    motion = armkit.move_linear(robot, q0, [0.05, 0.0, 0.0], duration=1.0)
+    torques = motion.torques(robot)
+    assert torques.tau.shape == motion.q.shape and np.array_equal(torques.t, motion.t)
+    # the last sample is at rest: gravity alone
+    np.testing.assert_allclose(torques.tau[-1], robot.gravity_torques(motion.q[-1]), rtol=0, atol=1e-12)
+    # between samples the held velocity changes over one period: that acceleration drives it
+    k = len(motion.t) // 2
+    qdd = (motion.qd[k + 1] - motion.qd[k]) / (motion.t[k + 1] - motion.t[k])
+    np.testing.assert_allclose(torques.tau[k], robot.inverse_dynamics(motion.q[k], motion.qd[k], qdd),
+                               rtol=1e-12, atol=1e-12)
+    assert np.all(torques.peak >= np.abs(torques.tau).max(axis=0) - 1e-15)

@@ -208,9 +208,9 @@ def test_a_batch_whose_turn_copies_would_not_fit_is_refused_before_listing_them(
                r"most 3 poses at a time, or pass turn_copies=False")
     batch = np.concatenate([T, T[:2]])
     with pytest.raises(InputError, match=message):
-        ik_solutions(UR5, batch)
+        ik_solutions(UR5, batch, turn_copies=True)
     with pytest.raises(InputError, match=r"5 poses whose whole-turn copies"):
-        UR5.ik(batch, all_solutions=True)
-    assert ik_solutions(UR5, T).counts.tolist() == [512, 256, 512]  # 3 x 512 rows fit
+        UR5.ik(batch, all_solutions=True, turn_copies=True)
+    assert ik_solutions(UR5, T, turn_copies=True).counts.tolist() == [512, 256, 512]  # 3 x 512 rows fit
     once = ik_solutions(UR5, batch, turn_copies=False).counts  # each solution once: 512 = 8 x 2^6
     assert once.tolist() == [8, 4, 8, 8, 4]

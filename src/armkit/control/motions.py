@@ -38,6 +38,7 @@ from armkit.errors import InputError, JointLimitError
 from armkit.kinematics import pose_error
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
+from armkit.trajectory.joint_trajectory import TrajectoryTorques
 from armkit.trajectory.polynomial import quintic
 
 __all__ = ["DEFAULT_DT", "MotionResult", "move_linear", "rotate_about_tool_point", "track_poses"]
@@ -114,6 +115,30 @@ class MotionResult:
     def pose_final(self) -> NDArray[np.float64]:
         """Last tool pose ``(4, 4)``."""
         return self.poses[-1]
+
+    def torques(self, robot: Robot, *, gravity: ArrayLike | None = None) -> TrajectoryTorques:
+        """The joint torques [N m or N] that drive ``robot`` along this motion, at its samples.
+
+        The velocity ``qd[k]`` held over period ``k`` changes to ``qd[k + 1]`` over the next, so
+        the acceleration at sample ``k`` is ``(qd[k + 1] - qd[k]) / dt`` (zero at the last);
+        ``tau = ID(q, qd, qdd)`` by :meth:`armkit.Robot.inverse_dynamics`. ``robot`` needs
+        inertial parameters (see :mod:`armkit.dynamics`).
+
+        Examples
+        --------
+        >>> import armkit
+        >>> robot = armkit.load("puma560")
+        >>> q0 = [0.0, 0.6, -0.8, 0.0, 0.5, 0.0]
+        >>> motion = armkit.move_linear(robot, q0, [0.05, 0.0, 0.0], duration=1.0)
+        >>> torques = motion.torques(robot)
+        >>> torques.tau.shape == motion.q.shape, bool(torques.peak[1] > 10)
+        (True, True)
+        """
+        dt = np.diff(self.t)
+        qdd = np.zeros_like(self.qd)
+        qdd[:-1] = np.diff(self.qd, axis=0) / dt[:, None]
+        tau = robot.inverse_dynamics(self.q, self.qd, qdd, gravity=gravity)
+        return TrajectoryTorques(self.t, tau, np.abs(tau).max(axis=0))
 
 
 def _check_start(robot: Robot, q0: ArrayLike) -> NDArray[np.float64]:
