@@ -184,3 +184,35 @@ def test_a_pose_reachable_only_outside_the_limits_is_reported_in_degrees_after_d
     assert "only outside the joint limits" in err and "[-17.1887, 17.1887] deg" in err and " rad" not in err
     code, _, err = run(capsys, "ik", str(path), "--pose", *map(str, narrow.pose(q)))
     assert code == 1 and "[-0.3, 0.3] rad" in err
+
+
+PANDA_POSE = ["--pose", "0.4", "0.1", "0.5", "180", "0", "0", "--deg"]
+
+
+def test_free_joint_lists_every_solution_of_a_7r_arm_with_that_joint_held(capsys):
+    code, out, _ = run(capsys, "ik", "panda", *PANDA_POSE, "--all", "--outside", "--free-joint", "3",
+                       "--free-value", "20", "--json")
+    assert code == 0
+    data = json.loads(out)
+    found = np.array(data["solutions"])
+    panda = armkit.load("panda")
+    expected = panda.ik(panda.fk(found[0]), all_solutions=True, within_limits=False, free_joint=2,
+                        free_value=np.radians(20))
+    assert found.shape == expected.shape and np.allclose(found[:, 2], np.radians(20))
+    assert max(data["position_error"]) < 1e-12 and "held at 20" in data["method"]
+
+
+def test_self_motion_writes_its_plot_and_refuses_to_overwrite_it(capsys, tmp_path):
+    path = tmp_path / "self_motion.png"
+    code, out, _ = run(capsys, "ik", "panda", *PANDA_POSE, "--free-joint", "q3", "--self-motion", str(path))
+    assert code == 0 and path.stat().st_size > 10_000
+    assert re.search(r"Self-motion: \d+ branches along q3, written to", out)
+    code, _, err = run(capsys, "ik", "panda", *PANDA_POSE, "--free-joint", "q3", "--self-motion", str(path))
+    assert code == 1 and "already exists" in err
+
+
+def test_free_joint_errors_are_one_line(capsys):
+    code, _, err = run(capsys, "ik", "panda", *PANDA_POSE, "--self-motion", "x.png")
+    assert code == 1 and "--self-motion: name the joint it sweeps with --free-joint" in err
+    code, _, err = run(capsys, "ik", "panda", *PANDA_POSE, "--free-joint", "9")
+    assert code == 1 and "--free-joint '9': expected a joint name" in err

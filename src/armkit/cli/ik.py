@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
@@ -66,6 +67,16 @@ def _target(pose: tuple[float, ...] | None, matrix: tuple[float, ...] | None,
 
 #: Joint distance [rad or m] below which a returned solution is the same as a listed one.
 SAME_SOLUTION = 1e-9
+
+
+def _joint_index(robot: Robot, word: str) -> int:
+    """The 0-based index of a joint named on the command line (its name, or its number 1..n)."""
+    if word in robot.joint_names:
+        return robot.joint_names.index(word)
+    if word.strip().isdigit() and 1 <= int(word) <= robot.n:
+        return int(word) - 1
+    raise InputError(f"--free-joint {word!r}: expected a joint name ({', '.join(robot.joint_names)}) or a "
+                     f"number 1 to {robot.n}")
 
 
 def _numbered(robot: Robot, T: np.ndarray, q: np.ndarray, near: np.ndarray,
@@ -146,6 +157,18 @@ def ik_command(
                                        "deg with --deg; default zeros).", show_default=False)] = None,
     json_output: Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of "
                                                              "a table.")] = False,
+    free_joint: Annotated[str | None, typer.Option(
+        "--free-joint", metavar="JOINT", help="Hold this joint (name or number 1..n) and solve the others "
+                                              "exactly: every solution of a 7-joint arm at --free-value.",
+        show_default=False)] = None,
+    free_value: Annotated[float | None, typer.Option(
+        "--free-value", help="The held joint's value (rad or m; deg with --deg); default its --near value.",
+        show_default=False)] = None,
+    self_motion_plot: Annotated[Path | None, typer.Option(
+        "--self-motion", metavar="FILE", help="With --free-joint: every branch of the self-motion along it "
+                                              "(64 values over its limits), each joint plotted against it "
+                                              "(.png, .svg, .pdf).", show_default=False)] = None,
+    force: Annotated[bool, typer.Option("--force", help="Replace an existing --self-motion file.")] = False,
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
@@ -164,8 +187,25 @@ def ik_command(
     T = _target(pose, matrix, position, convention, deg)
     structure = analyze_structure(arm.chain)
     closed = structure.closed_form
+    if self_motion_plot is not None and free_joint is None:
+        raise InputError("--self-motion: name the joint it sweeps with --free-joint")
     try:
-        if position is not None:
+        if free_joint is not None:
+            if position is not None:
+                raise InputError("--free-joint takes a full pose (--pose or --matrix), not --position")
+            held = _joint_index(arm, free_joint)
+            value = None
+            if free_value is not None:
+                value = np.radians(free_value) if deg and not arm.chain.prismatic[held] else float(free_value)
+            options = {"turn_copies": turn_copies} if all_solutions else {}
+            q = np.atleast_2d(arm.ik(T, all_solutions=all_solutions, near=q_near, within_limits=not outside,
+                                     free_joint=held, free_value=value, **options))
+            number, family = np.arange(1, len(q) + 1), np.zeros(len(q), dtype=bool)
+            shown_value = q_near[held] if value is None else value
+            unit = "m" if arm.chain.prismatic[held] else ("deg" if deg else "rad")
+            shown_value = np.degrees(shown_value) if unit == "deg" else shown_value
+            method = f"closed form with {arm.joint_names[held]} held at {fmt_number(shown_value, 4)} {unit}"
+        elif position is not None:
             q, number, family, closed, method = _position_ik(arm, T[:3, 3], all_solutions, q_near, outside,
                                                               turn_copies)
         else:
@@ -228,3 +268,10 @@ def ik_command(
     if family.any():
         console.print("family = yes: a singular pose; the row represents a one-parameter family "
                       "of solutions (e.g. only q4 + q6 is defined at a wrist singularity).")
+    if self_motion_plot is not None:
+        from armkit.ik.self_motion import self_motion
+
+        motion = self_motion(arm, T, free_joint=_joint_index(arm, free_joint), samples=64)
+        motion.plot(self_motion_plot, joint_names=arm.joint_names, overwrite=force)
+        console.print(escape(f"Self-motion: {len(motion.q)} branches along "
+                             f"{arm.joint_names[motion.free_joint]}, written to {self_motion_plot}"))

@@ -60,23 +60,20 @@ class SelfMotion:
     within_limits: NDArray[np.bool_]
 
     def plot(self, path: str | None = None, *, joint_names: list[str] | None = None, overwrite: bool = False):
-        """Each joint against the free joint, one line per branch; saved to ``path`` if given.
+        """Each joint against the free joint, one line per branch [deg]; saved to ``path``
+        (PNG, SVG or PDF; never over an existing file unless ``overwrite``) if given.
 
         Returns the matplotlib figure.
         """
-        import matplotlib
+        from matplotlib.figure import Figure
 
-        if path is not None:
-            matplotlib.use("Agg", force=False)
-        import matplotlib.pyplot as plt
-
-        from armkit._io import check_output_path
+        from armkit.plots import save_figure
 
         n = self.q.shape[-1]
         names = joint_names or [f"q{j + 1}" for j in range(n)]
         shown = [j for j in range(n) if j != self.free_joint]
-        fig, axes = plt.subplots(len(shown), 1, figsize=(7, 1.4 * len(shown) + 0.8), sharex=True,
-                                 constrained_layout=True)
+        figure = Figure(figsize=(7, 1.4 * len(shown) + 0.8), layout="constrained")
+        axes = figure.subplots(len(shown), 1, sharex=True, squeeze=False)[:, 0]
         for b, branch in enumerate(self.q):
             for j, ax in zip(shown, axes, strict=True):
                 y = np.degrees(branch[:, j])
@@ -87,12 +84,11 @@ class SelfMotion:
             ax.grid(alpha=0.3)
         axes[-1].set_xlabel(f"free joint {names[self.free_joint]} [deg]")
         axes[0].set_title(f"Self-motion: {len(self.q)} branches")
-        if len(self.q) <= 16:
+        if 0 < len(self.q) <= 16:
             axes[0].legend(fontsize=7, ncol=4, loc="upper right")
         if path is not None:
-            target = check_output_path(path, overwrite=overwrite)
-            fig.savefig(target, dpi=120)
-        return fig
+            save_figure(figure, path, overwrite)
+        return figure
 
 
 def free_joint_index(robot: Robot, free_joint: int | str) -> int:
