@@ -268,7 +268,7 @@ def test_junk_websocket_frames_are_one_line_each_and_the_server_stays_up(tmp_pat
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", "probot-anno", "--port", "0",
                                 "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env=env, cwd=tmp_path)
+                               env=env, cwd=tmp_path, preexec_fn=interruptible)
     frames = [b"\x00\x01junk", "a text frame", b"\x81\xa3", msgspec.msgpack.encode({"type": "NoSuchMessage"}),
               msgspec.msgpack.encode([1, 2, 3]),
               msgspec.msgpack.encode({"type": "TransformControlsUpdateMessage", "name": "/target",
@@ -276,11 +276,11 @@ def test_junk_websocket_frames_are_one_line_each_and_the_server_stays_up(tmp_pat
     try:
         url = process.stdout.readline().split(" at ")[1].split()[0]
         _send_messages(url, frames)
-        with urllib.request.urlopen(url, timeout=30) as response:  # still serving
+        with urllib.request.urlopen(url, timeout=WAIT_S) as response:  # still serving
             assert b"<html" in response.read(2000).lower()
         assert process.poll() is None
         process.send_signal(signal.SIGINT)
-        _, err = process.communicate(timeout=60)
+        _, err = process.communicate(timeout=WAIT_S)
     finally:
         process.kill()
     lines = err.strip().splitlines()

@@ -59,12 +59,19 @@ class SelfMotion:
     q: NDArray[np.float64]
     within_limits: NDArray[np.bool_]
 
+    def __repr__(self) -> str:
+        found = np.isfinite(self.q).all(axis=-1)
+        return (f"SelfMotion({len(self.q)} branches x {len(self.values)} values of joint {self.free_joint} "
+                f"from {self.values[0]:.4g} to {self.values[-1]:.4g}; {int(found.sum())} solutions, "
+                f"{int(self.within_limits.sum())} inside the limits)")
+
     def plot(self, path: str | None = None, *, joint_names: list[str] | None = None, overwrite: bool = False):
         """Each joint against the free joint, one line per branch [deg]; saved to ``path``
         (PNG, SVG or PDF; never over an existing file unless ``overwrite``) if given.
 
         Returns the matplotlib figure.
         """
+        import matplotlib
         from matplotlib.figure import Figure
 
         from armkit.plots import save_figure
@@ -74,18 +81,22 @@ class SelfMotion:
         shown = [j for j in range(n) if j != self.free_joint]
         figure = Figure(figsize=(7, 1.4 * len(shown) + 0.8), layout="constrained")
         axes = figure.subplots(len(shown), 1, sharex=True, squeeze=False)[:, 0]
+        colours = matplotlib.colormaps["tab20"].colors
         for b, branch in enumerate(self.q):
+            colour = colours[b % len(colours)]
             for j, ax in zip(shown, axes, strict=True):
                 y = np.degrees(branch[:, j])
                 y[1:][np.abs(np.diff(y)) > 180.0] = np.nan  # no line across the +-180 deg seam
-                ax.plot(np.degrees(self.values), y, lw=1.2, label=f"branch {b + 1}")
+                inside = np.where(self.within_limits[b], y, np.nan)
+                ax.plot(np.degrees(self.values), y, lw=0.8, ls=":", color=colour)  # outside the limits
+                ax.plot(np.degrees(self.values), inside, lw=1.6, color=colour, label=f"branch {b + 1}")
         for j, ax in zip(shown, axes, strict=True):
             ax.set_ylabel(f"{names[j]} [deg]")
             ax.grid(alpha=0.3)
         axes[-1].set_xlabel(f"free joint {names[self.free_joint]} [deg]")
-        axes[0].set_title(f"Self-motion: {len(self.q)} branches")
-        if 0 < len(self.q) <= 16:
-            axes[0].legend(fontsize=7, ncol=4, loc="upper right")
+        axes[0].set_title(f"Self-motion: {len(self.q)} branches (solid: inside every limit, dotted: outside)")
+        if 0 < len(self.q) <= 20:
+            figure.legend(*axes[0].get_legend_handles_labels(), fontsize=7, loc="outside right center")
         if path is not None:
             save_figure(figure, path, overwrite)
         return figure
@@ -112,6 +123,9 @@ def ik_at_free_joint(robot: Robot, T_base_tool: ArrayLike, free_joint: int | str
     Returns the whole robot's configurations, shaped as :meth:`armkit.Robot.ik` returns them.
     """
     index = free_joint_index(robot, free_joint)
+    if robot.n < 7:
+        raise InputError(f"free_joint: holds a joint of a redundant arm (7 or more joints); this arm has "
+                         f"{robot.n}, so solve it whole (robot.ik without free_joint)")
     near_q = None if near is None else robot.check_q(near, "near")
     if free_value is None and near_q is not None and near_q.ndim > 1:
         # one near per pose: each pose holds the free joint at its own near's value

@@ -158,7 +158,10 @@ def _checked_limits(waypoints, max_velocity, max_acceleration):
     vmax = _limits(max_velocity, n, "max_velocity")
     amax = _limits(max_acceleration, n, "max_acceleration")
     if np.all(np.isinf(vmax)) and np.all(np.isinf(amax)):
-        raise InputError("max_velocity, max_acceleration: no finite limit to fit the durations to")
+        raise InputError("max_velocity, max_acceleration: no finite limit to fit the durations to; give "
+                         "limits (robot file keys max_velocity / max_acceleration, plan_trajectory's "
+                         "max_velocity= / max_acceleration=, armkit traj --max-velocity / "
+                         "--max-acceleration) or durations")
     return vmax, amax
 
 
