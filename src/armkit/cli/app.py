@@ -99,10 +99,11 @@ def _lock_word(robot: Robot, word: str) -> tuple[int, float]:
     return index, parse_floats([value], f"--lock {word!r}")[0]
 
 
-def to_si(robot: Robot, q: Sequence[float | str], degrees: bool) -> np.ndarray:
-    """Joint values from the command line in SI units (``--deg`` converts revolute joints only)."""
+def to_si(robot: Robot, q: Sequence[float | str], degrees: bool, name: str = "joint values") -> np.ndarray:
+    """Joint values from the command line in SI units (``--deg`` converts revolute joints only);
+    ``name`` says where they were typed (an option such as ``--near``) in an error."""
     reject_unknown_options([str(v) for v in q])
-    q = robot.check_q(np.asarray(parse_floats(q, "joint values"), dtype=float), "joint values")
+    q = robot.check_q(np.asarray(parse_floats(q, name), dtype=float), name)
     if degrees:
         q = np.where(robot.chain.prismatic, q, np.radians(q))
     return q

@@ -179,7 +179,7 @@ def ik_command(
     """
     arm = load_robot(robot, base, tip, lock)
     words = option_values(near, near_values, "--near", "joint values")
-    q_near = to_si(arm, words, deg) if words is not None else np.zeros(arm.n)
+    q_near = to_si(arm, words, deg, "--near") if words is not None else np.zeros(arm.n)
     if euler.strip().lower() in QUATERNION_NAMES:
         raise InputError("--euler quat is an output format (armkit fk); give the target as --pose with "
                          "angles in a convention such as xyz-fixed, or as --matrix")
