@@ -102,7 +102,7 @@ def test_view_takes_base_tip_and_lock(capsys):
     assert process.returncode == 130
     refused = subprocess.run([*command, "wrist_3_joint=9"], capture_output=True, text=True, timeout=WAIT_S)
     assert refused.returncode == 1
-    assert refused.stderr.startswith("error: cannot lock joint wrist_3_joint = 9 rad")
+    assert refused.stderr.startswith("error: cannot lock: joint wrist_3_joint = 9 rad")
 
 
 def test_workspace_takes_base_tip_and_lock(capsys):
@@ -133,7 +133,7 @@ def test_fk_with_a_locked_joint_is_the_full_fk(capsys):
     (["--lock", "wrist=0"], "--lock 'wrist=0': no joint 'wrist'; expected a joint number 1 to 6 or a name "
                             "(shoulder_pan_joint, "),
     (["--lock", "1=abc"], "is not a number"),
-    (["--lock", "1=9"], "cannot lock joint shoulder_pan_joint = 9 rad is outside its limits"),
+    (["--lock", "1=9"], "cannot lock: joint shoulder_pan_joint = 9 rad is outside its limits"),
     (["--lock", "-1=0.3"], "--lock '-1=0.3': joint number -1; expected 1 to 6"),
     (["--lock", "0=0.3"], "--lock '0=0.3': joint number 0; expected 1 to 6"),
     (["--lock", "1=0.3", "--lock", "1=0.4"],

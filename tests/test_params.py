@@ -165,7 +165,7 @@ def test_fuzz_cli_lock_values_lock_the_arm_or_are_one_line(locks):
     if code == 1:
         lines = err.getvalue().strip().splitlines()
         assert len(lines) == 1, lines
-        assert re.match(r"error: (--lock '|joint |cannot lock |locking all )", lines[0]), lines
+        assert re.match(r"error: (--lock '|joint |cannot lock: |locking all )", lines[0]), lines
     else:
         assert json.loads(out.getvalue())["locked"]
 

@@ -78,7 +78,7 @@ def test_locking_a_locked_robot_locks_more_joints_of_the_full_one():
     ({"q6": 1e300}, InputError,
      r"joint q6: lock value 1e\+300 is not a finite number from -1e\+06 to 1e\+06"),
     ({"q2": 4.0}, JointLimitError,
-     r"cannot lock joint q2 = 4 rad is outside its limits \[-0.785398, 3.92699\] rad"),
+     r"cannot lock: joint q2 = 4 rad is outside its limits \[-0.785398, 3.92699\] rad"),
     ({f"q{i}": 0.0 for i in range(1, 7)}, InputError, "locking all 6 joints leaves no robot"),
     ({}, InputError, "expected a mapping"),
     ([("q1", 0.0)], InputError, "expected a mapping"),

@@ -583,7 +583,7 @@ class Robot:
         q[list(out)] = list(out.values())
         violations = self.limit_violations(self.check_q(q, "locked joint values"))
         if violations:
-            raise JointLimitError("cannot lock " + "; ".join(violations))
+            raise JointLimitError("cannot lock: " + "; ".join(violations))
         return out
 
 
