@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import os
 import re
-import time
 from pathlib import Path
 
 import numpy as np
@@ -263,20 +262,13 @@ def _deep_urdf(depth: int, leaf_first: bool) -> str:
     return '<robot name="deep">' + "".join(links) + "".join(joints) + "</robot>"
 
 
-def test_a_deep_urdf_listed_leaf_first_loads_as_fast_as_root_first():
-    # The cycle check walked each link up to the root with a list of the links met: quadratic in
-    # the depth when the leaves come first (2.7x the root-first time at depth 5000 here).
-    seconds = {}
-    for leaf_first in (False, True):
-        text = _deep_urdf(6000, leaf_first)
-        runs = []
-        for _ in range(3):
-            start = time.perf_counter()
-            robot = robot_from_urdf(text)
-            runs.append(time.perf_counter() - start)
-        assert robot.n == 1 and robot.joint_names == ["j5999"]
-        seconds[leaf_first] = min(runs)
-    assert seconds[True] < 1.5 * seconds[False], seconds
+@pytest.mark.parametrize("leaf_first", [False, True])
+def test_a_deep_urdf_loads_whichever_end_is_listed_first(leaf_first):
+    # the cycle check once walked each link up to the root with a list of the links met:
+    # quadratic in the depth when the leaves come first; the speed comparison lives in
+    # benchmarks/bench_urdf.py (a timed unit test fails on a loaded machine)
+    robot = robot_from_urdf(_deep_urdf(6000, leaf_first))
+    assert robot.n == 1 and robot.joint_names == ["j5999"]
 
 
 def test_entity_expansion_is_refused_before_parsing():
