@@ -135,9 +135,10 @@ long long joint_frames(const Chain& chain, In q, Out frames, Out tool, int threa
         throw std::invalid_argument("joint_frames: expected outputs (N, n, 4, 4) and (N, 4, 4)");
     double *F = frames.data(), *P = tool.data();
     return for_each_configuration(chain, q.data(), N, threads, [&](std::size_t i, const double* qi) {
+        const JointTrig trig(qi, chain.n);
         Pose T = chain.between[0];
         for (std::size_t j = 0; j < n; ++j) {
-            move(T, qi[j], chain.prismatic[j]);
+            move(T, qi, trig, int(j), chain.prismatic[j]);
             pose_to_matrix(T, F + 16 * (n * i + j));
             T = compose(T, chain.between[j + 1]);
         }

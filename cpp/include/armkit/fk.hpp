@@ -2,15 +2,25 @@
 #pragma once
 
 #include "armkit/chain.hpp"
+#include "armkit/linalg.hpp"
+#include "armkit/sin_cos.hpp"
 
 namespace armkit {
 
-// T <- T · Rz(q) (or T · Tz(q)): the joint's motion.
-inline void move(Pose& T, double q, bool prismatic) {
+// The sines and cosines of one configuration's joint values (a prismatic joint's unused),
+// from sin_cos: every FK path of the core takes them from there, so a pose is the same
+// number whichever path (one configuration, a block, frames, axes) computed it.
+struct JointTrig {
+    double s[kMaxJoints], c[kMaxJoints];
+    JointTrig(const double* q, int n) { sin_cos(q, s, c, n); }
+};
+
+// T <- T · Rz(q) (or T · Tz(q)): joint i's motion, with its sine and cosine from trig.
+inline void move(Pose& T, const double* q, const JointTrig& trig, int i, bool prismatic) {
     if (prismatic) {
-        for (int r = 0; r < 3; ++r) T(r, 3) += q * T(r, 2);
+        for (int r = 0; r < 3; ++r) T(r, 3) += q[i] * T(r, 2);
     } else {
-        const double c = std::cos(q), s = std::sin(q);
+        const double c = trig.c[i], s = trig.s[i];
         for (int r = 0; r < 3; ++r) {
             const double x = T(r, 0), y = T(r, 1);
             T(r, 0) = c * x + s * y;
@@ -19,16 +29,14 @@ inline void move(Pose& T, double q, bool prismatic) {
     }
 }
 
-// T <- T · Rz(q) · L (or T · Tz(q) · L).
-inline void advance(Pose& T, double q, bool prismatic, const Pose& L) {
-    move(T, q, prismatic);
-    T = compose(T, L);
-}
-
 // The tool pose at q (n values).
 inline Pose tool_pose(const Chain& chain, const double* q) {
+    const JointTrig trig(q, chain.n);
     Pose T = chain.between[0];
-    for (int i = 0; i < chain.n; ++i) advance(T, q[i], chain.prismatic[i], chain.between[i + 1]);
+    for (int i = 0; i < chain.n; ++i) {
+        move(T, q, trig, i, chain.prismatic[i]);
+        T = compose(T, chain.between[i + 1]);
+    }
     return T;
 }
 
@@ -41,6 +49,8 @@ constexpr int kFkBlock = 8;
 inline void tool_poses_block(const Chain& chain, const double* q, double* out) {
     constexpr int B = kFkBlock;
     const int n = chain.n;
+    double sines[B * kMaxJoints], cosines[B * kMaxJoints];
+    sin_cos(q, sines, cosines, B * n);
     double T[12][B];
     for (int k = 0; k < 12; ++k)
         for (int b = 0; b < B; ++b) T[k][b] = chain.between[0].m[k];
@@ -51,8 +61,8 @@ inline void tool_poses_block(const Chain& chain, const double* q, double* out) {
         } else {
             double c[B], s[B];
             for (int b = 0; b < B; ++b) {
-                c[b] = std::cos(q[b * n + j]);
-                s[b] = std::sin(q[b * n + j]);
+                c[b] = cosines[b * n + j];
+                s[b] = sines[b * n + j];
             }
             for (int r = 0; r < 3; ++r)
                 for (int b = 0; b < B; ++b) {
@@ -82,11 +92,13 @@ inline void tool_poses_block(const Chain& chain, const double* q, double* out) {
 // The tool pose, and per joint the z axis of its joint frame and its origin before the
 // joint's motion (the start of the travel for a prismatic joint), base frame.
 inline Pose joint_axes(const Chain& chain, const double* q, Vec3* axes, Vec3* points) {
+    const JointTrig trig(q, chain.n);
     Pose T = chain.between[0];
     for (int i = 0; i < chain.n; ++i) {
         axes[i] = T.column(2);
         points[i] = T.column(3);
-        advance(T, q[i], chain.prismatic[i], chain.between[i + 1]);
+        move(T, q, trig, i, chain.prismatic[i]);
+        T = compose(T, chain.between[i + 1]);
     }
     return T;
 }
