@@ -379,3 +379,21 @@ def test_batch_poses_use_the_same_sines_as_one_configuration():
     robot = armkit.load("panda")
     q = np.random.default_rng(9).uniform(-1e4, 1e4, (64, 7))
     np.testing.assert_array_equal(robot.fk(q), np.stack([robot.fk(qi) for qi in q]))
+
+
+def test_one_configuration_in_any_form_gives_the_fast_path_s_numbers():
+    """The single-configuration call takes a C-ordered native float64 (n,) array straight to the
+    core; any other form of the same values goes through the checks to the same numbers."""
+    robot = armkit.load("ur5")
+    q = np.random.default_rng(10).uniform(-3, 3, 6)
+    T, J = robot.fk(q), robot.jacobian(q)
+    others = [q.tolist(), tuple(q), q.astype(">f8"), np.repeat(q, 2)[::2], q.reshape(1, 6)[0],
+              np.ma.masked_array(q)]
+    for other in others:
+        np.testing.assert_array_equal(robot.fk(other), T)
+        np.testing.assert_array_equal(robot.jacobian(other), J)
+    assert robot.fk(q.reshape(1, 6)).shape == (1, 4, 4)
+    with pytest.raises(InputError, match="got nan at index 2"):
+        robot.fk(np.array([0, 0, np.nan, 0, 0, 0.0]))
+    with pytest.raises(InputError, match="expected 6 joint values"):
+        robot.jacobian(np.zeros(5))

@@ -108,24 +108,24 @@ long long fk(const Chain& chain, In q, Out T, int threads) {
     return first_bad.load();
 }
 
-// One configuration q (n,), the common case in one call: its tool pose (4, 4), or None
-// for a non-finite value (the caller's error names it).
-nb::object fk_one(const Chain& chain, In q) {
-    if (q.size() != std::size_t(chain.n)) throw std::invalid_argument("fk_one: expected q (n,)");
-    if (!all_finite(q.data(), q.size())) return nb::none();
+// One configuration q (n,), the common case in one call: its tool pose (4, 4), or None if q
+// is not one finite configuration as the core takes it (the caller then checks it and says why).
+nb::object fk_one(const Chain& chain, nb::handle q) {
+    const double* values = one_configuration(q, chain.n);
+    if (!values || !all_finite(values, std::size_t(chain.n))) return nb::none();
     double T[16];
-    pose_to_matrix(tool_pose(chain, q.data()), T);
+    pose_to_matrix(tool_pose(chain, values), T);
     return owned_array(T, 4, 4);
 }
 
 // One configuration q (n,): its base-frame geometric Jacobian (6, n), or None as fk_one.
-nb::object jacobian_one(const Chain& chain, In q) {
+nb::object jacobian_one(const Chain& chain, nb::handle q) {
+    const double* values = one_configuration(q, chain.n);
     const std::size_t n = std::size_t(chain.n);
-    if (q.size() != n) throw std::invalid_argument("jacobian_one: expected q (n,)");
-    if (!all_finite(q.data(), n)) return nb::none();
+    if (!values || !all_finite(values, n)) return nb::none();
     Vec3 axes[kMaxJoints], points[kMaxJoints];
     double J[6 * kMaxJoints];
-    jacobian_from_axes(joint_axes(chain, q.data(), axes, points), axes, points, chain.prismatic.data(), chain.n, J);
+    jacobian_from_axes(joint_axes(chain, values, axes, points), axes, points, chain.prismatic.data(), chain.n, J);
     return owned_array(J, 6, n);
 }
 
@@ -214,7 +214,8 @@ void bind_kinematics(nb::module_& m) {
     m.def("fk", &fk, nb::arg("chain"), nb::arg("q"), nb::arg("T"), nb::arg("threads"), release,
           "Tool poses of q (N, n) into T (N, 4, 4); the flat index of the first non-finite q, or -1.");
     m.def("fk_one", &fk_one, nb::arg("chain"), nb::arg("q"),
-          "Tool pose (4, 4) of one configuration q (n,), or None if q holds a non-finite value.");
+          "Tool pose (4, 4) of one configuration q, or None unless q is a finite C-ordered float64 "
+          "array (n,).");
     m.def("jacobian_one", &jacobian_one, nb::arg("chain"), nb::arg("q"),
           "Base-frame geometric Jacobian (6, n) of one configuration q (n,), or None as fk_one.");
     m.def("joint_frames", &joint_frames, nb::arg("chain"), nb::arg("q"), nb::arg("frames"), nb::arg("tool"),

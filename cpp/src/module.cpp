@@ -1,6 +1,8 @@
+#define ARMKIT_IMPORT_NUMPY
 #include "bindings.hpp"
 
 NB_MODULE(_core, m) {
+    if (_import_array() < 0) throw nanobind::python_error();
     m.doc() = "armkit's compiled core: kinematics, IK and dynamics kernels (C++17). Internal: use armkit's Python API.";
     armkit::bindings::bind_kinematics(m);
     armkit::bindings::bind_closed_form(m);

@@ -11,9 +11,14 @@ from __future__ import annotations
 import math
 from numbers import Integral, Real
 
+import numpy as np
+
 from armkit.errors import InputError
 
-__all__ = ["MAX_COUNT", "MAX_THREADS", "non_negative_float", "positive_float", "thread_count", "whole_number"]
+__all__ = ["MAX_COUNT", "MAX_THREADS", "core_ready", "non_negative_float", "positive_float", "thread_count",
+           "whole_number"]
+
+_FLOAT64 = np.dtype(np.float64)  # native byte order
 
 #: Most threads a batch is split over (more only add start-up cost on any machine made yet).
 MAX_THREADS = 1024
@@ -89,3 +94,21 @@ def thread_count(value: object, name: str = "threads") -> int:
         raise InputError(f"{name}: expected None or 0 (every core) or 1 to {MAX_THREADS} threads, "
                          f"got {value!r}")
     return int(value)
+
+
+def core_ready(value: object, shape: tuple[int, ...] = (), *, exact: bool = False) -> bool:
+    """Whether ``value`` is already what the compiled core takes, so that no copy or check is
+    needed before the call: a NumPy array (not a subclass) of native float64, C-ordered, whose
+    shape ends with ``shape`` (is ``shape`` with ``exact``). Its values are not looked at (the
+    core checks finiteness in its loop). The one readiness test of the package.
+
+    >>> core_ready(np.zeros((3, 6)), (6,)), core_ready(np.zeros((3, 6)), (6,), exact=True)
+    (True, False)
+    >>> core_ready(np.zeros(6, dtype=">f8"), (6,)), core_ready([0.0] * 6, (6,))
+    (False, False)
+    """
+    if type(value) is not np.ndarray or value.dtype != _FLOAT64 or not value.flags.c_contiguous:
+        return False
+    if exact:
+        return value.shape == shape
+    return not shape or value.shape[-len(shape):] == shape

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit._params import thread_count
+from armkit._params import core_ready, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError
 from armkit.spatial.rotations import angular_velocity_matrix, euler_from_matrix
@@ -44,7 +44,7 @@ def _joint_values(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
     """``q`` as C-ordered float64 ``(..., n)``, or :class:`InputError` naming the expected and
     actual shape. Finiteness is checked by the core, in its loop (see :func:`_raise_if_bad`)."""
     n = chain.n
-    if is_ready(q, n):
+    if core_ready(q, (n,)):
         return q
     try:
         q = np.asarray(q, dtype=np.float64, order="C")
@@ -55,13 +55,6 @@ def _joint_values(chain: Chain, q: ArrayLike) -> NDArray[np.float64]:
         raise InputError(f"q: the chain has {n} joints, so expected joint values of shape "
                          f"(..., {n}), got {got}")
     return q
-
-
-def is_ready(q: object, n: int) -> bool:
-    """Whether ``q`` is already what the core takes: a C-ordered float64 array ``(..., n)``
-    (finiteness aside, which the core checks in its loop)."""
-    return (type(q) is np.ndarray and q.dtype.char == "d" and q.shape[-1:] == (n,)
-            and q.flags.c_contiguous)
 
 
 def non_finite_error(q: NDArray[np.float64], name: str = "q", bad: int | None = None) -> InputError:

@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core, dynamics, kinematics
 from armkit._deprecation import renamed_argument
-from armkit._params import thread_count, whole_number
+from armkit._params import core_ready, thread_count, whole_number
 from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.inertial import Inertial
@@ -48,11 +48,6 @@ class DHDescription:
     angle_unit: str = "rad"
     T_base: NDArray[np.float64] | None = None
     T_tool: NDArray[np.float64] | None = None
-
-
-def _one_pose_ready(T: object) -> bool:
-    """Whether ``T`` is one C-ordered float64 (4, 4) array (the IK fast path's input)."""
-    return type(T) is np.ndarray and T.shape == (4, 4) and T.dtype == np.float64 and T.flags.c_contiguous
 
 
 def _with_base_inertials(chain: Chain, inertials: Sequence[Inertial | None] | None,
@@ -239,14 +234,7 @@ class Robot:
     def _checked(self, q: ArrayLike) -> NDArray[np.float64]:
         """``q`` for the kinematic kernels: as it is when it is already a C-ordered float64
         array ``(..., n)`` (the core checks finiteness in its loop), else :meth:`check_q`."""
-        return q if kinematics.is_ready(q, self.n) else np.ascontiguousarray(self.check_q(q))
-
-    def _one_ready(self, q: ArrayLike) -> bool:
-        """Whether ``q`` is one configuration as the core takes it (C-ordered float64, ``(n,)``):
-        :func:`armkit.kinematics.is_ready` for one configuration, written out (calling it costs
-        0.3 us of this ~1.8 us path)."""
-        return (type(q) is np.ndarray and q.dtype.char == "d" and q.shape == (self.chain.n,)
-                and q.flags.c_contiguous)
+        return q if core_ready(q, (self.n,)) else np.ascontiguousarray(self.check_q(q))
 
     def within_limits(self, q: ArrayLike) -> NDArray[np.bool_]:
         """Whether each configuration ``(..., n)`` lies inside all position limits, ``(...)``."""
@@ -282,8 +270,8 @@ class Robot:
         >>> armkit.load("probot-anno").fk([0, 0, 0, 0, 0, 0])[:3, 3].round(4) + 0.0
         array([0.2289, 0.    , 0.454 ])
         """
-        if threads is None and self._one_ready(q):
-            T = _core.fk_one(self.chain._core, q)  # one configuration: one core call (None: not finite)
+        if threads is None:  # one configuration as the core takes it: one call (else None)
+            T = _core.fk_one(self.chain._core, q)
             if T is not None:
                 return T
         return kinematics._fk(self.chain, self._checked(q), thread_count(threads))
@@ -300,7 +288,7 @@ class Robot:
     def jacobian(self, q: ArrayLike, frame: str = "base", *,
                  threads: int | None = None) -> NDArray[np.float64]:
         """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``, in the ``"base"`` or ``"tool"`` frame."""
-        if frame == "base" and threads is None and self._one_ready(q):
+        if frame == "base" and threads is None:
             J = _core.jacobian_one(self.chain._core, q)  # as in fk
             if J is not None:
                 return J
@@ -386,8 +374,8 @@ class Robot:
             joint, value = options.pop("free_joint"), options.pop("free_value", None)
             return ik_at_free_joint(self, T_base_tool, joint, value, all_solutions=all_solutions, near=near,
                                     within_limits=within_limits, **options)
-        one_near = near is None or (kinematics.is_ready(near, self.n) and near.ndim == 1)
-        if _one_pose_ready(T_base_tool) and one_near:
+        one_near = near is None or core_ready(near, (self.n,), exact=True)
+        if core_ready(T_base_tool, (4, 4), exact=True) and one_near:
             # the usual call: the core checks the pose and near itself (errors: ik's messages)
             return ik(self.chain, T_base_tool, all_solutions=all_solutions, near=near,
                       within_limits=within_limits, **options)

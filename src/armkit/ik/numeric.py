@@ -53,7 +53,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
 from armkit._deprecation import deprecated_property, renamed_argument
-from armkit._params import non_negative_float, positive_float, thread_count, whole_number
+from armkit._params import core_ready, non_negative_float, positive_float, thread_count, whole_number
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError
 
@@ -140,7 +140,7 @@ def _task_rows(mask: ArrayLike | None) -> list[int]:
 
 def _float_array(value: Any, label: str, expected: str) -> NDArray[np.float64]:
     """``value`` as a C-ordered float64 array (itself if it already is one)."""
-    if type(value) is np.ndarray and value.dtype == np.float64 and value.flags.c_contiguous:
+    if core_ready(value):
         return value
     try:
         return np.ascontiguousarray(value, dtype=np.float64)

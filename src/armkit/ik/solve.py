@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
 from armkit._deprecation import deprecated_constants, renamed_argument
-from armkit._params import thread_count
+from armkit._params import core_ready, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError, SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
@@ -77,12 +77,6 @@ def _check_keywords(options: dict[str, object]) -> None:
                      f"expected one of {', '.join(valid)}")
 
 
-def _plain(v: object, n: int) -> bool:
-    """``v`` is a float64 ``(n,)`` array (the core checks its values; the binding makes a
-    C-ordered copy of a strided one)."""
-    return type(v) is np.ndarray and v.shape == (n,) and v.dtype.char == "d"
-
-
 class _Targets:
     """Targets ``(N, 4, 4)``, references ``(N, n)`` / ``(n,)`` or None (zeros) and weights
     ``(n,)`` or None (ones), C-ordered float64 as the core takes them, and the batch shape.
@@ -98,8 +92,7 @@ class _Targets:
                  weights: ArrayLike | None) -> None:
         T = T_base_tool
         self.given = T
-        self.unchecked = (type(T) is np.ndarray and T.dtype == np.float64 and T.ndim >= 2
-                          and T.shape[-2:] == (4, 4) and T.flags.c_contiguous)
+        self.unchecked = core_ready(T, (4, 4))
         if not self.unchecked:
             T = np.ascontiguousarray(check_transform(T, "target pose"))
         self.batch = T.shape[:-2]
@@ -337,8 +330,9 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
                                              all_solutions, False)
         _check_keywords(numeric_options)
     T = T_base_tool
-    if (type(T) is np.ndarray and T.shape == (4, 4) and T.dtype.char == "d" and not numeric_options
-            and (near is None or _plain(near, chain.n)) and (weights is None or _plain(weights, chain.n))):
+    if (core_ready(T, (4, 4), exact=True) and not numeric_options
+            and (near is None or core_ready(near, (chain.n,), exact=True))
+            and (weights is None or core_ready(weights, (chain.n,), exact=True))):
         # one pose as float64 arrays: checked and solved in one core call (None: take the general path)
         solver = solver_or_reason(chain)
         if type(solver) is ClosedFormSolver:
