@@ -57,44 +57,49 @@ void inverse_dynamics_batch(const Dynamics& model, In q, In qd, In qdd, In gravi
     });
 }
 
-// One state, the common single call: arrays (n,) each (qd, qdd may be None: zero). False if an
-// array has another shape or a value is not finite (the caller's checked path then names it).
-bool one_state(std::size_t n, std::initializer_list<const In*> arrays) {
-    bool ok = true;
-    for (const In* a : arrays) {
-        if (!a->is_valid()) continue;
-        ok &= a->ndim() == 1 && a->size() == n;
-        if (!ok) return false;
-        for (std::size_t j = 0; j < n; ++j) ok &= std::isfinite(a->data()[j]);
+// One state, the common single call: the values of each array of a state as one_configuration
+// takes them (None for qd or qdd where `optional`: zero, nullptr), finite. False for anything else
+// (a batch, a list, a value not finite): the caller's checked path then answers or names it.
+bool one_state(int n, std::initializer_list<std::pair<nb::handle, const double**>> arrays, bool optional) {
+    for (const auto& [value, data] : arrays) {
+        if (optional && value.is_none()) {
+            *data = nullptr;
+            continue;
+        }
+        *data = one_configuration(value, n);
+        if (!*data || !all_finite(*data, std::size_t(n))) return false;
     }
-    return ok;
+    return true;
 }
 
 // tau (n,) as a new array, or None (see one_state).
-nb::object inverse_dynamics_one(const Dynamics& model, In q, In qd, In qdd) {
-    const std::size_t n = std::size_t(model.chain.n);
-    if (!one_state(n, {&q, &qd, &qdd})) return nb::none();
+nb::object inverse_dynamics_one(const Dynamics& model, nb::handle q, nb::handle qd, nb::handle qdd) {
+    const int n = model.chain.n;
+    const double *qs, *qds, *qdds;
+    if (!one_state(n, {{q, &qs}}, false) || !one_state(n, {{qd, &qds}, {qdd, &qdds}}, true)) return nb::none();
     double tau[kMaxJoints];
-    inverse_dynamics(model, q.data(), data_or_null(qd), data_or_null(qdd), model.gravity, tau);
-    return owned_array(tau, n);
+    inverse_dynamics(model, qs, qds, qdds, model.gravity, tau);
+    return owned_array(tau, std::size_t(n));
 }
 
 // M (n, n) as a new array, or None (see one_state).
-nb::object mass_matrix_one(const Dynamics& model, In q) {
-    const std::size_t n = std::size_t(model.chain.n);
-    if (!one_state(n, {&q})) return nb::none();
+nb::object mass_matrix_one(const Dynamics& model, nb::handle q) {
+    const int n = model.chain.n;
+    const double* qs;
+    if (!one_state(n, {{q, &qs}}, false)) return nb::none();
     double M[kMaxJoints * kMaxJoints];
-    mass_matrix(model, q.data(), M);
-    return owned_array(M, n, n);
+    mass_matrix(model, qs, M);
+    return owned_array(M, std::size_t(n), std::size_t(n));
 }
 
 // qdd (n,) as a new array, or None (see one_state; also when the mass matrix is singular).
-nb::object forward_dynamics_one(const Dynamics& model, In q, In qd, In tau) {
-    const std::size_t n = std::size_t(model.chain.n);
-    if (!qd.is_valid() || !tau.is_valid() || !one_state(n, {&q, &qd, &tau})) return nb::none();
+nb::object forward_dynamics_one(const Dynamics& model, nb::handle q, nb::handle qd, nb::handle tau) {
+    const int n = model.chain.n;
+    const double *qs, *qds, *taus;
+    if (!one_state(n, {{q, &qs}, {qd, &qds}, {tau, &taus}}, false)) return nb::none();
     double qdd[kMaxJoints];
-    if (!forward_dynamics(model, q.data(), qd.data(), tau.data(), model.gravity, qdd)) return nb::none();
-    return owned_array(qdd, n);
+    if (!forward_dynamics(model, qs, qds, taus, model.gravity, qdd)) return nb::none();
+    return owned_array(qdd, std::size_t(n));
 }
 
 void mass_matrix_batch(const Dynamics& model, In q, Out M, int threads) {

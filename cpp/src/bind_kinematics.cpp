@@ -67,12 +67,6 @@ std::size_t configurations(const Chain& chain, const In& q) {
     return q.size() / std::size_t(chain.n);
 }
 
-bool all_finite(const double* values, std::size_t count) {
-    bool finite = true;
-    for (std::size_t k = 0; k < count; ++k) finite &= std::isfinite(values[k]);
-    return finite;
-}
-
 long long fk(const Chain& chain, In q, Out T, int threads) {
     const std::size_t N = configurations(chain, q), n = std::size_t(chain.n);
     if (T.size() != 16 * N) throw std::invalid_argument("fk: expected an output of shape (N, 4, 4)");

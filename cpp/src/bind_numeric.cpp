@@ -50,12 +50,6 @@ const double* optional_seeds(const In& q0, std::size_t size, const char* message
     return q0.data();
 }
 
-bool all_finite(const double* values, std::size_t size) {
-    for (std::size_t k = 0; k < size; ++k)
-        if (!std::isfinite(values[k])) return false;
-    return true;
-}
-
 // The solve of one target into q (n): (success, iterations, restarts, position_error,
 // orientation_error), or None if T or q0 has a non-finite value (the Python layer then
 // names it: checking here spares a NumPy reduction per call).

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 
 #include <cstdint>
@@ -45,6 +46,13 @@ inline nb::object owned_array(const T* values, std::size_t rows, std::size_t col
     if (!array) throw nb::python_error();
     std::copy(values, values + (cols ? rows * cols : rows), static_cast<T*>(PyArray_DATA((PyArrayObject*)array)));
     return nb::steal(array);
+}
+
+// Whether every one of count values is finite (branch-free: the loop vectorises).
+inline bool all_finite(const double* values, std::size_t count) {
+    bool finite = true;
+    for (std::size_t k = 0; k < count; ++k) finite &= std::isfinite(values[k]);
+    return finite;
 }
 
 // The values of q if it is exactly one configuration as the core takes it: a numpy array (not

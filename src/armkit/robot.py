@@ -445,10 +445,7 @@ class Robot:
         array([ 0.   , 37.484,  0.249,  0.   ,  0.   ,  0.   ])
         """
         if gravity is None and threads is None:
-            try:
-                tau = _core.inverse_dynamics_one(dynamics._model(self.chain), q, qd, qdd)
-            except TypeError:  # not arrays: the checked path
-                tau = None
+            tau = _core.inverse_dynamics_one(dynamics._model(self.chain), q, qd, qdd)
             if tau is not None:
                 return tau
         return dynamics.inverse_dynamics(self.chain, q, qd, qdd, threads=threads,
@@ -458,10 +455,7 @@ class Robot:
         """Joint-space mass matrices ``(..., n, n)`` at ``q`` ``(..., n)``; see
         :func:`armkit.dynamics.mass_matrix`."""
         if threads is None:
-            try:
-                M = _core.mass_matrix_one(dynamics._model(self.chain), q)
-            except TypeError:
-                M = None
+            M = _core.mass_matrix_one(dynamics._model(self.chain), q)
             if M is not None:
                 return M
         return dynamics.mass_matrix(self.chain, q, threads=threads)
@@ -481,10 +475,7 @@ class Robot:
         """Joint accelerations ``(..., n)`` under torques ``tau`` ``(..., n)``; see
         :func:`armkit.dynamics.forward_dynamics`."""
         if gravity is None and threads is None:
-            try:
-                qdd = _core.forward_dynamics_one(dynamics._model(self.chain), q, qd, tau)
-            except TypeError:
-                qdd = None
+            qdd = _core.forward_dynamics_one(dynamics._model(self.chain), q, qd, tau)
             if qdd is not None:
                 return qdd
         return dynamics.forward_dynamics(self.chain, q, qd, tau, threads=threads,
