@@ -158,8 +158,8 @@ class ResolvedRate:
     -----
     :meth:`step` is the fast path for control loops: it takes a float64 ``(n,)`` ``q``
     and a base-frame ``(6,)`` twist without checking them. :meth:`joint_velocity` checks
-    its input and accepts tool-frame twists. The controller keeps work buffers, so use one
-    controller per thread.
+    its input and accepts tool-frame twists. The controller holds only the robot's constants
+    (no work buffers), so one controller can serve several threads.
 
     Examples
     --------
