@@ -40,7 +40,7 @@ def test_ik_all_with_a_scene_marks_exactly_the_solutions_scene_collides_flags(tm
 def test_ik_with_a_scene_gives_the_nearest_free_solution(tmp_path, capsys):
     cell = tmp_path / "cell.toml"
     cell.write_text(CELL)
-    near = ["0", "2.5", "0", "0", "0", "0"]  # the nearest solution to this one has its upper arm in the floor
+    near = ["0", "143.2", "0", "0", "0", "0"]  # deg: its nearest solution has the upper arm in the floor
     code, out, _ = run(capsys, "ik", "ur5", *POSE, "--json", "--near", *near)
     plain = np.array(json.loads(out)["solutions"])
     code, out, _ = run(capsys, "ik", "ur5", *POSE, "--json", "--scene", str(cell), "--near", *near)
@@ -49,7 +49,7 @@ def test_ik_with_a_scene_gives_the_nearest_free_solution(tmp_path, capsys):
     scene = armkit.load_scene(cell, armkit.load("ur5"))
     assert scene.collides(plain).tolist() == [True] and data["collides"] == [False]
     robot = armkit.load("ur5")
-    listed = robot.ik(robot.fk(plain[0]), all_solutions=True, near=[0, 2.5, 0, 0, 0, 0])
+    listed = robot.ik(robot.fk(plain[0]), all_solutions=True, near=np.radians([0, 143.2, 0, 0, 0, 0]))
     np.testing.assert_allclose(data["solutions"][0], listed[~scene.collides(listed)][0], atol=1e-12)
 
 
