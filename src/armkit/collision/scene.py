@@ -113,6 +113,8 @@ class Scene:
                 raise InputError(f"Scene floor: expected a height in metres or None, got {floor!r}")
         self.floor = floor
         self.threads = thread_count(threads) or os.cpu_count() or 1
+        self._options = {"link_radius": link_radius, "geometry": geometry,
+                         "package_paths": tuple(package_paths), "relative_to": relative_to}
         samples = whole_number(samples, "samples", minimum=0)
         names = part_names(robot, self.obstacles, floor is not None)
         self.parts = names.names
@@ -130,6 +132,15 @@ class Scene:
             sampled = self._sampled_pairs(robot.random_q(samples, rng=0))
             disabled |= {pair: why for pair, why in sampled.items() if pair not in disabled}
             self._use_model({pair: why for pair, why in disabled.items() if pair not in enabled})
+
+    def __reduce__(self) -> tuple:
+        """Pickled as its description (the robot as a robot file, the obstacles, the pairs decided),
+        rebuilt without sampling on one thread: a Dask worker gets the scene a task checks against.
+        The robot must be one :func:`armkit.robot_to_toml` writes."""
+        from armkit.robot_file import robot_to_toml
+
+        return _rebuilt, (robot_to_toml(self.robot), self.obstacles, self.floor, self._options,
+                          tuple(self.disabled_pairs.items()))
 
     # ------------------------------------------------------------------ construction
     def _pair(self, pair: object, what: str) -> Pair:
@@ -359,3 +370,13 @@ class Scene:
             if np.any(self.collides(q_a + t[:, None] * (q_b - q_a))):
                 return True
         return False
+
+
+def _rebuilt(robot_toml: str, obstacles: tuple[Obstacle, ...], floor: float | None, options: dict,
+             disabled: tuple[tuple[Pair, str], ...]) -> Scene:
+    """A pickled :class:`Scene` again (see ``Scene.__reduce__``)."""
+    from armkit.workspace.sampling import robot_from_toml
+
+    scene = Scene(robot_from_toml(robot_toml), obstacles, floor, samples=0, threads=1, **options)
+    scene._use_model(dict(disabled))
+    return scene
