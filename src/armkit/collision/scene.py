@@ -22,6 +22,7 @@ import os
 import queue
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -33,7 +34,7 @@ from armkit.collision.shapes import Box, Cylinder, Mesh, Obstacle, Sphere
 from armkit.errors import InputError
 from armkit.robot import Robot
 
-__all__ = ["DEFAULT_SAMPLES", "Scene"]
+__all__ = ["DEFAULT_SAMPLES", "Scene", "WorldShape"]
 
 #: Random configurations sampled to find the pairs that always or never touch.
 DEFAULT_SAMPLES = 5000
@@ -42,6 +43,33 @@ MAX_DISTANCE = 1e3
 _CHUNK_MIN = 64  # configurations below which a batch runs on the calling thread
 
 Pair = tuple[str, str]
+
+
+@dataclass(frozen=True)
+class WorldShape:
+    """A floor or obstacle geom for drawing.
+
+    Attributes
+    ----------
+    part : str
+        ``floor`` or the obstacle's name.
+    kind : str
+        ``"plane"``, ``"box"``, ``"sphere"``, ``"cylinder"`` or ``"mesh"``.
+    size : ndarray (3,)
+        MuJoCo's geom size: half extents of a box, ``(radius, half length)`` of a cylinder, the radius
+        of a sphere first [m].
+    T_base_geom : ndarray (4, 4)
+        The geom's pose [m].
+    vertices, faces : ndarray or None
+        A mesh's vertices ``(V, 3)`` [m] in the geom frame and triangles ``(F, 3)``.
+    """
+
+    part: str
+    kind: str
+    size: NDArray[np.float64]
+    T_base_geom: NDArray[np.float64]
+    vertices: NDArray[np.float64] | None
+    faces: NDArray[np.int32] | None
 
 
 class Scene:
@@ -316,6 +344,34 @@ class Scene:
                              f"{q.shape}")
         counts = self._map(self._contact_counts, q[None], len(self.parts))[0]
         return [(self.parts[a], self.parts[b]) for a, b in zip(*np.nonzero(counts), strict=True)]
+
+    def world_shapes(self) -> list[WorldShape]:
+        """The floor's and the obstacles' geoms as MuJoCo holds them (meshes as their vertices and faces),
+        for drawing: one :class:`WorldShape` per geom."""
+        mujoco, model = self._mujoco, self._model
+        data = self._data()
+        try:
+            mujoco.mj_kinematics(model, data)
+            shapes = []
+            for g in range(model.ngeom):
+                part = self._part_of_geom[g]
+                if part < self._robot_parts:
+                    continue
+                T = np.eye(4)
+                T[:3, :3], T[:3, 3] = data.geom_xmat[g].reshape(3, 3), data.geom_xpos[g]
+                kind = mujoco.mjtGeom(model.geom_type[g]).name.removeprefix("mjGEOM_").lower()
+                vertices = faces = None
+                if kind == "mesh":
+                    mesh = model.geom_dataid[g]
+                    start, count = model.mesh_vertadr[mesh], model.mesh_vertnum[mesh]
+                    vertices = model.mesh_vert[start:start + count].copy()
+                    first, faces_count = model.mesh_faceadr[mesh], model.mesh_facenum[mesh]
+                    faces = model.mesh_face[first:first + faces_count].copy()
+                shapes.append(WorldShape(self.parts[part], kind, model.geom_size[g].copy(), T, vertices,
+                                         faces))
+            return shapes
+        finally:
+            self._pool.put(data)
 
     def displacement_bound(self, q_a: ArrayLike, q_b: ArrayLike) -> float:
         """An upper bound [m] on how far any point of the arm's geometry moves along the straight
