@@ -282,3 +282,19 @@ def test_collisions_agree_with_pinocchio_and_coal_on_the_same_shapes():
     ours = scene.collides(q)
     assert 0.2 < ours.mean() < 0.9  # both answers occur
     np.testing.assert_array_equal(ours, theirs)
+
+
+def test_the_lab_floor_check_reports_a_motion_through_the_floor(tmp_path):
+    from armkit.lab.context import LabContext
+    from armkit.lab.floor import floor_check
+
+    ctx = LabContext(robot=UR5, folder=tmp_path, quick=True, seeds=False)
+    ctx.stage = "down"
+    ctx.record(Q_FREE + np.linspace(0, 1.2, 50)[:, None] * [0, 1, 0, 0, 0, 0])  # the upper arm swings down
+    ctx.stage = "around"
+    ctx.record(Q_FREE + np.linspace(0, 3, 50)[:, None] * [1, 0, 0, 0, 0, 0])  # turns about the base
+    section = floor_check(ctx)
+    assert section.status == "failed" and section.headline.startswith("1 of 2 motions")
+    down, around = section.tables[0].rows
+    assert down[0] == "down" and int(down[2]) > 0 and "floor" in down[4] and float(down[3]) < 0
+    assert around[0] == "around" and around[2] == "0" and around[4] == "-" and float(around[3]) > 0
