@@ -298,3 +298,17 @@ def test_the_lab_floor_check_reports_a_motion_through_the_floor(tmp_path):
     down, around = section.tables[0].rows
     assert down[0] == "down" and int(down[2]) > 0 and "floor" in down[4] and float(down[3]) < 0
     assert around[0] == "around" and around[2] == "0" and around[4] == "-" and float(around[3]) > 0
+
+
+def test_a_radius_per_joint_in_a_robot_file_sizes_that_links_capsules(tmp_path):
+    path = tmp_path / "arm.toml"
+    path.write_text('convention = "standard"\nlength_unit = "mm"\nangle_unit = "deg"\n'
+                    '[[joints]]\nalpha = 0\na = 1000\nd = 0\ntheta = 0\nradius = 80\n')
+    robot = armkit.load(path)
+    assert robot.chain.joints[0].radius == pytest.approx(0.08)
+    assert armkit.robot_to_toml(robot).count("radius = 0.08") == 1  # written back (in metres)
+    scene = armkit.Scene(robot, [armkit.Sphere(0.1, [0.5, 0.0, 0.3])], floor=None)
+    assert scene.clearance([0.0]) == pytest.approx(0.3 - 0.1 - 0.08, abs=1e-9)
+    path.write_text(path.read_text().replace("radius = 80", "radius = -1"))
+    with pytest.raises(armkit.RobotDefinitionError, match="radius"):
+        armkit.load(path)
