@@ -80,7 +80,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit.chain import MAX_VALUE, Chain, DHRow
-from armkit.errors import InputError, RobotDefinitionError
+from armkit.errors import ArmkitError, InputError, RobotDefinitionError
 from armkit.inertial import Inertial
 from armkit.poe import poe_from_chain
 from armkit.robot import Robot
@@ -157,18 +157,23 @@ def _no_links(base: str | None, tip: str | None, source: str) -> None:
                                    f"this is a robot file (its base and tool are [base] and [tool])")
 
 
-def _load_text(data: bytes, source: str) -> Robot:
+def toml_table(data: bytes, source: str, what: str = "robot file",
+               error: type[ArmkitError] = RobotDefinitionError) -> dict[str, Any]:
+    """The TOML table of a file's bytes, or one ``error`` naming ``source`` (not UTF-8, not TOML)."""
     try:
         text = data.decode("utf-8-sig")  # a byte order mark (some Windows editors write one) is skipped
     except UnicodeDecodeError as exc:
-        raise RobotDefinitionError(f"{source}: not UTF-8 text (byte {exc.start}); save the robot file "
-                                   f"as UTF-8") from exc
+        raise error(f"{source}: not UTF-8 text (byte {exc.start}); save the {what} as UTF-8") from exc
     try:
-        parsed = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise RobotDefinitionError(f"{source}: not valid TOML: {exc}") from exc
+        raise error(f"{source}: not valid TOML: {exc}") from exc
     except RecursionError as exc:
-        raise RobotDefinitionError(f"{source}: arrays or tables nested too deeply to read") from exc
+        raise error(f"{source}: arrays or tables nested too deeply to read") from exc
+
+
+def _load_text(data: bytes, source: str) -> Robot:
+    parsed = toml_table(data, source)
     return robot_from_dict(parsed, source, require_units=True)
 
 
