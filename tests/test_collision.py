@@ -312,3 +312,9 @@ def test_a_radius_per_joint_in_a_robot_file_sizes_that_links_capsules(tmp_path):
     path.write_text(path.read_text().replace("radius = 80", "radius = -1"))
     with pytest.raises(armkit.RobotDefinitionError, match="radius"):
         armkit.load(path)
+
+
+def test_without_mujoco_a_scene_is_one_error_naming_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "mujoco", None)  # import mujoco then raises ImportError
+    with pytest.raises(armkit.ArmkitError, match=r"pip install 'armkit\[collision\]'"):
+        armkit.Scene(UR5, samples=0)

@@ -161,6 +161,13 @@ class Scene:
             disabled |= {pair: why for pair, why in sampled.items() if pair not in disabled}
             self._use_model({pair: why for pair, why in disabled.items() if pair not in enabled})
 
+    @classmethod
+    def from_file(cls, path: str | Path, robot: Robot, **options) -> Scene:
+        """The scene a TOML scene file describes for ``robot``: :func:`armkit.load_scene`."""
+        from armkit.collision.scene_file import load_scene
+
+        return load_scene(path, robot, **options)
+
     def __reduce__(self) -> tuple:
         """Pickled as its description (the robot as a robot file, the obstacles, the pairs decided),
         rebuilt without sampling on one thread: a Dask worker gets the scene a task checks against.
