@@ -251,7 +251,7 @@ class Scene:
     def _map(self, kernel: Callable, q: NDArray[np.float64], *args) -> list:
         """``kernel(data, chunk, *args)`` over contiguous chunks of ``q`` ``(N, n)``, one per thread."""
         chunks = max(1, min(self.threads, len(q) // _CHUNK_MIN))
-        bounds = np.linspace(0, len(q), chunks + 1).astype(int)
+        bounds = [len(q) * k // chunks for k in range(chunks + 1)]
 
         def run(k: int):
             data = self._data()
@@ -269,8 +269,8 @@ class Scene:
     def _batch(self, kernel: Callable, q: ArrayLike, dtype: type) -> NDArray:
         q = self.robot.check_q(q)
         flat = np.ascontiguousarray(q.reshape(-1, self.robot.n))
-        out = np.concatenate([np.asarray(part, dtype=dtype) for part in self._map(kernel, flat)]) \
-            if len(flat) else np.zeros(0, dtype=dtype)
+        parts = self._map(kernel, flat) if len(flat) else [np.zeros(0, dtype=dtype)]
+        out = parts[0] if len(parts) == 1 else np.concatenate(parts)
         return out.reshape(q.shape[:-1])
 
     def _collides_kernel(self, data, q: NDArray[np.float64]) -> NDArray[np.bool_]:
