@@ -318,3 +318,23 @@ def test_without_mujoco_a_scene_is_one_error_naming_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "mujoco", None)  # import mujoco then raises ImportError
     with pytest.raises(armkit.ArmkitError, match=r"pip install 'armkit\[collision\]'"):
         armkit.Scene(UR5, samples=0)
+
+
+def test_example_robot_datas_ur5_collision_meshes_load_through_package_paths():
+    from importlib.metadata import PackageNotFoundError, distribution
+
+    try:
+        share = Path(distribution("example-robot-data").locate_file("cmeel.prefix/share"))
+    except PackageNotFoundError:
+        pytest.skip("example-robot-data is not installed")
+    robots = share / "example-robot-data" / "robots"
+    robot = armkit.load(robots / "ur_description/urdf/ur5_robot.urdf", tip="tool0")
+    assert "mesh" in {c.kind for c in robot.urdf.collisions}
+    scene = armkit.Scene(robot, floor=0.0, package_paths=[robots.parent], samples=500)
+    assert scene.parts[1:7] == ("shoulder_link", "upper_arm_link", "forearm_link", "wrist_1_link",
+                                "wrist_2_link", "wrist_3_link")
+    q = robot.random_q(300, rng=2)
+    frames, _ = armkit.kinematics.joint_frames(robot, q)
+    under = frames[:, 2:, 2, 3].min(axis=1) < -0.1  # the elbow or a wrist joint 10 cm under the floor
+    assert under.any() and scene.collides(q[under]).all()
+    assert all(any("floor" in pair for pair in scene.contacts(qi)) for qi in q[under][:5])
