@@ -278,8 +278,8 @@ class Scene:
         kinematics, collision = mujoco.mj_kinematics, mujoco.mj_collision
         out = np.empty(len(q), dtype=bool)
         qpos = data.qpos
-        for i in range(len(q)):
-            qpos[:] = q[i]
+        for i, row in enumerate(q):
+            qpos[:] = row
             kinematics(model, data)
             collision(model, data)
             out[i] = data.ncon > 0
