@@ -358,6 +358,20 @@ class Scene:
         counts = self._map(self._contact_counts, q[None], len(self.parts))[0]
         return [(self.parts[a], self.parts[b]) for a, b in zip(*np.nonzero(counts), strict=True)]
 
+    def self_collision_toml(self) -> str:
+        """The ``[self_collision]`` table of a scene file that fixes this scene's disabled pairs (no
+        sampling when it is read), with each pair's reason as a comment.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> print(armkit.Scene(armkit.load("ur5"), floor=0.0).self_collision_toml().splitlines()[2])
+        disabled = [
+        """
+        lines = ["[self_collision]", "samples = 0", "disabled = ["]
+        lines += [f'    ["{a}", "{b}"],  # {why}' for (a, b), why in self.disabled_pairs.items()]
+        return "\n".join([*lines, "]"]) + "\n"
+
     def world_shapes(self) -> list[WorldShape]:
         """The floor's and the obstacles' geoms as MuJoCo holds them (meshes as their vertices and faces),
         for drawing: one :class:`WorldShape` per geom."""
