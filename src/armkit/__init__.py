@@ -11,10 +11,11 @@ from armkit._lazy import lazy_exports
 # Public names and the module each lives in, imported on first use (see armkit._lazy).
 _MODULES = {
     "armkit.chain": ["Chain", "DHRow", "Joint", "chain_from_dh"],
+    "armkit.collision": ["Box", "Cylinder", "Mesh", "Scene", "Sphere", "load_scene"],
     "armkit.control": ["MotionResult", "ResolvedRate", "cartesian_line", "move_linear",
                        "rotate_about_tool_point"],
-    "armkit.errors": ["ArmkitError", "ConvergenceError", "InputError", "JointLimitError", "NoClosedFormError",
-                      "RobotDefinitionError", "UnreachableError"],
+    "armkit.errors": ["ArmkitError", "CollisionError", "ConvergenceError", "InputError", "JointLimitError",
+                      "NoClosedFormError", "RobotDefinitionError", "UnreachableError"],
     "armkit.export": ["mjcf_from_robot", "urdf_from_robot", "write_mjcf", "write_urdf"],
     "armkit.ik": ["IKResult", "IKResultBatch", "IKSolutions", "NumericIK", "analyze_structure",
                   "ik_position", "ik_solutions", "numeric_ik", "position_solutions", "SelfMotion",
