@@ -233,7 +233,7 @@ def traj_command(
                            max_velocity=limits[0], max_acceleration=limits[1])
     samples = traj.sample(rate) if out is not None else None
     torque_samples = traj.torques(arm, TORQUE_RATE_HZ) if torques else None
-    warnings = [*traj.position_limit_violations(arm, deg)]
+    warnings = []  # (the path itself stays inside the position limits: plan_trajectory)
     if auto_time and (message := _unlimited_warning(arm, limits)) is not None:
         warnings.append(message)
     if segment_durations is not None and np.any(traj.stretch > 1):
