@@ -6,21 +6,27 @@ BIN := $(VENV)/bin
 .PHONY: demo test test-fast fuzz bench clean
 
 $(BIN)/activate:
+	@echo "==> creating the virtual environment $(VENV)"
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
 # the compiled core is rebuilt (incrementally, in build/) when its sources change
 CORE := CMakeLists.txt $(wildcard cpp/src/*.cpp cpp/src/*.hpp cpp/include/armkit/*.hpp)
 
+# pip's own progress (downloads, then "Building editable for armkit": the C++ core, 1-3 minutes)
 $(VENV)/.installed-demo: pyproject.toml $(CORE) | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e ".[sim,view]"
+	@echo "==> installing armkit with MuJoCo and the viewer; the C++ core compiles at 'Building editable'"
+	$(BIN)/python -m pip install --progress-bar on -e ".[sim,view]"
+	@echo "==> installed"
 	touch $@
 
 $(VENV)/.installed-test: pyproject.toml $(CORE) | $(BIN)/activate
+	@echo "==> installing armkit with the test extras (quietly; the C++ core compiles: 2-4 minutes)"
 	$(BIN)/python -m pip install --quiet -e ".[test]"
 	touch $@
 
 demo: $(VENV)/.installed-demo
+	@echo "==> armkit lab: the seed experiments, each section as it finishes"
 	$(BIN)/armkit lab
 
 test: $(VENV)/.installed-test  # the whole suite, as CI runs it (.ci/run)

@@ -21,3 +21,4 @@ def test_example_runs(script, tmp_path):
                             text=True, timeout=WAIT_S)
     assert result.returncode == 0, result.stderr[-2000:]
     assert result.stdout.strip(), "an example should print what it shows"
+    assert list(tmp_path.iterdir()) == [], "an example writes into a temporary folder, not where it is run"

@@ -43,6 +43,10 @@ def _count(text: str, option: str) -> int:
     return int(value)
 
 
+def _optional_count(text: str | None, option: str) -> int | None:
+    return None if text is None else _count(text, option)
+
+
 def _engine(dask: str | None, threads: int | None):
     """The engine and, for ``--dask local``, the cluster to close afterwards."""
     if dask is None:
@@ -63,21 +67,37 @@ def _engine(dask: str | None, threads: int | None):
     return connect(dask), None
 
 
-def _print_summary(summary: dict) -> None:
-    lines = [f"robot: {summary['robot']}"]
+def summary_lines(summary: dict) -> list[str]:
+    """The lines ``armkit workspace`` prints for a :meth:`Workspace.summary` (the report shows the same)."""
+    lines = []
     if "volume" in summary:
         v = summary["volume"]
         lines += [f"reachable volume: {v['value']:.4g} ± {v['error']:.2g} {v['unit']} (voxelisation "
                   f"± {v['voxelisation_error']:.2g}, sampling ± {v['sampling_error']:.2g})",
                   f"samples: {summary['samples']:,}, voxels: {summary['voxels']:,} "
                   f"({v['occupied_voxels']:,} reached) at {summary['resolution_m']:g} m"]
+        if v["error"] > v["value"]:
+            lines.append("  the volume's error is larger than the volume: give more --samples (or a coarser "
+                         "--resolution)")
     if "dexterity" in summary:
         d = summary["dexterity"]
-        lines.append(f"mean reachability index: {d['mean_reachability_index']:.3f} ({d['orientations']} "
-                     f"orientations x {d['voxels_tested']:,} voxels)")
+        block = ("" if d["block_voxels"] == 1 else
+                 f", one per block of {d['block_voxels']}³ voxels ({d['block_m']:g} m) to keep to the IK "
+                 f"solves asked (--ik-solves)")
+        lines.append(f"mean reachability index: {d['mean_reachability_index']:.3f} over the "
+                     f"{d['mean_index_voxels']:,} reached voxels ({d['orientations']} orientations at "
+                     f"{d['voxels_tested']:,} positions{block}: {d['ik_solves']:,} IK solves)")
     if "manipulability" in summary:
         m = summary["manipulability"]
-        lines.append(f"singular voxels: {m['singular_voxels']:,} (s_min < {m['singular_threshold']:g})")
+        lines.append(f"singular voxels: {m['singular_voxels']:,} (s_min < {m['singular_threshold']:g}), "
+                     f"from {m['samples']:,} manipulability samples")
+    for name, reason in summary.get("maps_skipped", {}).items():
+        lines.append(f"{name} map skipped: {reason}")
+    return lines
+
+
+def _print_summary(summary: dict) -> None:
+    lines = [f"robot: {summary['robot']}", *summary_lines(summary)]
     for row in summary.get("values", []):
         index = row["mean_reachability_index"]
         lines.append(f"{summary['parameter']} = {row['value']:.4g}: volume {row['reachable_volume']:.4g} ± "
@@ -99,8 +119,13 @@ def workspace_command(
     chunk_size: Annotated[int, typer.Option(help="Configurations per task (memory per task).")] = 2**18,
     orientations: Annotated[int, typer.Option(
         help="Tool orientations per voxel for the dexterity map (0: none).")] = 100,
-    manipulability_samples: Annotated[str, typer.Option(
-        help="Configurations for the manipulability map (0: none).")] = "2e5",
+    manipulability_samples: Annotated[str | None, typer.Option(
+        help="Configurations for the manipulability map (0: none; default: --samples / 5).",
+        show_default=False)] = None,
+    ik_solves: Annotated[str | None, typer.Option(
+        help="Most IK solves of the dexterity map: beyond that, blocks of voxels share one position "
+             "(default: --samples / 10; 100 times fewer for an arm without a closed form).",
+        show_default=False)] = None,
     singular_threshold: Annotated[float, typer.Option(
         help="A voxel is singular where a sample's smallest singular value is below this.")] = 1e-3,
     sweep: Annotated[str | None, typer.Option(
@@ -149,7 +174,7 @@ def workspace_command(
 
 
 def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, manipulability_samples,
-         singular_threshold, sweep, dataset, out, resume, force, threads, dask, report, report_dir,
+         ik_solves, singular_threshold, sweep, dataset, out, resume, force, threads, dask, report, report_dir,
          json_output, quiet, base, tip, lock) -> None:
     from armkit import workspace
 
@@ -166,12 +191,14 @@ def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, 
             result = workspace.ik_dataset(arm, _count(dataset, "--dataset"), out, **common)
         elif sweep is not None:
             result = workspace.sweep(arm, sweep, resolution=resolution, samples=_count(samples, "--samples"),
-                                     chunk_size=chunk_size, orientations=orientations, out=out, **common)
+                                     chunk_size=chunk_size, orientations=orientations,
+                                     ik_solves=_optional_count(ik_solves, "--ik-solves"), out=out, **common)
         else:
             result = workspace.compute(arm, resolution=resolution, samples=_count(samples, "--samples"),
                                        chunk_size=chunk_size, orientations=orientations,
-                                       manipulability_samples=_count(manipulability_samples,
-                                                                     "--manipulability-samples"),
+                                       manipulability_samples=_optional_count(manipulability_samples,
+                                                                              "--manipulability-samples"),
+                                       ik_solves=_optional_count(ik_solves, "--ik-solves"),
                                        singular_threshold=singular_threshold, out=out, **common)
     finally:
         if cluster is not None:

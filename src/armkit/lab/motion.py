@@ -193,14 +193,20 @@ def linear_motion(ctx: LabContext) -> Section:
     return section
 
 
-def _waypoints(ctx: LabContext) -> tuple[NDArray, NDArray | None, NDArray | None, NDArray]:
-    """Joint waypoints, their target poses (or None), the report's joint values (or None), durations."""
+#: Segment durations [s] of a user's arm whose file gives neither velocity nor acceleration limits.
+UNLIMITED_SEGMENT_SECONDS = 4.0
+
+
+def _waypoints(ctx: LabContext) -> tuple[NDArray, NDArray | None, NDArray | None, NDArray | None]:
+    """Joint waypoints, their target poses (or None), the report's joint values (or None), durations
+    (None for a user's arm with limits: the fastest timing within them)."""
     robot = ctx.robot
     if not ctx.seeds:
         q0 = ready_configuration(robot, ctx.rng)
         span = np.where(robot.chain.prismatic, 0.1, 0.5)
         q = [q0] + [np.clip(q0 + ctx.rng.uniform(-span, span), *robot.limits.T) for _ in range(3)]
-        return np.array(q), None, None, np.full(3, 4.0)
+        limited = np.isfinite(robot.max_velocity).any() or np.isfinite(robot.max_acceleration).any()
+        return np.array(q), None, None, None if limited else np.full(3, UNLIMITED_SEGMENT_SECONDS)
     poses = np.array(published.PROBOT_WAYPOINT_POSES)
     q, near = [], np.zeros(6)
     for pose in poses:
@@ -267,6 +273,13 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     q, poses, report_q, durations = _waypoints(ctx)
     robot = ctx.robot
     trajectory = plan_trajectory(robot, q, durations)
+    if durations is None:
+        section.notes.append("Timed to the arm's own limits: the fastest motion along the path within its "
+                             "velocity and acceleration limits (and torque limits, where the robot file has "
+                             "them), as 'armkit traj --auto-time'.")
+    elif not ctx.seeds:
+        section.notes.append(f"The robot file gives no velocity or acceleration limits, so each segment "
+                             f"takes {UNLIMITED_SEGMENT_SECONDS:g} s.")
     samples = trajectory.sample(1000.0)
     result = ctx.sim.run(samples.t, samples.q, samples.qd)
     trajectory.to_csv(ctx.path(TRAJECTORY_FILE), rate_hz=100.0, overwrite=True)
@@ -277,9 +290,12 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     section.tables.append(_waypoint_table(ctx, q, poses, report_q, trajectory.waypoint_times, result))
     limit_rows = []
     for j, name in enumerate(robot.joint_names):
-        limit_rows.append([name, fmt(trajectory.peak_velocity[j], 4), fmt(robot.max_velocity[j], 4),
-                           fmt(trajectory.peak_acceleration[j], 4), fmt(robot.max_acceleration[j], 4),
-                           fmt_error(np.abs(result.joint_error[:, j]).max())])
+        unit = "m" if robot.chain.prismatic[j] else "rad"
+        limit_rows.append([name, f"{fmt(trajectory.peak_velocity[j], 4)} {unit}/s",
+                           f"{fmt(robot.max_velocity[j], 4)} {unit}/s",
+                           f"{fmt(trajectory.peak_acceleration[j], 4)} {unit}/s²",
+                           f"{fmt(robot.max_acceleration[j], 4)} {unit}/s²",
+                           f"{fmt_error(np.abs(result.joint_error[:, j]).max())} {unit}"])
     position_error, rotation_error = _tool_errors(robot, result)
     T_goal = robot.fk(q[-1])
     final = np.append(result.T_tool[-1, :3, 3] - T_goal[:3, 3],
@@ -303,10 +319,14 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     figure = Figure(figsize=(8.5, 3.0))
     ax_joint, ax_tool = figure.subplots(1, 2)
     _plot_joint_errors(ax_joint, robot, result)
-    ax_tool.plot(result.t, position_error * 1e3, lw=1.0, label="position [mm]")
-    ax_tool.plot(result.t, rotation_error * 1e3, lw=1.0, label="rotation [mrad]")
-    ax_tool.set(xlabel="time [s]", title="Tool: MuJoCo vs commanded")
-    ax_tool.legend(fontsize=7)
+    ax_rotation = ax_tool.twinx()
+    ax_tool.plot(result.t, position_error * 1e3, lw=1.0, color="C0", label="position (left) [mm]")
+    ax_rotation.plot(result.t, rotation_error * 1e3, lw=1.0, color="C1", ls="--",
+                     label="rotation (right, dashed) [mrad]")
+    ax_tool.set(xlabel="time [s]", ylabel="position error [mm]", title="Tool: MuJoCo vs commanded")
+    ax_rotation.set_ylabel("rotation error [mrad]")
+    lines = ax_tool.get_lines() + ax_rotation.get_lines()
+    ax_tool.legend(lines, [line.get_label() for line in lines], fontsize=7)
     for ax in (ax_joint, ax_tool):
         ax.grid(True, lw=0.3)
         for t_k in trajectory.waypoint_times:
