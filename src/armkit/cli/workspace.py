@@ -124,7 +124,7 @@ def workspace_command(
         show_default=False)] = None,
     ik_solves: Annotated[str | None, typer.Option(
         help="Most IK solves of the dexterity map: beyond that, blocks of voxels share one position "
-             "(default: --samples / 10; 100 times fewer for an arm without a closed form).",
+             "(default: --samples / 4; 100 times fewer for an arm without a closed form).",
         show_default=False)] = None,
     singular_threshold: Annotated[float, typer.Option(
         help="A voxel is singular where a sample's smallest singular value is below this.")] = 1e-3,

@@ -31,7 +31,7 @@ _MAPS = {"reachability": ReachabilityMap, "manipulability": ManipulabilityMap, "
 #: reachability samples), or NUMERIC_COST times fewer numeric ones (about a millisecond each,
 #: up to 50 ms for a pose out of reach): every map's time in proportion to ``samples``.
 MANIPULABILITY_SHARE = 5
-DEXTERITY_SHARE = 10
+DEXTERITY_SHARE = 4
 NUMERIC_COST = 100
 
 
@@ -197,7 +197,7 @@ def compute(robot: Robot, *, resolution: float = 0.02, samples: int = 1_000_000,
         manipulability_samples = default_manipulability
     ik_solves = default_solves if ik_solves is None else ik_solves
     skipped = {}
-    if orientations and (reason := applies(robot)) is not None:
+    if orientations and (reason := applies(robot, orientations, ik_solves)) is not None:
         skipped["dexterity"], orientations = reason, 0
     check_memory(grid, samples=plan.samples, chunk_size=plan.chunk_size, method=method,
                  manipulability_samples=int(manipulability_samples), orientations=int(orientations),

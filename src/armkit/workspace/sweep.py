@@ -165,10 +165,10 @@ def sweep(robot: Robot, spec: str, *, resolution: float = 0.02, samples: int = 1
     start = time.perf_counter()
     name, row, values = parse_sweep(spec)
     robots = [robot_with(robot, name, row, v) for v in values]
-    skipped = {}
-    if orientations and (reason := applies(robot)) is not None:
-        skipped["dexterity"], orientations = reason, 0
     ik_solves = default_sizes(robot, int(samples))[1] if ik_solves is None else ik_solves
+    skipped = {}
+    if orientations and (reason := applies(robot, orientations, ik_solves)) is not None:
+        skipped["dexterity"], orientations = reason, 0
     grid = grid_for(robots[0], resolution)
     for other in robots[1:]:
         grid = grid.union(grid_for(other, resolution))
