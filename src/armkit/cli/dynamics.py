@@ -9,6 +9,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from armkit._format import fmt_significant
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
     BaseOpt,
@@ -95,16 +96,18 @@ def dynamics_command(
     table = Table(title=escape(f"{arm.name}: inverse dynamics, gravity 9.81 m/s^2 along -z of the base"))
     for column in ("joint", "q", "qd", "qdd", "torque", "gravity part", "max torque", "of limit"):
         table.add_column(column, justify="right")
+    scale = float(np.max(np.abs(np.concatenate([tau, gravity]))))
     for j, joint in enumerate(arm.chain.joints):
         revolute = joint.kind == "revolute"
-        scale = 180 / np.pi if deg and revolute else 1.0
+        shown = 180 / np.pi if deg and revolute else 1.0
         length = angle if revolute else "m"
         torque = "N m" if revolute else "N"
-        table.add_row(escape(joint.name), f"{fmt_number(q_si[j] * scale)} {length}",
-                      f"{fmt_number(qd_si[j] * scale)} {length}/s",
-                      f"{fmt_number(qdd_si[j] * scale)} {length}/s^2",
-                      f"{fmt_number(tau[j])} {torque}", f"{fmt_number(gravity[j])} {torque}",
-                      "none" if not np.isfinite(limit[j]) else f"{fmt_number(limit[j], 1)} {torque}",
+        table.add_row(escape(joint.name), f"{fmt_number(q_si[j] * shown)} {length}",
+                      f"{fmt_number(qd_si[j] * shown)} {length}/s",
+                      f"{fmt_number(qdd_si[j] * shown)} {length}/s^2",
+                      f"{fmt_significant(tau[j], scale)} {torque}",
+                      f"{fmt_significant(gravity[j], scale)} {torque}",
+                      "none" if not np.isfinite(limit[j]) else f"{fmt_significant(limit[j])} {torque}",
                       "-" if not np.isfinite(limit[j]) else f"{100 * ratio[j]:.1f} %")
     console.print(table)
     over = [arm.joint_names[j] for j in np.flatnonzero(ratio > 1)]

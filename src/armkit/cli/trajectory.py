@@ -10,6 +10,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from armkit._format import fmt_significant
 from armkit._io import check_output_path
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
@@ -73,12 +74,17 @@ def _joint_scale(robot: Robot, degrees: bool) -> tuple[np.ndarray, list[str]]:
     return scale, units
 
 
-def _limit_cells(peak: float, limit: float, scale: float, unit: str) -> list[str]:
-    """``peak``, ``limit`` and ``peak / limit`` with units; a missing limit is "none" and its ratio "-"."""
+def _limit_cells(peak: float, limit: float, scale: float, unit: str, significant: float | None = None
+                 ) -> list[str]:
+    """``peak``, ``limit`` and ``peak / limit`` with units; a missing limit is "none" and its ratio "-".
+    With ``significant`` (the column's largest magnitude), values in significant digits
+    (:func:`fmt_significant`: torques span orders of magnitude), else 4 decimals."""
+    def number(value: float) -> str:
+        return fmt_number(value, 4) if significant is None else fmt_significant(value, significant)
+
     if not np.isfinite(limit):
-        return [f"{fmt_number(peak * scale, 4)} {unit}", "none", "-"]
-    return [f"{fmt_number(peak * scale, 4)} {unit}", f"{fmt_number(limit * scale, 4)} {unit}",
-            fmt_number(peak / limit, 3)]
+        return [f"{number(peak * scale)} {unit}", "none", "-"]
+    return [f"{number(peak * scale)} {unit}", f"{number(limit * scale)} {unit}", fmt_number(peak / limit, 3)]
 
 
 def _summary(robot: Robot, traj: JointTrajectory, limits: tuple[np.ndarray, np.ndarray],
@@ -103,9 +109,10 @@ def _torque_table(robot: Robot, torques: TrajectoryTorques, rate_hz: float) -> T
                   caption=f"at {rate_hz:g} Hz; ratio = peak / limit; none: no torque limit given")
     for column in ("joint", "peak |torque|", "limit", "ratio"):
         table.add_column(column, justify="right")
+    largest = float(np.max(torques.peak))
     for j, name in enumerate(robot.joint_names):
         table.add_row(escape(name), *_limit_cells(torques.peak[j], robot.max_torque[j], 1.0,
-                                                  "N" if robot.chain.prismatic[j] else "N m"))
+                                                  "N" if robot.chain.prismatic[j] else "N m", largest))
     return table
 
 
