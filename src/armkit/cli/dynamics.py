@@ -12,6 +12,7 @@ from rich.table import Table
 from armkit._format import fmt_significant
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     BaseOpt,
     LockOpt,
     RobotArg,
@@ -88,9 +89,11 @@ def dynamics_command(
     if json_output:
         print_json({"q": q_si, "qd": qd_si, "qdd": qdd_si, "tau": tau, "gravity_torques": gravity,
                     "coriolis_torques": arm.coriolis_torques(q_si, qd_si), "mass_matrix": M,
-                    "max_torque": limit, "masses": [j.inertial.mass for j in arm.chain.joints],
-                    "units": {"tau": "N m (revolute), N (prismatic)", "q": "rad, m", "qd": "rad/s, m/s",
-                              "qdd": "rad/s^2, m/s^2", "mass_matrix": "kg m^2, kg m, kg"}})
+                    "max_torque": limit, "masses": [j.inertial.mass for j in arm.chain.joints]},
+                   {"q": JOINT_UNITS, "qd": "rad/s, m/s", "qdd": "rad/s^2, m/s^2",
+                    "tau": "N m (revolute), N (prismatic)", "gravity_torques": "N m, N",
+                    "coriolis_torques": "N m, N", "max_torque": "N m, N", "mass_matrix": "kg m^2, kg m, kg",
+                    "masses": "kg"})
         return
     angle = "deg" if deg else "rad"
     table = Table(title=escape(f"{arm.name}: inverse dynamics, gravity 9.81 m/s^2 along -z of the base"))

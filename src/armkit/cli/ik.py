@@ -15,6 +15,7 @@ from rich.table import Table
 
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     QUATERNION_NAMES,
     BaseOpt,
     LockOpt,
@@ -232,8 +233,9 @@ def ik_command(
                     "structure": structure.description, "solutions": q, "numbers": number,
                     "within_limits": inside, "family": family,
                     "position_error": position_error, "orientation_error": orientation_error,
-                    "configurations_inside_limits": copies,
-                    "joint_names": arm.joint_names, "units": "rad and m"})
+                    "configurations_inside_limits": copies, "joint_names": arm.joint_names},
+                   {"target": "m (translation column)", "solutions": JOINT_UNITS, "position_error": "m",
+                    "orientation_error": "rad"})
         return
     unit = "deg" if deg else "rad"
     shown = np.where(arm.chain.prismatic, q, np.degrees(q) if deg else q)

@@ -11,6 +11,7 @@ from rich.table import Table
 
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     BaseOpt,
     LockOpt,
     RobotArg,
@@ -67,7 +68,11 @@ def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_
                     "max_position_error": result.max_position_error,
                     "max_orientation_error": result.max_orientation_error,
                     "max_joint_speed_ratio": np.max(np.abs(result.qd) / robot.max_velocity),
-                    "min_singular_value": result.sigma_min.min()})
+                    "min_singular_value": result.sigma_min.min()},
+                   {"duration": "s", "q_start": JOINT_UNITS, "q_final": JOINT_UNITS, "position_final": "m",
+                    "rpy_final": "rad (xyz-fixed)", "position_target": "m", "rpy_target": "rad (xyz-fixed)",
+                    "position_error": "m", "orientation_error": "rad", "max_position_error": "m",
+                    "max_orientation_error": "rad", "min_singular_value": "m/s and rad/s mixed"})
     else:
         joints = Table(title=escape(f"{robot.name}: {title}"), caption="limit: the joint's max_velocity; "
                                                                       "- where the robot file gives none")

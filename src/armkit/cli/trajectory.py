@@ -14,6 +14,7 @@ from armkit._format import fmt_significant
 from armkit._io import check_output_path
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     BaseOpt,
     LockOpt,
     RobotArg,
@@ -267,10 +268,13 @@ def traj_command(
                     "peak_acceleration": traj.peak_acceleration, "max_acceleration": limits[1],
                     "peak_torque": None if torque_samples is None else torque_samples.peak,
                     "max_torque": arm.max_torque,
-                    "units": "SI: rad or m, per s, per s², N m or N; limits null where neither the robot "
-                             "file nor --max-velocity/--max-acceleration gives one",
                     "warnings": warnings, "samples": None if samples is None else samples.t.size,
-                    "rate_hz": rate, "written": [str(path) for path, _ in written]})
+                    "rate_hz": rate, "written": [str(path) for path, _ in written]},
+                   {"waypoints": JOINT_UNITS, "peak_velocity": "rad/s, m/s", "max_velocity": "rad/s, m/s",
+                    "peak_acceleration": "rad/s^2, m/s^2", "max_acceleration": "rad/s^2, m/s^2",
+                    "peak_torque": "N m, N", "max_torque": "N m, N",
+                    "limits": "null where neither the robot file nor --max-velocity/--max-acceleration "
+                              "gives one"})
         return
     if poses:
         console.print(_waypoint_table(arm, traj, deg))

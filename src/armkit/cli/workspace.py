@@ -212,7 +212,9 @@ def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, 
         folder = report_dir or default
         summary["report"] = str(write_workspace_report(result, folder, force=force))
     if json_output:
-        print_json(summary)
+        print_json(summary, {"resolution_m": "m", "volume": "m^3 (m^2 for a planar arm), as volume_unit",
+                             "reachable_volume": "as volume_unit", "seconds": "s", "block_m": "m",
+                             "singular_threshold": "m/s and rad/s mixed, per unit joint rate"})
     elif dataset is not None:
         console.print(f"IK data set: {summary['samples']:,} rows, {summary['mean_solutions']:.2f} solutions "
                       f"per pose on average, in {summary['store']}", highlight=False)
