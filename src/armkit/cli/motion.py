@@ -25,7 +25,7 @@ from armkit.cli.app import (
     print_json,
     to_si,
 )
-from armkit.errors import InputError
+from armkit.errors import InputError, JointLimitError
 from armkit.robot import Robot
 from armkit.spatial.transforms import pose_from_transform
 
@@ -49,7 +49,10 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON (SI units) ins
 
 def _start(robot: Robot, first: str | None, rest: list[str] | None, degrees: bool) -> np.ndarray:
     words = option_values(first, rest, "--from", "start joint values")
-    return np.zeros(robot.n) if words is None else to_si(robot, words, degrees)
+    q = np.zeros(robot.n) if words is None else to_si(robot, words, degrees)
+    if violations := robot.limit_violations(q, degrees):  # said in the units typed
+        raise JointLimitError("--from: " + "; ".join(violations), q)
+    return q
 
 
 def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_output: bool) -> None:
