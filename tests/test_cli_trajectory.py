@@ -190,3 +190,9 @@ def test_a_waypoint_outside_a_limit_is_reported_in_the_units_typed(capsys, tmp_p
     code, _, err = run(capsys, "traj", "puma560", "--waypoints", path, "--auto-time")
     assert code == 1 and err.strip() == ("error: waypoint 2: joint q5 = 2 rad is outside its limits "
                                          "[-1.74533, 1.74533] rad")
+
+
+def test_a_bad_limit_option_is_said_as_typed_after_deg(capsys):
+    code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--auto-time", "--deg",
+                       "--max-velocity=-10")
+    assert code == 1 and "--max-velocity '-10': expected positive limits (inf for none)" in err

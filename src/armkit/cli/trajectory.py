@@ -156,6 +156,8 @@ def _limit_option(text: str | None, robot: Robot, degrees: bool, option: str) ->
     if values.size not in (1, robot.n):
         raise InputError(f"{option} {text!r}: expected one limit for every joint or {robot.n} (one per "
                          f"joint, comma-separated), got {values.size}")
+    if np.any(np.isnan(values)) or np.any(values <= 0):   # said as typed (before any --deg conversion)
+        raise InputError(f"{option} {text!r}: expected positive limits (inf for none)")
     return np.where(degrees & ~np.asarray(robot.chain.prismatic), np.radians(values), values)
 
 
