@@ -1,9 +1,9 @@
-# Two commands: `make demo` and `make test` (also `make test-fast`, `make fuzz`, `make bench`). All create .venv on first use.
+# Two commands: `make demo` and `make test` (also `make test-fast`, `make fuzz`, `make bench`, `make figures`). All create .venv on first use.
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test test-fast fuzz bench clean
+.PHONY: demo test test-fast fuzz bench figures clean
 
 $(BIN)/activate:
 	@echo "==> creating the virtual environment $(VENV)"
@@ -45,6 +45,9 @@ fuzz: $(VENV)/.installed-test  # the fuzz and property tests (CLI, robot files, 
 bench: $(VENV)/.installed-test
 	$(BIN)/python -m pip install --quiet -e ".[bench]"
 	$(BIN)/python benchmarks/run_all.py
+
+figures: $(VENV)/.installed-test  # the README's and docs' figures from the current build (docs/figures.py)
+	$(BIN)/python docs/figures.py
 
 clean:
 	rm -rf $(VENV) build armkit-report .pytest_cache .hypothesis
