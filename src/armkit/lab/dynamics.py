@@ -95,7 +95,7 @@ def dynamics_experiment(ctx: LabContext) -> Section:
         ax_tau.plot(samples.t, reference[:, j], lw=0.8, color="k", ls=":")
         ax_diff.plot(samples.t, torques.tau[:, j] - reference[:, j], lw=0.8, color=f"C{j}")
     ax_tau.set(xlabel="time [s]", ylabel="torque [N m or N]", title="armkit (colour), MuJoCo (dotted)")
-    ax_diff.set(xlabel="time [s]", title="armkit - MuJoCo")
+    ax_diff.set(xlabel="time [s]", ylabel="difference [N m or N]", title="armkit - MuJoCo")
     ax_tau.legend(fontsize=7, ncol=3)
     for ax in (ax_tau, ax_diff):
         ax.grid(True, lw=0.3)

@@ -182,7 +182,7 @@ def linear_motion(ctx: LabContext) -> Section:
                             ("MuJoCo, velocity servo", velocity.T_tool, velocity.t)):
         ax_deviation.semilogy(t, np.maximum(_line_deviation(poses[:, :3, 3], start, displacement), 1e-12),
                               label=label, lw=1.2)
-    ax_deviation.set(xlabel="time [s]", ylabel="[m]", title="Distance from the straight line")
+    ax_deviation.set(xlabel="time [s]", ylabel="distance [m]", title="Distance from the straight line")
     ax_deviation.legend(fontsize=7)
     for ax in (ax_position, ax_deviation):
         ax.grid(True, lw=0.3)
@@ -460,12 +460,12 @@ def fixed_point_rotation(ctx: LabContext) -> Section:
     figure = Figure(figsize=(8.5, 3.0))
     ax_angle, ax_drift = figure.subplots(1, 2)
     ax_angle.plot(motion.t, np.degrees(np.unwrap(_signed_turn(motion.poses, motion.poses[0], axis))), lw=1.4)
-    ax_angle.set(xlabel="time [s]", ylabel="[deg]", title="Angle turned about the axis")
+    ax_angle.set(xlabel="time [s]", ylabel="angle [deg]", title="Angle turned about the axis")
     ax_drift.semilogy(result.t, np.maximum(drift_sim, 1e-12), lw=1.0, label="MuJoCo")
     drift_computed = np.linalg.norm(motion.poses[:, :3, 3] - motion.poses[0, :3, 3], axis=-1)
     floor = " (below 1e-12 m: drawn at 1e-12)" if drift_computed.max() < 1e-12 else ""
     ax_drift.semilogy(motion.t, np.maximum(drift_computed, 1e-12), lw=1.0, label=f"armkit{floor}")
-    ax_drift.set(xlabel="time [s]", ylabel="[m]", title="Tool point drift")
+    ax_drift.set(xlabel="time [s]", ylabel="drift [m]", title="Tool point drift")
     ax_drift.legend(fontsize=7)
     for ax in (ax_angle, ax_drift):
         ax.grid(True, lw=0.3)
