@@ -49,6 +49,9 @@ __all__ = ["auto_time", "limit_ratio", "limit_ratios", "stretch_to_limits"]
 
 #: Relative margin added to the exact uniform factor against rounding.
 _MARGIN = 1e-12
+#: Fits repeated with the rest points a fit's durations add (position limits), before the
+#: result is slowed uniformly instead (see ``_inside``).
+_REFITS = 1
 
 
 def _as_float(value: ArrayLike, name: str) -> NDArray[np.float64]:
@@ -168,14 +171,17 @@ def _checked_limits(waypoints, max_velocity, max_acceleration):
 
 
 def _inside(fit, waypoints: NDArray[np.float64], durations: NDArray[np.float64],
-            position_limits: ArrayLike | None) -> JointTrajectory:
+            position_limits: ArrayLike | None, vmax: NDArray[np.float64],
+            amax: NDArray[np.float64]) -> JointTrajectory:
     """``fit(spline)`` with ``spline(durations)`` the minimum-jerk trajectory through ``waypoints``
     with the rest points that keep it inside ``position_limits`` at ``durations``
     (:func:`~armkit.trajectory.min_jerk.rest_points`), held fixed during the fit (the splines
-    then change smoothly with the durations); repeated with the rest points the fitted durations
-    add, if any (they only grow, so this ends)."""
+    then change smoothly with the durations). If the fitted durations need more rest points,
+    the fit is repeated with them (at most :data:`_REFITS` times; the rest points only grow);
+    after that they are added and the result is slowed uniformly back onto the limits (exact:
+    a uniform slow-down keeps the path, and so its rest points)."""
     rest = None if position_limits is None else rest_points(waypoints, durations, position_limits)
-    while True:
+    for _ in range(_REFITS + 1):
         def spline(candidate: NDArray[np.float64], rest=rest) -> JointTrajectory:
             return min_jerk(waypoints, candidate, rest=rest)
 
@@ -186,6 +192,10 @@ def _inside(fit, waypoints: NDArray[np.float64], durations: NDArray[np.float64],
         if (more == rest).all():
             return fitted
         rest = more
+    held = min_jerk(waypoints, fitted.durations, rest=more)
+    k = max(1.0, limit_ratio(held, vmax, amax) * (1 + _MARGIN))
+    final = min_jerk(waypoints, fitted.durations * k, rest=more)
+    return JointTrajectory(final.durations, final.coefficients, final.waypoints, fitted.requested_durations)
 
 
 def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: ArrayLike,
@@ -233,7 +243,7 @@ def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: 
                         position_limits=position_limits).durations
     return _inside(lambda spline: _fit(spline, [requested, np.maximum(requested, fastest)], requested,
                                        requested, vmax, amax, tol, max_rounds, refine),
-                   waypoints, requested, position_limits)
+                   waypoints, requested, position_limits, vmax, amax)
 
 
 def auto_time(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: ArrayLike, *,
@@ -264,4 +274,4 @@ def auto_time(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: A
     lower = np.maximum((step / vmax).max(axis=1), 1e-6 * guess.sum())
     tol = float(check_finite(tol, "tol"))
     return _inside(lambda spline: _fit(spline, [guess], lower, guess, vmax, amax, tol, max_rounds, refine),
-                   waypoints, guess, position_limits)
+                   waypoints, guess, position_limits, vmax, amax)
