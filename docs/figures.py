@@ -12,7 +12,8 @@ folder, then copied over ``docs/img/``:
 ``docs/img/view.png`` (a screenshot of the browser viewer) is not made here: it needs a
 browser; see docs/viewer.md.
 
-Run: python docs/figures.py [--quick]   (--quick: smaller runs, to check the script)
+Run: python docs/figures.py [--quick] [--out DIR]   (--quick: smaller runs, to check the script;
+--out: write there instead of docs/img)
 """
 
 from __future__ import annotations
@@ -68,6 +69,9 @@ def lab_figures(folder: Path, quick: bool) -> list[Path]:
         ax.set_axis_off()
     summary_png = folder / "lab-summary.png"
     figure.savefig(summary_png, dpi=100)
+    with Image.open(summary_png) as full:   # 256 colours: a fifth of the bytes, the same to the eye
+        quantized = full.convert("RGB").quantize(256)
+    quantized.save(summary_png, optimize=True)
     shutil.copy(report / "trajectory.gif", folder / "lab-trajectory.gif")
     return [summary_png, folder / "lab-trajectory.gif"]
 
@@ -81,12 +85,13 @@ def workspace_figure(folder: Path, quick: bool) -> list[Path]:
 
 def main(argv: list[str]) -> int:
     quick = "--quick" in argv
+    out = Path(argv[argv.index("--out") + 1]) if "--out" in argv else IMG
     with tempfile.TemporaryDirectory(prefix="armkit-figures-") as tmp:
         folder = Path(tmp)
         made = trajectory_figures(folder) + lab_figures(folder, quick) + workspace_figure(folder, quick)
         for path in made:
-            shutil.copy(path, IMG / path.name)
-            print(f"wrote docs/img/{path.name}")
+            shutil.copy(path, out / path.name)
+            print(f"wrote {out / path.name}")
     return 0
 
 
