@@ -210,7 +210,8 @@ def traj_command(
     tip: TipOpt = None,
     lock: LockOpt = None,
 ) -> None:
-    """Minimum-jerk trajectory through waypoints (piecewise quintic, continuous qd and qdd).
+    """Minimum-jerk trajectory through waypoints (piecewise quintic, continuous qd and qdd), inside the
+    joint position limits all the way (a joint that would overshoot one comes to rest at the waypoint).
 
     Example: armkit traj probot-anno --waypoints examples/data/probot_seed_poses.csv --poses
     --durations 10 10 10 --plot pva.png
