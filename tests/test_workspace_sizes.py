@@ -125,3 +125,14 @@ def test_the_cli_prints_one_count_of_reached_voxels_the_sizes_and_a_hint_for_a_l
     volume = summary["volume"]
     assert (volume["error"] > volume["value"]) == ("the volume's error is larger than the volume: give more "
                                                    "--samples" in out)
+
+
+def test_the_page_says_the_same_counts_and_the_hint(tmp_path, capsys):
+    assert main(["workspace", "probot-anno", "--samples", "2e4", "--resolution", "0.05", "--orientations",
+                 "8", "--quiet", "--report", "--report-dir", str(tmp_path / "page"), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    page = " ".join((tmp_path / "page" / "index.html").read_text().split())
+    reached = summary["volume"]["occupied_voxels"]
+    assert f"over the {reached:,} reached voxels" in page and f"{reached:,} (" in page
+    volume = summary["volume"]
+    assert (volume["error"] > volume["value"]) == ("the volume's error is larger than the volume" in page)

@@ -33,6 +33,9 @@ def _summary_table(summary: dict) -> Table:
                  ["  of which voxelisation / sampling",
                   f"± {v['voxelisation_error']:.2g} / ± {v['sampling_error']:.2g} {v['unit']}"],
                  ["reached voxels (boundary)", f"{v['occupied_voxels']:,} ({v['boundary_voxels']:,})"]]
+        if v["error"] > v["value"]:
+            rows.append(["  note", "the volume's error is larger than the volume: give more samples (or a "
+                                   "coarser resolution)"])
     if "dexterity" in summary:
         dex = summary["dexterity"]
         block = ("" if dex["block_voxels"] == 1 else
