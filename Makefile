@@ -1,26 +1,32 @@
-# Two commands: `make demo` and `make test` (also `make test-fast`, `make fuzz`, `make bench`). All create .venv on first use.
+# Two commands: `make demo` and `make test` (also `make test-fast`, `make fuzz`, `make bench`, `make figures`). All create .venv on first use.
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test test-fast fuzz bench clean
+.PHONY: demo test test-fast fuzz bench figures clean
 
 $(BIN)/activate:
+	@echo "==> creating the virtual environment $(VENV)"
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
 # the compiled core is rebuilt (incrementally, in build/) when its sources change
 CORE := CMakeLists.txt $(wildcard cpp/src/*.cpp cpp/src/*.hpp cpp/include/armkit/*.hpp)
 
+# pip's own progress (downloads, then "Building editable for armkit": the C++ core, 1-3 minutes)
 $(VENV)/.installed-demo: pyproject.toml $(CORE) | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e ".[sim,view]"
+	@echo "==> installing armkit with MuJoCo and the viewer; the C++ core compiles at 'Building editable'"
+	$(BIN)/python -m pip install --progress-bar on -e ".[sim,view]"
+	@echo "==> installed"
 	touch $@
 
 $(VENV)/.installed-test: pyproject.toml $(CORE) | $(BIN)/activate
+	@echo "==> installing armkit with the test extras (quietly; the C++ core compiles: 2-4 minutes)"
 	$(BIN)/python -m pip install --quiet -e ".[test]"
 	touch $@
 
 demo: $(VENV)/.installed-demo
+	@echo "==> armkit lab: the seed experiments, each section as it finishes"
 	$(BIN)/armkit lab
 
 test: $(VENV)/.installed-test  # the whole suite, as CI runs it (.ci/run)
@@ -39,6 +45,9 @@ fuzz: $(VENV)/.installed-test  # the fuzz and property tests (CLI, robot files, 
 bench: $(VENV)/.installed-test
 	$(BIN)/python -m pip install --quiet -e ".[bench]"
 	$(BIN)/python benchmarks/run_all.py
+
+figures: $(VENV)/.installed-test  # the README's and docs' figures from the current build (docs/figures.py)
+	$(BIN)/python docs/figures.py
 
 clean:
 	rm -rf $(VENV) build armkit-report .pytest_cache .hypothesis

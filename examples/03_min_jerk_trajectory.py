@@ -5,9 +5,10 @@ segment with velocity and acceleration continuous at the waypoints and the inter
 velocities and accelerations chosen to minimise the total squared jerk. Writes the
 samples to CSV and the position / velocity / acceleration figure with the joint limits.
 
-Run: python examples/03_min_jerk_trajectory.py     (writes 03_seed_trajectory.csv, 03_seed_pva.png)
+Run: python examples/03_min_jerk_trajectory.py     (writes the CSV and figures into a temporary folder)
 """
 
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -30,8 +31,8 @@ print("velocity at the waypoints [rad/s]:\n", qd.round(4) + 0.0)
 print("peak |qd| / vmax: ", (traj.peak_velocity / robot.max_velocity).round(3))
 print("peak |qdd| / amax:", (traj.peak_acceleration / robot.max_acceleration).round(3))
 
-# The example's own output files, replaced on every run.
-traj.to_csv("03_seed_trajectory.csv", rate_hz=50.0, overwrite=True)
-save_figure(plot_pva(traj, robot), "03_seed_pva.png", overwrite=True)
-save_figure(plot_tool_path(robot, traj), "03_seed_tool_path.png", overwrite=True)
-print("wrote 03_seed_trajectory.csv, 03_seed_pva.png, 03_seed_tool_path.png")
+folder = Path(tempfile.mkdtemp(prefix="armkit-example-03-"))   # not the folder it is run from
+traj.to_csv(folder / "seed_trajectory.csv", rate_hz=50.0)
+save_figure(plot_pva(traj, robot), folder / "seed_pva.png")
+save_figure(plot_tool_path(robot, traj), folder / "seed_tool_path.png")
+print(f"wrote seed_trajectory.csv, seed_pva.png, seed_tool_path.png in {folder}")

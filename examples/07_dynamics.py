@@ -1,7 +1,10 @@
 """Example 7: joint torques: inverse and forward dynamics, a payload, torques along a trajectory.
 
-Run: python examples/07_dynamics.py
+Run: python examples/07_dynamics.py     (writes its figure into a temporary folder)
 """
+
+import tempfile
+from pathlib import Path
 
 import numpy as np
 
@@ -30,5 +33,6 @@ print("UR5 estimated link masses [kg]:", [round(j.inertial.mass, 3) for j in ur5
 traj = min_jerk([puma.home, q], [1.5])
 torques = traj.torques(puma, rate_hz=1000.0)
 print("peak |torque| along the move [N m]:", torques.peak.round(3))
-save_figure(plot_pva(traj, puma, torques=True), "pva_torques.png", overwrite=True)
-print("wrote pva_torques.png")
+figure = save_figure(plot_pva(traj, puma, torques=True), Path(tempfile.mkdtemp(prefix="armkit-example-07-"))
+                     / "pva_torques.png")
+print(f"wrote {figure}")

@@ -5,9 +5,11 @@ test extra) if it is installed; otherwise it writes armkit's built-in UR5 as a U
 that back, so the example runs anywhere. Then it locks one joint of the 7-joint Panda
 (example-robot-data) to get a 6R arm with a closed form, if that file is there.
 
-Run: python examples/13_urdf_workflow.py     (writes 13_ur5.urdf when example-robot-data is missing)
+Run: python examples/13_urdf_workflow.py     (writes ur5.urdf into a temporary folder when example-robot-data
+is missing)
 """
 
+import tempfile
 from importlib.metadata import PackageNotFoundError, distribution
 from pathlib import Path
 
@@ -23,7 +25,8 @@ try:
     urdf, tip = ROBOTS / "ur_description/urdf/ur5_robot.urdf", "tool0"   # three leaves: name the tool
 except PackageNotFoundError:
     ROBOTS = None
-    urdf, tip = armkit.write_urdf(armkit.load("ur5"), "13_ur5.urdf", overwrite=True), "tool"
+    urdf, tip = armkit.write_urdf(armkit.load("ur5"), Path(tempfile.mkdtemp(prefix="armkit-example-13-"))
+                                  / "ur5.urdf"), "tool"
 
 # Load: the serial chain from the root link to the tip, joint names and limits from the file.
 robot = armkit.load(urdf, tip=tip)                       # CLI: armkit show ur5_robot.urdf --tip tool0

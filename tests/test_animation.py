@@ -73,3 +73,16 @@ def test_gif_frames_carry_their_labels_and_axis_numbers(tmp_path):
         assert (top_a != top_b).any()  # the label is drawn in the top left corner
     with pytest.raises(InputError, match="labels: expected 6"):
         animate_trajectory(robot, q, tmp_path / "never.gif", labels=["one"])
+
+
+def test_small_multiples_keep_few_ticks_so_their_labels_do_not_overlap():
+    from armkit.animation import TICKS, plot_configurations
+
+    robot = armkit.load("ur5")
+    T = robot.fk([0.9, -0.7, -0.4, 0.3, 1.1, 0.9])
+    figure = plot_configurations(robot, robot.ik(T, all_solutions=True, turn_copies=False), dpi=40, size=2.0)
+    for ax in figure.axes:
+        for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+            low, high = sorted(axis.get_view_interval())
+            ticks = axis.get_major_locator()()
+            assert 2 <= ((ticks >= low - 1e-12) & (ticks <= high + 1e-12)).sum() <= TICKS + 1

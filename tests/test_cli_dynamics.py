@@ -69,3 +69,14 @@ def test_show_prints_masses_and_torque_limits(capsys):
     code, out, _ = run(capsys, "show", "ur5", "--json")
     data = json.loads(out)
     assert data["mass"] == [None] * 6 and data["max_torque"] == [None] * 6
+
+
+def test_torques_print_in_significant_digits_not_fixed_decimals(capsys, tmp_path):
+    path = tmp_path / "light.toml"
+    path.write_text('convention = "standard"\nlength_unit = "m"\nangle_unit = "deg"\n'
+                    '[[joints]]\na = 0.5\nalpha = 90\nd = 0\ntheta = 0\nmass = 1e-5\ncom = [-0.25, 0, 0]\n'
+                    '[base]\nrpy = [90, 0, 0]\n')   # a 10 mg link: tens of micro-newton-metres
+    tau = armkit.load(path).gravity_torques([0.0])[0]
+    assert 1e-5 < abs(tau) < 1e-4
+    code, out, _ = run(capsys, "dynamics", str(path), "0")
+    assert code == 0 and f"{tau:.4g} N m" in out and "0.0000 N m" not in out

@@ -26,8 +26,10 @@ def test_fk_json(capsys):
     assert code == 0
     assert np.array(data["matrix"]).shape == (4, 4)
     np.testing.assert_allclose(data["position"], [0.225673, 0.10719, 0.55197], atol=1e-6)
-    np.testing.assert_allclose(data["angles"], [-148.0, 36.35, -107.0], atol=5e-3)
-    assert data["convention"] == "xyz-euler" and data["angle_unit"] == "deg"
+    np.testing.assert_allclose(np.degrees(data["angles"]), [-148.0, 36.35, -107.0], atol=5e-3)  # SI: rad
+    assert data["convention"] == "xyz-euler" and data["units"]["angles"] == "rad"
+    assert data["units"]["q"] == "rad (revolute), m (prismatic)"
+    assert data["q"][0] == pytest.approx(np.radians(15))
 
 
 def test_fk_deg_leaves_prismatic_joints_in_metres(capsys):
@@ -82,7 +84,7 @@ def test_degrees_everywhere_with_deg(capsys):
     assert code == 1 and "joint q6 = 200 deg is outside its limits [-180, 180] deg" in err
     code, out, _ = run(capsys, "fk", "probot-anno", "0", "0", "0", "0", "0", "90", "--deg", "--json")
     data = json.loads(out)
-    assert data["q"][5] == 90.0 and data["q_si"][5] == pytest.approx(np.pi / 2)
+    assert data["q"][5] == pytest.approx(np.pi / 2)          # --json is SI whatever --deg says
 
 
 def test_non_numeric_joint_value_is_named(capsys):
@@ -113,3 +115,35 @@ def test_fk_quaternion_output_is_wxyz(capsys):
     np.testing.assert_allclose(matrix_from_quaternion_wxyz(data["quaternion_wxyz"]), R, atol=1e-12)
     code, out, _ = run(capsys, "fk", "puma560", *q, "--euler", "quat")
     assert code == 0 and "quaternion w x y z" in out
+
+
+@pytest.mark.parametrize(("argv", "in_degrees"), [
+    (["fk", "probot-anno", "0", "0.5", "0", "0", "0", "0"],
+     ["fk", "probot-anno", "0", "{0.5}", "0", "0", "0", "0"]),
+    (["jacobian", "probot-anno", "0", "0.5", "0", "0", "0", "0"],
+     ["jacobian", "probot-anno", "0", "{0.5}", "0", "0", "0", "0"]),
+    (["ik", "probot-anno", "--pose", "0.3", "0", "0.3", "0", "0.5", "0"],
+     ["ik", "probot-anno", "--pose", "0.3", "0", "0.3", "0", "{0.5}", "0"]),
+    (["dynamics", "puma560", "0", "0.5", "0", "0", "0", "0"],
+     ["dynamics", "puma560", "0", "{0.5}", "0", "0", "0", "0"]),
+])
+def test_every_json_is_si_after_deg_and_says_its_units(capsys, argv, in_degrees):
+    """docs/cli.md: --json is SI whatever --deg says, and its "units" object names each field's unit."""
+    typed = [f"{np.degrees(float(w[1:-1])):.17g}" if w.startswith("{") else w for w in in_degrees]
+    outputs = []
+    for words in (argv, [*typed, "--deg"]):
+        code, out, _ = run(capsys, *words, "--json")
+        assert code == 0
+        outputs.append(json.loads(out))
+    si, from_degrees = outputs
+    assert isinstance(si["units"], dict) and si["units"] and from_degrees["units"] == si["units"]
+    for key, value in si.items():
+        numbers = np.array(value, dtype=object) if isinstance(value, list | float) else None
+        if numbers is not None and all(isinstance(v, float | int) for v in numbers.ravel()):
+            np.testing.assert_allclose(np.array(from_degrees[key], dtype=float), numbers.astype(float),
+                                       atol=1e-9, err_msg=key)
+
+
+def test_show_json_says_its_units(capsys):
+    code, out, _ = run(capsys, "show", "probot-anno", "--json")
+    assert code == 0 and json.loads(out)["units"]["limits"] == "rad (revolute), m (prismatic)"

@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+import pytest
 
 from armkit.cli.main import main
 
@@ -83,3 +84,12 @@ def test_rotate_opposite_signs_reported_in_the_units_typed(capsys):
                        "--rate", "-10", "--deg")
     assert code == 1 and "--angle 90 deg and --rate -10 deg/s have opposite signs" in err
     assert "rad" not in err
+
+
+@pytest.mark.parametrize("command", [["move", "--by", "0.01", "0", "0"],
+                                     ["rotate", "--axis", "1", "0", "0", "--angle", "10"]])
+def test_a_start_outside_the_limits_is_said_in_the_units_typed(capsys, command):
+    name, *rest = command
+    assert main([name, "probot-anno", "--deg", "--from", "0", "300", "0", "0", "0", "0", *rest]) == 1
+    err = capsys.readouterr().err
+    assert "error: --from: joint q2 = 300 deg is outside its limits [-115, 115] deg" in err

@@ -11,8 +11,9 @@ import pytest
 from PIL import Image
 from test_trajectory_min_jerk import SEED_AMAX, SEED_VMAX, SEED_WAYPOINTS
 
+import armkit
 from armkit.cli.main import main
-from armkit.trajectory import min_jerk
+from armkit.trajectory import min_jerk, read_waypoints
 
 DATA = Path(__file__).parent.parent / "examples" / "data"
 POSES = str(DATA / "probot_seed_poses.csv")
@@ -128,14 +129,17 @@ def test_never_overwrites_without_force(capsys, tmp_path):
     assert code == 1 and "expected a file name ending in .png, .svg, .pdf" in err
 
 
-def test_overshoot_past_a_position_limit_is_reported(capsys, tmp_path):
+def test_a_path_that_would_overshoot_a_position_limit_is_kept_inside(capsys, tmp_path):
     path = tmp_path / "w.csv"
     path.write_text("0,0,0,0,0,0\n0,1.0,0,0,0,0\n0,2.0,0,0,0,0\n0,1.0,0,0,0,0\n")   # q2 limit 2.0071
-    code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", path, "--durations", "10", "10", "10")
-    assert code == 0
-    assert re.search(r"joint q2 = 0 \.\. 2\.10\d* rad between waypoints is outside its limits "
-                     r"\[-2\.00713, 2\.00713\] rad",
-                     " ".join(err.split())), err
+    free = min_jerk(read_waypoints(path, 6), [10, 10, 10])
+    assert free.position_limit_violations(armkit.load("probot-anno"))          # the spline alone overshoots
+    out = tmp_path / "t.csv"
+    code, stdout, err = run(capsys, "traj", "probot-anno", "--waypoints", path, "--durations", "10", "10",
+                            "10", "--out", out, "--json")
+    assert code == 0 and json.loads(stdout)["warnings"] == [] and "outside" not in err
+    q2 = np.loadtxt(out, delimiter=",", skiprows=1)[:, 2]
+    assert q2.max() <= 2.0 + 1e-12                                     # q2 at rest at the 2.0 rad waypoint
 
 
 @pytest.mark.parametrize("out", ["/proc/x.csv", "/proc/x.npz"])
@@ -186,3 +190,9 @@ def test_a_waypoint_outside_a_limit_is_reported_in_the_units_typed(capsys, tmp_p
     code, _, err = run(capsys, "traj", "puma560", "--waypoints", path, "--auto-time")
     assert code == 1 and err.strip() == ("error: waypoint 2: joint q5 = 2 rad is outside its limits "
                                          "[-1.74533, 1.74533] rad")
+
+
+def test_a_bad_limit_option_is_said_as_typed_after_deg(capsys):
+    code, _, err = run(capsys, "traj", "probot-anno", "--waypoints", JOINTS, "--auto-time", "--deg",
+                       "--max-velocity=-10")
+    assert code == 1 and "--max-velocity '-10': expected positive limits (inf for none)" in err

@@ -21,3 +21,16 @@ def test_example_runs(script, tmp_path):
                             text=True, timeout=WAIT_S)
     assert result.returncode == 0, result.stderr[-2000:]
     assert result.stdout.strip(), "an example should print what it shows"
+    assert list(tmp_path.iterdir()) == [], "an example writes into a temporary folder, not where it is run"
+
+
+def test_make_figures_makes_every_figure_it_names(tmp_path):
+    script = Path(__file__).parent.parent / "docs" / "figures.py"
+    env = {**os.environ, "MPLBACKEND": "Agg"}
+    result = subprocess.run([sys.executable, str(script), "--quick", "--out", str(tmp_path)], env=env,
+                            capture_output=True, text=True, timeout=WAIT_S)
+    assert result.returncode == 0, result.stderr[-2000:]
+    made = sorted(p.name for p in tmp_path.iterdir())
+    assert made == ["lab-summary.png", "lab-trajectory.gif", "seed_pva.png", "seed_tool_path.png",
+                    "workspace-vertical.png"]
+    assert "$ armkit lab" in result.stdout     # each command printed as it runs

@@ -309,3 +309,17 @@ def test_the_dynamics_experiment_finds_armkit_and_mujoco_agree(seed_report):
     assert "armkit = MuJoCo to" in section.headline
     assert [row[0] for row in section.tables[0].rows] == armkit.load("probot-anno").joint_names
     assert section.tables[1].columns[2] == "computed-torque feedforward (armkit's)"
+
+
+def test_a_users_arm_is_timed_to_its_own_limits_and_its_peak_table_has_units(tmp_path):
+    robot = armkit.load("ur5")
+    ctx = LabContext(robot=robot, folder=tmp_path, quick=True, seeds=False)
+    q, poses, report_q, durations = motion._waypoints(ctx)
+    assert durations is None                           # timed by plan_trajectory to the limits
+    section = motion.trajectory_experiment(ctx)
+    assert any(note.startswith("Timed to the arm's own limits") for note in section.notes)
+    table = next(t for t in section.tables if t.title.startswith("Peaks against the joint limits"))
+    peaks = np.array([float(row[1].split()[0]) for row in table.rows])
+    assert np.isclose(peaks / robot.max_velocity, 1.0, atol=1e-6).any()   # some joint at its limit
+    assert all(row[1].endswith(" rad/s") and row[3].endswith(" rad/s²") and row[5].endswith(" rad")
+               for row in table.rows)

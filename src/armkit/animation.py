@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the "3d" projection)
 from numpy.typing import ArrayLike, NDArray
 from PIL import Image
@@ -32,6 +33,8 @@ _LINK_COLORS = ("#d9731f", "#3366bf")
 _JOINT_COLOR = "#404047"
 _AXIS_COLORS = ("#d62728", "#2ca02c", "#1f77b4")
 _PATH_COLOR = "#8e44ad"
+#: Most tick labels per axis of a 3-D picture (more overlap in the small multiples of plot_configurations).
+TICKS = 4
 
 
 def _polylines(robot: Robot, model: PhysicalModel, q: NDArray[np.float64]) -> list[NDArray[np.float64]]:
@@ -69,6 +72,7 @@ def _setup_axes(ax, centre: NDArray, half: float, title: str) -> float:
     ax.set_zlabel("z [m]", labelpad=-6, fontsize=8)
     ax.tick_params(labelsize=6, pad=-2)
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(nbins=TICKS))   # labels that do not run into each other
         axis.set_pane_color((0.96, 0.96, 0.97, 1.0))
         axis._axinfo["grid"]["color"] = (0.85, 0.85, 0.88, 1.0)
     if title:

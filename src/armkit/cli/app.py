@@ -186,8 +186,15 @@ def _plain(value: Any) -> Any:
     return value
 
 
-def print_json(data: dict) -> None:
-    """Print ``data`` as JSON on stdout (arrays become lists, non-finite numbers null)."""
+#: The unit of joint values in ``--json`` (always SI, whatever ``--deg`` says).
+JOINT_UNITS = "rad (revolute), m (prismatic)"
+
+
+def print_json(data: dict, units: dict[str, str] | None = None) -> None:
+    """Print ``data`` as JSON on stdout (arrays become lists, non-finite numbers null), in SI units,
+    with ``units`` (field: unit) as its ``"units"`` object (docs/cli.md, Output)."""
+    if units is not None:
+        data = {**data, "units": units}
     typer.echo(json.dumps(_plain(data), indent=2))
 
 

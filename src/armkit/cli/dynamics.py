@@ -9,8 +9,10 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from armkit._format import fmt_significant
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     BaseOpt,
     LockOpt,
     RobotArg,
@@ -87,24 +89,28 @@ def dynamics_command(
     if json_output:
         print_json({"q": q_si, "qd": qd_si, "qdd": qdd_si, "tau": tau, "gravity_torques": gravity,
                     "coriolis_torques": arm.coriolis_torques(q_si, qd_si), "mass_matrix": M,
-                    "max_torque": limit, "masses": [j.inertial.mass for j in arm.chain.joints],
-                    "units": {"tau": "N m (revolute), N (prismatic)", "q": "rad, m", "qd": "rad/s, m/s",
-                              "qdd": "rad/s^2, m/s^2", "mass_matrix": "kg m^2, kg m, kg"}})
+                    "max_torque": limit, "masses": [j.inertial.mass for j in arm.chain.joints]},
+                   {"q": JOINT_UNITS, "qd": "rad/s, m/s", "qdd": "rad/s^2, m/s^2",
+                    "tau": "N m (revolute), N (prismatic)", "gravity_torques": "N m, N",
+                    "coriolis_torques": "N m, N", "max_torque": "N m, N", "mass_matrix": "kg m^2, kg m, kg",
+                    "masses": "kg"})
         return
     angle = "deg" if deg else "rad"
     table = Table(title=escape(f"{arm.name}: inverse dynamics, gravity 9.81 m/s^2 along -z of the base"))
     for column in ("joint", "q", "qd", "qdd", "torque", "gravity part", "max torque", "of limit"):
         table.add_column(column, justify="right")
+    scale = float(np.max(np.abs(np.concatenate([tau, gravity]))))
     for j, joint in enumerate(arm.chain.joints):
         revolute = joint.kind == "revolute"
-        scale = 180 / np.pi if deg and revolute else 1.0
+        shown = 180 / np.pi if deg and revolute else 1.0
         length = angle if revolute else "m"
         torque = "N m" if revolute else "N"
-        table.add_row(escape(joint.name), f"{fmt_number(q_si[j] * scale)} {length}",
-                      f"{fmt_number(qd_si[j] * scale)} {length}/s",
-                      f"{fmt_number(qdd_si[j] * scale)} {length}/s^2",
-                      f"{fmt_number(tau[j])} {torque}", f"{fmt_number(gravity[j])} {torque}",
-                      "none" if not np.isfinite(limit[j]) else f"{fmt_number(limit[j], 1)} {torque}",
+        table.add_row(escape(joint.name), f"{fmt_number(q_si[j] * shown)} {length}",
+                      f"{fmt_number(qd_si[j] * shown)} {length}/s",
+                      f"{fmt_number(qdd_si[j] * shown)} {length}/s^2",
+                      f"{fmt_significant(tau[j], scale)} {torque}",
+                      f"{fmt_significant(gravity[j], scale)} {torque}",
+                      "none" if not np.isfinite(limit[j]) else f"{fmt_significant(limit[j])} {torque}",
                       "-" if not np.isfinite(limit[j]) else f"{100 * ratio[j]:.1f} %")
     console.print(table)
     over = [arm.joint_names[j] for j in np.flatnonzero(ratio > 1)]

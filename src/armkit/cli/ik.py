@@ -15,6 +15,7 @@ from rich.table import Table
 
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     QUATERNION_NAMES,
     BaseOpt,
     LockOpt,
@@ -245,7 +246,9 @@ def ik_command(
                     "configurations_inside_limits": copies,
                     **({} if contacts is None else {"collides": [bool(c) for c in contacts],
                                                     "contacts": contacts}),
-                    "joint_names": arm.joint_names, "units": "rad and m"})
+                    "joint_names": arm.joint_names},
+                   {"target": "m (translation column)", "solutions": JOINT_UNITS, "position_error": "m",
+                    "orientation_error": "rad"})
         return
     unit = "deg" if deg else "rad"
     shown = np.where(arm.chain.prismatic, q, np.degrees(q) if deg else q)

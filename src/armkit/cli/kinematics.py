@@ -11,6 +11,7 @@ from rich.table import Table
 
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     QUATERNION_NAMES,
     BaseOpt,
     LockOpt,
@@ -82,9 +83,13 @@ def fk_command(
         orientation = {"angles": angles, "convention": convention.name,
                        "convention_formula": f"R = {convention.formula()}", "angle_unit": unit}
         line = f"{convention.name} angles [{unit}] (R = {convention.formula()}): {fmt_numbers(angles, 6)}"
-    if json_output:
-        print_json({"robot": arm.name, "q": [float(v) for v in q], "q_si": q_si, "matrix": T,
-                    "position": T[:3, 3], **orientation})
+    if json_output:  # SI, whatever --deg says
+        if not quaternion:
+            orientation |= {"angles": euler_from_matrix(T, convention, degrees=False)}
+            del orientation["angle_unit"]
+        print_json({"robot": arm.name, "q": q_si, "matrix": T, "position": T[:3, 3], **orientation},
+                   {"q": JOINT_UNITS, "matrix": "m (translation column)", "position": "m", "angles": "rad",
+                    "quaternion_wxyz": "1"})
         return
     console.print(_matrix_table(T, f"{arm.name}: T_base_tool (metres)"))
     console.print(f"position [m]: {fmt_numbers(T[:3, 3], 6)}", markup=False)
@@ -110,9 +115,11 @@ def jacobian_command(
     J = arm.jacobian(q_si, frame=frame)
     sigma = arm.singular_values(q_si)
     if json_output:
-        print_json({"robot": arm.name, "q_si": q_si, "frame": frame, "jacobian": J,
+        print_json({"robot": arm.name, "q": q_si, "frame": frame, "jacobian": J,
                     "rows": ["vx", "vy", "vz", "wx", "wy", "wz"],
-                    "manipulability": float(np.prod(sigma)), "singular_values": sigma})
+                    "manipulability": float(np.prod(sigma)), "singular_values": sigma},
+                   {"q": JOINT_UNITS, "jacobian": "rows vx vy vz in m/s, wx wy wz in rad/s, per rad/s "
+                    "(revolute) or m/s (prismatic) of each joint", "singular_values": "m/s and rad/s mixed"})
         return
     console.print(_matrix_table(J, f"{arm.name}: geometric Jacobian, {frame} frame",
                                 ["vx", "vy", "vz", "wx", "wy", "wz"], arm.joint_names))

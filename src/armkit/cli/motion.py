@@ -11,6 +11,7 @@ from rich.table import Table
 
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     BaseOpt,
     LockOpt,
     RobotArg,
@@ -24,7 +25,7 @@ from armkit.cli.app import (
     print_json,
     to_si,
 )
-from armkit.errors import InputError
+from armkit.errors import InputError, JointLimitError
 from armkit.robot import Robot
 from armkit.spatial.transforms import pose_from_transform
 
@@ -48,7 +49,10 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON (SI units) ins
 
 def _start(robot: Robot, first: str | None, rest: list[str] | None, degrees: bool) -> np.ndarray:
     words = option_values(first, rest, "--from", "start joint values")
-    return np.zeros(robot.n) if words is None else to_si(robot, words, degrees)
+    q = np.zeros(robot.n) if words is None else to_si(robot, words, degrees)
+    if violations := robot.limit_violations(q, degrees):  # said in the units typed
+        raise JointLimitError("--from: " + "; ".join(violations), q)
+    return q
 
 
 def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_output: bool) -> None:
@@ -67,7 +71,11 @@ def _report(robot: Robot, result: MotionResult, title: str, degrees: bool, json_
                     "max_position_error": result.max_position_error,
                     "max_orientation_error": result.max_orientation_error,
                     "max_joint_speed_ratio": np.max(np.abs(result.qd) / robot.max_velocity),
-                    "min_singular_value": result.sigma_min.min()})
+                    "min_singular_value": result.sigma_min.min()},
+                   {"duration": "s", "q_start": JOINT_UNITS, "q_final": JOINT_UNITS, "position_final": "m",
+                    "rpy_final": "rad (xyz-fixed)", "position_target": "m", "rpy_target": "rad (xyz-fixed)",
+                    "position_error": "m", "orientation_error": "rad", "max_position_error": "m",
+                    "max_orientation_error": "rad", "min_singular_value": "m/s and rad/s mixed"})
     else:
         joints = Table(title=escape(f"{robot.name}: {title}"), caption="limit: the joint's max_velocity; "
                                                                       "- where the robot file gives none")

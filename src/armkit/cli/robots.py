@@ -12,6 +12,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from armkit.cli.app import (
+    JOINT_UNITS,
     BaseOpt,
     LockOpt,
     RobotArg,
@@ -152,7 +153,11 @@ def show_command(
                     "max_torque": arm.max_torque,
                     "locked": None if not isinstance(arm, LockedRobot) else {
                         arm.full_robot.joint_names[i]: v for i, v in arm.locked.items()},
-                    "structure": dataclasses.asdict(structure)})
+                    "structure": dataclasses.asdict(structure)},
+                   {"limits": JOINT_UNITS, "max_velocity": "rad/s, m/s", "max_acceleration": "rad/s^2, m/s^2",
+                    "axes": "1 (unit vectors, base frame)", "points": "m", "mass": "kg",
+                    "max_torque": "N m, N",
+                    "locked": JOINT_UNITS})
         return
     console.print(dh_table(arm) if arm.dh is not None else joint_line_table(arm))
     for label, T in (("base", arm.dh and arm.dh.T_base), ("tool", arm.dh and arm.dh.T_tool)):

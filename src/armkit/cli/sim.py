@@ -13,6 +13,7 @@ from rich.table import Table
 from armkit._io import check_output_path
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     BaseOpt,
     LockOpt,
     RobotArg,
@@ -171,7 +172,8 @@ def sim_command(
         summary = _tracking_summary(arm, result)
         if json_output:
             print_json({"robot": arm.name, **summary,
-                        "max_joint_error_units": ["m" if p else "rad" for p in arm.chain.prismatic]})
+                        "max_joint_error_units": ["m" if p else "rad" for p in arm.chain.prismatic]},
+                       {"max_joint_error": JOINT_UNITS})
         else:
             for line in _tracking_lines(arm, summary):
                 console.print(line, markup=False)
@@ -192,11 +194,15 @@ def sim_command(
                                                       convention=euler, degrees=deg),
             "servos from home in 1 s, then 0.5 s hold": compare_poses(computed, settled, convention=euler,
                                                                       degrees=deg)}
-    if json_output:
+    if json_output:  # SI, whatever --deg says
+        rows = {name: compare_poses(computed, simulated, convention=euler)
+                for name, simulated in zip(rows, (sim.tool_pose(configurations), settled), strict=True)}
         print_json({"robot": arm.name, "q": configurations, "convention": euler, **{
             name: {"computed": c.computed, "simulated": c.simulated, "error": c.error,
                    "position_error_m": c.position_error, "rotation_error_rad": c.rotation_error}
-            for name, c in rows.items()}})
+            for name, c in rows.items()}},
+                   {"q": JOINT_UNITS, "computed": "x y z in m, three angles in rad",
+                    "simulated": "as computed", "error": "as computed"})
     else:
         for name, table in rows.items():
             console.print(_comparison_table(table, f"{arm.name}: armkit FK vs MuJoCo, {name} "

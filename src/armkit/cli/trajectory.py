@@ -10,9 +10,11 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from armkit._format import fmt_significant
 from armkit._io import check_output_path
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     BaseOpt,
     LockOpt,
     RobotArg,
@@ -73,12 +75,17 @@ def _joint_scale(robot: Robot, degrees: bool) -> tuple[np.ndarray, list[str]]:
     return scale, units
 
 
-def _limit_cells(peak: float, limit: float, scale: float, unit: str) -> list[str]:
-    """``peak``, ``limit`` and ``peak / limit`` with units; a missing limit is "none" and its ratio "-"."""
+def _limit_cells(peak: float, limit: float, scale: float, unit: str, significant: float | None = None
+                 ) -> list[str]:
+    """``peak``, ``limit`` and ``peak / limit`` with units; a missing limit is "none" and its ratio "-".
+    With ``significant`` (the column's largest magnitude), values in significant digits
+    (:func:`fmt_significant`: torques span orders of magnitude), else 4 decimals."""
+    def number(value: float) -> str:
+        return fmt_number(value, 4) if significant is None else fmt_significant(value, significant)
+
     if not np.isfinite(limit):
-        return [f"{fmt_number(peak * scale, 4)} {unit}", "none", "-"]
-    return [f"{fmt_number(peak * scale, 4)} {unit}", f"{fmt_number(limit * scale, 4)} {unit}",
-            fmt_number(peak / limit, 3)]
+        return [f"{number(peak * scale)} {unit}", "none", "-"]
+    return [f"{number(peak * scale)} {unit}", f"{number(limit * scale)} {unit}", fmt_number(peak / limit, 3)]
 
 
 def _summary(robot: Robot, traj: JointTrajectory, limits: tuple[np.ndarray, np.ndarray],
@@ -103,9 +110,10 @@ def _torque_table(robot: Robot, torques: TrajectoryTorques, rate_hz: float) -> T
                   caption=f"at {rate_hz:g} Hz; ratio = peak / limit; none: no torque limit given")
     for column in ("joint", "peak |torque|", "limit", "ratio"):
         table.add_column(column, justify="right")
+    largest = float(np.max(torques.peak))
     for j, name in enumerate(robot.joint_names):
         table.add_row(escape(name), *_limit_cells(torques.peak[j], robot.max_torque[j], 1.0,
-                                                  "N" if robot.chain.prismatic[j] else "N m"))
+                                                  "N" if robot.chain.prismatic[j] else "N m", largest))
     return table
 
 
@@ -148,6 +156,8 @@ def _limit_option(text: str | None, robot: Robot, degrees: bool, option: str) ->
     if values.size not in (1, robot.n):
         raise InputError(f"{option} {text!r}: expected one limit for every joint or {robot.n} (one per "
                          f"joint, comma-separated), got {values.size}")
+    if np.any(np.isnan(values)) or np.any(values <= 0):   # said as typed (before any --deg conversion)
+        raise InputError(f"{option} {text!r}: expected positive limits (inf for none)")
     return np.where(degrees & ~np.asarray(robot.chain.prismatic), np.radians(values), values)
 
 
@@ -200,7 +210,8 @@ def traj_command(
     tip: TipOpt = None,
     lock: LockOpt = None,
 ) -> None:
-    """Minimum-jerk trajectory through waypoints (piecewise quintic, continuous qd and qdd).
+    """Minimum-jerk trajectory through waypoints (piecewise quintic, continuous qd and qdd), inside the
+    joint position limits all the way (a joint that would overshoot one comes to rest at the waypoint).
 
     Example: armkit traj probot-anno --waypoints examples/data/probot_seed_poses.csv --poses
     --durations 10 10 10 --plot pva.png
@@ -233,7 +244,7 @@ def traj_command(
                            max_velocity=limits[0], max_acceleration=limits[1])
     samples = traj.sample(rate) if out is not None else None
     torque_samples = traj.torques(arm, TORQUE_RATE_HZ) if torques else None
-    warnings = [*traj.position_limit_violations(arm, deg)]
+    warnings = []  # (the path itself stays inside the position limits: plan_trajectory)
     if auto_time and (message := _unlimited_warning(arm, limits)) is not None:
         warnings.append(message)
     if segment_durations is not None and np.any(traj.stretch > 1):
@@ -260,10 +271,13 @@ def traj_command(
                     "peak_acceleration": traj.peak_acceleration, "max_acceleration": limits[1],
                     "peak_torque": None if torque_samples is None else torque_samples.peak,
                     "max_torque": arm.max_torque,
-                    "units": "SI: rad or m, per s, per s², N m or N; limits null where neither the robot "
-                             "file nor --max-velocity/--max-acceleration gives one",
                     "warnings": warnings, "samples": None if samples is None else samples.t.size,
-                    "rate_hz": rate, "written": [str(path) for path, _ in written]})
+                    "rate_hz": rate, "written": [str(path) for path, _ in written]},
+                   {"waypoints": JOINT_UNITS, "peak_velocity": "rad/s, m/s", "max_velocity": "rad/s, m/s",
+                    "peak_acceleration": "rad/s^2, m/s^2", "max_acceleration": "rad/s^2, m/s^2",
+                    "peak_torque": "N m, N", "max_torque": "N m, N",
+                    "limits": "null where neither the robot file nor --max-velocity/--max-acceleration "
+                              "gives one"})
         return
     if poses:
         console.print(_waypoint_table(arm, traj, deg))

@@ -44,6 +44,10 @@ def _count(text: str, option: str) -> int:
     return int(value)
 
 
+def _optional_count(text: str | None, option: str) -> int | None:
+    return None if text is None else _count(text, option)
+
+
 def _engine(dask: str | None, threads: int | None):
     """The engine and, for ``--dask local``, the cluster to close afterwards."""
     if dask is None:
@@ -64,8 +68,9 @@ def _engine(dask: str | None, threads: int | None):
     return connect(dask), None
 
 
-def _print_summary(summary: dict) -> None:
-    lines = [f"robot: {summary['robot']}"]
+def summary_lines(summary: dict) -> list[str]:
+    """The lines ``armkit workspace`` prints for a :meth:`Workspace.summary` (the report shows the same)."""
+    lines = []
     if "volume" in summary:
         v = summary["volume"]
         lines += [f"reachable volume: {v['value']:.4g} ± {v['error']:.2g} {v['unit']} (voxelisation "
@@ -75,13 +80,28 @@ def _print_summary(summary: dict) -> None:
         if summary.get("colliding_samples_left_out"):
             lines.append(f"left out: {summary['colliding_samples_left_out']:,} samples in collision with the "
                          f"scene")
+        if v["error"] > v["value"]:
+            lines.append("  the volume's error is larger than the volume: give more --samples (or a coarser "
+                         "--resolution)")
     if "dexterity" in summary:
         d = summary["dexterity"]
-        lines.append(f"mean reachability index: {d['mean_reachability_index']:.3f} ({d['orientations']} "
-                     f"orientations x {d['voxels_tested']:,} voxels)")
+        block = ("" if d["block_voxels"] == 1 else
+                 f", one per block of {d['block_voxels']}³ voxels ({d['block_m']:g} m) to keep to the IK "
+                 f"solves asked (--ik-solves)")
+        lines.append(f"mean reachability index: {d['mean_reachability_index']:.3f} over the "
+                     f"{d['mean_index_voxels']:,} reached voxels ({d['orientations']} orientations at "
+                     f"{d['voxels_tested']:,} positions{block}: {d['ik_solves']:,} IK solves)")
     if "manipulability" in summary:
         m = summary["manipulability"]
-        lines.append(f"singular voxels: {m['singular_voxels']:,} (s_min < {m['singular_threshold']:g})")
+        lines.append(f"singular voxels: {m['singular_voxels']:,} (s_min < {m['singular_threshold']:g}), "
+                     f"from {m['samples']:,} manipulability samples")
+    for name, reason in summary.get("maps_skipped", {}).items():
+        lines.append(f"{name} map skipped: {reason}")
+    return lines
+
+
+def _print_summary(summary: dict) -> None:
+    lines = [f"robot: {summary['robot']}", *summary_lines(summary)]
     for row in summary.get("values", []):
         index = row["mean_reachability_index"]
         lines.append(f"{summary['parameter']} = {row['value']:.4g}: volume {row['reachable_volume']:.4g} ± "
@@ -103,8 +123,13 @@ def workspace_command(
     chunk_size: Annotated[int, typer.Option(help="Configurations per task (memory per task).")] = 2**18,
     orientations: Annotated[int, typer.Option(
         help="Tool orientations per voxel for the dexterity map (0: none).")] = 100,
-    manipulability_samples: Annotated[str, typer.Option(
-        help="Configurations for the manipulability map (0: none).")] = "2e5",
+    manipulability_samples: Annotated[str | None, typer.Option(
+        help="Configurations for the manipulability map (0: none; default: --samples / 5).",
+        show_default=False)] = None,
+    ik_solves: Annotated[str | None, typer.Option(
+        help="Most IK solves of the dexterity map: beyond that, blocks of voxels share one position "
+             "(default: --samples / 4; 100 times fewer for an arm without a closed form).",
+        show_default=False)] = None,
     singular_threshold: Annotated[float, typer.Option(
         help="A voxel is singular where a sample's smallest singular value is below this.")] = 1e-3,
     sweep: Annotated[str | None, typer.Option(
@@ -155,7 +180,7 @@ def workspace_command(
 
 
 def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, manipulability_samples,
-         singular_threshold, sweep, dataset, out, resume, force, threads, dask, report, report_dir,
+         ik_solves, singular_threshold, sweep, dataset, out, resume, force, threads, dask, report, report_dir,
          json_output, quiet, base, tip, lock, scene, package_path) -> None:
     from armkit import workspace
 
@@ -175,12 +200,14 @@ def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, 
             result = workspace.ik_dataset(arm, _count(dataset, "--dataset"), out, **common)
         elif sweep is not None:
             result = workspace.sweep(arm, sweep, resolution=resolution, samples=_count(samples, "--samples"),
-                                     chunk_size=chunk_size, orientations=orientations, out=out, **common)
+                                     chunk_size=chunk_size, orientations=orientations,
+                                     ik_solves=_optional_count(ik_solves, "--ik-solves"), out=out, **common)
         else:
             result = workspace.compute(arm, resolution=resolution, samples=_count(samples, "--samples"),
                                        chunk_size=chunk_size, orientations=orientations,
-                                       manipulability_samples=_count(manipulability_samples,
-                                                                     "--manipulability-samples"),
+                                       manipulability_samples=_optional_count(manipulability_samples,
+                                                                              "--manipulability-samples"),
+                                       ik_solves=_optional_count(ik_solves, "--ik-solves"),
                                        singular_threshold=singular_threshold, out=out, scene=world, **common)
     finally:
         if cluster is not None:
@@ -194,7 +221,9 @@ def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, 
         folder = report_dir or default
         summary["report"] = str(write_workspace_report(result, folder, force=force))
     if json_output:
-        print_json(summary)
+        print_json(summary, {"resolution_m": "m", "volume": "m^3 (m^2 for a planar arm), as volume_unit",
+                             "reachable_volume": "as volume_unit", "seconds": "s", "block_m": "m",
+                             "singular_threshold": "m/s and rad/s mixed, per unit joint rate"})
     elif dataset is not None:
         console.print(f"IK data set: {summary['samples']:,} rows, {summary['mean_solutions']:.2f} solutions "
                       f"per pose on average, in {summary['store']}", highlight=False)

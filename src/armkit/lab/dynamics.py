@@ -7,6 +7,7 @@ import mujoco
 import numpy as np
 from matplotlib.figure import Figure
 
+from armkit._format import fmt_significant
 from armkit.dynamics import _with_inertials, missing_inertia
 from armkit.inertial import Inertial
 from armkit.lab.context import LabContext, fmt, fmt_error
@@ -63,9 +64,10 @@ def dynamics_experiment(ctx: LabContext) -> Section:
     for j, joint in enumerate(robot.chain.joints):
         unit = "N m" if joint.kind == "revolute" else "N"
         limit = robot.max_torque[j]
-        rows.append([joint.name, f"{fmt(torques.peak[j], 4)} {unit}",
-                     f"{fmt(np.abs(reference[:, j]).max(), 4)} {unit}", f"{fmt_error(difference[j])} {unit}",
-                     "none" if not np.isfinite(limit) else f"{fmt(limit, 1)} {unit}"])
+        rows.append([joint.name, f"{fmt_significant(torques.peak[j], scale)} {unit}",
+                     f"{fmt_significant(np.abs(reference[:, j]).max(), scale)} {unit}",
+                     f"{fmt_error(difference[j])} {unit}",
+                     "none" if not np.isfinite(limit) else f"{fmt_significant(limit)} {unit}"])
     worst = float(difference.max() / scale)
     section.tables.append(Table("Peak |torque| along the trajectory", [
         "joint", "armkit", "MuJoCo mj_inverse", "max |difference|", "torque limit"], rows,
@@ -94,7 +96,7 @@ def dynamics_experiment(ctx: LabContext) -> Section:
         ax_tau.plot(samples.t, reference[:, j], lw=0.8, color="k", ls=":")
         ax_diff.plot(samples.t, torques.tau[:, j] - reference[:, j], lw=0.8, color=f"C{j}")
     ax_tau.set(xlabel="time [s]", ylabel="torque [N m or N]", title="armkit (colour), MuJoCo (dotted)")
-    ax_diff.set(xlabel="time [s]", title="armkit - MuJoCo")
+    ax_diff.set(xlabel="time [s]", ylabel="difference [N m or N]", title="armkit - MuJoCo")
     ax_tau.legend(fontsize=7, ncol=3)
     for ax in (ax_tau, ax_diff):
         ax.grid(True, lw=0.3)

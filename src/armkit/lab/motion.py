@@ -183,7 +183,7 @@ def linear_motion(ctx: LabContext) -> Section:
                             ("MuJoCo, velocity servo", velocity.T_tool, velocity.t)):
         ax_deviation.semilogy(t, np.maximum(_line_deviation(poses[:, :3, 3], start, displacement), 1e-12),
                               label=label, lw=1.2)
-    ax_deviation.set(xlabel="time [s]", ylabel="[m]", title="Distance from the straight line")
+    ax_deviation.set(xlabel="time [s]", ylabel="distance [m]", title="Distance from the straight line")
     ax_deviation.legend(fontsize=7)
     for ax in (ax_position, ax_deviation):
         ax.grid(True, lw=0.3)
@@ -194,14 +194,20 @@ def linear_motion(ctx: LabContext) -> Section:
     return section
 
 
-def _waypoints(ctx: LabContext) -> tuple[NDArray, NDArray | None, NDArray | None, NDArray]:
-    """Joint waypoints, their target poses (or None), the report's joint values (or None), durations."""
+#: Segment durations [s] of a user's arm whose file gives neither velocity nor acceleration limits.
+UNLIMITED_SEGMENT_SECONDS = 4.0
+
+
+def _waypoints(ctx: LabContext) -> tuple[NDArray, NDArray | None, NDArray | None, NDArray | None]:
+    """Joint waypoints, their target poses (or None), the report's joint values (or None), durations
+    (None for a user's arm with limits: the fastest timing within them)."""
     robot = ctx.robot
     if not ctx.seeds:
         q0 = ready_configuration(robot, ctx.rng)
         span = np.where(robot.chain.prismatic, 0.1, 0.5)
         q = [q0] + [np.clip(q0 + ctx.rng.uniform(-span, span), *robot.limits.T) for _ in range(3)]
-        return np.array(q), None, None, np.full(3, 4.0)
+        limited = np.isfinite(robot.max_velocity).any() or np.isfinite(robot.max_acceleration).any()
+        return np.array(q), None, None, None if limited else np.full(3, UNLIMITED_SEGMENT_SECONDS)
     poses = np.array(published.PROBOT_WAYPOINT_POSES)
     q, near = [], np.zeros(6)
     for pose in poses:
@@ -268,6 +274,13 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     q, poses, report_q, durations = _waypoints(ctx)
     robot = ctx.robot
     trajectory = plan_trajectory(robot, q, durations)
+    if durations is None:
+        section.notes.append("Timed to the arm's own limits: the fastest motion along the path within its "
+                             "velocity and acceleration limits (and torque limits, where the robot file has "
+                             "them), as 'armkit traj --auto-time'.")
+    elif not ctx.seeds:
+        section.notes.append(f"The robot file gives no velocity or acceleration limits, so each segment "
+                             f"takes {UNLIMITED_SEGMENT_SECONDS:g} s.")
     samples = trajectory.sample(1000.0)
     ctx.record(samples.q)
     result = ctx.sim.run(samples.t, samples.q, samples.qd)
@@ -279,9 +292,12 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     section.tables.append(_waypoint_table(ctx, q, poses, report_q, trajectory.waypoint_times, result))
     limit_rows = []
     for j, name in enumerate(robot.joint_names):
-        limit_rows.append([name, fmt(trajectory.peak_velocity[j], 4), fmt(robot.max_velocity[j], 4),
-                           fmt(trajectory.peak_acceleration[j], 4), fmt(robot.max_acceleration[j], 4),
-                           fmt_error(np.abs(result.joint_error[:, j]).max())])
+        unit = "m" if robot.chain.prismatic[j] else "rad"
+        limit_rows.append([name, f"{fmt(trajectory.peak_velocity[j], 4)} {unit}/s",
+                           f"{fmt(robot.max_velocity[j], 4)} {unit}/s",
+                           f"{fmt(trajectory.peak_acceleration[j], 4)} {unit}/s²",
+                           f"{fmt(robot.max_acceleration[j], 4)} {unit}/s²",
+                           f"{fmt_error(np.abs(result.joint_error[:, j]).max())} {unit}"])
     position_error, rotation_error = _tool_errors(robot, result)
     T_goal = robot.fk(q[-1])
     final = np.append(result.T_tool[-1, :3, 3] - T_goal[:3, 3],
@@ -305,10 +321,14 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     figure = Figure(figsize=(8.5, 3.0))
     ax_joint, ax_tool = figure.subplots(1, 2)
     _plot_joint_errors(ax_joint, robot, result)
-    ax_tool.plot(result.t, position_error * 1e3, lw=1.0, label="position [mm]")
-    ax_tool.plot(result.t, rotation_error * 1e3, lw=1.0, label="rotation [mrad]")
-    ax_tool.set(xlabel="time [s]", title="Tool: MuJoCo vs commanded")
-    ax_tool.legend(fontsize=7)
+    ax_rotation = ax_tool.twinx()
+    ax_tool.plot(result.t, position_error * 1e3, lw=1.0, color="C0", label="position (left) [mm]")
+    ax_rotation.plot(result.t, rotation_error * 1e3, lw=1.0, color="C1", ls="--",
+                     label="rotation (right, dashed) [mrad]")
+    ax_tool.set(xlabel="time [s]", ylabel="position error [mm]", title="Tool: MuJoCo vs commanded")
+    ax_rotation.set_ylabel("rotation error [mrad]")
+    lines = ax_tool.get_lines() + ax_rotation.get_lines()
+    ax_tool.legend(lines, [line.get_label() for line in lines], fontsize=7)
     for ax in (ax_joint, ax_tool):
         ax.grid(True, lw=0.3)
         for t_k in trajectory.waypoint_times:
@@ -442,12 +462,12 @@ def fixed_point_rotation(ctx: LabContext) -> Section:
     figure = Figure(figsize=(8.5, 3.0))
     ax_angle, ax_drift = figure.subplots(1, 2)
     ax_angle.plot(motion.t, np.degrees(np.unwrap(_signed_turn(motion.poses, motion.poses[0], axis))), lw=1.4)
-    ax_angle.set(xlabel="time [s]", ylabel="[deg]", title="Angle turned about the axis")
+    ax_angle.set(xlabel="time [s]", ylabel="angle [deg]", title="Angle turned about the axis")
     ax_drift.semilogy(result.t, np.maximum(drift_sim, 1e-12), lw=1.0, label="MuJoCo")
     drift_computed = np.linalg.norm(motion.poses[:, :3, 3] - motion.poses[0, :3, 3], axis=-1)
     floor = " (below 1e-12 m: drawn at 1e-12)" if drift_computed.max() < 1e-12 else ""
     ax_drift.semilogy(motion.t, np.maximum(drift_computed, 1e-12), lw=1.0, label=f"armkit{floor}")
-    ax_drift.set(xlabel="time [s]", ylabel="[m]", title="Tool point drift")
+    ax_drift.set(xlabel="time [s]", ylabel="drift [m]", title="Tool point drift")
     ax_drift.legend(fontsize=7)
     for ax in (ax_angle, ax_drift):
         ax.grid(True, lw=0.3)

@@ -53,11 +53,18 @@ def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | N
                     fit_limits: bool = True, tol: float = 1e-4, max_velocity: ArrayLike | None = None,
                     max_acceleration: ArrayLike | None = None, torque_limits: bool | None = None
                     ) -> JointTrajectory:
-    """Joint trajectory of ``robot`` through ``waypoints``, at rest at both ends.
+    """Joint trajectory of ``robot`` through ``waypoints``, at rest at both ends, inside the joint
+    position limits all the way.
 
     With ``durations``, the minimum-jerk spline (stretched to the limits if needed); without,
     the time-optimal timing along the minimum-jerk path (:func:`~armkit.trajectory.topp.time_optimal`),
     within the velocity, acceleration and (where the robot has them) torque limits.
+
+    Position limits are kept by the path itself, before any timing: where the minimum-jerk
+    spline would overshoot a limit between two waypoints, the joint comes to rest at the
+    waypoint beside the overshoot (:func:`~armkit.trajectory.min_jerk.min_jerk`'s
+    ``position_limits``); timing along a path never changes where it goes. Both ways of timing
+    treat the velocity, acceleration and torque limits alike: they slow down, never only warn.
 
     Parameters
     ----------
@@ -66,9 +73,10 @@ def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | N
         Joint values [rad or m], or with ``poses=True`` tool poses ``x y z a b c`` [m, rad].
     durations : (M - 1,) array, optional
         Segment durations [s]. Segments that would exceed the velocity or acceleration
-        limits are lengthened as little as needed (``result.stretch`` says
-        by how much) unless ``fit_limits=False``. Default: the fastest motion along the
-        path within the limits (:func:`~armkit.trajectory.topp.time_optimal`).
+        limits are lengthened as little as needed, and then the whole trajectory slowed
+        uniformly as far as the torque limits need (where ``torque_limits``);
+        ``result.stretch`` says by how much, unless ``fit_limits=False``. Default: the
+        fastest motion along the path within the limits (:func:`~armkit.trajectory.topp.time_optimal`).
     poses : bool
         Waypoints are tool poses, solved by IK, each nearest the previous solution.
     convention : str
@@ -76,7 +84,9 @@ def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | N
     q_start : (n,) array, optional
         Configuration the first pose's IK solution should be nearest (default zeros).
     fit_limits : bool
-        Lengthen given ``durations`` as the limits need (default).
+        Lengthen given ``durations`` as the limits need (default); ``False`` keeps them exactly
+        as given, and the velocity, acceleration and torque limits unchecked (the result's
+        peaks say what they are). The position limits are kept either way.
     tol : float
         Relative accuracy of each fitted duration, in ``(0, 1)``.
     max_velocity, max_acceleration : float or (n,) array, optional
@@ -84,17 +94,16 @@ def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | N
         per joint: for an arm whose file gives none (a URDF has no acceleration limits),
         or to move slower (:func:`planning_limits`).
     torque_limits : bool, optional
-        Without ``durations``, keep the joint torques within ``robot.max_torque`` too
-        (checked at 1 kHz; :func:`~armkit.trajectory.topp.slowed_to_torque_limits`). Default:
-        wherever the robot has inertial parameters and a torque limit.
+        Keep the joint torques within ``robot.max_torque`` too (checked at 1 kHz;
+        :func:`~armkit.trajectory.topp.slowed_to_torque_limits`). Default: wherever the robot
+        has inertial parameters and a torque limit.
 
     Raises
     ------
     InputError, JointLimitError, UnreachableError
-        Bad waypoints, durations, limits or ``tol``, a waypoint outside the joint limits, an
-        unreachable pose; without ``durations``, a path leaving the position limits between
-        waypoints (:class:`JointLimitError` naming the joint and its range), or a torque limit
-        below what gravity needs.
+        Bad waypoints, durations, limits or ``tol``, a waypoint outside the joint limits
+        (:class:`JointLimitError` naming the joint and its range), an unreachable pose, or a
+        torque limit below what gravity needs.
 
     Examples
     --------
@@ -116,22 +125,29 @@ def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | N
     q = (joint_waypoints_from_poses(robot, waypoints, convention, q_start) if poses else waypoints)
     q = joint_waypoints(robot, q)
     limited = bool(np.any(np.isfinite(vmax)) or np.any(np.isfinite(amax)))
+    use_torques = _has_torque_limits(robot) if torque_limits is None else bool(torque_limits)
+    if use_torques and not _has_torque_limits(robot):
+        raise InputError("torque_limits=True: the robot needs inertial parameters and a max_torque "
+                         "for some joint (docs/dynamics.md)")
+    inside = robot.limits
     if durations is None:
-        use_torques = _has_torque_limits(robot) if torque_limits is None else bool(torque_limits)
-        if use_torques and not _has_torque_limits(robot):
-            raise InputError("torque_limits=True: the robot needs inertial parameters and a max_torque "
-                             "for some joint (docs/dynamics.md)")
         constraints = [torque_constraint(robot)] if use_torques else []
-        trajectory = time_optimal(q, vmax, amax, constraints=constraints)
+        trajectory = time_optimal(q, vmax, amax, constraints=constraints, position_limits=inside)
         if use_torques:
             trajectory = slowed_to_torque_limits(trajectory, robot)
-        if violations := trajectory.position_limit_violations(robot):
-            raise JointLimitError("; ".join(violations) + " (the path through these waypoints overshoots: "
-                                  "add a waypoint where it turns, or give durations)")
-        return trajectory
-    if fit_limits and limited:
-        return stretch_to_limits(q, durations, vmax, amax, tol=float(tol))
-    return min_jerk(q, durations)
+    elif not fit_limits:
+        trajectory = min_jerk(q, durations, position_limits=inside)
+    else:
+        trajectory = (stretch_to_limits(q, durations, vmax, amax, tol=float(tol), position_limits=inside)
+                      if limited else min_jerk(q, durations, position_limits=inside))
+        if use_torques:
+            slowed = slowed_to_torque_limits(trajectory, robot)
+            trajectory = JointTrajectory(slowed.piece_durations, slowed.coefficients, slowed.waypoints,
+                                         trajectory.requested_durations, segment_pieces=slowed.segment_pieces)
+    if violations := trajectory.position_limit_violations(robot):  # the path is planned inside: a bug
+        raise JointLimitError("; ".join(violations) + " (armkit planned this path inside the limits; please "
+                              "report the waypoints)")
+    return trajectory
 
 
 def _has_torque_limits(robot: Robot) -> bool:

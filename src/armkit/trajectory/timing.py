@@ -43,12 +43,15 @@ from scipy.optimize import minimize
 from armkit.errors import ConvergenceError, InputError
 from armkit.trajectory._checks import check_durations, check_finite, check_waypoints
 from armkit.trajectory.joint_trajectory import JointTrajectory
-from armkit.trajectory.min_jerk import min_jerk
+from armkit.trajectory.min_jerk import min_jerk, rest_points
 
 __all__ = ["auto_time", "limit_ratio", "limit_ratios", "stretch_to_limits"]
 
 #: Relative margin added to the exact uniform factor against rounding.
 _MARGIN = 1e-12
+#: Fits repeated with the rest points a fit's durations add (position limits), before the
+#: result is slowed uniformly instead (see ``_inside``).
+_REFITS = 1
 
 
 def _as_float(value: ArrayLike, name: str) -> NDArray[np.float64]:
@@ -87,10 +90,12 @@ def limit_ratio(trajectory: JointTrajectory, max_velocity: ArrayLike, max_accele
     return float(max(velocity.max(), np.sqrt(acceleration.max())))
 
 
-def _shorten(waypoints, durations, lower, vmax, amax, tol, max_rounds):
-    """Coordinate descent: shorten each segment in turn to its feasible minimum (all feasible)."""
+def _shorten(spline, durations, lower, vmax, amax, tol, max_rounds):
+    """Coordinate descent: shorten each segment in turn to its feasible minimum (all feasible).
+
+    ``spline(durations)`` is the trajectory through the waypoints with those durations."""
     def feasible(candidate):
-        return limit_ratio(min_jerk(waypoints, candidate), vmax, amax) <= 1.0
+        return limit_ratio(spline(candidate), vmax, amax) <= 1.0
 
     durations = durations.copy()
     for _ in range(max_rounds):
@@ -112,21 +117,21 @@ def _shorten(waypoints, durations, lower, vmax, amax, tol, max_rounds):
                            f"(last change {np.max((before - durations) / before):.2g} relative)")
 
 
-def _feasible_start(waypoints, start, lower, vmax, amax):
+def _feasible_start(spline, start, lower, vmax, amax):
     """``start`` scaled uniformly onto the limits, then raised to ``lower`` (re-scaled if that broke them).
 
     The factor carries ``1 + _MARGIN`` so that rounding never leaves a ratio a hair above 1.
     """
-    k = limit_ratio(min_jerk(waypoints, start), vmax, amax) * (1 + _MARGIN)
+    k = limit_ratio(spline(start), vmax, amax) * (1 + _MARGIN)
     durations = np.maximum(start * k, lower)
-    k = limit_ratio(min_jerk(waypoints, durations), vmax, amax) * (1 + _MARGIN)
+    k = limit_ratio(spline(durations), vmax, amax) * (1 + _MARGIN)
     return durations * max(1.0, k)
 
 
-def _refine(waypoints, durations, lower, vmax, amax):
+def _refine(spline, durations, lower, vmax, amax):
     """SLSQP on ``min sum(T)`` under the limits, from feasible ``durations``; the input if it fails."""
     def margins(candidate):
-        velocity, acceleration = limit_ratios(min_jerk(waypoints, candidate), vmax, amax)
+        velocity, acceleration = limit_ratios(spline(candidate), vmax, amax)
         return np.concatenate([1.0 - velocity.ravel(), 1.0 - acceleration.ravel()])
 
     result = minimize(np.sum, durations, jac=lambda T: np.ones_like(T), method="SLSQP",
@@ -135,21 +140,21 @@ def _refine(waypoints, durations, lower, vmax, amax):
     return result.x if result.success and np.all(np.isfinite(result.x)) else durations
 
 
-def _fit(waypoints, starts, lower, requested, vmax, amax, tol, max_rounds, refine):
+def _fit(spline, starts, lower, requested, vmax, amax, tol, max_rounds, refine):
     """The shortest of the coordinate-wise minima from each start, refined by SLSQP if asked."""
     best = None
     for start in starts:
-        durations = _shorten(waypoints, _feasible_start(waypoints, start, lower, vmax, amax), lower,
+        durations = _shorten(spline, _feasible_start(spline, start, lower, vmax, amax), lower,
                              vmax, amax, tol, max_rounds)
         if best is None or durations.sum() < best.sum():
             best = durations
     if refine and best.size > 1:
-        refined = _refine(waypoints, best, lower, vmax, amax)
-        polished = _shorten(waypoints, _feasible_start(waypoints, refined, lower, vmax, amax), lower,
+        refined = _refine(spline, best, lower, vmax, amax)
+        polished = _shorten(spline, _feasible_start(spline, refined, lower, vmax, amax), lower,
                             vmax, amax, tol, max_rounds)
         if polished.sum() < best.sum():
             best = polished
-    final = min_jerk(waypoints, best)
+    final = spline(best)
     return JointTrajectory(final.durations, final.coefficients, final.waypoints, requested)
 
 
@@ -165,9 +170,37 @@ def _checked_limits(waypoints, max_velocity, max_acceleration):
     return vmax, amax
 
 
+def _inside(fit, waypoints: NDArray[np.float64], durations: NDArray[np.float64],
+            position_limits: ArrayLike | None, vmax: NDArray[np.float64],
+            amax: NDArray[np.float64]) -> JointTrajectory:
+    """``fit(spline)`` with ``spline(durations)`` the minimum-jerk trajectory through ``waypoints``
+    with the rest points that keep it inside ``position_limits`` at ``durations``
+    (:func:`~armkit.trajectory.min_jerk.rest_points`), held fixed during the fit (the splines
+    then change smoothly with the durations). If the fitted durations need more rest points,
+    the fit is repeated with them (at most :data:`_REFITS` times; the rest points only grow);
+    after that they are added and the result is slowed uniformly back onto the limits (exact:
+    a uniform slow-down keeps the path, and so its rest points)."""
+    rest = None if position_limits is None else rest_points(waypoints, durations, position_limits)
+    for _ in range(_REFITS + 1):
+        def spline(candidate: NDArray[np.float64], rest=rest) -> JointTrajectory:
+            return min_jerk(waypoints, candidate, rest=rest)
+
+        fitted = fit(spline)
+        if position_limits is None:
+            return fitted
+        more = rest_points(waypoints, fitted.durations, position_limits, rest)
+        if (more == rest).all():
+            return fitted
+        rest = more
+    held = min_jerk(waypoints, fitted.durations, rest=more)
+    k = max(1.0, limit_ratio(held, vmax, amax) * (1 + _MARGIN))
+    final = min_jerk(waypoints, fitted.durations * k, rest=more)
+    return JointTrajectory(final.durations, final.coefficients, final.waypoints, fitted.requested_durations)
+
+
 def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: ArrayLike,
                       max_acceleration: ArrayLike, *, tol: float = 1e-4, max_rounds: int = 200,
-                      refine: bool = True) -> JointTrajectory:
+                      refine: bool = True, position_limits: ArrayLike | None = None) -> JointTrajectory:
     """The rest-to-rest minimum-jerk trajectory, segments lengthened only as far as the limits need.
 
     Each final duration is at least the requested one; a trajectory already within the
@@ -190,6 +223,9 @@ def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: 
         Rounds of the coordinate descent before :class:`ConvergenceError`.
     refine : bool
         Refine the descent's result by SLSQP (module notes); costs ``N + 1`` solves per iteration.
+    position_limits : (n, 2) array, optional
+        Keep the trajectory inside these [rad or m]: joints held at rest at the waypoints where
+        the spline would leave them (:func:`~armkit.trajectory.min_jerk.rest_points`).
 
     Examples
     --------
@@ -200,21 +236,26 @@ def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: 
     waypoints = check_waypoints(waypoints)
     requested = check_durations(durations, waypoints.shape[0] - 1)
     vmax, amax = _checked_limits(waypoints, max_velocity, max_acceleration)
-    if limit_ratio(min_jerk(waypoints, requested), vmax, amax) <= 1.0:
-        return min_jerk(waypoints, requested)
-    fastest = auto_time(waypoints, vmax, amax, tol=tol, max_rounds=max_rounds, refine=refine).durations
-    return _fit(waypoints, [requested, np.maximum(requested, fastest)], requested, requested, vmax, amax,
-                tol, max_rounds, refine)
+    as_requested = min_jerk(waypoints, requested, position_limits=position_limits)
+    if limit_ratio(as_requested, vmax, amax) <= 1.0:
+        return as_requested
+    fastest = auto_time(waypoints, vmax, amax, tol=tol, max_rounds=max_rounds, refine=refine,
+                        position_limits=position_limits).durations
+    return _inside(lambda spline: _fit(spline, [requested, np.maximum(requested, fastest)], requested,
+                                       requested, vmax, amax, tol, max_rounds, refine),
+                   waypoints, requested, position_limits, vmax, amax)
 
 
 def auto_time(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: ArrayLike, *,
-              tol: float = 1e-4, max_rounds: int = 200, refine: bool = True) -> JointTrajectory:
+              tol: float = 1e-4, max_rounds: int = 200, refine: bool = True,
+              position_limits: ArrayLike | None = None) -> JointTrajectory:
     """The rest-to-rest minimum-jerk trajectory with the shortest durations meeting the limits.
 
     Starts from durations proportional to each segment's largest ``|dq| / vmax +
     sqrt(|dq| / amax)``, scales them uniformly onto the limits, then shortens segment by
     segment and refines by SLSQP (see the module notes; parameters as in
-    :func:`stretch_to_limits`). A segment cannot be shorter than ``max_j |dq_j| / vmax_j``
+    :func:`stretch_to_limits`, ``position_limits`` too). A segment cannot be shorter than
+    ``max_j |dq_j| / vmax_j``
     (nor than ``1e-6`` of the total, for repeated waypoints).
 
     Examples
@@ -231,5 +272,6 @@ def auto_time(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: A
         raise InputError("auto_time: needs finite limits and waypoints that move")
     guess = np.maximum(guess, 1e-6 * guess.sum())
     lower = np.maximum((step / vmax).max(axis=1), 1e-6 * guess.sum())
-    return _fit(waypoints, [guess], lower, guess, vmax, amax, float(check_finite(tol, "tol")), max_rounds,
-                refine)
+    tol = float(check_finite(tol, "tol"))
+    return _inside(lambda spline: _fit(spline, [guess], lower, guess, vmax, amax, tol, max_rounds, refine),
+                   waypoints, guess, position_limits, vmax, amax)

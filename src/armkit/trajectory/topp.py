@@ -209,12 +209,13 @@ def parameterize(s: ArrayLike, constraint: LinearConstraint, x_max: ArrayLike, *
     return ToppResult(status, point, s, x, u, t)
 
 
-def geometric_path(waypoints: ArrayLike, max_velocity: ArrayLike,
-                   max_acceleration: ArrayLike) -> JointTrajectory:
+def geometric_path(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: ArrayLike, *,
+                   position_limits: ArrayLike | None = None) -> JointTrajectory:
     """The path through ``waypoints`` that :func:`time_optimal` times: its time is the path parameter.
 
     The minimum-jerk spline with each segment as long as its slowest joint's rest-to-rest time
-    at the limits (module notes). Parameters as in :func:`time_optimal`.
+    at the limits (module notes), kept inside ``position_limits`` if given
+    (:func:`~armkit.trajectory.min_jerk.min_jerk`). Parameters as in :func:`time_optimal`.
     """
     waypoints = check_waypoints(waypoints)
     vmax, amax = _checked_limits(waypoints, max_velocity, max_acceleration)
@@ -235,16 +236,19 @@ def geometric_path(waypoints: ArrayLike, max_velocity: ArrayLike,
     if np.all(np.isinf(amax)):   # timed uniformly by time_optimal, at rest at both ends; durations
         # as the square root of the time at the velocity limit ("centripetal"): a long segment next to
         # a short one would otherwise make the spline overshoot (as time at an acceleration limit does)
-        return min_jerk(waypoints, np.sqrt(nominal * nominal.mean()))
+        return min_jerk(waypoints, np.sqrt(nominal * nominal.mean()), position_limits=position_limits)
     # Leaving the first waypoint and reaching the last at the chord's speed, not at rest: a path
     # with q' = 0 at an end would let s run arbitrarily fast there (nothing bounds sd where q' = q'' = 0).
+    # (A first or last segment leaving along its chord towards a waypoint held at rest moves
+    # monotonically, so position_limits can always be kept.)
     return min_jerk(waypoints, nominal, start_velocity=(waypoints[1] - waypoints[0]) / nominal[0],
-                    end_velocity=(waypoints[-1] - waypoints[-2]) / nominal[-1])
+                    end_velocity=(waypoints[-1] - waypoints[-2]) / nominal[-1],
+                    position_limits=position_limits)
 
 
 def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: ArrayLike, *,
                  constraints: Sequence[ConstraintFunction] = (),
-                 smoothing: float = SMOOTHING) -> JointTrajectory:
+                 smoothing: float = SMOOTHING, position_limits: ArrayLike | None = None) -> JointTrajectory:
     """The fastest trajectory along :func:`geometric_path` within the limits, at rest at both ends.
 
     Parameters
@@ -260,6 +264,9 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
         Width of the moving average over ``s(t)``, as a fraction of the median time between
         waypoints: the trajectory is about that much longer than the bang-bang optimum, and
         its jerk is about ``2 amax / (smoothing * that time)``.
+    position_limits : (n, 2) array, optional
+        Lower and upper limit per joint [rad or m]: the path stays inside them
+        (:func:`geometric_path`); timing along it does not change where it goes.
 
     Without any acceleration limit (and no ``constraints``) the fastest motion would jump in
     speed; the rest-to-rest minimum-jerk spline through the waypoints (segment durations
@@ -288,7 +295,7 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
     if not 0.0 < smoothing <= 1.0:
         raise InputError(f"smoothing: expected a fraction in (0, 1] of the time between waypoints, got "
                          f"{smoothing:g}")
-    path = geometric_path(waypoints, max_velocity, max_acceleration)
+    path = geometric_path(waypoints, max_velocity, max_acceleration, position_limits=position_limits)
     vmax, amax = _checked_limits(path.waypoints, max_velocity, max_acceleration)
     if np.all(np.isinf(amax)) and not constraints:
         return _scaled(path, limit_ratio(path, vmax, amax) * (1 + _MARGIN))

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -14,16 +14,34 @@ from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.robot_file import robot_to_toml
 from armkit.workspace.budget import check_memory
-from armkit.workspace.dexterity import DexterityMap, dexterity
+from armkit.workspace.dexterity import DexterityMap, applies, dexterity
 from armkit.workspace.grid import Grid, grid_for
 from armkit.workspace.manipulability import SINGULAR_THRESHOLD, ManipulabilityMap, manipulability
 from armkit.workspace.reachability import CHUNK_SIZE, ReachabilityMap, reachability
-from armkit.workspace.sampling import SamplePlan
+from armkit.workspace.sampling import SamplePlan, has_closed_form
 from armkit.workspace.store import create_store, load_section, open_store, store_lock
 
 __all__ = ["Workspace", "compute", "json_safe", "open", "store_meta", "workspace_from_group", "write_axes"]
 
 _MAPS = {"reachability": ReachabilityMap, "manipulability": ManipulabilityMap, "dexterity": DexterityMap}
+
+#: By default the manipulability map samples ``samples // MANIPULABILITY_SHARE`` configurations (a
+#: Jacobian and its SVD cost several FKs) and the dexterity map makes at most
+#: ``samples // DEXTERITY_SHARE`` closed-form IK solves (each costs about as much as DEXTERITY_SHARE
+#: reachability samples), or NUMERIC_COST times fewer numeric ones (about a millisecond each,
+#: up to 50 ms for a pose out of reach): every map's time in proportion to ``samples``.
+MANIPULABILITY_SHARE = 5
+DEXTERITY_SHARE = 4
+NUMERIC_COST = 100
+
+
+def default_sizes(robot: Robot, samples: int) -> tuple[int, int]:
+    """The manipulability samples and dexterity IK solves that go with ``samples`` reachability samples
+    (see :data:`MANIPULABILITY_SHARE`)."""
+    solves = samples // DEXTERITY_SHARE
+    if not has_closed_form(robot):
+        solves //= NUMERIC_COST
+    return samples // MANIPULABILITY_SHARE, max(solves, 1)
 
 
 @dataclass(frozen=True)
@@ -43,6 +61,8 @@ class Workspace:
         The store, if any.
     missing : tuple of str
         Maps the run was asked for that its store does not hold (it was interrupted before them).
+    skipped : dict of str to str
+        Maps asked for that do not apply to the arm, and why (e.g. dexterity for fewer than 6 joints).
     """
 
     robot: Robot
@@ -53,6 +73,7 @@ class Workspace:
     seconds: float = float("nan")
     path: str | None = None
     missing: tuple[str, ...] = ()
+    skipped: dict[str, str] = field(default_factory=dict)
 
     @property
     def complete(self) -> bool:
@@ -67,6 +88,8 @@ class Workspace:
                                "seconds": self.seconds, "store": self.path, "complete": self.complete}
         if self.missing:
             out["maps_missing"] = list(self.missing)
+        if self.skipped:
+            out["maps_skipped"] = dict(self.skipped)
         if self.reachability is not None:
             reach = self.reachability
             volume = reach.volume()
@@ -88,10 +111,14 @@ class Workspace:
                                      "singular_voxels": int(manip.singular.sum())}
         if self.dexterity is not None:
             dex = self.dexterity
+            reached = None if self.reachability is None else self.reachability.occupied
             out["dexterity"] = {"orientations": dex.orientations, "voxels_tested": dex.tested,
                                 "voxels_to_test": dex.candidates, "complete": dex.complete,
-                                "ik_solves": dex.tested * dex.orientations,
-                                "mean_reachability_index": dex.mean_index(),
+                                "ik_solves": dex.ik_solves, "block_voxels": dex.block,
+                                "block_m": dex.block * self.grid.resolution,
+                                "mean_reachability_index": dex.mean_index(reached),
+                                "mean_index_voxels": int((dex.reachable if reached is None
+                                                          else reached).sum()),
                                 "voxels_reached": int(dex.reachable.sum()),
                                 "max_solutions": int(dex.max_solutions.max())}
         return out
@@ -116,10 +143,11 @@ def write_axes(group: Any, grid: Grid, prefix: str = "") -> None:
 
 
 def compute(robot: Robot, *, resolution: float = 0.02, samples: int = 1_000_000, seed: int = 0,
-            method: str = "uniform", chunk_size: int = CHUNK_SIZE, manipulability_samples: int = 200_000,
+            method: str = "uniform", chunk_size: int = CHUNK_SIZE, manipulability_samples: int | None = None,
             singular_threshold: float = SINGULAR_THRESHOLD, orientations: int = 100,
-            engine: Any = None, out: str | Path | None = None, resume: bool = False,
-            overwrite: bool = False, progress: bool = False, scene: Any = None) -> Workspace:
+            ik_solves: int | None = None, engine: Any = None, out: str | Path | None = None,
+            resume: bool = False, overwrite: bool = False, progress: bool = False,
+            scene: Any = None) -> Workspace:
     """Reachability, manipulability and dexterity maps of ``robot``, written to ``out`` if given.
 
     Parameters
@@ -131,12 +159,18 @@ def compute(robot: Robot, *, resolution: float = 0.02, samples: int = 1_000_000,
         Configurations for the reachability map.
     seed, method, chunk_size
         See :func:`armkit.workspace.reachability`.
-    manipulability_samples : int
-        Configurations for the manipulability map (0: no map).
+    manipulability_samples : int, optional
+        Configurations for the manipulability map (0: no map). Default ``samples //``
+        :data:`MANIPULABILITY_SHARE`.
     singular_threshold : float
         See :mod:`armkit.workspace.manipulability`.
     orientations : int
-        Tool orientations per voxel for the dexterity map (0: no map).
+        Tool orientations per voxel for the dexterity map (0: no map). An arm of fewer than six
+        joints gets none (``skipped`` says why).
+    ik_solves : int, optional
+        Most IK solves of the dexterity map (blocks of voxels share a position beyond that; see
+        :mod:`armkit.workspace.dexterity`). Default ``samples //`` :data:`DEXTERITY_SHARE`, and
+        :data:`NUMERIC_COST` times fewer for an arm without a closed form.
     engine : None, int or dask.distributed.Client
         Where the chunks run (default: a thread per local core).
     out : path, optional
@@ -163,6 +197,13 @@ def compute(robot: Robot, *, resolution: float = 0.02, samples: int = 1_000_000,
     positive_float(singular_threshold, "singular_threshold")
     grid = grid_for(robot, resolution)
     plan = SamplePlan(int(samples), int(chunk_size), int(seed), method)  # checked before the estimate
+    default_manipulability, default_solves = default_sizes(robot, plan.samples)
+    if manipulability_samples is None:
+        manipulability_samples = default_manipulability
+    ik_solves = default_solves if ik_solves is None else ik_solves
+    skipped = {}
+    if orientations and (reason := applies(robot, orientations, ik_solves)) is not None:
+        skipped["dexterity"], orientations = reason, 0
     check_memory(grid, samples=plan.samples, chunk_size=plan.chunk_size, method=method,
                  manipulability_samples=int(manipulability_samples), orientations=int(orientations),
                  engine=engine)
@@ -181,10 +222,12 @@ def compute(robot: Robot, *, resolution: float = 0.02, samples: int = 1_000_000,
         manip = (manipulability(robot, samples=manipulability_samples, threshold=singular_threshold,
                                 chunk_size=max(1, chunk_size // 4), **common)
                  if manipulability_samples else None)
-        dex = (dexterity(robot, reach=reach, orientations=orientations, engine=engine, store=store,
-                         resume=resume, progress=progress) if orientations else None)
+        dex = (dexterity(robot, reach=reach, orientations=orientations, ik_solves=ik_solves, engine=engine,
+                         store=store, resume=resume, progress=progress) if orientations else None)
         result = Workspace(robot, grid, reach, manip, dex, time.perf_counter() - start,
-                           None if out is None else str(out))
+                           None if out is None else str(out), skipped=skipped)
+        if store is not None and skipped:
+            store.attrs["maps_skipped"] = skipped
         if store is not None:
             store.attrs["summary"] = json_safe(result.summary())
     return result
@@ -238,5 +281,5 @@ def workspace_from_group(group: Any, robot: Robot, grid: Grid, prefix: str, path
     missing = tuple(name for name in requested if maps[name] is None)
     seconds = group.attrs.get("summary", {}).get("seconds") if not prefix else None
     return Workspace(robot, grid, **maps, seconds=float("nan") if seconds is None else seconds, path=path,
-                     missing=missing)
+                     missing=missing, skipped=dict(group.attrs.get("maps_skipped", {})))
 

@@ -33,17 +33,24 @@ def _summary_table(summary: dict) -> Table:
                  ["  of which voxelisation / sampling",
                   f"± {v['voxelisation_error']:.2g} / ± {v['sampling_error']:.2g} {v['unit']}"],
                  ["reached voxels (boundary)", f"{v['occupied_voxels']:,} ({v['boundary_voxels']:,})"]]
+        if v["error"] > v["value"]:
+            rows.append(["  note", "the volume's error is larger than the volume: give more samples (or a "
+                                   "coarser resolution)"])
     if "dexterity" in summary:
         dex = summary["dexterity"]
-        rows += [["mean reachability index", f"{_number(dex['mean_reachability_index'], 3)} over "
-                  f"{dex['voxels_reached']:,} voxels, {dex['orientations']} orientations each "
-                  f"({dex['ik_solves']:,} IK solves)"]]
+        block = ("" if dex["block_voxels"] == 1 else
+                 f", one per block of {dex['block_voxels']}³ voxels ({dex['block_m']:g} m)")
+        rows += [["mean reachability index", f"{_number(dex['mean_reachability_index'], 3)} over the "
+                  f"{dex['mean_index_voxels']:,} reached voxels ({dex['orientations']} orientations at "
+                  f"{dex['voxels_tested']:,} positions{block}: {dex['ik_solves']:,} IK solves)"]]
     if "manipulability" in summary:
         manip = summary["manipulability"]
         rows += [["manipulability (mean over voxels)",
                   f"{_number(manip['mean'])} from {manip['samples']:,} samples"],
                  ["singular voxels", f"{manip['singular_voxels']:,} (smallest singular value < "
                   f"{manip['singular_threshold']:g})"]]
+    rows += [[f"{name} map", f"skipped: {reason}"]
+             for name, reason in summary.get("maps_skipped", {}).items()]
     rows.append(["time", f"{summary['seconds']:.1f} s"])
     return Table("Summary", ["", "value"], rows, wrap=True)
 

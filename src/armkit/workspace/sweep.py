@@ -23,9 +23,16 @@ from numpy.typing import NDArray
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.workspace.budget import check_memory
-from armkit.workspace.dexterity import dexterity
+from armkit.workspace.dexterity import applies, dexterity
 from armkit.workspace.grid import Grid, grid_for
-from armkit.workspace.maps import Workspace, json_safe, store_meta, workspace_from_group, write_axes
+from armkit.workspace.maps import (
+    Workspace,
+    default_sizes,
+    json_safe,
+    store_meta,
+    workspace_from_group,
+    write_axes,
+)
 from armkit.workspace.reachability import CHUNK_SIZE, reachability
 from armkit.workspace.sampling import SamplePlan
 from armkit.workspace.store import create_store, store_lock
@@ -109,7 +116,7 @@ class Sweep:
         rows = []
         for value, maps in zip(self.values, self.maps, strict=True):
             volume = maps.reachability.volume()
-            index = maps.dexterity.mean_index() if maps.dexterity else None
+            index = maps.dexterity.mean_index(maps.reachability.occupied) if maps.dexterity else None
             rows.append({"value": float(value), "reachable_volume": volume.value,
                          "reachable_volume_error": volume.error, "volume_unit": volume.unit,
                          "mean_reachability_index": index})
@@ -119,7 +126,8 @@ class Sweep:
         first = self.maps[0]
         return {"robot": self.robot.name, "parameter": self.parameter, "resolution_m": first.grid.resolution,
                 "voxels": first.grid.size, "samples": first.reachability.samples, "seconds": self.seconds,
-                "store": self.path, "complete": self.complete, "values": self.table()}
+                "store": self.path, "complete": self.complete, "values": self.table()} | (
+                    {"maps_skipped": dict(first.skipped)} if first.skipped else {})
 
     @classmethod
     def from_store(cls, group: Any, robot: Robot, path: str) -> Sweep:
@@ -136,7 +144,8 @@ class Sweep:
 
 
 def sweep(robot: Robot, spec: str, *, resolution: float = 0.02, samples: int = 1_000_000, seed: int = 0,
-          method: str = "uniform", chunk_size: int = CHUNK_SIZE, orientations: int = 0, engine: Any = None,
+          method: str = "uniform", chunk_size: int = CHUNK_SIZE, orientations: int = 0,
+          ik_solves: int | None = None, engine: Any = None,
           out: str | Path | None = None, resume: bool = False, overwrite: bool = False,
           progress: bool = False) -> Sweep:
     """Reachability (and with ``orientations`` dexterity) maps for each value of a DH parameter.
@@ -156,6 +165,10 @@ def sweep(robot: Robot, spec: str, *, resolution: float = 0.02, samples: int = 1
     start = time.perf_counter()
     name, row, values = parse_sweep(spec)
     robots = [robot_with(robot, name, row, v) for v in values]
+    ik_solves = default_sizes(robot, int(samples))[1] if ik_solves is None else ik_solves
+    skipped = {}
+    if orientations and (reason := applies(robot, orientations, ik_solves)) is not None:
+        skipped["dexterity"], orientations = reason, 0
     grid = grid_for(robots[0], resolution)
     for other in robots[1:]:
         grid = grid.union(grid_for(other, resolution))
@@ -176,9 +189,9 @@ def sweep(robot: Robot, spec: str, *, resolution: float = 0.02, samples: int = 1
             common = {"engine": engine, "store": store, "resume": resume, "progress": progress}
             reach = reachability(variant, grid=grid, samples=samples, seed=seed, method=method,
                                  chunk_size=chunk_size, section=f"sweep/{k}/reachability", **common)
-            dex = (dexterity(variant, reach=reach, orientations=orientations, section=f"sweep/{k}/dexterity",
-                             **common) if orientations else None)
-            maps.append(Workspace(variant, grid, reach, None, dex))
+            dex = (dexterity(variant, reach=reach, orientations=orientations, ik_solves=ik_solves,
+                             section=f"sweep/{k}/dexterity", **common) if orientations else None)
+            maps.append(Workspace(variant, grid, reach, None, dex, skipped=skipped))
         path = None if out is None else str(out)
         result = Sweep(robot, f"{name}{row}", values, maps, time.perf_counter() - start, path)
         if store is not None:
