@@ -60,6 +60,10 @@ def _not_applicable(section: Section, because: str) -> Section:
     return section
 
 
+#: Seed of a user's arm's trajectory waypoints (experiment 4, whose trajectory experiment 6 reuses).
+WAYPOINT_SEED = 2024
+
+
 def ready_configuration(robot: Robot, rng: np.random.Generator) -> NDArray[np.float64]:
     """A well-conditioned configuration inside the limits (largest smallest singular value of 64)."""
     q = robot.random_q(64, rng=rng)
@@ -202,10 +206,11 @@ def _waypoints(ctx: LabContext) -> tuple[NDArray, NDArray | None, NDArray | None
     """Joint waypoints, their target poses (or None), the report's joint values (or None), durations
     (None for a user's arm with limits: the fastest timing within them)."""
     robot = ctx.robot
-    if not ctx.seeds:
-        q0 = ready_configuration(robot, ctx.rng)
+    if not ctx.seeds:  # drawn from their own seed: experiments 4 and 6 get the same ones
+        rng = np.random.default_rng(WAYPOINT_SEED)
+        q0 = ready_configuration(robot, rng)
         span = np.where(robot.chain.prismatic, 0.1, 0.5)
-        q = [q0] + [np.clip(q0 + ctx.rng.uniform(-span, span), *robot.limits.T) for _ in range(3)]
+        q = [q0] + [np.clip(q0 + rng.uniform(-span, span), *robot.limits.T) for _ in range(3)]
         limited = np.isfinite(robot.max_velocity).any() or np.isfinite(robot.max_acceleration).any()
         return np.array(q), None, None, None if limited else np.full(3, UNLIMITED_SEGMENT_SECONDS)
     poses = np.array(published.PROBOT_WAYPOINT_POSES)
