@@ -16,6 +16,7 @@ __all__ = [
     "InputError",
     "JointLimitError",
     "NoClosedFormError",
+    "PlanningError",
     "RobotDefinitionError",
     "SolutionsLeftOffWarning",
     "UnreachableError",
@@ -73,6 +74,11 @@ class ConvergenceError(ArmkitError):
 
 class NoClosedFormError(ArmkitError):
     """A closed-form solution was asked of a chain whose geometry has none."""
+
+
+class PlanningError(ArmkitError):
+    """No collision-free motion was found: the start or goal collides, no path was found within
+    the time budget, or no timing of the path passed the collision check (see :func:`armkit.plan_path`)."""
 
 
 class SolutionsLeftOffWarning(UserWarning):
