@@ -337,10 +337,7 @@ def _search(scene: Any, q_start: NDArray[np.float64], goals: NDArray[np.float64]
                         lambda before=before, first=first: checks[0] - before > ATTEMPT_CHECKS * first))
                 if not problem.hasExactSolution():
                     if attempt == 0:
-                        spent = time.monotonic() - started
-                        raise PlanningError(f"no collision-free path found within time_budget={time_budget:g} s "
-                                            f"(RRT-Connect, {spent:.3g} s): give a larger time_budget, or move "
-                                            f"the start or goal away from the obstacles")
+                        break
                     continue
                 path = problem.getSolutionPath()
                 for _ in range(SIMPLIFY_ROUNDS):
@@ -352,6 +349,10 @@ def _search(scene: Any, q_start: NDArray[np.float64], goals: NDArray[np.float64]
                 paths.append(np.array([values(state) for state in path.getStates()]))
         finally:
             ou.setLogLevel(level)
+    if not paths:
+        raise PlanningError(f"no collision-free path found within time_budget={time_budget:g} s (RRT-Connect, "
+                            f"{time.monotonic() - started:.3g} s): give a larger time_budget, or move the start "
+                            f"or goal away from the obstacles")
     vertices = min(paths, key=lambda v: float(np.linalg.norm(np.diff(v, axis=0), axis=1).sum()))
     vertices[0] = q_start                     # exactly, not through OMPL's copies
     return vertices
