@@ -350,9 +350,9 @@ def _search(scene: Any, q_start: NDArray[np.float64], goals: NDArray[np.float64]
         finally:
             ou.setLogLevel(level)
     if not paths:
-        raise PlanningError(f"no collision-free path found within time_budget={time_budget:g} s (RRT-Connect, "
-                            f"{time.monotonic() - started:.3g} s): give a larger time_budget, or move the start "
-                            f"or goal away from the obstacles")
+        raise PlanningError(f"no collision-free path found within time_budget={time_budget:g} s "
+                            f"(RRT-Connect, {time.monotonic() - started:.3g} s): give a larger time_budget, "
+                            f"or move the start or goal away from the obstacles")
     vertices = min(paths, key=lambda v: float(np.linalg.norm(np.diff(v, axis=0), axis=1).sum()))
     vertices[0] = q_start                     # exactly, not through OMPL's copies
     return vertices
