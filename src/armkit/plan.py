@@ -59,7 +59,7 @@ VIA_POINT_ROUNDS = 4
 SIMPLIFY_ROUNDS = 5
 #: Searches whose shortened paths compete (the shortest is kept), and the motion checks each search after
 #: the first may make, as a multiple of the first's.
-ATTEMPTS = 3
+ATTEMPTS = 2
 ATTEMPT_CHECKS = 2
 #: Shortcut attempts of each simplifier step per round (a quarter of them in a row without gain ends it).
 SIMPLIFY_STEPS = 100
