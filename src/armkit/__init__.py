@@ -11,6 +11,7 @@ from armkit._lazy import lazy_exports
 # Public names and the module each lives in, imported on first use (see armkit._lazy).
 _MODULES = {
     "armkit.chain": ["Chain", "DHRow", "Joint", "chain_from_dh"],
+    "armkit.collision": ["Box", "Cylinder", "Mesh", "Scene", "Sphere", "load_scene"],
     "armkit.control": ["MotionResult", "ResolvedRate", "cartesian_line", "move_linear",
                        "rotate_about_tool_point"],
     "armkit.errors": ["ArmkitError", "ConvergenceError", "InputError", "JointLimitError", "NoClosedFormError",

@@ -22,8 +22,9 @@ What is read
     reduced model does: links fixed to it, and side branches and links beyond the tip held
     at zero (a hand and its fingers), in its link frame. Links fixed to the base carry no
     load and are left out; a file without any ``<inertial>`` on the moving links gives a
-    robot without inertia (:mod:`armkit.dynamics` then asks for it). Everything else
-    (collision, transmissions, ``<gazebo>``) is ignored.
+    robot without inertia (:mod:`armkit.dynamics` then asks for it); the ``<collision>``
+    geometry (box, cylinder, sphere, mesh) of the same links, placed like the visual meshes,
+    for :mod:`armkit.collision`. Everything else (transmissions, ``<gazebo>``) is ignored.
 Refused, with one :class:`~armkit.errors.RobotDefinitionError` naming the joint or line
     Malformed XML, a document type declaration (``<!DOCTYPE``/``<!ENTITY``: entities can
     expand without bound, so no DTD is accepted at all; the standard library's parser then
@@ -58,7 +59,7 @@ from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_euler
 from armkit.spatial.transforms import transform_from
 
-__all__ = ["UrdfDescription", "UrdfMesh", "load_urdf", "robot_from_urdf"]
+__all__ = ["UrdfCollision", "UrdfDescription", "UrdfMesh", "load_urdf", "robot_from_urdf"]
 
 _MOVING = {"revolute", "continuous", "prismatic"}
 _UNSUPPORTED = {"floating", "planar"}
@@ -89,6 +90,34 @@ class UrdfMesh:
 
 
 @dataclass(frozen=True)
+class UrdfCollision:
+    """A ``<collision>`` geometry of a link that moves with the chain (or is fixed to the base).
+
+    Attributes
+    ----------
+    link : str
+    kind : str
+        ``"box"``, ``"cylinder"``, ``"sphere"`` or ``"mesh"``.
+    size : tuple of float
+        Box: full edge lengths ``(x, y, z)``; cylinder: ``(radius, length)``; sphere:
+        ``(radius,)``; mesh: the ``scale`` ``(sx, sy, sz)``. Metres.
+    filename : str or None
+        A mesh's file as written (``package://...``, relative to the URDF, or absolute).
+    frame : int
+        The chain frame it is fixed in (0 the base frame, ``i`` link frame ``i``).
+    T_frame_geom : ndarray (4, 4)
+        Its pose in that frame [m].
+    """
+
+    link: str
+    kind: str
+    size: tuple[float, ...]
+    filename: str | None
+    frame: int
+    T_frame_geom: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
 class UrdfDescription:
     """Where a robot loaded from URDF came from.
 
@@ -105,6 +134,7 @@ class UrdfDescription:
     effort : tuple of float or None
         Per joint, the ``<limit effort>`` [N m or N].
     meshes : tuple of UrdfMesh
+    collisions : tuple of UrdfCollision
     """
 
     path: str
@@ -114,6 +144,7 @@ class UrdfDescription:
     links: tuple[str, ...]
     effort: tuple[float | None, ...]
     meshes: tuple[UrdfMesh, ...]
+    collisions: tuple[UrdfCollision, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -209,8 +240,9 @@ def robot_from_urdf(text: str | bytes, source: str = "URDF text", *, base: str |
                               max_torque=[force if force and force > 0 else None for force in effort],
                               inertials=_inertials(base, path, joints, links, source))
     name = root.get("name") or Path(source).stem
+    placed = _placed_links(base, path, joints, source)
     description = UrdfDescription(source, name, base, tip, tuple(frames), tuple(effort),
-                                  _meshes(base, path, joints, links, source))
+                                  _meshes(placed, links, source), _collisions(placed, links, source))
     return Robot(chain, name=name, source=source, urdf=description,
                  description=f"URDF {Path(source).name}, {base} to {tip}")
 
@@ -405,9 +437,10 @@ def _limit(joint: _UrdfJoint, where: str) -> tuple[tuple[float, float], float | 
     return (lower, upper), velocity if velocity > 0 else None, effort if "effort" in element.attrib else None
 
 
-def _meshes(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], links: dict[str, ET.Element],
-            source: str) -> tuple[UrdfMesh, ...]:
-    """The visual meshes of the links rigidly attached to each chain frame."""
+def _placed_links(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint],
+                  source: str) -> list[tuple[str, int, NDArray[np.float64]]]:
+    """``(link, chain frame, T_frame_link)`` of every link rigidly attached to a chain frame: the
+    links on the path and the fixed side branches hanging from them."""
     children: dict[str, list[_UrdfJoint]] = {}
     for joint in joints.values():
         children.setdefault(joint.parent, []).append(joint)
@@ -421,10 +454,22 @@ def _meshes(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], li
         else:
             frame += 1
             placed.append((joint.child, frame, np.eye(4)))
-    out = []
-    stack = list(placed)
+    out, stack = [], list(placed)
     while stack:
         link, frame, T_frame_link = stack.pop()
+        out.append((link, frame, T_frame_link))
+        for joint in children.get(link, []):  # fixed side branches move with this frame
+            if joint.kind == "fixed" and joint.child not in on_path:
+                where = f"{source}, joint {joint.name!r}"
+                stack.append((joint.child, frame, T_frame_link @ _origin(joint.element, where)))
+    return out
+
+
+def _meshes(placed: list[tuple[str, int, NDArray[np.float64]]], links: dict[str, ET.Element],
+            source: str) -> tuple[UrdfMesh, ...]:
+    """The visual meshes of the links rigidly attached to each chain frame."""
+    out = []
+    for link, frame, T_frame_link in placed:
         for visual in links[link].findall("visual"):
             mesh = visual.find("geometry/mesh")
             if mesh is not None and mesh.get("filename"):
@@ -432,11 +477,42 @@ def _meshes(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], li
                 scale = _floats(mesh, "scale", 3, where, default=[1.0, 1.0, 1.0])
                 out.append(UrdfMesh(link, mesh.get("filename"), frame, T_frame_link @ _origin(visual, where),
                                     (float(scale[0]), float(scale[1]), float(scale[2]))))
-        for joint in children.get(link, []):  # fixed side branches move with this frame
-            if joint.kind == "fixed" and joint.child not in on_path:
-                where = f"{source}, joint {joint.name!r}"
-                stack.append((joint.child, frame, T_frame_link @ _origin(joint.element, where)))
     return tuple(sorted(out, key=lambda m: (m.frame, m.link)))
+
+
+def _collisions(placed: list[tuple[str, int, NDArray[np.float64]]], links: dict[str, ET.Element],
+                source: str) -> tuple[UrdfCollision, ...]:
+    """The ``<collision>`` geometry of the links rigidly attached to each chain frame."""
+    out = []
+    for link, frame, T_frame_link in placed:
+        for i, element in enumerate(links[link].findall("collision")):
+            where = f"{source}, link {link!r}, <collision> number {i + 1}"
+            geometry = element.find("geometry")
+            shape = None if geometry is None or len(geometry) == 0 else geometry[0]
+            if shape is None:
+                raise RobotDefinitionError(f"{where}: no <geometry> shape; expected <box>, <cylinder>, "
+                                           f"<sphere> or <mesh>")
+            filename = None
+            if shape.tag == "box":
+                size = _floats(shape, "size", 3, where, default=None)
+            elif shape.tag == "cylinder":
+                size = np.concatenate([_floats(shape, key, 1, where, default=None)
+                                       for key in ("radius", "length")])
+            elif shape.tag == "sphere":
+                size = _floats(shape, "radius", 1, where, default=None)
+            elif shape.tag == "mesh":
+                filename = shape.get("filename")
+                if not filename:
+                    raise RobotDefinitionError(f"{where}: <mesh> has no filename=\"...\"")
+                size = _floats(shape, "scale", 3, where, default=[1.0, 1.0, 1.0])
+            else:
+                raise RobotDefinitionError(f"{where}: <{shape.tag}>; expected <box>, <cylinder>, <sphere> "
+                                           f"or <mesh>")
+            if shape.tag != "mesh" and not (size > 0).all():
+                raise RobotDefinitionError(f"{where}: <{shape.tag}> sizes must be > 0 m, got {size.tolist()}")
+            out.append(UrdfCollision(link, shape.tag, tuple(float(v) for v in size), filename, frame,
+                                     T_frame_link @ _origin(element, where)))
+    return tuple(sorted(out, key=lambda c: (c.frame, c.link)))
 
 
 def _inertials(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], links: dict[str, ET.Element],

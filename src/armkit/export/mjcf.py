@@ -26,7 +26,7 @@ from armkit.export.writing import write_text
 from armkit.robot import Robot
 from armkit.spatial.rotations import quaternion_wxyz_from_matrix
 
-__all__ = ["mjcf_from_robot", "write_mjcf"]
+__all__ = ["mjcf_element", "mjcf_from_robot", "write_mjcf"]
 
 _COLORS = ("0.85 0.45 0.12 1", "0.20 0.40 0.75 1")  # alternate link colours
 _HOUSING_COLOR = "0.25 0.25 0.28 1"
@@ -49,8 +49,10 @@ def _add_inertial(body: ET.Element, shape: BodyShape) -> None:
                   diaginertia=_numbers(np.maximum(eigenvalues, 1e-12)))
 
 
-def _add_geoms(body: ET.Element, shape: BodyShape, radius: float, color: str,
-               housing: bool) -> None:
+def add_capsule_geoms(body: ET.Element, shape: BodyShape, radius: float, color: str,
+                      housing: bool) -> None:
+    """The capsules of ``shape`` (radius ``radius`` [m]) and, with ``housing``, a joint housing
+    sphere of radius ``1.5 radius`` at the body origin, as ``<geom>`` children of ``body``."""
     if housing:
         ET.SubElement(body, "geom", type="sphere", size=repr(1.5 * radius), rgba=_HOUSING_COLOR)
     for start, end in shape.segments:
@@ -87,6 +89,16 @@ def mjcf_from_robot(robot: Robot, *, gravity: bool = True,
     >>> mujoco.MjModel.from_xml_string(xml).nu  # a position and a velocity servo per joint
     12
     """
+    root = mjcf_element(robot, gravity=gravity, model=model)
+    ET.indent(root)
+    return ET.tostring(root, encoding="unicode") + "\n"
+
+
+def mjcf_element(robot: Robot, *, gravity: bool = True, model: PhysicalModel | None = None) -> ET.Element:
+    """The ``<mujoco>`` element :func:`mjcf_from_robot` writes, for callers that add to it
+    (:mod:`armkit.collision` adds obstacles and makes the geoms collide). The bodies are named
+    ``link1`` ... ``linkn`` (body ``i`` at joint frame ``i``), the base's geoms sit in the world body.
+    """
     model = physical_model(robot) if model is None else model
     root = ET.Element("mujoco", model=robot.name)
     ET.SubElement(root, "compiler", angle="radian", autolimits="true")
@@ -96,7 +108,7 @@ def mjcf_from_robot(robot: Robot, *, gravity: bool = True,
     ET.SubElement(default, "geom", contype="0", conaffinity="0", group="1")
     world = ET.SubElement(root, "worldbody")
     ET.SubElement(world, "light", pos="0 0 3", dir="0 0 -1", directional="true")
-    _add_geoms(world, model.base, model.radius, _HOUSING_COLOR, housing=False)
+    add_capsule_geoms(world, model.base, model.radius, _HOUSING_COLOR, housing=False)
     parent = world
     actuators = ET.Element("actuator")
     for i, joint in enumerate(robot.chain.joints):
@@ -107,7 +119,7 @@ def mjcf_from_robot(robot: Robot, *, gravity: bool = True,
             attributes["range"] = _numbers(np.array([joint.lower, joint.upper]))
         ET.SubElement(body, "joint", **attributes)
         _add_inertial(body, model.bodies[i])
-        _add_geoms(body, model.bodies[i], model.radius, _COLORS[i % 2], housing=True)
+        add_capsule_geoms(body, model.bodies[i], model.radius, _COLORS[i % 2], housing=True)
         ET.SubElement(actuators, "position", name=f"{joint.name}_position", joint=joint.name,
                       kp=repr(float(model.kp[i])))
         ET.SubElement(actuators, "velocity", name=f"{joint.name}_velocity", joint=joint.name,
@@ -118,8 +130,7 @@ def mjcf_from_robot(robot: Robot, *, gravity: bool = True,
     tool = ET.SubElement(parent, "body", name="tool", **_pose(model.T_last_tool))
     ET.SubElement(tool, "site", name="tool", size=repr(model.radius), rgba="0.1 0.7 0.2 1")
     root.append(actuators)
-    ET.indent(root)
-    return ET.tostring(root, encoding="unicode") + "\n"
+    return root
 
 
 def write_mjcf(robot: Robot, path: str | Path, *, overwrite: bool = False, gravity: bool = True) -> Path:
