@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-import click
 import numpy as np
 import typer
 from rich.markup import escape
@@ -26,6 +25,7 @@ from armkit.cli.app import (
     to_si,
 )
 from armkit.cli.ik import _target
+from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
 from armkit.cli.trajectory import _check_output, _joint_scale, _limit_option, _summary
 from armkit.errors import InputError
 from armkit.robot import Robot
@@ -37,16 +37,16 @@ __all__ = ["plan_command"]
 CHECK_RATE_HZ = 200.0
 
 
-def _joint_lists(robot: Robot, first: dict[str, str | None], rest: list[str], degrees: bool
-                 ) -> dict[str, np.ndarray | None]:
+def _joint_lists(robot: Robot, typed: list[str], first: dict[str, str | None], rest: list[str],
+                 degrees: bool) -> dict[str, np.ndarray | None]:
     """The joint values of each option in ``first`` (``--from``, ``--to``) in SI units.
 
     Typer options take one word, so each option takes its word (``--from 0,0,0`` or ``--from 0``)
     and, for the rest of its ``robot.n`` values, the trailing words that follow it on the command
-    line: the options are served in the order they were typed.
+    line: the options are served in the order they were typed (``typed``: the command's parameter
+    names in the order Click processed them, which is the command-line order).
     """
     reject_unknown_options(rest)
-    typed = list(click.get_current_context().params)  # Click fills these in command-line order
     options = sorted((name for name, word in first.items() if word is not None),
                      key=lambda name: typed.index(_PARAMS[name]))
     values: dict[str, np.ndarray | None] = dict.fromkeys(first)
@@ -71,12 +71,12 @@ _PARAMS = {"--from": "start", "--to": "goal"}
 
 @app.command("plan", context_settings=ALLOW_NEGATIVE)
 def plan_command(
+    ctx: typer.Context,
     robot: RobotArg,
     values: Annotated[list[str] | None, typer.Argument(
         metavar="[Q...]", help="The rest of the --from and --to joint values.", show_default=False)] = None,
-    scene: Annotated[Path, typer.Option(
-        "--scene", metavar="FILE", help="Scene TOML file: the obstacles and the floor (docs/collision.md).",
-        show_default=False)] = ...,
+    scene: SceneOpt = None,
+    package_path: PackagePathOpt = None,
     start: Annotated[str | None, typer.Option(
         "--from", metavar="Q...", help="Start joint values, e.g. --from 0 -1.2 1.2 0 1.57 0 or "
                                        "--from 0,-1.2,1.2,0,1.57,0 (rad and m; deg with --deg; default "
@@ -118,10 +118,10 @@ def plan_command(
 ) -> None:
     """Collision-free motion (OMPL RRT-Connect, shortened, smoothed, timed within the limits, checked).
 
-    Example: armkit plan ur5 --scene examples/data/wall.toml --from 0 -1.2 1.2 0 1.57 0
-    --to 2.5 -1.2 1.2 0 1.57 0 --plot pva.png
+    Example: armkit plan ur5 --scene examples/data/ur5_wall.toml --from 0 -1.2 1.2 0 1.57 0
+    --to 1.57 -1.2 1.2 0 1.57 0 --plot pva.png
     """
-    import armkit  # the scene (MuJoCo) and the planner (OMPL) load only when a plan is made
+    from armkit.plan import plan_path  # the planner (OMPL) and the scene (MuJoCo) load only when planning
     from armkit.trajectory.export import write_csv, write_npz
     from armkit.trajectory.plan import planning_limits
 
@@ -130,17 +130,20 @@ def plan_command(
     _check_output(gif, (".gif",), force, "--gif")
     if not rate > 0:
         raise InputError(f"--rate: expected a positive sampling rate (Hz), got {rate:g}")
+    if scene is None:
+        raise InputError("--scene FILE: armkit plan needs the scene to plan through (a TOML file of the "
+                         "floor and obstacles, docs/collision.md), e.g. --scene examples/data/ur5_wall.toml")
     if (goal is None) == (to_pose is None):
         raise InputError("give the goal as one of --to Q... (joint values) or --to-pose X Y Z A B C")
     arm = load_robot(robot, base, tip, lock)
-    joints = _joint_lists(arm, {"--from": start, "--to": goal}, values or [], deg)
+    joints = _joint_lists(arm, list(ctx.params), {"--from": start, "--to": goal}, values or [], deg)
     q_start = arm.home if joints["--from"] is None else joints["--from"]
     target = joints["--to"] if to_pose is None else _target(to_pose, None, None, parse_convention(euler), deg)
     limits = planning_limits(arm, _limit_option(max_velocity, arm, deg, "--max-velocity"),
                              _limit_option(max_acceleration, arm, deg, "--max-acceleration"))
-    world = armkit.load_scene(scene, arm)
-    traj = armkit.plan_path(world, q_start, target, time_budget=time_budget, seed=seed, resolution=resolution,
-                            max_velocity=limits[0], max_acceleration=limits[1])
+    world = load_scene_option(arm, scene, package_path)
+    traj = plan_path(world, q_start, target, time_budget=time_budget, seed=seed, resolution=resolution,
+                     max_velocity=limits[0], max_acceleration=limits[1])
     check = traj.sample(max(CHECK_RATE_HZ, 2.0 / traj.duration))
     clearance = float(np.min(world.clearance(check.q)))
     written = []
