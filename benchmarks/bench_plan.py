@@ -76,9 +76,9 @@ def main() -> None:
         median = float(np.median(totals))
         print(f"scene threads={threads or 'every core'} (built in {built:.3g} s):")
         verdict = "met" if median < TARGET_S else "NOT met"
-        print(f"  plan_path             median {median:.3f} s (min {min(totals):.3f}, max {max(totals):.3f}); "
-              f"target < {TARGET_S:g} s: {verdict}; {median / np.median(straight):.0f}x the straight motion's "
-              f"timing")
+        print(f"  plan_path             median {median:.3f} s (min {min(totals):.3f}, "
+              f"max {max(totals):.3f}); target < {TARGET_S:g} s: {verdict}; "
+              f"{median / np.median(straight):.0f}x the straight motion's timing")
         print(f"  of it, scene queries  median {np.median(queries):.3f} s "
               f"({np.median(np.array(queries) / np.array(totals)):.0%}), {np.median(calls):.0f} calls")
         print(f"  motion duration       median {np.median(durations):.3f} s "
