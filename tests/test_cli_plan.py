@@ -58,7 +58,8 @@ def test_from_and_to_take_their_values_in_either_order_and_as_comma_lists(capsys
 
 
 def test_degrees_give_the_same_motion(capsys):
-    code, radians, err = run(capsys, "plan", "ur5", "--scene", SCENE, "--from", *START, "--to", *GOAL, "--json")
+    code, radians, err = run(capsys, "plan", "ur5", "--scene", SCENE, "--from", *START, "--to", *GOAL,
+                             "--json")
     assert code == 0, err
     in_degrees = [str(np.degrees(float(v))) for v in (*START, *GOAL)]
     code, degrees, err = run(capsys, "plan", "ur5", "--scene", SCENE, "--from", *in_degrees[:6],
@@ -99,7 +100,8 @@ def test_a_goal_pose_ends_on_that_pose(capsys, ur5_wall):
      "give the goal as one of --to Q"),
     (["--scene", SCENE, "--from", *START, "--to", *GOAL[:5]], "--to: expected 6 joint values, got 5"),
     (["--scene", SCENE, "--from", *START, "--to", *GOAL, "7"], "unexpected values 7"),
-    (["--scene", SCENE, "--from", "0.785", *START[1:], "--to", *GOAL], r"q_start \[0.785, .*collides: .*wall"),
+    (["--scene", SCENE, "--from", "0.785", *START[1:], "--to", *GOAL],
+     r"q_start \[0.785, .*collides: .*wall"),
     (["--scene", SCENE, "--from", *START, "--to", *GOAL, "--time-budget", "1e-9"],
      "no collision-free path found within time_budget=1e-09 s"),
 ])
