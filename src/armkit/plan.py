@@ -124,12 +124,17 @@ def plan_path(scene: Any, q_start: ArrayLike, goal: ArrayLike, *, time_budget: f
 
     Examples
     --------
+    A UR5 past a wall (examples/data/ur5_wall.toml): the straight joint motion would hit it.
+
     >>> import armkit
     >>> robot = armkit.load("ur5")
-    >>> scene = armkit.Scene(robot, obstacles=[armkit.Box([0.1, 1.0, 0.6], [0.45, 0.0, 0.3])])
-    >>> traj = plan_path(scene, [0, -1.2, 1.2, 0, 1.57, 0], [2.5, -1.2, 1.2, 0, 1.57, 0])
-    >>> traj.waypoints[0].tolist(), bool(traj.duration > 0)
-    ([0.0, -1.2, 1.2, 0.0, 1.57, 0.0], True)
+    >>> scene = armkit.load_scene("examples/data/ur5_wall.toml", robot)
+    >>> start, goal = [0, -1.2, 1.2, 0, 1.57, 0], [1.57, -1.2, 1.2, 0, 1.57, 0]
+    >>> scene.path_collides(start, goal)
+    True
+    >>> traj = plan_path(scene, start, goal)
+    >>> traj.waypoints[[0, -1]].tolist() == [start, goal], collision_time(scene, traj) is None
+    (True, True)
     """
     robot = scene.robot
     budget = positive_float(time_budget, "time_budget")
@@ -190,12 +195,12 @@ def collision_time(scene: Any, trajectory: JointTrajectory,
     Examples
     --------
     >>> import armkit
-    >>> from armkit.trajectory import quintic
     >>> robot = armkit.load("ur5")
-    >>> scene = armkit.Scene(robot, obstacles=[armkit.Sphere(0.1, [0.5, 0.0, 0.3])])
-    >>> traj = plan_trajectory(robot, [robot.home, [0.0, 1.0, 0, 0, 0, 0]])
-    >>> round(collision_time(scene, traj), 3) > 0
-    True
+    >>> scene = armkit.load_scene("examples/data/ur5_wall.toml", robot)
+    >>> straight = plan_trajectory(robot, [[0, -1.2, 1.2, 0, 1.57, 0], [1.57, -1.2, 1.2, 0, 1.57, 0]])
+    >>> t = collision_time(scene, straight)
+    >>> round(t, 3), scene.contacts(straight.at_time(t)[0])
+    (0.366, [('link5', 'wall'), ('link6', 'wall')])
     """
     resolution = positive_float(resolution, "resolution")
     low, high = trajectory.position_range
