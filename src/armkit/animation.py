@@ -22,6 +22,7 @@ from PIL import Image
 
 from armkit import kinematics
 from armkit._io import atomic_write
+from armkit.collision.shapes import Box, Cylinder, Mesh, Obstacle, Sphere
 from armkit.errors import InputError
 from armkit.export.physical import PhysicalModel, physical_model
 from armkit.robot import Robot
@@ -32,6 +33,9 @@ _LINK_COLORS = ("#d9731f", "#3366bf")
 _JOINT_COLOR = "#404047"
 _AXIS_COLORS = ("#d62728", "#2ca02c", "#1f77b4")
 _PATH_COLOR = "#8e44ad"
+_OBSTACLE_COLOR = "#b03a2e"
+#: Points per circle of a sphere's or a cylinder's outline.
+_CIRCLE_POINTS = 48
 
 
 def _polylines(robot: Robot, model: PhysicalModel, q: NDArray[np.float64]) -> list[NDArray[np.float64]]:
@@ -47,9 +51,36 @@ def _polylines(robot: Robot, model: PhysicalModel, q: NDArray[np.float64]) -> li
     return lines
 
 
-def _bounds(robot: Robot, model: PhysicalModel, q: NDArray[np.float64]) -> tuple[NDArray, float]:
-    """Centre and half-width of a cube holding the arm at every configuration ``(m, n)``."""
-    points = [np.zeros((1, 3))]
+def _obstacle_outlines(obstacle: Obstacle) -> list[NDArray[np.float64]]:
+    """Polylines ``(k, 3)`` [m] outlining ``obstacle`` in the base frame: a box's 12 edges, a sphere's
+    three great circles, a cylinder's end circles and four lines along it; a mesh is not drawn."""
+    circle = np.linspace(0.0, 2.0 * np.pi, _CIRCLE_POINTS)
+    ring = np.stack([np.cos(circle), np.sin(circle), np.zeros_like(circle)], axis=1)
+    if isinstance(obstacle, Box):
+        corners = (np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+                   * np.asarray(obstacle.size) / 2)
+        local = [corners[[a, b]] for a in range(8) for b in range(a + 1, 8)
+                 if np.count_nonzero(corners[a] != corners[b]) == 1]
+    elif isinstance(obstacle, Sphere):
+        local = [obstacle.radius * ring[:, order] for order in ([0, 1, 2], [0, 2, 1], [2, 0, 1])]
+    elif isinstance(obstacle, Cylinder):
+        half = np.array([0.0, 0.0, obstacle.length / 2])
+        local = [obstacle.radius * ring - half, obstacle.radius * ring + half,
+                 *(np.array([[*xy, -half[2]], [*xy, half[2]]]) * [obstacle.radius, obstacle.radius, 1.0]
+                   for xy in ((1, 0), (0, 1), (-1, 0), (0, -1)))]
+    elif isinstance(obstacle, Mesh):
+        local = []
+    else:
+        raise InputError(f"obstacles: expected armkit.Box, Sphere, Cylinder or Mesh, got {obstacle!r}")
+    T = obstacle.pose
+    return [line @ T[:3, :3].T + T[:3, 3] for line in local]
+
+
+def _bounds(robot: Robot, model: PhysicalModel, q: NDArray[np.float64],
+            extra: Sequence[NDArray[np.float64]] = ()) -> tuple[NDArray, float]:
+    """Centre and half-width of a cube holding the arm at every configuration ``(m, n)`` and the
+    ``extra`` points ``(k, 3)`` (obstacle outlines)."""
+    points = [np.zeros((1, 3)), *extra]
     for q_k in q:
         points += [seg.reshape(-1, 3) for seg in _polylines(robot, model, q_k)]
         points.append(robot.link_frames(q_k)[:, :3, 3])
@@ -201,7 +232,7 @@ def plot_configurations(robot: Robot, q: ArrayLike, path: str | Path | None = No
 def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: ArrayLike | None = None,
                        trace_tool: bool = True, frames: int = 40, fps: int = 12, dpi: int = 64,
                        size: float = 4.0, title: str = "", link_frames: bool = False,
-                       labels: Sequence[str] | None = None) -> Path:
+                       labels: Sequence[str] | None = None, obstacles: Sequence[Obstacle] = ()) -> Path:
     """Write a GIF of ``robot`` moving through the configurations ``q``.
 
     Frames are rendered with matplotlib (Agg) and assembled by Pillow, so neither ffmpeg
@@ -227,6 +258,8 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
     labels : sequence of str, optional
         One text per configuration of ``q``, shown in the frames that draw it (e.g. which
         IK solution a frame shows).
+    obstacles : sequence of Box, Sphere, Cylinder or Mesh
+        Obstacles outlined in every frame (a scene's ``scene.obstacles``; meshes are not drawn).
 
     Returns
     -------
@@ -249,7 +282,8 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
         raise InputError(f"labels: expected {len(q)}, one per configuration, got {len(labels)}")
     model = physical_model(robot)
     picks = np.unique(np.linspace(0, len(q) - 1, max(2, frames)).round().astype(int))
-    centre, half = _bounds(robot, model, q[picks])
+    outlines = [line for obstacle in obstacles for line in _obstacle_outlines(obstacle)]
+    centre, half = _bounds(robot, model, q[picks], outlines)
     tool_path = robot.fk(q)[:, :3, 3]
     figure = Figure(figsize=(size, size), dpi=dpi)
     FigureCanvasAgg(figure)
@@ -259,6 +293,8 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
     floor = _setup_axes(ax, centre, half, title)
     if trace_tool:
         ax.plot(*tool_path.T, color=_PATH_COLOR, linewidth=0.8, alpha=0.25)
+    for line in outlines:
+        ax.plot(*line.T, color=_OBSTACLE_COLOR, linewidth=1.2)
     figure.canvas.draw()
     background = figure.canvas.copy_from_bbox(figure.bbox)  # axes drawn once; frames blit the arm on it
     images = []

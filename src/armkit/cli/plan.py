@@ -157,7 +157,8 @@ def plan_command(
     if gif is not None:
         from armkit.animation import animate_trajectory
 
-        written.append(animate_trajectory(arm, check.q, gif, t=check.t, title=f"{arm.name}: {scene.name}"))
+        written.append(animate_trajectory(arm, check.q, gif, t=check.t, title=f"{arm.name}: {scene.name}",
+                                          obstacles=world.obstacles))
     if json_output:
         print_json({"robot": arm.name, "scene": str(scene), "joint_names": arm.joint_names,
                     "q_start": traj.waypoints[0], "q_goal": traj.waypoints[-1], "duration_s": traj.duration,
