@@ -3,7 +3,10 @@ contact names, self-collision pairs and the path check's resolution bound."""
 
 from __future__ import annotations
 
+import importlib.util
 import itertools
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -258,3 +261,24 @@ def test_bad_queries_raise_input_errors(ur5_scene):
         ur5_scene.contacts(np.zeros((2, 6)))
     with pytest.raises(InputError, match="resolution"):
         ur5_scene.path_collides(Q_FREE, Q_FREE, resolution=0)
+
+
+def test_collisions_agree_with_pinocchio_and_coal_on_the_same_shapes():
+    """The benchmark's scene checked by coal (through pinocchio) with the same shapes and pairs."""
+    pytest.importorskip("coal")
+    path = Path(__file__).parent.parent / "benchmarks" / "bench_collision.py"
+    spec = importlib.util.spec_from_file_location("bench_collision", path)
+    bench = importlib.util.module_from_spec(spec)
+    sys.path.insert(0, str(path.parent))
+    try:
+        spec.loader.exec_module(bench)
+    finally:
+        sys.path.remove(str(path.parent))
+    scene = bench.ur5_scene()
+    pin, model, geometry = bench.pinocchio_peer(scene)
+    data, geometry_data = model.createData(), geometry.createData()
+    q = UR5.random_q(3000, rng=8)
+    theirs = [pin.computeCollisions(model, data, geometry, geometry_data, qi, True) for qi in q]
+    ours = scene.collides(q)
+    assert 0.2 < ours.mean() < 0.9  # both answers occur
+    np.testing.assert_array_equal(ours, theirs)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import armkit
-from armkit.errors import InputError, PlanningError
+from armkit.errors import CollisionError, InputError, PlanningError
 from armkit.plan import UNBOUNDED_MARGIN, _bounds, collision_time, goal_configurations, plan_path
 from armkit.spatial.rotations import matrix_from_euler
 from armkit.spatial.transforms import transform_from
@@ -110,16 +110,18 @@ def test_a_goal_pose_ends_at_a_collision_free_ik_solution(ur5, wall_scene):
 def test_a_colliding_start_or_goal_is_refused_naming_the_pair(wall_scene):
     into_wall = np.array([0.785, -1.2, 1.2, 0.0, 1.57, 0.0])
     assert wall_scene.collides(into_wall)
-    with pytest.raises(PlanningError, match=r"q_start \[0\.785, .*\] collides: .*link3-wall"):
+    with pytest.raises(CollisionError, match=r"q_start \[0\.785, .*\] collides: .*link3-wall") as error:
         plan_path(wall_scene, into_wall, Q_GOAL)
-    with pytest.raises(PlanningError, match=r"goal \[0\.785, .*\] collides: .*link3-wall"):
+    assert ("link3", "wall") in error.value.contacts
+    np.testing.assert_array_equal(error.value.q, into_wall)
+    with pytest.raises(CollisionError, match=r"goal \[0\.785, .*\] collides: .*link3-wall"):
         plan_path(wall_scene, Q_START, into_wall)
 
 
 def test_a_goal_pose_whose_every_solution_collides_is_refused(ur5, wall_scene):
     T = transform_from(ur5.fk(Q_GOAL)[:3, :3], [-0.4, -0.4, 0.3])    # the tool inside the wall
     assert len(ur5.ik(T, all_solutions=True)) == 8
-    with pytest.raises(PlanningError, match=r"goal pose: every IK solution collides \(\d+: .*wall"):
+    with pytest.raises(CollisionError, match=r"goal pose: every IK solution collides \(\d+: .*wall"):
         plan_path(wall_scene, Q_START, T)
 
 

@@ -12,6 +12,7 @@ import warnings
 
 __all__ = [
     "ArmkitError",
+    "CollisionError",
     "ConvergenceError",
     "InputError",
     "JointLimitError",
@@ -66,6 +67,23 @@ class UnreachableError(ArmkitError):
         super().__init__(message)
         self.position_error = position_error
         self.orientation_error = orientation_error
+
+
+class CollisionError(ArmkitError):
+    """Every answer found collides with the scene (:class:`armkit.Scene`): the IK solutions of a pose, say.
+
+    Attributes
+    ----------
+    q : ndarray or None
+        The colliding configuration(s) ``(..., n)`` [rad or m] the message is about, if any.
+    contacts : list of (str, str)
+        The part pairs in contact at the nearest of them.
+    """
+
+    def __init__(self, message: str, q: object = None, contacts: list[tuple[str, str]] | None = None) -> None:
+        super().__init__(message)
+        self.q = q
+        self.contacts = [] if contacts is None else contacts
 
 
 class ConvergenceError(ArmkitError):

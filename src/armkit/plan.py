@@ -20,7 +20,7 @@ The pipeline of :func:`plan_path`
    to the segments there (midpoints, which pull the spline onto the checked straight path) and
    it is timed again; after :data:`VIA_POINT_ROUNDS` rounds the motion stops at every vertex
    instead (straight segments, each timed at rest at both ends). A motion that fails even that
-   check is never returned: :class:`~armkit.errors.PlanningError` says where it collides.
+   check is never returned: :class:`~armkit.errors.PlanningError` says which segment failed.
 
 The same call gives the same answer: OMPL's random generator is seeded from ``seed``, the
 simplifier runs a fixed number of steps, and only the search has a time budget (when it runs
@@ -37,7 +37,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit._params import positive_float, whole_number
-from armkit.errors import ArmkitError, JointLimitError, NoClosedFormError, PlanningError, UnreachableError
+from armkit.errors import (
+    ArmkitError,
+    CollisionError,
+    InputError,
+    JointLimitError,
+    NoClosedFormError,
+    PlanningError,
+    UnreachableError,
+)
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.plan import plan_trajectory, planning_limits
 
@@ -118,9 +126,11 @@ def plan_path(scene: Any, q_start: ArrayLike, goal: ArrayLike, *, time_budget: f
         ``q_start`` or a goal configuration outside the joint limits.
     UnreachableError
         A goal pose out of reach.
+    CollisionError
+        ``q_start``, the goal configuration or every IK solution of the goal pose collides; the
+        message names the pairs in contact (``link3-wall``), the attributes hold ``q`` and ``contacts``.
     PlanningError
-        ``q_start`` or every goal collides (naming the pairs in contact), no path was found
-        within ``time_budget``, or no timed motion passed the check.
+        No path was found within ``time_budget``, or no timed motion passed the check.
 
     Examples
     --------
@@ -165,7 +175,7 @@ def goal_configurations(scene: Any, goal: ArrayLike, *, near: ArrayLike | None =
 
     Raises
     ------
-    PlanningError
+    CollisionError
         The goal configuration, or every IK solution of the pose, collides (naming the pairs).
     UnreachableError, JointLimitError
         The pose is out of reach, or reachable only outside the limits.
@@ -178,8 +188,9 @@ def goal_configurations(scene: Any, goal: ArrayLike, *, near: ArrayLike | None =
     candidates = _ik_candidates(robot, goal, near, seed)
     free = ~np.asarray(scene.collides(candidates), dtype=bool)
     if not free.any():
-        listing = "; ".join(f"{_show(q)}: {_contacts_text(scene, q)}" for q in candidates)
-        raise PlanningError(f"goal pose: every IK solution collides ({len(candidates)}: {listing})")
+        listing = "; ".join(f"{_show(q)}: {_contacts_text(scene.contacts(q))}" for q in candidates)
+        raise CollisionError(f"goal pose: every IK solution collides ({len(candidates)}: {listing})",
+                             q=candidates, contacts=scene.contacts(candidates[0]))
     return candidates[free]
 
 
@@ -219,17 +230,18 @@ def _free_configuration(scene: Any, q: NDArray[np.float64], name: str) -> NDArra
     """``q`` ``(n,)`` checked: inside the joint limits and free of collisions."""
     robot = scene.robot
     if q.ndim != 1:
-        raise PlanningError(f"{name}: expected one configuration ({robot.n} values), got shape {q.shape}")
+        raise InputError(f"{name}: expected one configuration ({robot.n} values), got shape {q.shape}")
     robot.check_limits(q)
     if scene.collides(q):
-        raise PlanningError(f"{name} {_show(q)} collides: {_contacts_text(scene, q)}")
+        contacts = scene.contacts(q)
+        raise CollisionError(f"{name} {_show(q)} collides: {_contacts_text(contacts)}", q=q,
+                             contacts=contacts)
     return q
 
 
-def _contacts_text(scene: Any, q: NDArray[np.float64]) -> str:
-    """The pairs in contact at ``q``, e.g. ``'upper_arm-floor, forearm-box 1'``."""
-    pairs = scene.contacts(q)
-    return ", ".join(f"{a}-{b}" for a, b in pairs) if len(pairs) else "in contact"
+def _contacts_text(contacts: list[tuple[str, str]]) -> str:
+    """The pairs in contact, e.g. ``'link3-wall, link4-wall'``."""
+    return ", ".join(f"{a}-{b}" for a, b in contacts) if contacts else "in contact"
 
 
 def _ik_candidates(robot: Robot, T: NDArray[np.float64], near: NDArray[np.float64],

@@ -25,6 +25,7 @@ from armkit.inertial import Inertial
 from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
 
 if TYPE_CHECKING:  # the descriptions' modules import this one
+    from armkit.collision.scene import Scene
     from armkit.poe import PoeDescription
     from armkit.urdf import UrdfDescription
 
@@ -320,7 +321,8 @@ class Robot:
         return kinematics.singular_values(self.chain, self.check_q(q))
 
     def ik(self, T_base_tool: ArrayLike, all_solutions: bool = False, near: ArrayLike | None = None,
-           within_limits: bool = True, **options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
+           within_limits: bool = True, *, scene: Scene | None = None,
+           **options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
         """Inverse kinematics: every closed-form solution, or the one closest to ``near``.
 
         Closed form where the chain's geometry has one, numeric (seeded from ``near``)
@@ -347,6 +349,9 @@ class Robot:
             see :func:`armkit.self_motion` for the whole self-motion).
         free_value : float, optional (keyword)
             The value it is held at [rad or m]; default ``near``'s value of it, or 0.
+        scene : armkit.Scene, optional (keyword)
+            Only solutions free of collisions in this scene (built for this robot): the free subset
+            of the listing, or the nearest free solution (see :mod:`armkit.collision.ik`).
 
         Returns
         -------
@@ -359,6 +364,8 @@ class Robot:
         InputError
             If a target is not a rigid transform, or ``near`` is not ``n`` finite joint values
             (per pose, or one set for all).
+        CollisionError
+            With ``scene``, one solution asked and every solution of a pose in collision.
 
         Examples
         --------
@@ -370,6 +377,11 @@ class Robot:
         >>> robot.ik(T, near=[1, -1, 0, 0, 1, 1]).round(3)
         array([ 0.927, -0.687, -0.396,  0.   ,  1.083,  0.927])
         """
+        if scene is not None:
+            from armkit.collision.ik import ik_free
+
+            return ik_free(self, scene, T_base_tool, all_solutions=all_solutions, near=near,
+                           within_limits=within_limits, **options)
         from armkit.ik.solve import ik  # here, not at the top: armkit.ik imports this module
 
         if options and "all" in options:

@@ -28,6 +28,7 @@ from armkit.cli.app import (
     print_json,
     to_si,
 )
+from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
 from armkit.errors import InputError, JointLimitError, NoClosedFormError
 from armkit.ik.messages import outside_limits
 from armkit.ik.pipeline import count_turn_copies
@@ -67,6 +68,11 @@ def _target(pose: tuple[float, ...] | None, matrix: tuple[float, ...] | None,
 
 #: Joint distance [rad or m] below which a returned solution is the same as a listed one.
 SAME_SOLUTION = 1e-9
+
+
+def _contact_text(contacts: list[tuple[str, str]]) -> str:
+    """A table cell: ``free``, or the pairs in contact (``link3-floor``)."""
+    return ", ".join(f"{a}-{b}" for a, b in contacts) if contacts else "free"
 
 
 def _joint_index(robot: Robot, word: str) -> int:
@@ -172,12 +178,15 @@ def ik_command(
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
+    scene: SceneOpt = None,
+    package_path: PackagePathOpt = None,
 ) -> None:
     """Inverse kinematics: the solutions of a tool pose, with limits flag and FK residual.
 
     Example: armkit ik probot-anno --pose 0.2 0.2 0.2007 1.5707963 -1.5707963 0 --all
     """
     arm = load_robot(robot, base, tip, lock)
+    world = load_scene_option(arm, scene, package_path)
     words = option_values(near, near_values, "--near", "joint values")
     q_near = to_si(arm, words, deg, "--near") if words is not None else np.zeros(arm.n)
     if euler.strip().lower() in QUATERNION_NAMES:
@@ -209,7 +218,7 @@ def ik_command(
             q, number, family, closed, method = _position_ik(arm, T[:3, 3], all_solutions, q_near, outside,
                                                               turn_copies)
         else:
-            options = {"turn_copies": turn_copies} if all_solutions else {}
+            options = {"turn_copies": turn_copies} if all_solutions else {"scene": world}
             q = np.atleast_2d(arm.ik(T, all_solutions=all_solutions, near=q_near, within_limits=not outside,
                                      **options))
             number, family = _numbered(arm, T, q, q_near, closed, turn_copies)
@@ -223,6 +232,7 @@ def ik_command(
     inside = arm.within_limits(q)
     copies = (count_turn_copies(arm.chain, T, q[inside], None if position is None else np.arange(arm.n) < 3)
               if all_solutions and not turn_copies else None)
+    contacts = [world.contacts(qi) for qi in q] if world is not None else None
     T_found = arm.fk(q)
     position_error = np.linalg.norm(T_found[:, :3, 3] - T[:3, 3], axis=-1)
     orientation_error = (rotation_angle_between(T_found, T) if position is None
@@ -233,6 +243,8 @@ def ik_command(
                     "within_limits": inside, "family": family,
                     "position_error": position_error, "orientation_error": orientation_error,
                     "configurations_inside_limits": copies,
+                    **({} if contacts is None else {"collides": [bool(c) for c in contacts],
+                                                    "contacts": contacts}),
                     "joint_names": arm.joint_names, "units": "rad and m"})
         return
     unit = "deg" if deg else "rad"
@@ -244,11 +256,13 @@ def ik_command(
     table.add_column("#", justify="right")
     for name, prismatic in zip(arm.joint_names, arm.chain.prismatic, strict=True):
         table.add_column(escape(f"{name} [{'m' if prismatic else unit}]"), justify="right")
-    extra = ["limits", *(["family"] if family.any() else []), "pos.err [m]", "ang.err [rad]"]
+    extra = ["limits", *(["family"] if family.any() else []),
+             *(["collision"] if contacts is not None else []), "pos.err [m]", "ang.err [rad]"]
     for column in extra:
         table.add_column(escape(column), justify="right")
     for k in range(len(q)):
-        flags = ["in" if inside[k] else "OUT", *(["yes" if family[k] else ""] if family.any() else [])]
+        flags = ["in" if inside[k] else "OUT", *(["yes" if family[k] else ""] if family.any() else []),
+                 *([_contact_text(contacts[k])] if contacts is not None else [])]
         table.add_row(str(number[k]) if number[k] else "-",
                       *(fmt_number(v, d) for v, d in zip(shown[k], digits, strict=True)),
                       *flags, f"{position_error[k]:.0e}",
@@ -265,6 +279,10 @@ def ik_command(
             console.print(escape(f"With their whole-turn copies the {int(inside.sum())} solutions inside the "
                                  f"limits make {copies} configurations there (the limits of {joints} span "
                                  f"more than a turn); --turn-copies lists them."))
+    if contacts is not None:
+        console.print(escape(f"collision: checked against {scene} (free, or the parts in contact)"
+                             + ("; without --all the nearest free solution is shown" if not all_solutions
+                                else "")))
     if family.any():
         console.print("family = yes: a singular pose; the row represents a one-parameter family "
                       "of solutions (e.g. only q4 + q6 is defined at a wrist singularity).")
