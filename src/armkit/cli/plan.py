@@ -26,7 +26,19 @@ from armkit.cli.app import (
 )
 from armkit.cli.ik import _target
 from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
-from armkit.cli.trajectory import _check_output, _joint_scale, _limit_option, _summary
+from armkit.cli.trajectory import (
+    ForceOpt,
+    JsonOpt,
+    MaxAccelerationOpt,
+    MaxVelocityOpt,
+    OutOpt,
+    PlotOpt,
+    RateOpt,
+    _check_output,
+    _joint_scale,
+    _limit_option,
+    _summary,
+)
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.spatial.rotations import parse_convention
@@ -95,23 +107,15 @@ def plan_command(
     time_budget: Annotated[float, typer.Option(help="Seconds the path search may take.")] = 10.0,
     resolution: Annotated[float, typer.Option(help="Largest move (m) of any point of the arm between two "
                                                    "collision checks.")] = 0.005,
-    max_velocity: Annotated[str | None, typer.Option(
-        "--max-velocity", metavar="V[,V...]", help="Velocity limits in place of the robot file's: one "
-                                                   "value or one per joint, comma-separated (rad/s, m/s; "
-                                                   "deg/s with --deg).", show_default=False)] = None,
-    max_acceleration: Annotated[str | None, typer.Option(
-        "--max-acceleration", metavar="A[,A...]", help="Acceleration limits in place of the robot file's "
-                                                       "(as --max-velocity).", show_default=False)] = None,
-    rate: Annotated[float, typer.Option(help="Sampling rate of --out (Hz).")] = 100.0,
-    out: Annotated[Path | None, typer.Option(help="Write samples t,q1..,qd1..,qdd1.. to this .csv or .npz "
-                                                  "file (SI units).", show_default=False)] = None,
-    plot: Annotated[Path | None, typer.Option(help="Save the position/velocity/acceleration figure (.png, "
-                                                   ".svg, .pdf).", show_default=False)] = None,
-    gif: Annotated[Path | None, typer.Option(help="Write an animation of the motion (.gif).",
-                                             show_default=False)] = None,
-    force: Annotated[bool, typer.Option("--force", help="Replace existing output files.")] = False,
-    json_output: Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of "
-                                                             "tables.")] = False,
+    max_velocity: MaxVelocityOpt = None,
+    max_acceleration: MaxAccelerationOpt = None,
+    rate: RateOpt = 100.0,
+    out: OutOpt = None,
+    plot: PlotOpt = None,
+    gif: Annotated[Path | None, typer.Option(help="Write an animation of the motion, the obstacles outlined "
+                                                  "(.gif).", show_default=False)] = None,
+    force: ForceOpt = False,
+    json_output: JsonOpt = False,
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
