@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 import armkit
+import armkit.plan
 from armkit.errors import CollisionError, InputError, PlanningError
-from armkit.plan import UNBOUNDED_MARGIN, _bounds, collision_time, goal_configurations, plan_path
+from armkit.plan import UNBOUNDED_MARGIN, _bounds, _timed, collision_time, goal_configurations, plan_path
 from armkit.spatial.rotations import matrix_from_euler
 from armkit.spatial.transforms import transform_from
 from armkit.trajectory import plan_trajectory
@@ -146,3 +147,36 @@ def test_a_joint_without_limits_is_searched_half_a_turn_beyond_its_start_and_goa
     lower, upper = _bounds(robot, np.array([0.5, 0.0]), np.array([[2.0, 0.5], [-1.0, 0.2]]))
     np.testing.assert_allclose(lower, [-1.0 - UNBOUNDED_MARGIN, -1.0])
     np.testing.assert_allclose(upper, [2.0 + UNBOUNDED_MARGIN, 1.0])
+
+
+@pytest.fixture(scope="module")
+def corner_path(ur5, wall_scene):
+    """A path whose straight segments are free but whose spline cuts into the wall: lift beside it,
+    turn over it, lower beyond it."""
+    lifted = [-1.9, 1.2]
+    b = np.array([0.4, *Q_START[1:]])
+    c = np.array([0.4, *lifted, *Q_START[3:]])
+    d = np.array([1.05, *lifted, *Q_START[3:]])
+    e = np.array([1.05, *Q_START[1:]])
+    path = np.array([Q_START, b, c, d, e, Q_GOAL])
+    assert not any(wall_scene.path_collides(path[k], path[k + 1]) for k in range(len(path) - 1))
+    assert collision_time(wall_scene, plan_trajectory(ur5, path)) is not None
+    return path
+
+
+def test_where_the_spline_cuts_into_an_obstacle_via_points_pull_it_onto_the_path(ur5, wall_scene,
+                                                                                 corner_path):
+    trajectory = _timed(wall_scene, corner_path, 0.005, ur5.max_velocity, ur5.max_acceleration, None)
+    assert len(trajectory.waypoints) > len(corner_path)
+    kept = [np.flatnonzero(np.all(trajectory.waypoints == vertex, axis=1)) for vertex in corner_path]
+    assert all(len(k) == 1 for k in kept) and np.all(np.diff(np.concatenate(kept)) > 0)
+    assert_collision_free(wall_scene, trajectory)
+
+
+def test_without_via_points_the_motion_stops_at_every_vertex(monkeypatch, ur5, wall_scene, corner_path):
+    monkeypatch.setattr(armkit.plan, "VIA_POINT_ROUNDS", 0)
+    trajectory = _timed(wall_scene, corner_path, 0.005, ur5.max_velocity, ur5.max_acceleration, None)
+    np.testing.assert_array_equal(trajectory.waypoints, corner_path)
+    _, qd, _ = trajectory.at_time(trajectory.waypoint_times)
+    np.testing.assert_allclose(qd, 0.0, atol=1e-9)
+    assert_collision_free(wall_scene, trajectory)

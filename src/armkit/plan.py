@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -50,6 +50,7 @@ from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.plan import plan_trajectory, planning_limits
 
 if TYPE_CHECKING:
+    from armkit.collision.scene import Scene
     from armkit.robot import Robot
 
 __all__ = ["DEFAULT_RESOLUTION", "DEFAULT_TIME_BUDGET", "UNBOUNDED_MARGIN", "VIA_POINT_ROUNDS",
@@ -83,7 +84,7 @@ _ON_PATH = 1e-9
 _OMPL_LOCK = threading.Lock()
 
 
-def plan_path(scene: Any, q_start: ArrayLike, goal: ArrayLike, *, time_budget: float = DEFAULT_TIME_BUDGET,
+def plan_path(scene: Scene, q_start: ArrayLike, goal: ArrayLike, *, time_budget: float = DEFAULT_TIME_BUDGET,
               seed: int = 0, resolution: float = DEFAULT_RESOLUTION, max_velocity: ArrayLike | None = None,
               max_acceleration: ArrayLike | None = None,
               torque_limits: bool | None = None) -> JointTrajectory:
@@ -157,7 +158,7 @@ def plan_path(scene: Any, q_start: ArrayLike, goal: ArrayLike, *, time_budget: f
     return _timed(scene, path, resolution, vmax, amax, torque_limits)
 
 
-def goal_configurations(scene: Any, goal: ArrayLike, *, near: ArrayLike | None = None,
+def goal_configurations(scene: Scene, goal: ArrayLike, *, near: ArrayLike | None = None,
                         seed: int = 0) -> NDArray[np.float64]:
     """The collision-free configurations ``(k, n)`` a motion to ``goal`` may end at.
 
@@ -194,7 +195,7 @@ def goal_configurations(scene: Any, goal: ArrayLike, *, near: ArrayLike | None =
     return candidates[free]
 
 
-def collision_time(scene: Any, trajectory: JointTrajectory,
+def collision_time(scene: Scene, trajectory: JointTrajectory,
                    resolution: float = DEFAULT_RESOLUTION) -> float | None:
     """The first time [s] at which ``trajectory`` collides in ``scene``, or ``None`` if it never does.
 
@@ -226,7 +227,7 @@ def collision_time(scene: Any, trajectory: JointTrajectory,
 
 
 # ----------------------------------------------------------------- goals
-def _free_configuration(scene: Any, q: NDArray[np.float64], name: str) -> NDArray[np.float64]:
+def _free_configuration(scene: Scene, q: NDArray[np.float64], name: str) -> NDArray[np.float64]:
     """``q`` ``(n,)`` checked: inside the joint limits and free of collisions."""
     robot = scene.robot
     if q.ndim != 1:
@@ -287,7 +288,7 @@ def _bounds(robot: Robot, q_start: NDArray[np.float64],
     return lower, upper
 
 
-def _search(scene: Any, q_start: NDArray[np.float64], goals: NDArray[np.float64], *, time_budget: float,
+def _search(scene: Scene, q_start: NDArray[np.float64], goals: NDArray[np.float64], *, time_budget: float,
             seed: int, resolution: float) -> NDArray[np.float64]:
     """RRT-Connect from ``q_start`` to any of ``goals``, shortened: the path's vertices ``(m, n)``.
 
@@ -384,7 +385,7 @@ def _state(si, q: NDArray[np.float64]):
 
 
 # ----------------------------------------------------------------- timing
-def _timed(scene: Any, path: NDArray[np.float64], resolution: float, vmax: NDArray[np.float64],
+def _timed(scene: Scene, path: NDArray[np.float64], resolution: float, vmax: NDArray[np.float64],
            amax: NDArray[np.float64], torque_limits: bool | None) -> JointTrajectory:
     """The shortened path timed and checked: smooth through its vertices (with via-points where the
     spline collides), else stopping at every vertex; never an unchecked motion."""
