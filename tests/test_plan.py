@@ -131,6 +131,13 @@ def test_no_path_within_the_time_budget_is_an_error(wall_scene):
         plan_path(wall_scene, Q_START, Q_GOAL, time_budget=1e-9)
 
 
+def test_a_start_already_at_the_goal_is_refused(ur5, wall_scene):
+    with pytest.raises(InputError, match=r"goal: q_start \[0, -1.2, .*\] is already there"):
+        plan_path(wall_scene, Q_START, Q_START.copy())
+    with pytest.raises(InputError, match="is already there"):
+        plan_path(wall_scene, Q_START, ur5.fk(Q_START))
+
+
 @pytest.mark.parametrize(("keyword", "value", "message"), [
     ("time_budget", 0.0, "time_budget: expected a finite number > 0, got 0.0"),
     ("seed", -1, "seed: expected a whole number from 0"),

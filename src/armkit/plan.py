@@ -74,7 +74,7 @@ ATTEMPT_CHECKS = 2
 SIMPLIFY_STEPS = 100
 #: Numeric IK seeds for a goal pose of an arm without a closed form: the start, home, and these many random.
 IK_SEEDS = 16
-#: Joint distance [rad or m] below which two IK solutions are the same.
+#: Joint distance [rad or m] below which two configurations (IK solutions, start and goal) are the same.
 _SAME_SOLUTION = 1e-6
 #: Distance [rad or m] from its straight segment within which a stopping motion counts as on it (rounding).
 _ON_PATH = 1e-9
@@ -122,7 +122,7 @@ def plan_path(scene: Scene, q_start: ArrayLike, goal: ArrayLike, *, time_budget:
     Raises
     ------
     InputError
-        Bad arguments.
+        Bad arguments, or ``q_start`` already at the goal.
     JointLimitError
         ``q_start`` or a goal configuration outside the joint limits.
     UnreachableError
@@ -154,6 +154,8 @@ def plan_path(scene: Scene, q_start: ArrayLike, goal: ArrayLike, *, time_budget:
     vmax, amax = planning_limits(robot, max_velocity, max_acceleration)
     q_start = _free_configuration(scene, robot.check_q(q_start, "q_start"), "q_start")
     goals = goal_configurations(scene, goal, near=q_start, seed=seed)
+    if np.any(np.max(np.abs(goals - q_start), axis=1) <= _SAME_SOLUTION):
+        raise InputError(f"goal: q_start {_show(q_start)} is already there; there is no motion to plan")
     path = _search(scene, q_start, goals, time_budget=budget, seed=seed, resolution=resolution)
     return _timed(scene, path, resolution, vmax, amax, torque_limits)
 
