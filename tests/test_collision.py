@@ -282,3 +282,59 @@ def test_collisions_agree_with_pinocchio_and_coal_on_the_same_shapes():
     ours = scene.collides(q)
     assert 0.2 < ours.mean() < 0.9  # both answers occur
     np.testing.assert_array_equal(ours, theirs)
+
+
+def test_the_lab_floor_check_reports_a_motion_through_the_floor(tmp_path):
+    from armkit.lab.context import LabContext
+    from armkit.lab.floor import floor_check
+
+    ctx = LabContext(robot=UR5, folder=tmp_path, quick=True, seeds=False)
+    ctx.stage = "down"
+    ctx.record(Q_FREE + np.linspace(0, 1.2, 50)[:, None] * [0, 1, 0, 0, 0, 0])  # the upper arm swings down
+    ctx.stage = "around"
+    ctx.record(Q_FREE + np.linspace(0, 3, 50)[:, None] * [1, 0, 0, 0, 0, 0])  # turns about the base
+    section = floor_check(ctx)
+    assert section.status == "failed" and section.headline.startswith("1 of 2 motions")
+    down, around = section.tables[0].rows
+    assert down[0] == "down" and int(down[2]) > 0 and "floor" in down[4] and float(down[3]) < 0
+    assert around[0] == "around" and around[2] == "0" and around[4] == "-" and float(around[3]) > 0
+
+
+def test_a_radius_per_joint_in_a_robot_file_sizes_that_links_capsules(tmp_path):
+    path = tmp_path / "arm.toml"
+    path.write_text('convention = "standard"\nlength_unit = "mm"\nangle_unit = "deg"\n'
+                    '[[joints]]\nalpha = 0\na = 1000\nd = 0\ntheta = 0\nradius = 80\n')
+    robot = armkit.load(path)
+    assert robot.chain.joints[0].radius == pytest.approx(0.08)
+    assert armkit.robot_to_toml(robot).count("radius = 0.08") == 1  # written back (in metres)
+    scene = armkit.Scene(robot, [armkit.Sphere(0.1, [0.5, 0.0, 0.3])], floor=None)
+    assert scene.clearance([0.0]) == pytest.approx(0.3 - 0.1 - 0.08, abs=1e-9)
+    path.write_text(path.read_text().replace("radius = 80", "radius = -1"))
+    with pytest.raises(armkit.RobotDefinitionError, match="radius"):
+        armkit.load(path)
+
+
+def test_without_mujoco_a_scene_is_one_error_naming_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "mujoco", None)  # import mujoco then raises ImportError
+    with pytest.raises(armkit.ArmkitError, match=r"pip install 'armkit\[collision\]'"):
+        armkit.Scene(UR5, samples=0)
+
+
+def test_example_robot_datas_ur5_collision_meshes_load_through_package_paths():
+    from importlib.metadata import PackageNotFoundError, distribution
+
+    try:
+        share = Path(distribution("example-robot-data").locate_file("cmeel.prefix/share"))
+    except PackageNotFoundError:
+        pytest.skip("example-robot-data is not installed")
+    robots = share / "example-robot-data" / "robots"
+    robot = armkit.load(robots / "ur_description/urdf/ur5_robot.urdf", tip="tool0")
+    assert "mesh" in {c.kind for c in robot.urdf.collisions}
+    scene = armkit.Scene(robot, floor=0.0, package_paths=[robots.parent], samples=500)
+    assert scene.parts[1:7] == ("shoulder_link", "upper_arm_link", "forearm_link", "wrist_1_link",
+                                "wrist_2_link", "wrist_3_link")
+    q = robot.random_q(300, rng=2)
+    frames, _ = armkit.kinematics.joint_frames(robot, q)
+    under = frames[:, 2:, 2, 3].min(axis=1) < -0.1  # the elbow or a wrist joint 10 cm under the floor
+    assert under.any() and scene.collides(q[under]).all()
+    assert all(any("floor" in pair for pair in scene.contacts(qi)) for qi in q[under][:5])

@@ -51,6 +51,7 @@ def test_a_scene_file_builds_its_obstacles_in_si_units(tmp_path):
     assert cylinder.pose[:3, 2] == pytest.approx([0, -1, 0])  # rolled 90 deg: its axis along -y
     assert scene.disabled_pairs[("link1", "link3")] == "user"
     assert "never" not in scene.disabled_pairs.values()  # samples = 0: none sampled
+    assert armkit.Scene.from_file(path, UR5).disabled_pairs == scene.disabled_pairs
     assert armkit.Scene(UR5, scene.obstacles, floor=-0.01, disabled_pairs=[("link1", "link3")],
                         samples=0).collides(UR5.random_q(200, rng=1)).tolist() == \
         scene.collides(UR5.random_q(200, rng=1)).tolist()

@@ -41,7 +41,7 @@ def seed_report(tmp_path_factory):
 
 def test_every_seed_experiment_is_reproduced(seed_report):
     keys = [s.key for s in seed_report.sections]
-    assert keys == ["fk", "ik", "line", "trajectory", "rotation", "dynamics", "zju", "scara", "dh"]
+    assert keys == ["fk", "ik", "line", "trajectory", "rotation", "dynamics", "zju", "scara", "floor", "dh"]
     problems = [(s.key, s.notes) for s in seed_report.sections if s.status != "ok"]
     assert not problems
     ik = next(s for s in seed_report.sections if s.key == "ik")
@@ -74,7 +74,8 @@ def test_report_tables_show_published_computed_and_simulated_values(seed_report)
         assert title in page
     for published in ("0.150035", "0.199922", "-148.05", "36.31", "141.4214", "370.1666", "0.303826"):
         assert published in page
-    assert page.count(">reproduced<") == 2 * 8 and ">checked<" not in page  # badges and summary
+    assert page.count(">reproduced<") == 2 * 8  # badges and summary
+    assert page.count(">checked<") == 2  # the collision check's (no seed report checked collisions)
     assert "its text says &quot;3 solutions in range&quot; but it prints 4" in page
     fk_errors = re.findall(r"max \|MuJoCo - armkit\| ([0-9.e+-]+) m", page)
     assert fk_errors and float(fk_errors[0]) < 1e-9
@@ -229,7 +230,8 @@ def test_a_failed_experiment_makes_the_run_exit_1(tmp_path, capsys, monkeypatch)
     _fake_experiments(monkeypatch)
     assert main(["lab", "--robot", "puma560", "--out", str(out), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["failed"] == 0 and [s["status"] for s in data["sections"]] == ["ok"] * 7
+    # the fake experiments run no motion: nothing for the collision check ("n/a"), before the DH tables
+    assert data["failed"] == 0 and [s["status"] for s in data["sections"]] == ["ok"] * 6 + ["n/a", "ok"]
 
 
 def test_an_interrupted_run_leaves_the_previous_report_whole(tmp_path, capsys, monkeypatch):

@@ -109,6 +109,9 @@ class Joint:
         (after ``T_after``); None if not given (:mod:`armkit.dynamics` then refuses the arm).
     max_torque : float or None
         Optional torque limit [N m] (revolute) or force limit [N] (prismatic).
+    radius : float or None
+        Optional radius [m] of the capsules that stand for the link this joint moves in collision
+        checks (:mod:`armkit.collision`); None: the default.
     """
 
     kind: JointKind
@@ -121,6 +124,7 @@ class Joint:
     name: str = ""
     inertial: Inertial | None = None
     max_torque: float | None = None
+    radius: float | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in ("revolute", "prismatic"):
@@ -130,7 +134,8 @@ class Joint:
             raise RobotDefinitionError(
                 f"joint {self.name!r}: limits [{self.lower}, {self.upper}] are not increasing")
         for label, value in (("max_velocity", self.max_velocity),
-                             ("max_acceleration", self.max_acceleration), ("max_torque", self.max_torque)):
+                             ("max_acceleration", self.max_acceleration), ("max_torque", self.max_torque),
+                             ("radius", self.radius)):
             if value is not None and not (np.isfinite(value) and value > 0):
                 raise RobotDefinitionError(
                     f"joint {self.name!r}: {label} = {value}; expected a positive number")

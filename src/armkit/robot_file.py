@@ -31,6 +31,10 @@ Dynamics (optional, per joint; every joint or none)::
                                    # frame axes: 3 numbers (the diagonal) or a 3x3 matrix
     max_torque = 89.4              # N m (revolute) or N (prismatic), optional on its own
 
+Collision geometry (optional, per joint; :mod:`armkit.collision`)::
+
+    radius = 40                    # length_unit: the capsules standing for the link this joint moves
+
 ``com`` (default the frame origin) and ``inertia`` (default zero) need ``mass``. The link
 frame is DH link frame ``i`` of a DH file; in a POE file ``com`` and ``inertia`` are in the
 base frame with every joint at zero, like ``axis`` and ``point``. See ``docs/dynamics.md``.
@@ -67,6 +71,7 @@ from __future__ import annotations
 import json
 import math
 import tomllib
+from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -74,8 +79,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from armkit.chain import MAX_VALUE, DHRow
-from armkit.errors import InputError, RobotDefinitionError
+from armkit.chain import MAX_VALUE, Chain, DHRow
+from armkit.errors import ArmkitError, InputError, RobotDefinitionError
 from armkit.inertial import Inertial
 from armkit.poe import poe_from_chain
 from armkit.robot import Robot
@@ -91,7 +96,7 @@ _TOP_KEYS = {"name", "convention", "length_unit", "angle_unit", "description", "
              "tool", "base"}
 _ROW_KEYS = {"alpha", "a", "d", "theta"}
 _COMMON_JOINT_KEYS = {"type", "limits", "max_velocity", "max_acceleration", "name", "mass", "com", "inertia",
-                      "max_torque"}
+                      "max_torque", "radius"}
 _JOINT_KEYS = _ROW_KEYS | _COMMON_JOINT_KEYS
 _POE_KEYS = {"axis", "point"}
 _TRANSFORM_KEYS = {"xyz", "rpy", "matrix"}
@@ -152,18 +157,23 @@ def _no_links(base: str | None, tip: str | None, source: str) -> None:
                                    f"this is a robot file (its base and tool are [base] and [tool])")
 
 
-def _load_text(data: bytes, source: str) -> Robot:
+def toml_table(data: bytes, source: str, what: str = "robot file",
+               error: type[ArmkitError] = RobotDefinitionError) -> dict[str, Any]:
+    """The TOML table of a file's bytes, or one ``error`` naming ``source`` (not UTF-8, not TOML)."""
     try:
         text = data.decode("utf-8-sig")  # a byte order mark (some Windows editors write one) is skipped
     except UnicodeDecodeError as exc:
-        raise RobotDefinitionError(f"{source}: not UTF-8 text (byte {exc.start}); save the robot file "
-                                   f"as UTF-8") from exc
+        raise error(f"{source}: not UTF-8 text (byte {exc.start}); save the {what} as UTF-8") from exc
     try:
-        parsed = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise RobotDefinitionError(f"{source}: not valid TOML: {exc}") from exc
+        raise error(f"{source}: not valid TOML: {exc}") from exc
     except RecursionError as exc:
-        raise RobotDefinitionError(f"{source}: arrays or tables nested too deeply to read") from exc
+        raise error(f"{source}: arrays or tables nested too deeply to read") from exc
+
+
+def _load_text(data: bytes, source: str) -> Robot:
+    parsed = toml_table(data, source)
     return robot_from_dict(parsed, source, require_units=True)
 
 
@@ -305,7 +315,7 @@ def robot_from_dict(data: dict, source: str = "robot description", require_units
         raise RobotDefinitionError(f"{source}: 'joints' must be a non-empty array of tables "
                                    f"([[joints]]), got {_shown(joints)}")
     rows, axes, points, kinds, limits, vmax, amax, names = [], [], [], [], [], [], [], []
-    inertials, max_torque = [], []
+    inertials, max_torque, radii = [], [], []
     seen: set[str] = set()
     for i, table in enumerate(joints):
         where = f"{source}, joint {i + 1}"
@@ -325,6 +335,7 @@ def robot_from_dict(data: dict, source: str = "robot description", require_units
         names.append(_joint_name(table, where, i, seen))
         inertials.append(_inertial(table, where, length))
         max_torque.append(_positive(table.get("max_torque"), f"{where}, key 'max_torque'", 1.0))
+        radii.append(_positive(table.get("radius"), f"{where}, key 'radius'", length))
     given = [inertial is not None for inertial in inertials]
     if any(given) and not all(given):
         raise RobotDefinitionError(f"{source}, joint {given.index(False) + 1}: no 'mass' while joint "
@@ -346,6 +357,10 @@ def robot_from_dict(data: dict, source: str = "robot description", require_units
                               T_base=T_base, T_tool=T_tool, inertials=inertials, max_torque=max_torque)
     if not np.isfinite(robot.chain.T_between).all():
         raise RobotDefinitionError(f"{source}: the fixed transforms overflow; check the lengths")
+    if any(r is not None for r in radii):  # collision capsule radii (armkit.collision)
+        chain = robot.chain
+        joints = tuple(replace(joint, radius=r) for joint, r in zip(chain.joints, radii, strict=True))
+        robot.chain = Chain(joints, chain.T_base, chain.T_tool)
     robot.source = source
     robot.description = _text(data.get("description", ""), f"{source}, key 'description'")
     return robot
@@ -427,7 +442,7 @@ def robot_to_toml(robot: Robot) -> str:
             lines += [f"axis = {_array(poe.axes[i])}", f"point = {_array(poe.points[i])}"]
         if math.isfinite(joint.lower) and math.isfinite(joint.upper):
             lines.append(f"limits = [{joint.lower!r}, {joint.upper!r}]")
-        for key in ("max_velocity", "max_acceleration", "max_torque"):
+        for key in ("max_velocity", "max_acceleration", "max_torque", "radius"):
             if getattr(joint, key) is not None:
                 lines.append(f"{key} = {getattr(joint, key)!r}")
         if joint.inertial is not None:

@@ -9,6 +9,7 @@ from typing import Annotated
 import typer
 
 from armkit.cli.app import BaseOpt, LockOpt, RobotArg, TipOpt, app, console, err_console, load_robot
+from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
 
 #: Exit code after Ctrl-C (128 + SIGINT), as shells report it.
 INTERRUPTED = 130
@@ -39,6 +40,8 @@ def view_command(
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
+    scene: SceneOpt = None,
+    package_path: PackagePathOpt = None,
 ) -> None:
     """Interactive 3-D teach panel in the browser: joint sliders, every IK solution, trajectories.
 
@@ -46,7 +49,8 @@ def view_command(
     """
     from armkit.view import Viewer
 
-    viewer = Viewer(load_robot(robot, base, tip, lock), port=port, host=host)
+    arm = load_robot(robot, base, tip, lock)
+    viewer = Viewer(arm, port=port, host=host, scene=load_scene_option(arm, scene, package_path))
     try:
         if trajectory is not None:
             viewer.load(trajectory)

@@ -21,6 +21,7 @@ from armkit.cli.app import (
     load_robot,
     print_json,
 )
+from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
 from armkit.errors import InputError
 
 #: Exit code of a run ended by Ctrl-C (128 + SIGINT).
@@ -71,6 +72,9 @@ def _print_summary(summary: dict) -> None:
                   f"± {v['voxelisation_error']:.2g}, sampling ± {v['sampling_error']:.2g})",
                   f"samples: {summary['samples']:,}, voxels: {summary['voxels']:,} "
                   f"({v['occupied_voxels']:,} reached) at {summary['resolution_m']:g} m"]
+        if summary.get("colliding_samples_left_out"):
+            lines.append(f"left out: {summary['colliding_samples_left_out']:,} samples in collision with the "
+                         f"scene")
     if "dexterity" in summary:
         d = summary["dexterity"]
         lines.append(f"mean reachability index: {d['mean_reachability_index']:.3f} ({d['orientations']} "
@@ -128,6 +132,8 @@ def workspace_command(
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
+    scene: SceneOpt = None,
+    package_path: PackagePathOpt = None,
 ) -> None:
     """Where the arm reaches, how well and in how many ways: maps on a voxel grid, in a Zarr store."""
     options = dict(locals())
@@ -150,10 +156,13 @@ def workspace_command(
 
 def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, manipulability_samples,
          singular_threshold, sweep, dataset, out, resume, force, threads, dask, report, report_dir,
-         json_output, quiet, base, tip, lock) -> None:
+         json_output, quiet, base, tip, lock, scene, package_path) -> None:
     from armkit import workspace
 
     arm = load_robot(robot, base, tip, lock)
+    world = load_scene_option(arm, scene, package_path)
+    if world is not None and (sweep is not None or dataset is not None):
+        raise InputError("--scene: with the maps only (not with --sweep or --dataset)")
     if resume and out is None:
         raise InputError("--resume needs --out: the store to continue")
     engine, cluster = _engine(dask, threads)
@@ -172,7 +181,7 @@ def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, 
                                        chunk_size=chunk_size, orientations=orientations,
                                        manipulability_samples=_count(manipulability_samples,
                                                                      "--manipulability-samples"),
-                                       singular_threshold=singular_threshold, out=out, **common)
+                                       singular_threshold=singular_threshold, out=out, scene=world, **common)
     finally:
         if cluster is not None:
             engine.close()

@@ -145,9 +145,11 @@ def _add_obstacle(root: ET.Element, body: ET.Element, obstacle: Obstacle, relati
 
 def _link_radii(robot: Robot, link_radius: float | Sequence[float] | None,
                 default: float) -> NDArray[np.float64]:
-    """Capsule radius per body (the base first), [m]."""
+    """Capsule radius per body (the base first) [m]: ``link_radius``, else the joints' ``radius`` (a
+    robot file's key) where set, else ``default``."""
     if link_radius is None:
-        return np.full(robot.n + 1, default)
+        joints = [default if joint.radius is None else joint.radius for joint in robot.chain.joints]
+        return np.array([default, *joints])
     radii = np.asarray(link_radius, dtype=float)
     if radii.ndim == 0:
         radii = np.full(robot.n + 1, float(radii))

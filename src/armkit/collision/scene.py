@@ -22,6 +22,7 @@ import os
 import queue
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -33,7 +34,7 @@ from armkit.collision.shapes import Box, Cylinder, Mesh, Obstacle, Sphere
 from armkit.errors import InputError
 from armkit.robot import Robot
 
-__all__ = ["DEFAULT_SAMPLES", "Scene"]
+__all__ = ["DEFAULT_SAMPLES", "Scene", "WorldShape"]
 
 #: Random configurations sampled to find the pairs that always or never touch.
 DEFAULT_SAMPLES = 5000
@@ -42,6 +43,33 @@ MAX_DISTANCE = 1e3
 _CHUNK_MIN = 64  # configurations below which a batch runs on the calling thread
 
 Pair = tuple[str, str]
+
+
+@dataclass(frozen=True)
+class WorldShape:
+    """A floor or obstacle geom for drawing.
+
+    Attributes
+    ----------
+    part : str
+        ``floor`` or the obstacle's name.
+    kind : str
+        ``"plane"``, ``"box"``, ``"sphere"``, ``"cylinder"`` or ``"mesh"``.
+    size : ndarray (3,)
+        MuJoCo's geom size: half extents of a box, ``(radius, half length)`` of a cylinder, the radius
+        of a sphere first [m].
+    T_base_geom : ndarray (4, 4)
+        The geom's pose [m].
+    vertices, faces : ndarray or None
+        A mesh's vertices ``(V, 3)`` [m] in the geom frame and triangles ``(F, 3)``.
+    """
+
+    part: str
+    kind: str
+    size: NDArray[np.float64]
+    T_base_geom: NDArray[np.float64]
+    vertices: NDArray[np.float64] | None
+    faces: NDArray[np.int32] | None
 
 
 class Scene:
@@ -113,6 +141,8 @@ class Scene:
                 raise InputError(f"Scene floor: expected a height in metres or None, got {floor!r}")
         self.floor = floor
         self.threads = thread_count(threads) or os.cpu_count() or 1
+        self._options = {"link_radius": link_radius, "geometry": geometry,
+                         "package_paths": tuple(package_paths), "relative_to": relative_to}
         samples = whole_number(samples, "samples", minimum=0)
         names = part_names(robot, self.obstacles, floor is not None)
         self.parts = names.names
@@ -130,6 +160,22 @@ class Scene:
             sampled = self._sampled_pairs(robot.random_q(samples, rng=0))
             disabled |= {pair: why for pair, why in sampled.items() if pair not in disabled}
             self._use_model({pair: why for pair, why in disabled.items() if pair not in enabled})
+
+    @classmethod
+    def from_file(cls, path: str | Path, robot: Robot, **options) -> Scene:
+        """The scene a TOML scene file describes for ``robot``: :func:`armkit.load_scene`."""
+        from armkit.collision.scene_file import load_scene
+
+        return load_scene(path, robot, **options)
+
+    def __reduce__(self) -> tuple:
+        """Pickled as its description (the robot as a robot file, the obstacles, the pairs decided),
+        rebuilt without sampling on one thread: a Dask worker gets the scene a task checks against.
+        The robot must be one :func:`armkit.robot_to_toml` writes."""
+        from armkit.robot_file import robot_to_toml
+
+        return _rebuilt, (robot_to_toml(self.robot), self.obstacles, self.floor, self._options,
+                          tuple(self.disabled_pairs.items()))
 
     # ------------------------------------------------------------------ construction
     def _pair(self, pair: object, what: str) -> Pair:
@@ -205,7 +251,7 @@ class Scene:
     def _map(self, kernel: Callable, q: NDArray[np.float64], *args) -> list:
         """``kernel(data, chunk, *args)`` over contiguous chunks of ``q`` ``(N, n)``, one per thread."""
         chunks = max(1, min(self.threads, len(q) // _CHUNK_MIN))
-        bounds = np.linspace(0, len(q), chunks + 1).astype(int)
+        bounds = [len(q) * k // chunks for k in range(chunks + 1)]
 
         def run(k: int):
             data = self._data()
@@ -223,8 +269,8 @@ class Scene:
     def _batch(self, kernel: Callable, q: ArrayLike, dtype: type) -> NDArray:
         q = self.robot.check_q(q)
         flat = np.ascontiguousarray(q.reshape(-1, self.robot.n))
-        out = np.concatenate([np.asarray(part, dtype=dtype) for part in self._map(kernel, flat)]) \
-            if len(flat) else np.zeros(0, dtype=dtype)
+        parts = self._map(kernel, flat) if len(flat) else [np.zeros(0, dtype=dtype)]
+        out = parts[0] if len(parts) == 1 else np.concatenate(parts)
         return out.reshape(q.shape[:-1])
 
     def _collides_kernel(self, data, q: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -232,8 +278,8 @@ class Scene:
         kinematics, collision = mujoco.mj_kinematics, mujoco.mj_collision
         out = np.empty(len(q), dtype=bool)
         qpos = data.qpos
-        for i in range(len(q)):
-            qpos[:] = q[i]
+        for i, row in enumerate(q):
+            qpos[:] = row
             kinematics(model, data)
             collision(model, data)
             out[i] = data.ncon > 0
@@ -306,6 +352,34 @@ class Scene:
         counts = self._map(self._contact_counts, q[None], len(self.parts))[0]
         return [(self.parts[a], self.parts[b]) for a, b in zip(*np.nonzero(counts), strict=True)]
 
+    def world_shapes(self) -> list[WorldShape]:
+        """The floor's and the obstacles' geoms as MuJoCo holds them (meshes as their vertices and faces),
+        for drawing: one :class:`WorldShape` per geom."""
+        mujoco, model = self._mujoco, self._model
+        data = self._data()
+        try:
+            mujoco.mj_kinematics(model, data)
+            shapes = []
+            for g in range(model.ngeom):
+                part = self._part_of_geom[g]
+                if part < self._robot_parts:
+                    continue
+                T = np.eye(4)
+                T[:3, :3], T[:3, 3] = data.geom_xmat[g].reshape(3, 3), data.geom_xpos[g]
+                kind = mujoco.mjtGeom(model.geom_type[g]).name.removeprefix("mjGEOM_").lower()
+                vertices = faces = None
+                if kind == "mesh":
+                    mesh = model.geom_dataid[g]
+                    start, count = model.mesh_vertadr[mesh], model.mesh_vertnum[mesh]
+                    vertices = model.mesh_vert[start:start + count].copy()
+                    first, faces_count = model.mesh_faceadr[mesh], model.mesh_facenum[mesh]
+                    faces = model.mesh_face[first:first + faces_count].copy()
+                shapes.append(WorldShape(self.parts[part], kind, model.geom_size[g].copy(), T, vertices,
+                                         faces))
+            return shapes
+        finally:
+            self._pool.put(data)
+
     def displacement_bound(self, q_a: ArrayLike, q_b: ArrayLike) -> float:
         """An upper bound [m] on how far any point of the arm's geometry moves along the straight
         joint-space segment from ``q_a`` to ``q_b``.
@@ -359,3 +433,13 @@ class Scene:
             if np.any(self.collides(q_a + t[:, None] * (q_b - q_a))):
                 return True
         return False
+
+
+def _rebuilt(robot_toml: str, obstacles: tuple[Obstacle, ...], floor: float | None, options: dict,
+             disabled: tuple[tuple[Pair, str], ...]) -> Scene:
+    """A pickled :class:`Scene` again (see ``Scene.__reduce__``)."""
+    from armkit.workspace.sampling import robot_from_toml
+
+    scene = Scene(robot_from_toml(robot_toml), obstacles, floor, samples=0, threads=1, **options)
+    scene._use_model(dict(disabled))
+    return scene

@@ -35,7 +35,6 @@ Every bad value raises one :class:`~armkit.errors.InputError` naming the file, t
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -52,6 +51,7 @@ from armkit.robot_file import (
     _shown,
     _transform,
     _vector,
+    toml_table,
 )
 
 __all__ = ["load_scene", "scene_from_dict"]
@@ -84,17 +84,10 @@ def load_scene(path: str | Path, robot: Robot, *, package_paths: tuple[str | Pat
     """
     path = Path(path)
     try:
-        text = path.read_bytes().decode("utf-8-sig")
+        raw = path.read_bytes()
     except OSError as exc:
         raise InputError(f"{path}: cannot read the scene file ({exc.strerror or exc})") from exc
-    except UnicodeDecodeError as exc:
-        raise InputError(f"{path}: not UTF-8 text (byte {exc.start}); save the scene file as UTF-8") from exc
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{path}: not valid TOML: {exc}") from exc
-    except RecursionError as exc:
-        raise InputError(f"{path}: arrays or tables nested too deeply to read") from exc
+    data = toml_table(raw, str(path), "scene file", InputError)
     return scene_from_dict(data, robot, str(path), folder=path.parent, package_paths=package_paths,
                            threads=threads)
 

@@ -28,7 +28,13 @@ class LabContext:
     seeds: bool
     rng: np.random.Generator = field(default_factory=lambda: np.random.default_rng(2024))
     files: list[str] = field(default_factory=list)
+    stage: str = ""
+    motions: list[tuple[str, NDArray[np.float64]]] = field(default_factory=list)
     _sim: Simulation | None = None
+
+    def record(self, q: NDArray[np.float64]) -> None:
+        """Keep a motion's commanded configurations ``(N, n)`` for the collision check (under ``stage``)."""
+        self.motions.append((self.stage, np.asarray(q, dtype=float).reshape(-1, self.robot.n)))
 
     @property
     def sim(self) -> Simulation:

@@ -74,6 +74,7 @@ def dynamics_experiment(ctx: LabContext) -> Section:
         section.status = "failed"
         section.notes.append(f"armkit and MuJoCo differ by {worst:.1e} of the largest torque, more than "
                              f"{AGREEMENT:g}")
+    ctx.record(samples.q)
     compensated = ctx.sim.run(samples.t, samples.q, samples.qd)
     feedforward = torques.tau + model.dof_armature * samples.qdd  # the servo model's rotor inertia too
     fed = ctx.sim.run(samples.t, samples.q, samples.qd, feedforward=feedforward)

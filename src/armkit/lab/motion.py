@@ -69,6 +69,7 @@ def ready_configuration(robot: Robot, rng: np.random.Generator) -> NDArray[np.fl
 
 
 def _simulate(ctx: LabContext, t: NDArray, q: NDArray, mode: str = "position") -> SimResult:
+    ctx.record(q)
     return ctx.sim.run(t, q, mode=mode)
 
 
@@ -268,6 +269,7 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     robot = ctx.robot
     trajectory = plan_trajectory(robot, q, durations)
     samples = trajectory.sample(1000.0)
+    ctx.record(samples.q)
     result = ctx.sim.run(samples.t, samples.q, samples.qd)
     trajectory.to_csv(ctx.path(TRAJECTORY_FILE), rate_hz=100.0, overwrite=True)
     write_waypoints(ctx.path(WAYPOINTS_FILE), robot, q, overwrite=True)

@@ -56,7 +56,8 @@ class Section:
     ``status`` is ``"ok"``, ``"failed"`` (it raised an error, or missed its target; the
     message is shown as is) or ``"n/a"`` (the arm cannot do this experiment; the first
     note says why). ``images`` are
-    ``(file name in the report folder, caption)``.
+    ``(file name in the report folder, caption)``. ``own`` marks a check of armkit's own with no
+    seed-report counterpart (the collision check): "checked", never "reproduced".
     """
 
     key: str
@@ -69,6 +70,7 @@ class Section:
     images: list[tuple[str, str]] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     badge: bool = True
+    own: bool = False
 
 
 def check_folder(folder: Path, force: bool) -> None:
@@ -168,7 +170,7 @@ def _image_html(folder: Path, name: str, caption: str) -> str:
 
 
 def _section_html(folder: Path, section: Section, seeds: bool) -> str:
-    label, color = status_label(section.status, seeds), _COLORS[section.status]
+    label, color = status_label(section.status, seeds and not section.own), _COLORS[section.status]
     badge = f' <span class="badge" style="background:{color}">{label}</span>' if section.badge else ""
     parts = [f'<section id="{section.key}"><h2>{_cell(section.title)}{badge}</h2>',
              "".join(f"<p>{_cell(p)}</p>" for p in section.intro.split("\n\n") if p)]

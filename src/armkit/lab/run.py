@@ -21,7 +21,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 import armkit
 from armkit.errors import ArmkitError
-from armkit.lab import dynamics, fk_ik, motion
+from armkit.lab import dynamics, fk_ik, floor, motion
 from armkit.lab.context import LabContext
 from armkit.lab.report import (
     Section,
@@ -108,8 +108,8 @@ def _run_one(experiment: Experiment, ctx: LabContext) -> Section:
 
 def _summary(sections: list[Section], seeds: bool) -> Table:
     """One row per experiment; the seed reports' column only when the seed experiments ran."""
-    rows = [[s.title, status_label(s.status, seeds), s.headline, *([s.published] if seeds else [])]
-            for s in sections if s.key != "dh"]
+    rows = [[s.title, status_label(s.status, seeds and not s.own), s.headline,
+             *([s.published] if seeds else [])] for s in sections if s.key != "dh"]
     columns = ["experiment", "status", "armkit + MuJoCo", *(["the seed report"] if seeds else [])]
     return Table("Summary", columns, rows, wrap=True)
 
@@ -171,11 +171,15 @@ def _run_stages(ctx: LabContext, started: float, progress: bool) -> list[Section
     columns = (TextColumn("[bold]{task.description:<28}"), BarColumn(),
                TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn())
     with Progress(*columns, disable=not progress, transient=False) as bar:
-        task = bar.add_task("armkit lab", total=len(stages) + 1)
+        task = bar.add_task("armkit lab", total=len(stages) + 2)
         for label, experiment in stages:
             bar.update(task, description=label)
+            ctx.stage = label
             sections.append(_run_one(experiment, ctx))
             bar.advance(task)
+        bar.update(task, description="collision check")
+        sections.append(_run_one(floor.floor_check, ctx))
+        bar.advance(task)
         bar.update(task, description="writing the report")
         robots = [arm, load("zju-i"), load("grb400-scara")] if seeds else [arm]
         sections.append(_dh_section(robots))

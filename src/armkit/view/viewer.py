@@ -16,7 +16,7 @@ import threading
 import time
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -34,9 +34,13 @@ from armkit.trajectory.plan import plan_trajectory
 from armkit.trajectory.waypoints import joint_waypoints, write_waypoints
 from armkit.view import readout
 from armkit.view.geometry import arm_size, ellipsoid_axes, unit_sphere
+from armkit.view.obstacles import colour_contacts, draw_obstacles
 from armkit.view.playback import Playback
 from armkit.view.scene import ArmDrawing, Colours
 from armkit.view.server_log import SERVER_LOGGERS, OneLineMessageErrors
+
+if TYPE_CHECKING:  # armkit.collision needs MuJoCo only when a scene is given
+    from armkit.collision.scene import Scene
 
 __all__ = ["Viewer"]
 
@@ -79,6 +83,9 @@ class Viewer:
         Starting configuration [rad or m]; default :attr:`Robot.home`.
     verbose : bool
         Let viser print its own messages.
+    scene : armkit.Scene, optional
+        A collision scene (built for this robot): its floor and obstacles are drawn, and the arm's
+        links in contact are coloured magenta (:mod:`armkit.view.obstacles`).
 
     Examples
     --------
@@ -95,7 +102,7 @@ class Viewer:
     """
 
     def __init__(self, robot: Robot | str, port: int = 8080, host: str = "127.0.0.1", *,
-                 q: ArrayLike | None = None, verbose: bool = False) -> None:
+                 q: ArrayLike | None = None, verbose: bool = False, scene: Scene | None = None) -> None:
         viser = _import_viser()
         self.robot = load(robot) if isinstance(robot, str | Path) else robot
         self.source = str(robot) if isinstance(robot, str | Path) else self.robot.name
@@ -111,6 +118,7 @@ class Viewer:
         self._playing = False
         self._player: threading.Thread | None = None
         self._closed = False
+        self._scene = scene
         self._size = arm_size(self.robot)
         self._radius = float(np.clip(0.025 * self._size, 0.004, 0.05))
         self._message_errors = OneLineMessageErrors()
@@ -351,6 +359,8 @@ class Viewer:
                             font_screen_scale=0.7)
         scene.add_frame("/world", axes_length=0.6 * step, axes_radius=0.04 * step, origin_radius=0.0)
         self._arm = ArmDrawing(scene, "/arm", self.robot, self._radius, self._q)
+        if self._scene is not None:
+            draw_obstacles(scene, self._scene, self._size)
         axis = 3 * self._radius
         self._axes = scene.add_line_segments("/joint_axes", points=np.zeros((self.robot.n, 2, 3)),
                                              colors=Colours.AXIS, thickness=0.25 * self._radius)
@@ -398,6 +408,8 @@ class Viewer:
     def _redraw(self) -> None:
         with self._server.atomic():
             self._arm.update(self._q)
+            if self._scene is not None:
+                colour_contacts(self._arm, self._scene, self._q, Colours.LINK, Colours.JOINT)
             self._draw_arm()
         self._readout.content = readout.pose_html(self.robot, self._q, self.robot.fk(self._q),
                                                   self._convention.value, self._degrees)

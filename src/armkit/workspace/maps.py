@@ -77,6 +77,8 @@ class Workspace:
                     "volume_unit": volume.unit, "volume": volume.as_dict(),
                     "mean_hits_per_reached_voxel": reach.samples / max(volume.occupied, 1),
                     "outer_boundary_voxels": int(reach.outer_boundary.sum())}
+            if reach.colliding:
+                out["colliding_samples_left_out"] = reach.colliding
         if self.manipulability is not None:
             manip = self.manipulability
             out["manipulability"] = {"samples": manip.samples, "complete": manip.complete,
@@ -117,7 +119,7 @@ def compute(robot: Robot, *, resolution: float = 0.02, samples: int = 1_000_000,
             method: str = "uniform", chunk_size: int = CHUNK_SIZE, manipulability_samples: int = 200_000,
             singular_threshold: float = SINGULAR_THRESHOLD, orientations: int = 100,
             engine: Any = None, out: str | Path | None = None, resume: bool = False,
-            overwrite: bool = False, progress: bool = False) -> Workspace:
+            overwrite: bool = False, progress: bool = False, scene: Any = None) -> Workspace:
     """Reachability, manipulability and dexterity maps of ``robot``, written to ``out`` if given.
 
     Parameters
@@ -145,6 +147,9 @@ def compute(robot: Robot, *, resolution: float = 0.02, samples: int = 1_000_000,
         Replace ``out`` if it exists.
     progress : bool
         Progress bars on stderr.
+    scene : armkit.Scene, optional
+        The reachability map leaves out the samples that collide in it (the manipulability and
+        dexterity maps do not check collisions).
 
     Examples
     --------
@@ -172,7 +177,7 @@ def compute(robot: Robot, *, resolution: float = 0.02, samples: int = 1_000_000,
             store.attrs["maps_requested"] = [name for name, wanted in asked.items() if wanted]
         common = {"grid": grid, "seed": seed, "method": method, "engine": engine, "store": store,
                   "resume": resume, "progress": progress}
-        reach = reachability(robot, samples=samples, chunk_size=chunk_size, **common)
+        reach = reachability(robot, samples=samples, chunk_size=chunk_size, scene=scene, **common)
         manip = (manipulability(robot, samples=manipulability_samples, threshold=singular_threshold,
                                 chunk_size=max(1, chunk_size // 4), **common)
                  if manipulability_samples else None)

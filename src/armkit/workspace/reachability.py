@@ -136,6 +136,11 @@ class ReachabilityMap:
         return int(min(self.chunks_done * self.plan.chunk_size, self.plan.samples))
 
     @property
+    def colliding(self) -> int:
+        """Samples left out because they collided with the run's scene (0 without one) [-]."""
+        return self.samples - int(self.hits.sum()) - self.outside
+
+    @property
     def complete(self) -> bool:
         """Whether every chunk of the plan is counted (not an interrupted run's part)."""
         return self.chunks_done == self.plan.n_chunks
@@ -189,6 +194,7 @@ class _Task:
     robot_toml: str
     grid: Grid
     plan: SamplePlan
+    scene: Any = None  # an armkit.Scene whose colliding samples are left out (it pickles for Dask)
 
 
 def _hits_of_chunks(task: _Task, chunks: tuple[int, ...]) -> tuple[NDArray[np.int64], NDArray[np.int64],
@@ -200,7 +206,8 @@ def _hits_of_chunks(task: _Task, chunks: tuple[int, ...]) -> tuple[NDArray[np.in
     even, odd = np.zeros(task.grid.size, dtype=np.int64), np.zeros(task.grid.size, dtype=np.int64)
     outside = 0
     for chunk in chunks:
-        outside += voxel_hits(robot, task.grid, task.plan, chunk, even if chunk % 2 == 0 else odd)[1]
+        outside += voxel_hits(robot, task.grid, task.plan, chunk, even if chunk % 2 == 0 else odd,
+                              scene=task.scene)[1]
     hits = even + odd
     voxels = np.flatnonzero(hits)
     return voxels, hits[voxels], even[voxels], outside
@@ -234,11 +241,19 @@ class _Hits:
         self.outside[:] = arrays["outside"]
 
 
+def _scene_digest(scene: Any) -> str:
+    """A fingerprint of a scene for a store's checkpoint: a resume must check against the same one."""
+    import hashlib
+    import pickle
+
+    return hashlib.sha256(pickle.dumps(scene)).hexdigest()[:16]
+
+
 def reachability(robot: Robot, *, resolution: float = 0.02, grid: Grid | None = None,
                  samples: int = 1_000_000, seed: int = 0, method: str = "uniform",
                  chunk_size: int = CHUNK_SIZE, engine: Any = None, store: Any = None,
                  section: str = "reachability", resume: bool = False,
-                 progress: bool = False) -> ReachabilityMap:
+                 progress: bool = False, scene: Any = None) -> ReachabilityMap:
     """Sample configurations inside the joint limits and count the tool positions per voxel.
 
     Parameters
@@ -264,6 +279,9 @@ def reachability(robot: Robot, *, resolution: float = 0.02, grid: Grid | None = 
         Continue from the checkpoint in ``store[section]``.
     progress : bool
         A progress bar on stderr.
+    scene : armkit.Scene, optional
+        Leave out the samples that collide in this scene (floor, obstacles, self-collision); they
+        count in :attr:`ReachabilityMap.colliding`, not in any voxel.
 
     Returns
     -------
@@ -272,8 +290,10 @@ def reachability(robot: Robot, *, resolution: float = 0.02, grid: Grid | None = 
     grid = grid_for(robot, resolution) if grid is None else grid
     plan = SamplePlan(int(samples), int(chunk_size), int(seed), method)
     accumulator = _Hits(grid)
-    done = run_resumable(partial(_hits_of_chunks, _Task(robot_to_toml(robot), grid, plan)), plan.n_chunks,
-                         accumulator, store=store, name=section, attrs=plan.to_attrs(), resume=resume,
+    attrs = plan.to_attrs() if scene is None else {**plan.to_attrs(), "scene": _scene_digest(scene)}
+    task = _Task(robot_to_toml(robot), grid, plan, scene)
+    done = run_resumable(partial(_hits_of_chunks, task), plan.n_chunks, accumulator, store=store,
+                         name=section, attrs=attrs, resume=resume,
                          engine=engine, progress=progress, description="reachability",
                          chunks_per_task=chunks_per_task(plan.n_chunks, engine_threads(engine)))
     hits, hits_even = accumulator.hits.reshape(grid.shape), accumulator.hits_even.reshape(grid.shape)

@@ -24,7 +24,7 @@ import tomllib
 import warnings
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -142,18 +142,23 @@ def _box_edges(box: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[n
 
 
 def voxel_hits(robot: Robot, grid: Grid, plan: SamplePlan, chunk: int,
-               hits: NDArray[np.int64] | None = None) -> tuple[NDArray[np.int64], int]:
+               hits: NDArray[np.int64] | None = None, scene: Any = None) -> tuple[NDArray[np.int64], int]:
     """Chunk ``chunk``'s tool positions counted per voxel: hits ``(grid.size,)`` and the samples outside.
 
     ``uniform``: sampled, moved through FK (position only) and counted in one compiled pass,
     with no array per configuration; ``sobol``: the configurations of :func:`configurations`
     counted by the same kernel. Given ``hits`` (contiguous int64, ``(grid.size,)``), the counts
-    are added to it and it is returned.
+    are added to it and it is returned. Given an :class:`armkit.Scene`, the configurations of
+    :func:`configurations` that collide in it are left out (counted nowhere).
     """
     hits = np.zeros(grid.size, dtype=np.int64) if hits is None else hits
     lower = np.ascontiguousarray(grid.lower, dtype=np.float64)
     where = (lower, float(grid.resolution), *map(int, grid.shape))
-    if plan.method == "uniform":
+    if scene is not None:
+        q = configurations(robot, plan, chunk)
+        outside = _core.reach_given(robot.chain._core, np.ascontiguousarray(q[~scene.collides(q)]), *where,
+                                    hits, KERNEL_THREADS)
+    elif plan.method == "uniform":
         seed, box = chunk_seed(plan, chunk), _box_edges(joint_box(robot))
         outside = _core.reach_uniform(robot.chain._core, *box, seed, 0, plan.chunk_count(chunk), *where, hits,
                                       KERNEL_THREADS)
