@@ -162,7 +162,7 @@ def plan_command(
         from armkit.animation import animate_trajectory
 
         written.append(animate_trajectory(arm, check.q, gif, t=check.t, title=f"{arm.name}: {scene.name}",
-                                          obstacles=world.obstacles))
+                                          scene=world))
     if json_output:
         print_json({"robot": arm.name, "scene": str(scene), "joint_names": arm.joint_names,
                     "q_start": traj.waypoints[0], "q_goal": traj.waypoints[-1], "duration_s": traj.duration,
