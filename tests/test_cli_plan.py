@@ -68,6 +68,7 @@ def test_degrees_give_the_same_motion(capsys):
     np.testing.assert_allclose(json.loads(degrees)["waypoints"], json.loads(radians)["waypoints"], atol=1e-9)
 
 
+@pytest.mark.slow   # a GIF of 40 frames: seconds of matplotlib
 def test_table_plot_gif_and_samples(capsys, tmp_path):
     png, gif, csv = tmp_path / "pva.png", tmp_path / "plan.gif", tmp_path / "plan.csv"
     code, out, err = run(capsys, "plan", "ur5", "--scene", SCENE, "--from", *START, "--to", *GOAL,
