@@ -66,6 +66,10 @@ UNBOUNDED_MARGIN = np.pi
 VIA_POINT_ROUNDS = 4
 #: Rounds of the simplifier (each: vertex reduction, partial shortcuts, collapse); fewer if one gains nothing.
 SIMPLIFY_ROUNDS = 5
+#: RRT-Connect's longest step [rad or m of joint-space distance]: OMPL's default, a fifth of the space's
+#: extent, is 6 rad for a UR5 (+-360 deg joints), whose long straight motions cost many checks and mostly
+#: collide; 1 rad halved the configurations checked on the UR5 wall (benchmarks/bench_plan.py).
+RANGE = 1.0
 #: Searches whose shortened paths compete (the shortest is kept), and the motion checks each search after
 #: the first may make, as a multiple of the first's.
 ATTEMPTS = 2
@@ -345,6 +349,7 @@ def _search(scene: Scene, q_start: NDArray[np.float64], goals: NDArray[np.float6
                 problem.addStartState(_state(si, q_start))
                 problem.setGoal(goal_states)
                 planner = og.RRTConnect(si)
+                planner.setRange(RANGE)
                 planner.setProblemDefinition(problem)
                 planner.setup()
                 before = checks[0]
