@@ -102,7 +102,10 @@ def test_a_goal_pose_ends_on_that_pose(capsys, ur5_wall):
     (["--scene", SCENE, "--from", *START, "--to", *GOAL[:5]], "--to: expected 6 joint values, got 5"),
     (["--scene", SCENE, "--from", *START, "--to", *GOAL, "7"], "unexpected values 7"),
     (["--scene", SCENE, "--from", "0.785", *START[1:], "--to", *GOAL],
-     r"q_start \[0.785, .*collides: .*wall"),
+     r"--from 0.7850 rad -1.2000 rad .* the arm collides there \(link3-wall, link4-wall\)"),
+    (["--scene", SCENE, "--from", "0", "-68.75", "68.75", "0", "90", "0",
+      "--to", "45", "-68.75", "68.75", "0", "90", "0", "--deg"],
+     r"--to 45.0000 deg -68.7500 deg .* the arm collides there \(link3-wall, link4-wall\)"),
     (["--scene", SCENE, "--from", *START, "--to", *GOAL, "--time-budget", "1e-9"],
      "no collision-free path found within time_budget=1e-09 s"),
 ])

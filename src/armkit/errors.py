@@ -95,8 +95,9 @@ class NoClosedFormError(ArmkitError):
 
 
 class PlanningError(ArmkitError):
-    """No collision-free motion was found: the start or goal collides, no path was found within
-    the time budget, or no timing of the path passed the collision check (see :func:`armkit.plan_path`)."""
+    """No collision-free motion was found: no path within the time budget, or no timing of the path
+    passed the collision check (see :func:`armkit.plan_path`; a colliding start or goal is a
+    :class:`CollisionError`)."""
 
 
 class SolutionsLeftOffWarning(UserWarning):

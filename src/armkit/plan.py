@@ -7,9 +7,11 @@ The pipeline of :func:`plan_path`
 2. **Path**: OMPL's RRT-Connect in joint space (a ``RealVectorStateSpace`` bounded by the joint
    limits), its states checked with ``scene.collides`` and every straight joint segment between
    them with ``scene.path_collides`` (no point of the arm moves more than ``resolution`` metres
-   between two checks). A joint without position limits is bounded to half a turn beyond the
-   span of its start and goal values (:data:`UNBOUNDED_MARGIN`): any angle is reachable within
-   half a turn, so the bound removes no motion a whole-turn copy would not also give.
+   between two checks); a second search, stopped after a count of checks, may find a shorter way
+   round, and the shorter of the two shortened paths is kept. A joint without position limits is
+   bounded to half a turn beyond the span of its start and goal values (:data:`UNBOUNDED_MARGIN`):
+   any angle is reachable within half a turn, so the bound removes no motion a whole-turn copy
+   would not also give.
 3. **Shortening**: OMPL's path simplifier (vertex reduction, partial shortcuts, collapsing close
    vertices) with a fixed number of steps, every shortcut checked as in 2.
 4. **Timing**: :func:`~armkit.trajectory.plan_trajectory` through the shortened path's vertices:
@@ -40,6 +42,7 @@ from armkit._params import positive_float, whole_number
 from armkit.errors import (
     ArmkitError,
     CollisionError,
+    ConvergenceError,
     InputError,
     JointLimitError,
     NoClosedFormError,
@@ -68,7 +71,7 @@ VIA_POINT_ROUNDS = 4
 SIMPLIFY_ROUNDS = 5
 #: RRT-Connect's longest step [rad or m of joint-space distance]: OMPL's default, a fifth of the space's
 #: extent, is 6 rad for a UR5 (+-360 deg joints), whose long straight motions cost many checks and mostly
-#: collide; 1 rad halved the configurations checked on the UR5 wall (benchmarks/bench_plan.py).
+#: collide; with 1 rad the UR5 wall plans checked about 40 % fewer configurations (benchmarks/bench_plan.py).
 RANGE = 1.0
 #: Searches whose shortened paths compete (the shortest is kept), and the motion checks each search after
 #: the first may make, as a multiple of the first's.
@@ -104,7 +107,8 @@ def plan_path(scene: Scene, q_start: ArrayLike, goal: ArrayLike, *, time_budget:
         Goal configuration [rad or m], or a tool pose ``T_base_tool`` [m]: then any
         collision-free IK solution of it (:func:`goal_configurations`).
     time_budget : float
-        Seconds the search may take [s]; default :data:`DEFAULT_TIME_BUDGET`.
+        Seconds the first search may take [s]; default :data:`DEFAULT_TIME_BUDGET` (the second
+        search is bounded by a count of checks, the rest takes what it takes).
     seed : int
         Seed of the search and the simplifier (0 or more): the same call gives the same motion.
     resolution : float
@@ -189,7 +193,10 @@ def goal_configurations(scene: Scene, goal: ArrayLike, *, near: ArrayLike | None
     """
     robot = scene.robot
     near = robot.home if near is None else robot.check_q(near, "near")
-    goal = np.asarray(goal, dtype=float) if not isinstance(goal, np.ndarray) else goal
+    try:
+        goal = np.asarray(goal, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"goal: expected {robot.n} joint values or a 4x4 tool pose, got {goal!r}") from exc
     if goal.shape != (4, 4):
         return _free_configuration(scene, robot.check_q(goal, "goal"), "goal")[None]
     candidates = _ik_candidates(robot, goal, near, seed)
@@ -265,7 +272,7 @@ def _ik_candidates(robot: Robot, T: NDArray[np.float64], near: NDArray[np.float6
     for q0 in seeds:
         try:
             q = robot.ik(T, near=q0)
-        except (UnreachableError, JointLimitError) as exc:
+        except (UnreachableError, JointLimitError, ConvergenceError) as exc:
             error = exc
             continue
         if all(np.max(np.abs(q - other)) > _SAME_SOLUTION for other in found):
@@ -287,8 +294,8 @@ def _bounds(robot: Robot, q_start: NDArray[np.float64],
     prismatic = np.asarray(robot.chain.prismatic) & unbounded
     if prismatic.any():
         name = robot.joint_names[int(np.argmax(prismatic))]
-        raise PlanningError(f"joint {name}: prismatic without position limits; a planner searches within "
-                            f"bounds: give it limits in the robot file")
+        raise InputError(f"joint {name}: prismatic without position limits; a planner searches within "
+                         f"bounds: give it limits in the robot file")
     lower = np.where(np.isfinite(lower), lower, ends.min(axis=0) - UNBOUNDED_MARGIN)
     upper = np.where(np.isfinite(upper), upper, ends.max(axis=0) + UNBOUNDED_MARGIN)
     return lower, upper
@@ -379,8 +386,7 @@ def _search(scene: Scene, q_start: NDArray[np.float64], goals: NDArray[np.float6
                             f"(RRT-Connect, {time.monotonic() - started:.3g} s): give a larger time_budget, "
                             f"or move the start or goal away from the obstacles")
     vertices = min(paths, key=lambda v: float(np.linalg.norm(np.diff(v, axis=0), axis=1).sum()))
-    vertices[0] = q_start                     # exactly, not through OMPL's copies
-    return vertices
+    return vertices[np.concatenate([[True], np.any(np.diff(vertices, axis=0) != 0, axis=1)])]  # no repeats
 
 
 def _state(si, q: NDArray[np.float64]):

@@ -39,7 +39,7 @@ from armkit.cli.trajectory import (
     _limit_option,
     _summary,
 )
-from armkit.errors import InputError
+from armkit.errors import CollisionError, InputError
 from armkit.robot import Robot
 from armkit.spatial.rotations import parse_convention
 
@@ -146,8 +146,18 @@ def plan_command(
     limits = planning_limits(arm, _limit_option(max_velocity, arm, deg, "--max-velocity"),
                              _limit_option(max_acceleration, arm, deg, "--max-acceleration"))
     world = load_scene_option(arm, scene, package_path)
-    traj = plan_path(world, q_start, target, time_budget=time_budget, seed=seed, resolution=resolution,
-                     max_velocity=limits[0], max_acceleration=limits[1])
+    try:
+        traj = plan_path(world, q_start, target, time_budget=time_budget, seed=seed, resolution=resolution,
+                         max_velocity=limits[0], max_acceleration=limits[1])
+    except CollisionError as exc:   # said again with the option and in the units typed
+        if exc.q is None or np.ndim(exc.q) != 1:
+            raise
+        option = "--from" if np.array_equal(exc.q, q_start) else "--to"
+        scale, units = _joint_scale(arm, deg)
+        shown = " ".join(f"{fmt_number(v, 4)} {unit}" for v, unit in zip(exc.q * scale, units, strict=True))
+        pairs = ", ".join(f"{a}-{b}" for a, b in exc.contacts)
+        raise CollisionError(f"{option} {shown}: the arm collides there ({pairs})", q=exc.q,
+                             contacts=exc.contacts) from None
     check = traj.sample(max(CHECK_RATE_HZ, 2.0 / traj.duration))
     clearance = float(np.min(world.clearance(check.q)))
     written = []
