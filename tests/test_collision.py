@@ -125,6 +125,16 @@ def test_a_configuration_far_from_everything_is_never_reported():
         assert scene.clearance(Q_FREE) > 0
 
 
+def test_a_negative_clearance_is_exactly_a_collision_for_every_kind_of_shape():
+    boxes = armkit.Box([0.3, 0.3, 0.4], transform_from(np.eye(3), [0.5, 0.3, 0.2]))
+    post = armkit.Cylinder(0.06, 1.2, transform_from(np.eye(3), [0.2, -0.55, 0.6]))
+    scene = armkit.Scene(UR5, [boxes, post, armkit.Sphere(0.12, [-0.4, 0.4, 0.5])], floor=0.0)
+    q = UR5.random_q(1500, rng=5)
+    hit = scene.collides(q)
+    assert 0.1 < hit.mean() < 0.9
+    np.testing.assert_array_equal(scene.clearance(q) < 0, hit)
+
+
 def test_batches_keep_their_shape_and_agree_with_single_queries(ur5_scene):
     q = UR5.random_q((3, 50), rng=2)
     batch = ur5_scene.collides(q)

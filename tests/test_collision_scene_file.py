@@ -151,3 +151,13 @@ def _flat_keys(data: dict) -> list[str]:
             if isinstance(table, dict):
                 keys += list(table)
     return keys
+
+
+def test_the_self_collision_table_a_scene_writes_gives_the_same_pairs_without_sampling(tmp_path):
+    scene = armkit.Scene(UR5, floor=0.0)
+    path = tmp_path / "cell.toml"
+    path.write_text('length_unit = "m"\nangle_unit = "deg"\nfloor = 0\n' + scene.self_collision_toml())
+    again = armkit.load_scene(path, UR5)
+    assert set(again.disabled_pairs) == set(scene.disabled_pairs)
+    q = UR5.random_q(500, rng=3)
+    np.testing.assert_array_equal(again.collides(q), scene.collides(q))

@@ -51,3 +51,20 @@ def test_the_workspace_command_reports_the_samples_left_out(tmp_path, capsys):
     out, _ = capsys.readouterr()
     assert code == 0
     assert json.loads(out)["colliding_samples_left_out"] > 0
+
+
+def test_a_urdf_robots_scene_pickles_with_its_collision_geometry(tmp_path):
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text("""<robot name="arm"><link name="base"/>
+  <link name="upper"><collision><origin xyz="0.25 0 0"/><geometry><box size="0.5 0.1 0.1"/></geometry>
+    </collision></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" velocity="1" effort="1"/></joint>
+  <link name="tip"/><joint name="flange" type="fixed"><parent link="upper"/><child link="tip"/>
+    <origin xyz="0.5 0 0"/></joint></robot>""")
+    scene = armkit.Scene(armkit.load(urdf), floor=-0.2)
+    again = pickle.loads(pickle.dumps(scene))
+    assert again.parts == scene.parts == ("base", "upper", "floor")
+    q = np.linspace(-3, 3, 61)[:, None]
+    np.testing.assert_array_equal(again.clearance(q), scene.clearance(q))
+    assert again.collides(q).any() and not again.collides(q).all()

@@ -169,13 +169,19 @@ class Scene:
         return load_scene(path, robot, **options)
 
     def __reduce__(self) -> tuple:
-        """Pickled as its description (the robot as a robot file, the obstacles, the pairs decided),
-        rebuilt without sampling on one thread: a Dask worker gets the scene a task checks against.
-        The robot must be one :func:`armkit.robot_to_toml` writes."""
+        """Pickled as its description (the robot as a robot file, or its URDF file and links, the
+        obstacles, the pairs decided), rebuilt without sampling on one thread: a Dask worker gets the
+        scene a task checks against."""
         from armkit.robot_file import robot_to_toml
 
-        return _rebuilt, (robot_to_toml(self.robot), self.obstacles, self.floor, self._options,
-                          tuple(self.disabled_pairs.items()))
+        urdf = self.robot.urdf
+        if urdf is not None and not Path(urdf.path).is_file():
+            raise InputError(f"scene of {self.robot.name}: a robot read from URDF text cannot be sent to "
+                             f"another process (its collision geometry is in the text); load it from a file")
+        robot = (("toml", robot_to_toml(self.robot)) if urdf is None
+                 else ("urdf", urdf.path, urdf.base, urdf.tip))
+        pairs = tuple(self.disabled_pairs.items())
+        return _rebuilt, (robot, self.obstacles, self.floor, self._options, pairs)
 
     # ------------------------------------------------------------------ construction
     def _pair(self, pair: object, what: str) -> Pair:
@@ -352,6 +358,20 @@ class Scene:
         counts = self._map(self._contact_counts, q[None], len(self.parts))[0]
         return [(self.parts[a], self.parts[b]) for a, b in zip(*np.nonzero(counts), strict=True)]
 
+    def self_collision_toml(self) -> str:
+        """The ``[self_collision]`` table of a scene file that fixes this scene's disabled pairs (no
+        sampling when it is read), with each pair's reason as a comment.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> print(armkit.Scene(armkit.load("ur5"), floor=0.0).self_collision_toml().splitlines()[2])
+        disabled = [
+        """
+        lines = ["[self_collision]", "samples = 0", "disabled = ["]
+        lines += [f'    ["{a}", "{b}"],  # {why}' for (a, b), why in self.disabled_pairs.items()]
+        return "\n".join([*lines, "]"]) + "\n"
+
     def world_shapes(self) -> list[WorldShape]:
         """The floor's and the obstacles' geoms as MuJoCo holds them (meshes as their vertices and faces),
         for drawing: one :class:`WorldShape` per geom."""
@@ -435,11 +455,13 @@ class Scene:
         return False
 
 
-def _rebuilt(robot_toml: str, obstacles: tuple[Obstacle, ...], floor: float | None, options: dict,
+def _rebuilt(robot: tuple, obstacles: tuple[Obstacle, ...], floor: float | None, options: dict,
              disabled: tuple[tuple[Pair, str], ...]) -> Scene:
     """A pickled :class:`Scene` again (see ``Scene.__reduce__``)."""
+    from armkit.urdf import load_urdf
     from armkit.workspace.sampling import robot_from_toml
 
-    scene = Scene(robot_from_toml(robot_toml), obstacles, floor, samples=0, threads=1, **options)
+    arm = robot_from_toml(robot[1]) if robot[0] == "toml" else load_urdf(robot[1], robot[2], robot[3])
+    scene = Scene(arm, obstacles, floor, samples=0, threads=1, **options)
     scene._use_model(dict(disabled))
     return scene
