@@ -56,11 +56,13 @@ if TYPE_CHECKING:
     from armkit.collision.scene import Scene
     from armkit.robot import Robot
 
-__all__ = ["DEFAULT_RESOLUTION", "DEFAULT_TIME_BUDGET", "UNBOUNDED_MARGIN", "VIA_POINT_ROUNDS",
-           "collision_time", "goal_configurations", "plan_path"]
+__all__ = ["DEFAULT_RESOLUTION", "DEFAULT_TIME_BUDGET", "MIN_RESOLUTION", "UNBOUNDED_MARGIN",
+           "VIA_POINT_ROUNDS", "collision_time", "goal_configurations", "plan_path"]
 
-#: Largest displacement [m] of any point of the arm between two collision checks (default).
+#: Largest displacement [m] of any point of the arm between two collision checks (default), and the
+#: finest accepted (0.1 mm: a metre of motion is then 10,000 checks; finer asks for endless checking).
 DEFAULT_RESOLUTION = 0.005
+MIN_RESOLUTION = 1e-4
 #: Seconds the search may take before :func:`plan_path` gives up (default).
 DEFAULT_TIME_BUDGET = 10.0
 #: Beyond the span of start and goal, the room [rad] a joint without position limits gets.
@@ -159,6 +161,9 @@ def plan_path(scene: Scene, q_start: ArrayLike, goal: ArrayLike, *, time_budget:
     budget = positive_float(time_budget, "time_budget")
     seed = whole_number(seed, "seed", minimum=0, maximum=2**31 - 2)
     resolution = positive_float(resolution, "resolution")
+    if resolution < MIN_RESOLUTION:
+        raise InputError(f"resolution: {resolution:g} m is finer than the {MIN_RESOLUTION:g} m plan_path "
+                         f"checks at (each metre of arm motion costs 1/resolution collision checks)")
     vmax, amax = planning_limits(robot, max_velocity, max_acceleration)
     q_start = _free_configuration(scene, robot.check_q(q_start, "q_start"), "q_start")
     goals = goal_configurations(scene, goal, near=q_start, seed=seed)
