@@ -86,3 +86,47 @@ def test_small_multiples_keep_few_ticks_so_their_labels_do_not_overlap():
             low, high = sorted(axis.get_view_interval())
             ticks = axis.get_major_locator()()
             assert 2 <= ((ticks >= low - 1e-12) & (ticks <= high + 1e-12)).sum() <= TICKS + 1
+
+
+def test_obstacle_outlines_lie_on_the_obstacles_surfaces(tmp_path):
+    from armkit.animation import _outlines
+    from armkit.spatial.rotations import matrix_from_euler
+    from armkit.spatial.transforms import transform_from
+
+    T = transform_from(matrix_from_euler([0.3, -0.2, 0.7], "xyz-fixed"), [0.4, -0.1, 0.25])
+    tetrahedron = tmp_path / "tetra.obj"
+    tetrahedron.write_text("v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+    scene = armkit.Scene(armkit.load("ur5"), [armkit.Box([0.5, 0.04, 0.3], T, name="box"),
+                                              armkit.Sphere(0.1, [0.5, 0.2, 0.3], name="ball"),
+                                              armkit.Cylinder(0.05, 0.8, T, name="post"),
+                                              armkit.Mesh(tetrahedron, T, name="tetra")], samples=0)
+    shapes = {shape.part: shape for shape in scene.world_shapes()}
+    edges = _outlines(shapes["box"])
+    assert len(edges) == 12
+    local = np.concatenate(edges) @ T[:3, :3] - T[:3, 3] @ T[:3, :3]   # back into the box's frame
+    np.testing.assert_allclose(np.abs(local), np.broadcast_to([0.25, 0.02, 0.15], local.shape), atol=1e-9)
+    lengths = sorted(float(np.linalg.norm(e[1] - e[0])) for e in edges)
+    np.testing.assert_allclose(lengths, [0.04] * 4 + [0.3] * 4 + [0.5] * 4, atol=1e-9)
+    circles = np.concatenate(_outlines(shapes["ball"]))
+    np.testing.assert_allclose(np.linalg.norm(circles - [0.5, 0.2, 0.3], axis=1), 0.1, atol=1e-9)
+    rim = np.concatenate(_outlines(shapes["post"])) @ T[:3, :3] - T[:3, 3] @ T[:3, :3]
+    np.testing.assert_allclose(np.hypot(rim[:, 0], rim[:, 1]), 0.05, atol=1e-9)
+    np.testing.assert_allclose(np.abs(rim[:, 2]), 0.4, atol=1e-9)
+    corners = np.array([[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1]]) @ T[:3, :3].T + T[:3, 3]
+    edges = _outlines(shapes["tetra"])
+    assert len(edges) == 6                                  # each edge of the 4 triangles once
+    ends = np.concatenate(edges)
+    float32 = 1e-7    # MuJoCo holds mesh vertices in single precision (6e-8 relative)
+    assert np.all(np.min(np.linalg.norm(ends[:, None] - corners[None], axis=-1), axis=1) < float32)
+    assert _outlines(shapes["floor"]) == []
+
+
+def test_a_gif_outlines_the_obstacles(tmp_path):
+    robot = armkit.load("ur5")
+    q = np.linspace([0, -1.2, 1.2, 0, 1.57, 0], [1.57, -1.2, 1.2, 0, 1.57, 0], 5)
+    wall = armkit.Box([0.5, 0.04, 0.5], [[1, 0, 0, -0.35], [0, 1, 0, -0.35], [0, 0, 1, 0.25], [0, 0, 0, 1]])
+    plain = animate_trajectory(robot, q, tmp_path / "plain.gif", frames=2, trace_tool=False)
+    walled = animate_trajectory(robot, q, tmp_path / "wall.gif", frames=2, trace_tool=False,
+                                scene=armkit.Scene(robot, [wall], samples=0))
+    with Image.open(plain) as a, Image.open(walled) as b:
+        assert ImageChops.difference(a.convert("RGB"), b.convert("RGB")).getbbox() is not None

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -58,9 +59,12 @@ OPTIONS: dict[str, dict[str, str]] = {
     "lab": {"--robot": "robot", "--out": "path", "--quick": "", "--force": "", "--json": ""},
     "dynamics": {"--qd": "number", "--qdd": "number", "--deg": "", "--payload": "number",
                  "--estimate-inertia": "number", "--json": ""},
+    "plan": {"--scene": "scene", "--from": "numbers", "--to": "numbers", "--to-pose": "numbers", "--deg": "",
+             "--seed": "count", "--time-budget": "number", "--resolution": "number", "--rate": "number",
+             "--out": "path", "--plot": "path", "--force": "", "--json": ""},
 }
 #: Commands whose first argument is a robot.
-WITH_ROBOT = {"fk", "jacobian", "ik", "traj", "move", "rotate", "show", "export", "sim", "dynamics"}
+WITH_ROBOT = {"fk", "jacobian", "ik", "traj", "move", "rotate", "show", "export", "sim", "dynamics", "plan"}
 
 number = st.one_of(st.sampled_from(NUMBERS), st.floats(allow_nan=True, allow_infinity=True).map(repr),
                    st.integers(-10**6, 10**6).map(str))
@@ -73,6 +77,7 @@ VALUES = {
     "path": st.sampled_from(PATHS).map(lambda v: [v]),
     "robot": st.sampled_from(ROBOTS).map(lambda v: [v]),
     "count": st.integers(-2, 3).map(lambda v: [str(v)]),  # small: each configuration is simulated
+    "scene": st.sampled_from(["wall.toml", "broken.toml", "w.csv", "nosuch.toml"]).map(lambda v: [v]),
 }
 
 
@@ -102,6 +107,7 @@ def workdir(tmp_path_factory):
     trajectory = armkit.plan_trajectory(robot, q, [1.0, 1.0])
     trajectory.to_csv(folder / "t.csv")
     (folder / "broken.toml").write_text('convention = "standard"\n[[joints]]\nd = [1\n')
+    shutil.copy(Path(__file__).parents[1] / "examples" / "data" / "ur5_wall.toml", folder / "wall.toml")
     return folder
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -27,6 +28,9 @@ from armkit.errors import InputError
 from armkit.export.physical import PhysicalModel, physical_model
 from armkit.robot import Robot
 
+if TYPE_CHECKING:  # a scene is MuJoCo's: imported only by whoever builds one
+    from armkit.collision.scene import Scene, WorldShape
+
 __all__ = ["animate_trajectory", "plot_configuration", "plot_configurations"]
 
 _LINK_COLORS = ("#d9731f", "#3366bf")
@@ -35,6 +39,9 @@ _AXIS_COLORS = ("#d62728", "#2ca02c", "#1f77b4")
 _PATH_COLOR = "#8e44ad"
 #: Most tick labels per axis of a 3-D picture (more overlap in the small multiples of plot_configurations).
 TICKS = 4
+_OBSTACLE_COLOR = "#b03a2e"
+#: Points per circle of a sphere's or a cylinder's outline.
+_CIRCLE_POINTS = 48
 
 
 def _polylines(robot: Robot, model: PhysicalModel, q: NDArray[np.float64]) -> list[NDArray[np.float64]]:
@@ -50,9 +57,37 @@ def _polylines(robot: Robot, model: PhysicalModel, q: NDArray[np.float64]) -> li
     return lines
 
 
-def _bounds(robot: Robot, model: PhysicalModel, q: NDArray[np.float64]) -> tuple[NDArray, float]:
-    """Centre and half-width of a cube holding the arm at every configuration ``(m, n)``."""
-    points = [np.zeros((1, 3))]
+def _outlines(shape: WorldShape) -> list[NDArray[np.float64]]:
+    """Polylines ``(k, 3)`` [m] outlining one of a scene's geoms (:meth:`Scene.world_shapes`) in the
+    base frame: a box's 12 edges, a sphere's three great circles, a cylinder's end circles and four
+    lines along it, a mesh's triangle edges; the floor plane none (the axes show a floor)."""
+    circle = np.linspace(0.0, 2.0 * np.pi, _CIRCLE_POINTS)
+    ring = np.stack([np.cos(circle), np.sin(circle), np.zeros_like(circle)], axis=1)
+    if shape.kind == "box":
+        corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * shape.size
+        local = [corners[[a, b]] for a in range(8) for b in range(a + 1, 8)
+                 if np.count_nonzero(corners[a] != corners[b]) == 1]
+    elif shape.kind == "sphere":
+        local = [shape.size[0] * ring[:, order] for order in ([0, 1, 2], [0, 2, 1], [2, 0, 1])]
+    elif shape.kind == "cylinder":
+        radius, half = shape.size[0], shape.size[1]
+        local = [radius * ring - [0, 0, half], radius * ring + [0, 0, half],
+                 *(np.array([[radius * x, radius * y, -half], [radius * x, radius * y, half]])
+                   for x, y in ((1, 0), (0, 1), (-1, 0), (0, -1)))]
+    elif shape.kind == "mesh":
+        edges = np.unique(np.sort(shape.faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1), axis=0)
+        local = list(shape.vertices[edges])
+    else:
+        local = []
+    T = shape.T_base_geom
+    return [line @ T[:3, :3].T + T[:3, 3] for line in local]
+
+
+def _bounds(robot: Robot, model: PhysicalModel, q: NDArray[np.float64],
+            extra: Sequence[NDArray[np.float64]] = ()) -> tuple[NDArray, float]:
+    """Centre and half-width of a cube holding the arm at every configuration ``(m, n)`` and the
+    ``extra`` points ``(k, 3)`` (obstacle outlines)."""
+    points = [np.zeros((1, 3)), *extra]
     for q_k in q:
         points += [seg.reshape(-1, 3) for seg in _polylines(robot, model, q_k)]
         points.append(robot.link_frames(q_k)[:, :3, 3])
@@ -205,7 +240,7 @@ def plot_configurations(robot: Robot, q: ArrayLike, path: str | Path | None = No
 def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: ArrayLike | None = None,
                        trace_tool: bool = True, frames: int = 40, fps: int = 12, dpi: int = 64,
                        size: float = 4.0, title: str = "", link_frames: bool = False,
-                       labels: Sequence[str] | None = None) -> Path:
+                       labels: Sequence[str] | None = None, scene: Scene | None = None) -> Path:
     """Write a GIF of ``robot`` moving through the configurations ``q``.
 
     Frames are rendered with matplotlib (Agg) and assembled by Pillow, so neither ffmpeg
@@ -231,6 +266,9 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
     labels : sequence of str, optional
         One text per configuration of ``q``, shown in the frames that draw it (e.g. which
         IK solution a frame shows).
+    scene : Scene, optional
+        Its obstacles are outlined in every frame, as its collision model holds them
+        (:meth:`armkit.Scene.world_shapes`: meshes as their convex hulls' edges).
 
     Returns
     -------
@@ -253,7 +291,8 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
         raise InputError(f"labels: expected {len(q)}, one per configuration, got {len(labels)}")
     model = physical_model(robot)
     picks = np.unique(np.linspace(0, len(q) - 1, max(2, frames)).round().astype(int))
-    centre, half = _bounds(robot, model, q[picks])
+    outlines = [] if scene is None else [line for shape in scene.world_shapes() for line in _outlines(shape)]
+    centre, half = _bounds(robot, model, q[picks], outlines)
     tool_path = robot.fk(q)[:, :3, 3]
     figure = Figure(figsize=(size, size), dpi=dpi)
     FigureCanvasAgg(figure)
@@ -263,6 +302,8 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
     floor = _setup_axes(ax, centre, half, title)
     if trace_tool:
         ax.plot(*tool_path.T, color=_PATH_COLOR, linewidth=0.8, alpha=0.25)
+    for line in outlines:
+        ax.plot(*line.T, color=_OBSTACLE_COLOR, linewidth=1.2)
     figure.canvas.draw()
     background = figure.canvas.copy_from_bbox(figure.bbox)  # axes drawn once; frames blit the arm on it
     images = []

@@ -17,6 +17,7 @@ __all__ = [
     "InputError",
     "JointLimitError",
     "NoClosedFormError",
+    "PlanningError",
     "RobotDefinitionError",
     "SolutionsLeftOffWarning",
     "UnreachableError",
@@ -91,6 +92,12 @@ class ConvergenceError(ArmkitError):
 
 class NoClosedFormError(ArmkitError):
     """A closed-form solution was asked of a chain whose geometry has none."""
+
+
+class PlanningError(ArmkitError):
+    """No collision-free motion was found: no path within the time budget, or no timing of the path
+    passed the collision check (see :func:`armkit.plan_path`; a colliding start or goal is a
+    :class:`CollisionError`)."""
 
 
 class SolutionsLeftOffWarning(UserWarning):

@@ -7,6 +7,7 @@ import sys
 from rich.markup import escape
 
 from armkit.cli import dynamics, ik, kinematics, lab, motion, robots, sim, trajectory, view  # noqa: F401  (register)
+from armkit.cli import plan as _plan  # noqa: F401  (registers armkit plan)
 from armkit.cli import workspace as _workspace  # noqa: F401  (registers armkit workspace)
 from armkit.cli.app import app, err_console
 from armkit.errors import ArmkitError

@@ -41,6 +41,24 @@ if TYPE_CHECKING:  # the trajectory object and its planner load SciPy: imported 
 #: Sampling rate [Hz] of ``--torques``' peaks (a 1 kHz controller's).
 TORQUE_RATE_HZ = 1000.0
 
+#: Options every command that writes a timed motion takes (``traj``, ``plan``).
+RateOpt = Annotated[float, typer.Option(help="Sampling rate of --out (Hz).")]
+OutOpt = Annotated[Path | None, typer.Option(help="Write samples t,q1..,qd1..,qdd1.. to this .csv or .npz "
+                                                  "file (SI units).", show_default=False)]
+PlotOpt = Annotated[Path | None, typer.Option(help="Save the position/velocity/acceleration figure (.png, "
+                                                   ".svg, .pdf).", show_default=False)]
+ForceOpt = Annotated[bool, typer.Option("--force", help="Replace existing output files.")]
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of tables.")]
+MaxVelocityOpt = Annotated[str | None, typer.Option(
+    "--max-velocity", metavar="V[,V...]",
+    help="Velocity limits in place of the robot file's: one value for every joint or one per joint, "
+         "comma-separated (rad/s, m/s; deg/s with --deg), e.g. for an arm whose file has none.",
+    show_default=False)]
+MaxAccelerationOpt = Annotated[str | None, typer.Option(
+    "--max-acceleration", metavar="A[,A...]",
+    help="Acceleration limits in place of the robot file's (a URDF has none): one value or one per "
+         "joint, comma-separated (rad/s², m/s²; deg/s² with --deg).", show_default=False)]
+
 
 def _check_output(path: Path | None, suffixes: tuple[str, ...], force: bool, what: str) -> None:
     if path is None:
@@ -183,29 +201,19 @@ def traj_command(
                                                         "one per waypoint, increasing.")] = False,
     auto_time: Annotated[bool, typer.Option("--auto-time", help="The shortest durations within the "
                                                                 "velocity and acceleration limits.")] = False,
-    rate: Annotated[float, typer.Option(help="Sampling rate of --out (Hz).")] = 100.0,
-    out: Annotated[Path | None, typer.Option(help="Write samples t,q1..,qd1..,qdd1.. to this .csv "
-                                                  "or .npz file (SI units).", show_default=False)] = None,
-    plot: Annotated[Path | None, typer.Option(help="Save the position/velocity/acceleration figure "
-                                                   "(.png, .svg, .pdf).", show_default=False)] = None,
+    rate: RateOpt = 100.0,
+    out: OutOpt = None,
+    plot: PlotOpt = None,
     plot_path: Annotated[Path | None, typer.Option(help="Save the 3-D tool path figure.",
                                                    show_default=False)] = None,
-    force: Annotated[bool, typer.Option("--force", help="Replace existing output files.")] = False,
-    json_output: Annotated[bool, typer.Option("--json", help="Print JSON (SI units) instead of "
-                                                             "tables.")] = False,
+    force: ForceOpt = False,
+    json_output: JsonOpt = False,
     torques: Annotated[bool, typer.Option("--torques", help="Joint torques along the motion (N m, N; "
                                                             "sampled at 1 kHz) against the torque limits, "
                                                             "and a torque row in --plot.")] = False,
     estimate_inertia: DensityOpt = None,
-    max_velocity: Annotated[str | None, typer.Option(
-        "--max-velocity", metavar="V[,V...]",
-        help="Velocity limits in place of the robot file's: one value for every joint or one per joint, "
-             "comma-separated (rad/s, m/s; deg/s with --deg), e.g. for an arm whose file has none.",
-        show_default=False)] = None,
-    max_acceleration: Annotated[str | None, typer.Option(
-        "--max-acceleration", metavar="A[,A...]",
-        help="Acceleration limits in place of the robot file's (a URDF has none): one value or one per "
-             "joint, comma-separated (rad/s², m/s²; deg/s² with --deg).", show_default=False)] = None,
+    max_velocity: MaxVelocityOpt = None,
+    max_acceleration: MaxAccelerationOpt = None,
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
