@@ -17,12 +17,13 @@ What is read
     beyond :data:`armkit.chain.MAX_VALUE`, such as Gazebo's ``1e16``) and ``effort`` (kept
     in :class:`UrdfDescription` and as the joint's ``max_torque``; 0 is no limit); the
     ``<visual>`` meshes of every link that moves with the chain (file name as written:
-    ``package://`` or relative, origin and scale); every ``<inertial>`` (mass, origin,
-    inertia) of the links that move with a chain link, merged into that link as pinocchio's
-    reduced model does: links fixed to it, and side branches and links beyond the tip held
-    at zero (a hand and its fingers), in its link frame. Links fixed to the base carry no
-    load and are left out; a file without any ``<inertial>`` on the moving links gives a
-    robot without inertia (:mod:`armkit.dynamics` then asks for it). Everything else
+    ``package://`` or relative, origin and scale) and its boxes, cylinders and spheres; every
+    ``<inertial>`` (mass, origin, inertia) of the links that move with a chain link, merged
+    into that link as pinocchio's reduced model does: links fixed to it, and side branches
+    and links beyond the tip held at zero (a hand and its fingers), in its link frame. Links
+    fixed to the base carry no load and are left out; a file without any ``<inertial>`` on
+    the moving links gives a robot without inertia (:mod:`armkit.dynamics` then asks for
+    it). Everything else
     (collision, transmissions, ``<gazebo>``) is ignored.
 Refused, with one :class:`~armkit.errors.RobotDefinitionError` naming the joint or line
     Malformed XML, a document type declaration (``<!DOCTYPE``/``<!ENTITY``: entities can
@@ -58,7 +59,7 @@ from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_euler
 from armkit.spatial.transforms import transform_from
 
-__all__ = ["UrdfDescription", "UrdfMesh", "load_urdf", "robot_from_urdf"]
+__all__ = ["UrdfDescription", "UrdfMesh", "UrdfShape", "load_urdf", "robot_from_urdf"]
 
 _MOVING = {"revolute", "continuous", "prismatic"}
 _UNSUPPORTED = {"floating", "planar"}
@@ -89,6 +90,29 @@ class UrdfMesh:
 
 
 @dataclass(frozen=True)
+class UrdfShape:
+    """A ``<visual>`` box, cylinder or sphere of a link that moves with the chain.
+
+    Attributes
+    ----------
+    link : str
+    kind : {"box", "cylinder", "sphere"}
+    size : tuple of float
+        Box: the three side lengths; cylinder: radius and length (along z); sphere: radius [m].
+    frame : int
+        The chain frame it is fixed in (as :attr:`UrdfMesh.frame`).
+    T_frame_shape : ndarray (4, 4)
+        Its centre's pose in that frame [m].
+    """
+
+    link: str
+    kind: str
+    size: tuple[float, ...]
+    frame: int
+    T_frame_shape: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
 class UrdfDescription:
     """Where a robot loaded from URDF came from.
 
@@ -105,6 +129,8 @@ class UrdfDescription:
     effort : tuple of float or None
         Per joint, the ``<limit effort>`` [N m or N].
     meshes : tuple of UrdfMesh
+    shapes : tuple of UrdfShape
+        The ``<visual>`` boxes, cylinders and spheres.
     """
 
     path: str
@@ -114,6 +140,7 @@ class UrdfDescription:
     links: tuple[str, ...]
     effort: tuple[float | None, ...]
     meshes: tuple[UrdfMesh, ...]
+    shapes: tuple[UrdfShape, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -210,7 +237,7 @@ def robot_from_urdf(text: str | bytes, source: str = "URDF text", *, base: str |
                               inertials=_inertials(base, path, joints, links, source))
     name = root.get("name") or Path(source).stem
     description = UrdfDescription(source, name, base, tip, tuple(frames), tuple(effort),
-                                  _meshes(base, path, joints, links, source))
+                                  *_visuals(base, path, joints, links, source))
     return Robot(chain, name=name, source=source, urdf=description,
                  description=f"URDF {Path(source).name}, {base} to {tip}")
 
@@ -405,9 +432,13 @@ def _limit(joint: _UrdfJoint, where: str) -> tuple[tuple[float, float], float | 
     return (lower, upper), velocity if velocity > 0 else None, effort if "effort" in element.attrib else None
 
 
-def _meshes(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], links: dict[str, ET.Element],
-            source: str) -> tuple[UrdfMesh, ...]:
-    """The visual meshes of the links rigidly attached to each chain frame."""
+#: Sizes of each ``<visual>`` primitive, in the order :class:`UrdfShape` keeps them.
+_SHAPE_SIZES = {"box": ("size", 3), "cylinder": (("radius", "length"), 1), "sphere": (("radius",), 1)}
+
+
+def _visuals(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], links: dict[str, ET.Element],
+             source: str) -> tuple[tuple[UrdfMesh, ...], tuple[UrdfShape, ...]]:
+    """The visual meshes and primitives of the links rigidly attached to each chain frame."""
     children: dict[str, list[_UrdfJoint]] = {}
     for joint in joints.values():
         children.setdefault(joint.parent, []).append(joint)
@@ -421,22 +452,31 @@ def _meshes(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], li
         else:
             frame += 1
             placed.append((joint.child, frame, np.eye(4)))
-    out = []
+    meshes, shapes = [], []
     stack = list(placed)
     while stack:
         link, frame, T_frame_link = stack.pop()
         for visual in links[link].findall("visual"):
+            where = f"{source}, link {link!r}"
             mesh = visual.find("geometry/mesh")
             if mesh is not None and mesh.get("filename"):
-                where = f"{source}, link {link!r}"
                 scale = _floats(mesh, "scale", 3, where, default=[1.0, 1.0, 1.0])
-                out.append(UrdfMesh(link, mesh.get("filename"), frame, T_frame_link @ _origin(visual, where),
-                                    (float(scale[0]), float(scale[1]), float(scale[2]))))
+                meshes.append(UrdfMesh(link, mesh.get("filename"), frame,
+                                       T_frame_link @ _origin(visual, where),
+                                       (float(scale[0]), float(scale[1]), float(scale[2]))))
+            for kind, (keys, count) in _SHAPE_SIZES.items():
+                element = visual.find(f"geometry/{kind}")
+                if element is not None:
+                    size = (_floats(element, keys, count, where, default=None) if isinstance(keys, str) else
+                            np.concatenate([_floats(element, key, 1, where, default=None) for key in keys]))
+                    shapes.append(UrdfShape(link, kind, tuple(float(v) for v in size), frame,
+                                            T_frame_link @ _origin(visual, where)))
         for joint in children.get(link, []):  # fixed side branches move with this frame
             if joint.kind == "fixed" and joint.child not in on_path:
                 where = f"{source}, joint {joint.name!r}"
                 stack.append((joint.child, frame, T_frame_link @ _origin(joint.element, where)))
-    return tuple(sorted(out, key=lambda m: (m.frame, m.link)))
+    return (tuple(sorted(meshes, key=lambda m: (m.frame, m.link))),
+            tuple(sorted(shapes, key=lambda m: (m.frame, m.link))))
 
 
 def _inertials(base: str, path: list[_UrdfJoint], joints: dict[str, _UrdfJoint], links: dict[str, ET.Element],

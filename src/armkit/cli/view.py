@@ -36,6 +36,10 @@ def view_command(
     trajectory: Annotated[Path | None, typer.Option(
         help="A trajectory file 'armkit traj' wrote, put on the timeline.", show_default=False)] = None,
     no_browser: Annotated[bool, typer.Option("--no-browser", help="Do not open a browser.")] = False,
+    package_path: Annotated[list[Path] | None, typer.Option(
+        "--package-path", metavar="DIR", help="URDF: a folder holding the packages its package:// meshes "
+                                              "name (repeat for more; ROS_PACKAGE_PATH and the URDF's "
+                                              "own folders are searched too).", show_default=False)] = None,
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
@@ -46,7 +50,8 @@ def view_command(
     """
     from armkit.view import Viewer
 
-    viewer = Viewer(load_robot(robot, base, tip, lock), port=port, host=host)
+    viewer = Viewer(load_robot(robot, base, tip, lock), port=port, host=host,
+                    package_paths=package_path or ())
     try:
         if trajectory is not None:
             viewer.load(trajectory)
