@@ -46,6 +46,8 @@ __all__ = ["Viewer"]
 MAX_GHOSTS = 16
 #: Least distance between two ghosts' labels, in link radii.
 LABEL_SPACING = 3.0
+#: Height of the page inside a notebook cell [px] (:meth:`Viewer._repr_html_`).
+NOTEBOOK_HEIGHT_PX = 600
 #: Frames per second of the timeline while playing.
 PLAY_RATE_HZ = 30.0
 #: Seconds of motion the velocity ellipsoid is drawn for (semi-axes [m] = rate [m/s] times this).
@@ -341,6 +343,19 @@ class Viewer:
 
     def __repr__(self) -> str:
         return f"Viewer({self.robot.name!r}, url={self.url!r})"
+
+    def _repr_html_(self) -> str:
+        """The live page inside a Jupyter cell whose value is the viewer: an iframe on :attr:`url`.
+
+        The browser showing the notebook loads the page, so it must reach :attr:`url` (a notebook
+        on this machine does; for a remote kernel start the viewer with ``host="0.0.0.0"`` or
+        forward the port).
+        """
+        url = html.escape(self.url, quote=True)
+        return (f"<iframe src=\"{url}\" width=\"100%\" height=\"{NOTEBOOK_HEIGHT_PX}\" "
+                f"style=\"border:1px solid #ddd\" data-armkit=\"viewer\"></iframe>"
+                f"<div style=\"font-size:0.8em\">armkit view: {html.escape(self.robot.name)} at "
+                f"<a href=\"{url}\" target=\"_blank\">{url}</a></div>")
 
     # ------------------------------------------------------------------ scene
     def _build_scene(self) -> None:
