@@ -309,3 +309,13 @@ def test_a_urdf_named_xml_is_still_read_as_urdf(tmp_path):
                     '</joint></robot>')
     robot = armkit.load(path)
     assert robot.urdf is not None and robot.joint_names == ["j"]
+
+
+def test_without_mujoco_an_mjcf_file_is_one_error_naming_the_extra(ur5e_file, monkeypatch):
+    import sys
+
+    from armkit.errors import ArmkitError
+
+    monkeypatch.setitem(sys.modules, "mujoco", None)  # import mujoco now raises ImportError
+    with pytest.raises(ArmkitError, match=r"reading an MJCF file needs MuJoCo: pip install 'armkit\[sim\]'"):
+        armkit.load(ur5e_file)

@@ -261,7 +261,8 @@ def _parse(text: str | bytes, source: str) -> ET.Element:
     except ET.ParseError as exc:
         raise RobotDefinitionError(f"{source}: not valid XML: {exc}") from exc
     if root.tag != "robot":
-        raise RobotDefinitionError(f"{source}: the root element is <{root.tag}>; a URDF file has <robot>")
+        raise RobotDefinitionError(f"{source}: the root element is <{root.tag}>; a URDF file has <robot> "
+                                   f"(armkit.load reads an MJCF file, root <mujoco>, too)")
     return root
 
 
