@@ -567,8 +567,10 @@ class Viewer:
                     if long_names:
                         self._name_rows.append(self._server.gui.add_html(readout.joint_name_html(j, label)))
                         label = f"q{j + 1} [{units[j]}]"
-                    shown = (self._to_slider(j, lower), self._to_slider(j, upper))
-                    decimals = readout.box_decimals(*shown, 4 if prismatic else (1 if self._degrees else 3))
+                    low, high = self._to_slider(j, lower), self._to_slider(j, upper)
+                    most = 4 if prismatic else (1 if self._degrees else 3)
+                    decimals = readout.box_decimals(low, high, most)
+                    shown = readout.box_range(low, high, decimals)
                     self._slider_decimals.append(decimals)
                     slider = self._server.gui.add_slider(
                         label, min=shown[0], max=shown[1], step=10.0 ** -decimals,
