@@ -400,3 +400,25 @@ def test_ghost_labels_stay_apart_even_when_ghosts_coincide():
     for points, position in zip(candidates, positions, strict=True):  # on its ghost, or straight above it
         offsets = position - points
         assert (np.linalg.norm(offsets[:, :2], axis=1) < 1e-12).any()
+
+
+def test_a_general_6r_arms_ten_solutions_are_all_drawn_as_ghosts_with_labels_apart():
+    from armkit.chain import DHRow
+
+    rows = [(1.184148, 0.197951, 0.053701), (-1.426528, 0.285711, 0.251453),
+            (0.980476, 0.359932, 0.096213), (-0.763343, 0.318981, -0.172995),
+            (0.993825, 0.071951, 0.195293), (-1.006478, 0.181301, -0.109957)]
+    robot = armkit.Robot.from_dh([DHRow(alpha=alpha, a=a, d=d, theta=0) for alpha, a, d in rows], "standard",
+                                 limits=[(-np.pi, np.pi)] * 6, name="general 6R")
+    T = robot.fk([0.575, 1.745, -2.464, -1.59, -2.913, -1.708])
+    with Viewer(robot, port=0) as viewer:
+        found = viewer.show_solutions(T, follow=False)
+        count = len(found.q)
+        assert count > 8 and len(viewer._ghosts) >= count  # more than the 8 ghosts the viewer used to keep
+        assert [g.visible for g in viewer._ghosts] == [True] * count + [False] * (len(viewer._ghosts) - count)
+        for ghost, q in zip(viewer._ghosts, found.q, strict=False):  # each ghost its solution, at the target
+            np.testing.assert_allclose(ghost.placement.link_frames[-1], T, atol=1e-9)
+            np.testing.assert_allclose(ghost.placement.link_frames, robot.link_frames(q), atol=1e-12)
+        labels = np.array([label.position for label in viewer._ghost_labels[:count]])
+        apart = np.linalg.norm(labels[:, None] - labels[None], axis=-1)[np.triu_indices(count, 1)]
+        assert apart.min() >= LABEL_SPACING * viewer._radius - 1e-12
