@@ -422,3 +422,22 @@ def test_a_general_6r_arms_ten_solutions_are_all_drawn_as_ghosts_with_labels_apa
         labels = np.array([label.position for label in viewer._ghost_labels[:count]])
         apart = np.linalg.norm(labels[:, None] - labels[None], axis=-1)[np.triu_indices(count, 1)]
         assert apart.min() >= LABEL_SPACING * viewer._radius - 1e-12
+
+
+def test_cli_view_of_a_urdf_with_a_missing_mesh_says_so_in_one_warning_line(tmp_path):
+    path = tmp_path / "arm.urdf"
+    path.write_text('<robot name="m"><link name="a"><visual><geometry><mesh filename="package://nopkg/a.stl"/>'
+                    '</geometry></visual></link><link name="b"/><joint name="j" type="continuous">'
+                    '<parent link="a"/><child link="b"/><origin xyz="0 0 0.3"/></joint></robot>')
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", str(path), "--port", "0",
+                                "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env=env, cwd=tmp_path, preexec_fn=interruptible)
+    try:
+        assert process.stdout.readline().startswith("armkit view: m at http://127.0.0.1:")
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=WAIT_S)
+    finally:
+        process.kill()
+    assert err.strip().splitlines() == ["warning: m: drawn as capsules: mesh package://nopkg/a.stl of link a "
+                                        "not found", "armkit view: stopped"]

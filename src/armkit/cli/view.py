@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import warnings
 import webbrowser
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from armkit.cli.app import BaseOpt, LockOpt, RobotArg, TipOpt, app, console, err_console, load_robot
+from armkit.cli.app import BaseOpt, LockOpt, RobotArg, TipOpt, app, console, err_console, load_robot, warn
 
 #: Exit code after Ctrl-C (128 + SIGINT), as shells report it.
 INTERRUPTED = 130
@@ -50,8 +51,12 @@ def view_command(
     """
     from armkit.view import Viewer
 
-    viewer = Viewer(load_robot(robot, base, tip, lock), port=port, host=host,
-                    package_paths=package_path or ())
+    arm = load_robot(robot, base, tip, lock)
+    with warnings.catch_warnings(record=True) as said:  # a missing mesh: one "warning:" line
+        warnings.simplefilter("always", UserWarning)
+        viewer = Viewer(arm, port=port, host=host, package_paths=package_path or ())
+    for warning in said:
+        warn(str(warning.message))
     try:
         if trajectory is not None:
             viewer.load(trajectory)
