@@ -17,10 +17,10 @@ INTERRUPTED = 130
 
 def serve(viewer, open_browser: bool) -> None:
     """Print the address, open it in the browser unless told not to, serve until Ctrl-C."""
-    console.print(f"armkit view: {viewer.robot.name} at {viewer.url} (Ctrl-C to stop)", highlight=False)
-    if open_browser:
-        webbrowser.open(viewer.url)
-    try:
+    try:  # Ctrl-C as soon as the address is out (a script reading it may send one at once) stops cleanly
+        console.print(f"armkit view: {viewer.robot.name} at {viewer.url} (Ctrl-C to stop)", highlight=False)
+        if open_browser:
+            webbrowser.open(viewer.url)
         viewer.serve_forever()
     except KeyboardInterrupt:
         viewer.close()

@@ -54,6 +54,12 @@ PLAY_RATE_HZ = 30.0
 ELLIPSOID_SECONDS = 0.3
 
 
+# A value of the wrong type in a client's message: viser warns, then its handler fails (said in one line
+# by OneLineMessageErrors). Set once, here: a filter set by a viewer inside warnings.catch_warnings()
+# would be gone when that block ends.
+warnings.filterwarnings("ignore", r"\[viser\] .* does not match annotation", UserWarning)
+
+
 def _import_viser() -> Any:
     try:
         import viser
@@ -128,8 +134,6 @@ class Viewer:
         self._message_errors = OneLineMessageErrors()
         for name in SERVER_LOGGERS:
             logging.getLogger(name).addFilter(self._message_errors)
-        # a value of the wrong type in a client's message: viser warns, then its handler fails (one line)
-        warnings.filterwarnings("ignore", r"\[viser\] .* does not match annotation", UserWarning)
         with contextlib.redirect_stdout(io.StringIO()) if not verbose else contextlib.nullcontext():
             self._server = viser.ViserServer(host=host, port=port, label=f"armkit view: {self.robot.name}",
                                              verbose=verbose)
