@@ -130,3 +130,75 @@ def test_a_gif_outlines_the_obstacles(tmp_path):
                                 scene=armkit.Scene(robot, [wall], samples=0))
     with Image.open(plain) as a, Image.open(walled) as b:
         assert ImageChops.difference(a.convert("RGB"), b.convert("RGB")).getbbox() is not None
+
+
+def _line(ax, gid: str) -> np.ndarray:
+    """The ``(2, 3)`` end points of the one line of ``ax`` with this gid."""
+    found = [line for line in ax.lines if line.get_gid() == gid]
+    assert len(found) == 1, f"{len(found)} lines named {gid!r}"
+    return np.array(found[0].get_data_3d()).T
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford", "grb400-scara"])
+def test_robot_plot_draws_the_base_and_tool_triads_and_joint_axes_where_fk_puts_them(tmp_path, name):
+    robot = armkit.load(name)
+    q = robot.random_q(rng=3)
+    figure = robot.plot(q, frames=True)
+    ax = figure.axes[0]
+    frames = robot.link_frames(q)
+    for label, T in (("base", frames[0]), ("tool", robot.fk(q)), *((f"link {i}", frames[i])
+                                                                     for i in range(1, robot.n + 1))):
+        for k, axis in enumerate("xyz"):
+            start, end = _line(ax, f"{label} {axis}")
+            np.testing.assert_allclose(start, T[:3, 3], atol=1e-12)
+            direction = (end - start) / np.linalg.norm(end - start)
+            np.testing.assert_allclose(direction, T[:3, k], atol=1e-12)
+    T_joints, _ = armkit.kinematics.joint_frames(robot, q)
+    for joint, T in zip(robot.joint_names, T_joints, strict=True):
+        ends = _line(ax, f"axis {joint}")
+        np.testing.assert_allclose(ends.mean(axis=0), T[:3, 3], atol=1e-12)
+        direction = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0])
+        np.testing.assert_allclose(direction, T[:3, 2], atol=1e-12)
+    origins = next(c for c in ax.collections if c.get_gid() == "joint origins")
+    np.testing.assert_allclose(np.array(origins._offsets3d).T, T_joints[:, :3, 3], atol=1e-12)
+    spans = np.ptp([ax.get_xlim(), ax.get_ylim(), ax.get_zlim()], axis=1)
+    np.testing.assert_allclose(spans, spans[0], rtol=1e-12)  # equal scale in x, y and z
+    np.testing.assert_allclose(ax.get_box_aspect() / ax.get_box_aspect()[0], 1.0, rtol=1e-12)
+    path = tmp_path / "arm.png"
+    figure.savefig(path, dpi=50)
+    with Image.open(path) as image:
+        assert image.format == "PNG" and image.size == (250, 250)
+        assert len(image.convert("RGB").getcolors(1 << 16)) > 20  # drawn, not blank
+
+
+def test_a_batch_draws_ghosts_and_the_last_configuration_as_the_arm_into_given_axes():
+    from matplotlib.figure import Figure
+
+    robot = armkit.load("probot-anno")
+    T = robot.fk([0.9, -0.7, -0.4, 0, 1.1, 0.9])
+    q = robot.ik(T, all_solutions=True)
+    figure = Figure()
+    ax = figure.add_subplot(projection="3d")
+    ax.plot([5.0], [5.0], [5.0], "k.")  # something already there stays in view
+    assert robot.plot(q, ax=ax) is figure
+    for k in range(len(q) - 1):
+        start, _ = _line(ax, f"ghost {k + 1} tool x")
+        np.testing.assert_allclose(start, T[:3, 3], atol=1e-9)
+        ghost = next(line for line in ax.lines if line.get_gid() == f"ghost {k + 1} tool x")
+        assert ghost.get_alpha() == armkit.animation.GHOST_ALPHA
+    np.testing.assert_allclose(_line(ax, "tool x")[0], T[:3, 3], atol=1e-9)
+    assert not any((line.get_gid() or "").startswith(f"ghost {len(q)}") for line in ax.lines)
+    assert ax.get_xlim()[1] >= 5.0 and ax.get_zlim()[1] >= 5.0
+    assert f"and {len(q) - 1} ghosts" in ax.get_title()
+
+
+def test_robot_plot_refuses_flat_axes_and_wrong_shapes():
+    from matplotlib.figure import Figure
+
+    robot = armkit.load("probot-anno")
+    with pytest.raises(InputError, match="ax: expected 3-D axes"):
+        robot.plot(robot.home, ax=Figure().add_subplot())
+    with pytest.raises(InputError, match=r"expected shape \(6,\) or \(N, 6\)"):
+        robot.plot(np.zeros((2, 2, 6)))
+    with pytest.raises(InputError):
+        robot.plot([0.0, 1.0])

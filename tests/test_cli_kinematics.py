@@ -147,3 +147,21 @@ def test_every_json_is_si_after_deg_and_says_its_units(capsys, argv, in_degrees)
 def test_show_json_says_its_units(capsys):
     code, out, _ = run(capsys, "show", "probot-anno", "--json")
     assert code == 0 and json.loads(out)["units"]["limits"] == "rad (revolute), m (prismatic)"
+
+
+def test_fk_plot_draws_the_arm_at_q_and_never_over_an_existing_file(capsys, tmp_path):
+    from PIL import Image
+
+    path = tmp_path / "arm.png"
+    code, _, err = run(capsys, "fk", "puma560", "0", "-30", "30", "0", "60", "0", "--deg", "--plot",
+                       str(path))
+    assert code == 0 and f"wrote {path}" in err
+    with Image.open(path) as image:
+        assert image.format == "PNG" and len(image.convert("RGB").getcolors(1 << 16)) > 20
+    before = path.read_bytes()
+    code, _, err = run(capsys, "fk", "puma560", *["0"] * 6, "--plot", str(path))
+    assert code == 1 and "already exists; pass --force" in err and path.read_bytes() == before
+    code, _, _ = run(capsys, "fk", "puma560", *["0"] * 6, "--plot", str(path), "--force")
+    assert code == 0 and path.read_bytes() != before
+    code, _, err = run(capsys, "fk", "puma560", *["0"] * 6, "--plot", str(tmp_path / "arm.gif"))
+    assert code == 1 and "--plot" in err and "expected a file name ending in .png, .svg, .pdf" in err

@@ -104,9 +104,12 @@ def test_lengths_that_overflow_only_together_are_refused(tmp_path):
         load_bytes(tmp_path, text.replace("a = 1e9", "a = 1.1e9", 1).encode())
 
 
-def test_a_urdf_path_is_read_as_urdf_not_toml(tmp_path):
-    with pytest.raises(RobotDefinitionError, match=r"arm.toml: the root element is <mujoco>; a URDF file"):
-        load_bytes(tmp_path, b"<mujoco/>")
+def test_an_xml_file_is_read_by_its_root_element_not_its_name(tmp_path):
+    pytest.importorskip("mujoco")
+    with pytest.raises(RobotDefinitionError, match=r"arm.toml: the root element is <sdf>; a URDF file"):
+        load_bytes(tmp_path, b"<sdf/>")
+    with pytest.raises(RobotDefinitionError, match=r"arm.toml: 0 leaf bodies below 'world'"):  # MJCF
+        load_bytes(tmp_path, b"<?xml version='1.0'?><!-- an empty model --><mujoco/>")
 
 
 # ------------------------------------------------------------------ fuzzing

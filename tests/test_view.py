@@ -26,6 +26,7 @@ from armkit.view.scene import Colours
 viser = pytest.importorskip("viser")
 
 from armkit.view import Viewer  # noqa: E402  (after the importorskip)
+from armkit.view.viewer import LABEL_SPACING  # noqa: E402
 
 ROBOTS = ["probot-anno", "puma560", "ur5", "stanford", "panda", "grb400-scara"]
 
@@ -117,7 +118,10 @@ def test_report_000s_first_target_has_four_solutions_in_the_limits_and_four_outs
     probot.q = probot.robot.home
     found = probot.show_solutions(T, follow=False)
     assert (len(found.q), int(found.within_limits.sum())) == (8, 4)
-    assert [g.visible for g in probot._ghosts] == [True] * 8
+    assert [g.visible for g in probot._ghosts] == [True] * 8 + [False] * (len(probot._ghosts) - 8)
+    labels = np.array([label.position for label in probot._ghost_labels[:8]])
+    apart = np.linalg.norm(labels[:, None] - labels[None], axis=-1)[np.triu_indices(8, 1)]
+    assert apart.min() >= LABEL_SPACING * probot._radius - 1e-12  # no two labels on one spot
     np.testing.assert_array_equal(probot.q, probot.robot.home)              # follow=False: stays
     q = probot.pick(2)
     np.testing.assert_array_equal(q, found.q[1])
@@ -130,7 +134,7 @@ def test_an_unreachable_target_says_how_far_the_closest_pose_is(probot):
     T = transform_from(np.eye(3), [2.0, 0.0, 0.3])                         # 2 m out, the arm reaches ~0.6 m
     found = probot.show_solutions(T)
     assert len(found.q) == 0
-    assert [g.visible for g in probot._ghosts] == [False] * 8
+    assert not any(g.visible for g in probot._ghosts)
     text = probot._ik_status.content
     mm = float(text.split("closest pose found is ")[1].split(" mm")[0])
     with pytest.raises(UnreachableError) as solver:
@@ -287,3 +291,153 @@ def test_junk_websocket_frames_are_one_line_each_and_the_server_stays_up(tmp_pat
     assert "Traceback" not in err and lines[-1] == "armkit view: stopped", err
     assert len(lines) == len(frames) + 1, err
     assert all(line.startswith("armkit view: ignored a message it cannot read (") for line in lines[:-1]), err
+
+
+# ------------------------------------------------------------------ a URDF arm's own look, the panel
+SHAPES_URDF = """<robot name="shapes">
+  <link name="base"><visual><origin xyz="0 0 0.05"/><geometry><box size="0.2 0.1 0.1"/></geometry>
+    </visual></link>
+  <link name="upper_arm_link_with_a_long_name">
+    <visual><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.03" length="0.3"/></geometry>
+    </visual></link>
+  <link name="hand"><visual><geometry><sphere radius="0.04"/></geometry></visual>
+    <visual><geometry><mesh filename="package://shapes_description/meshes/hand.stl" scale="2 2 2"/></geometry>
+    </visual></link>
+  <joint name="shoulder_pan_joint_of_the_arm" type="revolute"><parent link="base"/>
+    <child link="upper_arm_link_with_a_long_name"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-6.2832" upper="6.2832" velocity="1" effort="1"/></joint>
+  <joint name="elbow_joint_of_the_arm" type="revolute"><parent link="upper_arm_link_with_a_long_name"/>
+    <child link="hand"/><origin xyz="0 0 0.3" rpy="0.3 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-3.1416" upper="3.1416" velocity="1" effort="1"/></joint>
+</robot>"""
+
+
+def _shapes_arm(tmp_path, with_mesh: bool):
+    trimesh = pytest.importorskip("trimesh")
+    folder = tmp_path / "shapes_description"
+    (folder / "urdf").mkdir(parents=True)
+    (folder / "meshes").mkdir()
+    if with_mesh:
+        trimesh.creation.box(extents=(0.01, 0.02, 0.03)).export(folder / "meshes" / "hand.stl")
+    path = folder / "urdf" / "shapes.urdf"
+    path.write_text(SHAPES_URDF)
+    return armkit.load(path)
+
+
+def test_a_urdf_arm_is_drawn_with_its_meshes_and_shapes_each_in_its_chain_frame(tmp_path):
+    robot = _shapes_arm(tmp_path, with_mesh=True)
+    assert [(s.link, s.kind, s.size) for s in robot.urdf.shapes] == [
+        ("base", "box", (0.2, 0.1, 0.1)), ("upper_arm_link_with_a_long_name", "cylinder", (0.03, 0.3)),
+        ("hand", "sphere", (0.04,))]
+    viewer = Viewer(robot, port=0)
+    try:
+        assert viewer._meshes is not None and not viewer._arm.visible and len(viewer._meshes.meshes) == 4
+        viewer.q = [0.7, -1.1]
+        frames = robot.link_frames(viewer.q)
+        for i, node in viewer._meshes._nodes.items():
+            np.testing.assert_allclose(node.position, frames[i, :3, 3], atol=1e-12)
+            np.testing.assert_allclose(armkit.spatial.matrix_from_quaternion_wxyz(node.wxyz),
+                                       frames[i, :3, :3], atol=1e-12)
+        viewer._show_meshes.value = False   # the box in the panel: capsules instead
+        assert viewer._arm.visible and not viewer._meshes.visible
+    finally:
+        viewer.close()
+
+
+def test_a_missing_mesh_draws_capsules_and_says_so_once(tmp_path):
+    robot = _shapes_arm(tmp_path, with_mesh=False)
+    with pytest.warns(UserWarning, match=r"shapes: drawn as capsules: mesh package://shapes_description/meshes/"
+                                         r"hand\.stl of link hand not found") as caught:
+        viewer = Viewer(robot, port=0)
+    try:
+        assert len(caught) == 1 and viewer._meshes is None and viewer._arm.visible
+        viewer.q = [0.1, 0.2]  # moving warns no more
+    finally:
+        viewer.close()
+
+
+def test_package_meshes_are_found_through_package_paths_and_ros_package_path(tmp_path, monkeypatch):
+    from armkit.urdf import find_mesh_file
+
+    (tmp_path / "share" / "arm_pkg" / "meshes").mkdir(parents=True)
+    mesh = tmp_path / "share" / "arm_pkg" / "meshes" / "a.stl"
+    mesh.write_text("solid a\nendsolid a\n")
+    urdf = tmp_path / "elsewhere"  # the URDF's folder
+    assert find_mesh_file("package://arm_pkg/meshes/a.stl", urdf) is None
+    assert find_mesh_file("package://arm_pkg/meshes/a.stl", urdf, [tmp_path / "share"]) == mesh
+    monkeypatch.setenv("ROS_PACKAGE_PATH", f"/nonexistent{os.pathsep}{tmp_path / 'share'}")
+    assert find_mesh_file("package://arm_pkg/meshes/a.stl", urdf) == mesh
+    assert find_mesh_file(f"file://{mesh}", urdf) == mesh
+
+
+def test_long_joint_names_get_a_row_of_their_own_and_number_boxes_show_every_digit(tmp_path):
+    from armkit.view.readout import BOX_CHARS, box_decimals
+
+    robot = _shapes_arm(tmp_path, with_mesh=True)
+    viewer = Viewer(robot, port=0)
+    try:
+        names = [row.content for row in viewer._name_rows]
+        assert len(names) == 2 and "shoulder_pan_joint_of_the_arm [deg]" in names[0]
+        assert [slider.label for slider in viewer._sliders] == ["q1 [deg]", "q2 [deg]"]
+        viewer.q = [1.234567, -3.0]
+        for slider in viewer._sliders:
+            assert len(f"{slider.value:.{round(-np.log10(slider.step))}f}") <= BOX_CHARS
+        assert viewer._sliders[0].value == round(np.degrees(1.234567), 1)
+    finally:
+        viewer.close()
+    assert (box_decimals(-360.0, 360.0, 1), box_decimals(-0.5, 0.5, 4), box_decimals(0, 2000, 1)) == (1, 3, 1)
+
+
+def test_ghost_labels_stay_apart_even_when_ghosts_coincide():
+    from armkit.view.geometry import label_positions
+
+    rng = np.random.default_rng(0)
+    shared = rng.normal(size=(5, 3))
+    candidates = [shared] * 6 + [rng.normal(size=(5, 3)) for _ in range(10)]
+    positions = label_positions(candidates, 0.3)
+    apart = np.linalg.norm(positions[:, None] - positions[None], axis=-1)[np.triu_indices(16, 1)]
+    assert len(positions) == 16 and apart.min() >= 0.3 - 1e-12
+    for points, position in zip(candidates, positions, strict=True):  # on its ghost, or straight above it
+        offsets = position - points
+        assert (np.linalg.norm(offsets[:, :2], axis=1) < 1e-12).any()
+
+
+def test_a_general_6r_arms_ten_solutions_are_all_drawn_as_ghosts_with_labels_apart():
+    from armkit.chain import DHRow
+
+    rows = [(1.184148, 0.197951, 0.053701), (-1.426528, 0.285711, 0.251453),
+            (0.980476, 0.359932, 0.096213), (-0.763343, 0.318981, -0.172995),
+            (0.993825, 0.071951, 0.195293), (-1.006478, 0.181301, -0.109957)]
+    robot = armkit.Robot.from_dh([DHRow(alpha=alpha, a=a, d=d, theta=0) for alpha, a, d in rows], "standard",
+                                 limits=[(-np.pi, np.pi)] * 6, name="general 6R")
+    T = robot.fk([0.575, 1.745, -2.464, -1.59, -2.913, -1.708])
+    with Viewer(robot, port=0) as viewer:
+        found = viewer.show_solutions(T, follow=False)
+        count = len(found.q)
+        assert count > 8 and len(viewer._ghosts) >= count  # more than the 8 ghosts the viewer used to keep
+        assert [g.visible for g in viewer._ghosts] == [True] * count + [False] * (len(viewer._ghosts) - count)
+        for ghost, q in zip(viewer._ghosts, found.q, strict=False):  # each ghost its solution, at the target
+            np.testing.assert_allclose(ghost.placement.link_frames[-1], T, atol=1e-9)
+            np.testing.assert_allclose(ghost.placement.link_frames, robot.link_frames(q), atol=1e-12)
+        labels = np.array([label.position for label in viewer._ghost_labels[:count]])
+        apart = np.linalg.norm(labels[:, None] - labels[None], axis=-1)[np.triu_indices(count, 1)]
+        assert apart.min() >= LABEL_SPACING * viewer._radius - 1e-12
+
+
+def test_cli_view_of_a_urdf_with_a_missing_mesh_says_so_in_one_warning_line(tmp_path):
+    path = tmp_path / "arm.urdf"
+    path.write_text('<robot name="m"><link name="a"><visual><geometry><mesh filename="package://nopkg/a.stl"/>'
+                    '</geometry></visual></link><link name="b"/><joint name="j" type="continuous">'
+                    '<parent link="a"/><child link="b"/><origin xyz="0 0 0.3"/></joint></robot>')
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", str(path), "--port", "0",
+                                "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env=env, cwd=tmp_path, preexec_fn=interruptible)
+    try:
+        assert process.stdout.readline().startswith("armkit view: m at http://127.0.0.1:")
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=WAIT_S)
+    finally:
+        process.kill()
+    assert err.strip().splitlines() == ["warning: m: drawn as capsules: mesh package://nopkg/a.stl of link a "
+                                        "not found", "armkit view: stopped"]

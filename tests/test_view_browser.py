@@ -300,3 +300,47 @@ def test_teach_plan_play_and_save_through_the_page(session):
     page.wait_for_selector("[data-armkit=saved] >> text=saved 2 waypoints")
     np.testing.assert_allclose(read_waypoints(target, 6), [[0.1] * 6, [0.2] * 6], atol=0)
 
+
+
+LONG_NAMES_URDF = """<robot name="long names">
+  <link name="base"><visual><geometry><box size="0.2 0.2 0.1"/></geometry></visual></link>
+  <link name="upper"><visual><origin xyz="0 0 0.2"/>
+    <geometry><cylinder radius="0.04" length="0.4"/></geometry></visual></link>
+  <link name="hand"><visual><geometry><sphere radius="0.06"/></geometry></visual></link>
+  <joint name="shoulder_pan_joint_of_the_left_arm" type="revolute"><parent link="base"/><child link="upper"/>
+    <origin xyz="0 0 0.05"/><axis xyz="0 0 1"/><limit lower="-6.2832" upper="6.2832" velocity="1" effort="1"/>
+  </joint>
+  <joint name="elbow_joint_of_the_left_arm" type="revolute"><parent link="upper"/><child link="hand"/>
+    <origin xyz="0 0 0.4"/><axis xyz="0 1 0"/><limit lower="-3.1416" upper="3.1416" velocity="1" effort="1"/>
+  </joint>
+</robot>"""
+
+
+def test_a_urdf_arm_shows_its_shapes_long_joint_names_whole_and_every_digit_in_its_boxes(browser, tmp_path):
+    pytest.importorskip("trimesh")
+    import armkit
+    from armkit.view import Viewer
+
+    path = tmp_path / "long.urdf"
+    path.write_text(LONG_NAMES_URDF)
+    viewer = Viewer(armkit.load(path), port=0)
+    page = browser.new_page(viewport={"width": 1100, "height": 700})
+    page.set_default_timeout(WAIT_MS)
+    try:
+        page.goto(viewer.url)
+        page.wait_for_selector("[data-armkit=joint-name]")
+        names = page.locator("[data-armkit=joint-name]").all_inner_texts()
+        assert names == ["q1: shoulder_pan_joint_of_the_left_arm [deg]",
+                         "q2: elbow_joint_of_the_left_arm [deg]"]
+        viewer.q = [np.radians(-123.456789), np.radians(-170.14)]
+        for j, shown in enumerate(("-123.5", "-170.1")):
+            box = _slider_number_input(page, viewer._sliders[j])
+            wait_until(lambda box=box, shown=shown: box.input_value() == shown,
+                       f"box {j + 1} to show {shown}")
+            assert box.evaluate("input => input.scrollWidth <= input.clientWidth"), f"box {j + 1} cuts digits"
+        shot = ARTIFACTS / "view_urdf_shapes.png"
+        page.screenshot(path=shot, timeout=WAIT_MS)
+        assert _distinct_colours(shot) > 200
+    finally:
+        page.close()
+        viewer.close()

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -31,7 +31,7 @@ from armkit.robot import Robot
 if TYPE_CHECKING:  # a scene is MuJoCo's: imported only by whoever builds one
     from armkit.collision.scene import Scene, WorldShape
 
-__all__ = ["animate_trajectory", "plot_configuration", "plot_configurations"]
+__all__ = ["GHOST_ALPHA", "animate_trajectory", "plot_arm", "plot_configuration", "plot_configurations"]
 
 _LINK_COLORS = ("#d9731f", "#3366bf")
 _JOINT_COLOR = "#404047"
@@ -115,31 +115,47 @@ def _setup_axes(ax, centre: NDArray, half: float, title: str) -> float:
     return floor
 
 
-def _draw_frame(ax, T: NDArray[np.float64], length: float, width: float) -> None:
+def _draw_frame(ax, T: NDArray[np.float64], length: float, width: float, name: str,
+                alpha: float = 1.0) -> None:
+    """A triad: the frame's x, y, z axes as red, green, blue strokes of ``length`` [m] from its origin."""
     for k in range(3):
         end = T[:3, 3] + length * T[:3, k]
         ax.plot(*np.transpose([T[:3, 3], end]), color=_AXIS_COLORS[k], linewidth=width,
-                solid_capstyle="round")
+                solid_capstyle="round", gid=f"{name} {'xyz'[k]}", alpha=alpha)
 
 
 def _draw_arm(ax, robot: Robot, model: PhysicalModel, q: NDArray[np.float64], floor: float,
-              half: float, frames: bool) -> None:
+              half: float, frames: bool, *, alpha: float = 1.0, base_frame: bool = False,
+              joint_axes: bool = False, gid: str = "") -> None:
+    """The arm at ``q``: link cylinders as thick strokes with their floor shadow, joint origins,
+    the tool frame, and on request every link frame, the base frame and each joint's axis.
+
+    Artists carry a ``gid`` naming what they show (``"base x"``, ``"link 3 z"``, ``"tool y"``,
+    ``"axis q2"``, ``"joint origins"``), after the prefix ``gid``, so a figure can be read back by
+    what it draws."""
     lines = _polylines(robot, model, q)
     width = 7.0
     for k, segments in enumerate(lines):
         for start, end in segments:
             xs, ys, zs = np.transpose([start, end])
             ax.plot(xs, ys, np.full(2, floor), color="#c8c8cc", linewidth=width * 0.8,
-                    solid_capstyle="round", alpha=0.6)
+                    solid_capstyle="round", alpha=0.6 * alpha)
             color = _JOINT_COLOR if k == 0 else _LINK_COLORS[(k - 1) % 2]
-            ax.plot(xs, ys, zs, color=color, linewidth=width, solid_capstyle="round")
+            ax.plot(xs, ys, zs, color=color, linewidth=width, solid_capstyle="round", alpha=alpha)
     joints, T_tool = kinematics.joint_frames(robot, q)
-    ax.scatter(*joints[:, :3, 3].T, s=70, color=_JOINT_COLOR, depthshade=False, zorder=5)
-    if frames:
-        for T in robot.link_frames(q)[:-1]:
-            _draw_frame(ax, T, 0.14 * half, 1.3)
-    _draw_frame(ax, T_tool, 0.25 * half, 2.6)
-    ax.text(*(T_tool[:3, 3] + 0.06 * half), "tool", fontsize=8, color=_JOINT_COLOR)
+    ax.scatter(*joints[:, :3, 3].T, s=70, color=_JOINT_COLOR, depthshade=False, zorder=5, alpha=alpha,
+               gid=f"{gid}joint origins")
+    if joint_axes:
+        for name, T in zip(robot.joint_names, joints, strict=True):
+            ends = T[:3, 3] + np.outer([-1.0, 1.0], 0.12 * half * T[:3, 2])
+            ax.plot(*ends.T, color="#111111", linewidth=1.6, linestyle="--", alpha=alpha,
+                    gid=f"{gid}axis {name}")
+    every = robot.link_frames(q)
+    drawn = every[:-1] if frames else every[:1] if base_frame else every[:0]
+    for i, T in enumerate(drawn):
+        _draw_frame(ax, T, 0.14 * half, 1.3, gid + ("base" if i == 0 else f"link {i}"), alpha)
+    _draw_frame(ax, T_tool, 0.25 * half, 2.6, f"{gid}tool", alpha)
+    ax.text(*(T_tool[:3, 3] + 0.06 * half), "tool", fontsize=8, color=_JOINT_COLOR, alpha=alpha)
 
 
 def _axis_legend(ax) -> None:
@@ -235,6 +251,92 @@ def plot_configurations(robot: Robot, q: ArrayLike, path: str | Path | None = No
         with atomic_write(path) as partial:
             figure.savefig(partial, dpi=dpi)
     return figure
+
+
+#: Opacity of the ghost arms of :func:`plot_arm` (every configuration of a batch but the last).
+GHOST_ALPHA = 0.25
+
+
+def plot_arm(robot: Robot, q: ArrayLike, *, ax: Any = None, frames: bool = False, joint_axes: bool = True,
+             title: str | None = None, size: float = 5.0, elev: float = 22.0, azim: float = -58.0) -> Figure:
+    """Draw ``robot`` at ``q`` in matplotlib 3-D (what :meth:`armkit.Robot.plot` calls).
+
+    Links are thick strokes along the cylinders of the simulation model (from each joint along
+    its axis, then to the next joint) with a shadow on the floor; joint origins are dots, each
+    joint's axis a dashed stroke through its origin; the base and tool frames are red/green/blue
+    x/y/z triads. The axes have equal scale in x, y and z.
+
+    A batch ``q`` ``(N, n)`` draws every configuration into the same axes: the last one as the
+    arm, the others as translucent ghosts (the IK solutions of one pose, a few samples of a
+    motion). For a moving picture see :func:`animate_trajectory`.
+
+    Parameters
+    ----------
+    robot : Robot
+    q : array_like (n,) or (N, n)
+        Joint values [rad or m].
+    ax : mpl_toolkits.mplot3d.Axes3D, optional
+        Draw into these axes (made with ``projection="3d"``); their limits grow to hold the arm.
+        Default: a new figure of its own.
+    frames : bool
+        Also draw every link frame (after each joint).
+    joint_axes : bool
+        Draw each joint's axis.
+    title : str, optional
+        Default: the robot's name and the (last) ``q``.
+    size : float
+        Side of a new figure [inch].
+    elev, azim : float
+        Viewing angles of a new figure [deg] (matplotlib's ``view_init``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn into (``ax.figure`` when ``ax`` is given); save it with
+        ``figure.savefig`` or :func:`armkit.plots.save_figure`.
+
+    Raises
+    ------
+    InputError
+        If ``q`` has the wrong shape or ``ax`` is not a 3-D axes.
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("probot-anno")
+    >>> figure = plot_arm(robot, [0, -0.5, 0.5, 0, 1, 0])
+    >>> ax = figure.axes[0]
+    >>> tool_x = next(line for line in ax.lines if line.get_gid() == "tool x")
+    >>> bool(np.allclose(np.array(tool_x.get_data_3d())[:, 0], robot.fk([0, -0.5, 0.5, 0, 1, 0])[:3, 3]))
+    True
+    """
+    q = robot.check_q(q)
+    batch = q.reshape(-1, robot.n)
+    if q.ndim > 2 or len(batch) == 0:
+        raise InputError(f"q: expected shape ({robot.n},) or (N, {robot.n}), got {q.shape}")
+    model = physical_model(robot)
+    centre, half = _bounds(robot, model, batch)
+    if ax is None:
+        figure = Figure(figsize=(size, size), layout="constrained")
+        ax = figure.add_subplot(projection="3d")
+        ax.view_init(elev=elev, azim=azim)
+    elif getattr(ax, "name", None) != "3d":
+        raise InputError(f"ax: expected 3-D axes (figure.add_subplot(projection='3d')), got "
+                         f"{type(ax).__name__}")
+    elif ax.has_data():  # keep what the axes already show in view
+        low, high = np.array([ax.get_xlim(), ax.get_ylim(), ax.get_zlim()]).T
+        low, high = np.minimum(low, centre - half), np.maximum(high, centre + half)
+        centre, half = (low + high) / 2, float((high - low).max()) / 2
+    ghosts = f" and {len(batch) - 1} ghosts" if len(batch) > 1 else ""
+    shown = ", ".join(f"{v:.3g}" for v in batch[-1])
+    label = title if title is not None else f"{robot.name}   q = [{shown}]{ghosts}"
+    floor = _setup_axes(ax, centre, half, label)
+    for k, q_k in enumerate(batch):
+        last = k == len(batch) - 1
+        _draw_arm(ax, robot, model, q_k, floor, half, frames and last, alpha=1.0 if last else GHOST_ALPHA,
+                  base_frame=last, joint_axes=joint_axes and last, gid="" if last else f"ghost {k + 1} ")
+    _axis_legend(ax)
+    return ax.figure
 
 
 def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: ArrayLike | None = None,

@@ -24,7 +24,10 @@ from armkit.errors import InputError, JointLimitError
 from armkit.inertial import Inertial
 from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
 
-if TYPE_CHECKING:  # the descriptions' modules import this one
+if TYPE_CHECKING:  # the descriptions' modules import this one; matplotlib only when drawing
+    from matplotlib.figure import Figure
+    from mpl_toolkits.mplot3d import Axes3D
+
     from armkit.collision.scene import Scene
     from armkit.poe import PoeDescription
     from armkit.urdf import UrdfDescription
@@ -285,6 +288,25 @@ class Robot:
     def link_frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """Base, every DH link frame and tool: ``(..., n + 2, 4, 4)``."""
         return kinematics._link_frames(self.chain, self._checked(q))
+
+    def plot(self, q: ArrayLike, *, ax: Axes3D | None = None, frames: bool = False,
+             joint_axes: bool = True, title: str | None = None) -> Figure:
+        """Draw the arm at ``q`` in matplotlib 3-D (like the Robotics Toolbox's ``robot.plot``).
+
+        Links, joint origins and axes, the base and tool frames (and every link frame with
+        ``frames``), equal scale in x, y and z. A batch ``q`` ``(N, n)`` draws the last
+        configuration as the arm and the others as translucent ghosts. ``ax``: draw into these
+        3-D axes instead of a new figure. Returns the figure; see :func:`armkit.animation.plot_arm`.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> figure = armkit.load("probot-anno").plot([0, -0.5, 0.5, 0, 1, 0])
+        >>> figure.savefig("arm.png")  # doctest: +SKIP
+        """
+        from armkit.animation import plot_arm
+
+        return plot_arm(self, q, ax=ax, frames=frames, joint_axes=joint_axes, title=title)
 
     def jacobian(self, q: ArrayLike, frame: str = "base", *,
                  threads: int | None = None) -> NDArray[np.float64]:

@@ -70,6 +70,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import tomllib
 from dataclasses import replace
 from importlib import resources
@@ -109,16 +110,18 @@ def builtin_robots() -> list[str]:
 
 
 def load(name_or_path: str | Path, base: str | None = None, tip: str | None = None) -> Robot:
-    """Load a built-in robot by name (``"probot-anno"``), a robot file or a URDF file by path.
+    """Load a built-in robot by name (``"probot-anno"``), a robot file, a URDF or an MJCF file by path.
 
     Parameters
     ----------
     name_or_path : str or Path
-        A built-in name, a ``.toml`` robot file, or a URDF file (``.urdf``, or any file
-        whose text starts with ``<``).
+        A built-in name, a ``.toml`` robot file, an MJCF file (XML whose root is ``<mujoco>``,
+        read by MuJoCo: ``pip install 'armkit[sim]'``) or a URDF file (``.urdf``, or any other
+        file whose text starts with ``<``).
     base, tip : str, optional
-        URDF only: the links the serial chain runs between (default the root link and
-        the only leaf; see :func:`armkit.urdf.load_urdf`).
+        URDF: the links the serial chain runs between (default the root link and the only
+        leaf; see :func:`armkit.urdf.load_urdf`). MJCF: the base body (default the world)
+        and the tip body or site (default the only leaf body; see :func:`armkit.mjcf.load_mjcf`).
 
     Raises
     ------
@@ -145,16 +148,31 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
         data = path.read_bytes()
     except OSError as exc:
         raise RobotDefinitionError(f"{path}: cannot be read ({exc.strerror or exc})") from exc
+    if path.suffix.lower() != ".urdf" and _xml_root(data) == b"mujoco":
+        from armkit.mjcf import load_mjcf
+
+        return load_mjcf(path, base=base, tip=tip)
     if path.suffix.lower() == ".urdf" or data.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<"):
         return robot_from_urdf(data, str(path), base=base, tip=tip)
     _no_links(base, tip, str(path))
     return _load_text(data, str(path))
 
 
+#: The first element's name in XML text, after any declaration, comments and processing instructions.
+_XML_ROOT = re.compile(rb"\s*(?:<\?.*?\?>\s*|<!--.*?-->\s*)*<([A-Za-z_][\w.:-]*)", re.DOTALL)
+
+
+def _xml_root(data: bytes) -> bytes | None:
+    """The root element's name of XML ``data`` (``b"robot"``, ``b"mujoco"``), or None if not XML."""
+    match = _XML_ROOT.match(data.removeprefix(b"\xef\xbb\xbf"))
+    return None if match is None else match.group(1)
+
+
 def _no_links(base: str | None, tip: str | None, source: str) -> None:
     if base is not None or tip is not None:
-        raise RobotDefinitionError(f"{source}: base and tip links choose a chain in a URDF file; "
-                                   f"this is a robot file (its base and tool are [base] and [tool])")
+        raise RobotDefinitionError(f"{source}: base and tip links choose a chain in a URDF file (bodies "
+                                   f"in an MJCF file); this is a robot file (its base and tool are [base] "
+                                   f"and [tool])")
 
 
 def toml_table(data: bytes, source: str, what: str = "robot file",

@@ -24,7 +24,8 @@ What is read
     load and are left out; a file without any ``<inertial>`` on the moving links gives a
     robot without inertia (:mod:`armkit.dynamics` then asks for it); the ``<collision>``
     geometry (box, cylinder, sphere, mesh) of the same links, placed like the visual meshes,
-    for :mod:`armkit.collision`. Everything else (transmissions, ``<gazebo>``) is ignored.
+    for :mod:`armkit.collision`, and their ``<visual>`` boxes, cylinders and spheres for the
+    viewer. Everything else (transmissions, ``<gazebo>``) is ignored.
 Refused, with one :class:`~armkit.errors.RobotDefinitionError` naming the joint or line
     Malformed XML, a document type declaration (``<!DOCTYPE``/``<!ENTITY``: entities can
     expand without bound, so no DTD is accepted at all; the standard library's parser then
@@ -43,8 +44,10 @@ Read with the spec's defaults, explicitly
 
 from __future__ import annotations
 
+import os
 import re
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -59,7 +62,8 @@ from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_euler
 from armkit.spatial.transforms import transform_from
 
-__all__ = ["UrdfCollision", "UrdfDescription", "UrdfMesh", "load_urdf", "robot_from_urdf"]
+__all__ = ["UrdfDescription", "UrdfGeometry", "UrdfMesh", "find_mesh_file", "load_urdf",
+           "mesh_search_folders", "robot_from_urdf"]
 
 _MOVING = {"revolute", "continuous", "prismatic"}
 _UNSUPPORTED = {"floating", "planar"}
@@ -90,8 +94,9 @@ class UrdfMesh:
 
 
 @dataclass(frozen=True)
-class UrdfCollision:
-    """A ``<collision>`` geometry of a link that moves with the chain (or is fixed to the base).
+class UrdfGeometry:
+    """A ``<collision>`` geometry, or a ``<visual>`` box, cylinder or sphere, of a link that moves
+    with the chain (or is fixed to the base).
 
     Attributes
     ----------
@@ -134,7 +139,10 @@ class UrdfDescription:
     effort : tuple of float or None
         Per joint, the ``<limit effort>`` [N m or N].
     meshes : tuple of UrdfMesh
-    collisions : tuple of UrdfCollision
+    collisions : tuple of UrdfGeometry
+        The ``<collision>`` geometry (box, cylinder, sphere, mesh).
+    shapes : tuple of UrdfGeometry
+        The ``<visual>`` boxes, cylinders and spheres (the visual meshes are in ``meshes``).
     """
 
     path: str
@@ -144,7 +152,8 @@ class UrdfDescription:
     links: tuple[str, ...]
     effort: tuple[float | None, ...]
     meshes: tuple[UrdfMesh, ...]
-    collisions: tuple[UrdfCollision, ...] = ()
+    collisions: tuple[UrdfGeometry, ...] = ()
+    shapes: tuple[UrdfGeometry, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -242,7 +251,9 @@ def robot_from_urdf(text: str | bytes, source: str = "URDF text", *, base: str |
     name = root.get("name") or Path(source).stem
     placed = _placed_links(base, path, joints, source)
     description = UrdfDescription(source, name, base, tip, tuple(frames), tuple(effort),
-                                  _meshes(placed, links, source), _collisions(placed, links, source))
+                                  _meshes(placed, links, source),
+                                  _geometries(placed, links, "collision", source),
+                                  _geometries(placed, links, "visual", source))
     return Robot(chain, name=name, source=source, urdf=description,
                  description=f"URDF {Path(source).name}, {base} to {tip}")
 
@@ -266,7 +277,8 @@ def _parse(text: str | bytes, source: str) -> ET.Element:
     except ET.ParseError as exc:
         raise RobotDefinitionError(f"{source}: not valid XML: {exc}") from exc
     if root.tag != "robot":
-        raise RobotDefinitionError(f"{source}: the root element is <{root.tag}>; a URDF file has <robot>")
+        raise RobotDefinitionError(f"{source}: the root element is <{root.tag}>; a URDF file has <robot> "
+                                   f"(armkit.load reads an MJCF file, root <mujoco>, too)")
     return root
 
 
@@ -480,18 +492,66 @@ def _meshes(placed: list[tuple[str, int, NDArray[np.float64]]], links: dict[str,
     return tuple(sorted(out, key=lambda m: (m.frame, m.link)))
 
 
-def _collisions(placed: list[tuple[str, int, NDArray[np.float64]]], links: dict[str, ET.Element],
-                source: str) -> tuple[UrdfCollision, ...]:
-    """The ``<collision>`` geometry of the links rigidly attached to each chain frame."""
+def mesh_search_folders(folder: Path | None, package_paths: Sequence[str | Path] = ()) -> list[Path]:
+    """Where a ``package://PACKAGE/...`` mesh is looked for: each folder of ``package_paths``, then of
+    the ``ROS_PACKAGE_PATH`` environment variable, then ``folder`` (the URDF's) and every folder
+    above it (a package that holds the URDF, or sits beside one of its parents)."""
+    environment = [p for p in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if p]
+    here = [] if folder is None else [Path(folder).resolve(), *Path(folder).resolve().parents]
+    return [Path(p) for p in (*package_paths, *environment)] + here
+
+
+def find_mesh_file(filename: str, folder: Path | None,
+                   package_paths: Sequence[str | Path] = ()) -> Path | None:
+    """The file a mesh name in a URDF (or a scene file) refers to, or None if there is none:
+    ``package://PACKAGE/rest`` as ``DIR/PACKAGE/rest`` (or ``DIR/rest`` when ``DIR`` is the package)
+    for each ``DIR`` of :func:`mesh_search_folders`; ``file://`` and absolute paths as they are;
+    other paths relative to ``folder``.
+
+    >>> import pathlib, tempfile
+    >>> root = pathlib.Path(tempfile.mkdtemp())
+    >>> (root / "arm_description" / "meshes").mkdir(parents=True)
+    >>> (root / "arm_description" / "urdf").mkdir()
+    >>> _ = (root / "arm_description" / "meshes" / "base.stl").write_text("solid")
+    >>> urdf_folder = root / "arm_description" / "urdf"
+    >>> find_mesh_file("package://arm_description/meshes/base.stl", urdf_folder).name
+    'base.stl'
+    >>> find_mesh_file("../meshes/base.stl", urdf_folder).name
+    'base.stl'
+    >>> find_mesh_file("package://other/base.stl", urdf_folder) is None
+    True
+    """
+    if filename.startswith("package://"):
+        package, _, rest = filename.removeprefix("package://").partition("/")
+        for base in mesh_search_folders(folder, package_paths):
+            for root in (base / package, base):
+                if root.name == package and (root / rest).is_file():
+                    return root / rest
+        return None
+    path = Path(filename.removeprefix("file://")).expanduser()
+    if not path.is_absolute() and folder is not None:
+        path = Path(folder) / path
+    return path if path.is_file() else None
+
+
+def _geometries(placed: list[tuple[str, int, NDArray[np.float64]]], links: dict[str, ET.Element], tag: str,
+                source: str) -> tuple[UrdfGeometry, ...]:
+    """The ``<collision>`` geometry (``tag`` "collision"), or the ``<visual>`` boxes, cylinders and
+    spheres (``tag`` "visual": its meshes are :func:`_meshes`'), of the links rigidly attached to
+    each chain frame."""
     out = []
     for link, frame, T_frame_link in placed:
-        for i, element in enumerate(links[link].findall("collision")):
-            where = f"{source}, link {link!r}, <collision> number {i + 1}"
+        for i, element in enumerate(links[link].findall(tag)):
+            where = f"{source}, link {link!r}, <{tag}> number {i + 1}"
             geometry = element.find("geometry")
             shape = None if geometry is None or len(geometry) == 0 else geometry[0]
             if shape is None:
+                if tag == "visual":
+                    continue
                 raise RobotDefinitionError(f"{where}: no <geometry> shape; expected <box>, <cylinder>, "
                                            f"<sphere> or <mesh>")
+            if tag == "visual" and shape.tag not in ("box", "cylinder", "sphere"):
+                continue
             filename = None
             if shape.tag == "box":
                 size = _floats(shape, "size", 3, where, default=None)
@@ -509,9 +569,11 @@ def _collisions(placed: list[tuple[str, int, NDArray[np.float64]]], links: dict[
                 raise RobotDefinitionError(f"{where}: <{shape.tag}>; expected <box>, <cylinder>, <sphere> "
                                            f"or <mesh>")
             if shape.tag != "mesh" and not (size > 0).all():
+                if tag == "visual":  # nothing to draw: no reason to refuse the file
+                    continue
                 raise RobotDefinitionError(f"{where}: <{shape.tag}> sizes must be > 0 m, got {size.tolist()}")
-            out.append(UrdfCollision(link, shape.tag, tuple(float(v) for v in size), filename, frame,
-                                     T_frame_link @ _origin(element, where)))
+            out.append(UrdfGeometry(link, shape.tag, tuple(float(v) for v in size), filename, frame,
+                                    T_frame_link @ _origin(element, where)))
     return tuple(sorted(out, key=lambda c: (c.frame, c.link)))
 
 

@@ -31,7 +31,8 @@ __all__ = ["ALLOW_NEGATIVE", "BaseOpt", "LockOpt", "QUATERNION_NAMES", "RobotArg
 app = typer.Typer(
     name="armkit",
     help="From a robot arm's DH table or URDF to a verified motion. ROBOT is a built-in name "
-         "(see 'armkit robots'), a robot TOML file or a URDF file (--base/--tip choose its chain).",
+         "(see 'armkit robots'), a robot TOML file, a URDF file or an MJCF file (--base/--tip choose its "
+         "chain).",
     no_args_is_help=True,
     rich_markup_mode=None,  # plain help: no "<bool>" type tags after flags
     pretty_exceptions_enable=False,
@@ -49,13 +50,15 @@ QUATERNION_NAMES = ("quat", "quaternion", "wxyz")
 
 
 #: The robot argument and the options that shape it, shared by every command taking ROBOT.
-RobotArg = Annotated[str, typer.Argument(help="Built-in name (see 'armkit robots'), robot TOML file or URDF "
-                                              "file (--base/--tip choose its chain).")]
+RobotArg = Annotated[str, typer.Argument(help="Built-in name (see 'armkit robots'), robot TOML file, URDF "
+                                              "or MJCF file (--base/--tip choose its chain).")]
 BaseOpt = Annotated[str | None, typer.Option(
-    "--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link).",
+    "--base", metavar="LINK", help="URDF: the link the chain starts at (default: the root link); MJCF: "
+                                  "the body (default: the world).",
     show_default=False)]
 TipOpt = Annotated[str | None, typer.Option(
-    "--tip", metavar="LINK", help="URDF: the link the chain ends at, the tool (default: the only leaf).",
+    "--tip", metavar="LINK", help="URDF: the link the chain ends at, the tool (default: the only leaf); "
+                                 "MJCF: the body or site.",
     show_default=False)]
 LockOpt = Annotated[list[str] | None, typer.Option(
     "--lock", metavar="JOINT=VALUE", help="Lock a joint (name or number 1..n) at VALUE in rad or m; "

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
@@ -9,6 +10,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from armkit._io import check_output_path
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
     JOINT_UNITS,
@@ -20,14 +22,18 @@ from armkit.cli.app import (
     app,
     check_limits_or_warn,
     console,
+    err_console,
     fmt_number,
     fmt_numbers,
     load_robot,
     print_json,
     to_si,
 )
+from armkit.errors import InputError
 from armkit.spatial.rotations import euler_from_matrix, parse_convention, quaternion_wxyz_from_matrix
 
+#: Picture files ``--plot`` writes, by extension.
+FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 #: Smallest singular value below which ``armkit jacobian`` calls a configuration singular.
 SINGULAR_THRESHOLD = 1e-9
 
@@ -62,14 +68,29 @@ def fk_command(
                                             "quaternion w x y z).")] = "xyz-fixed",
     strict: StrictOpt = False,
     json_output: JsonOpt = False,
+    plot: Annotated[Path | None, typer.Option(
+        "--plot", metavar="FILE", help="Also draw the arm at q (links, joint axes, base and tool frames) "
+                                       "into FILE (.png, .svg, .pdf).", show_default=False)] = None,
+    force: Annotated[bool, typer.Option("--force", help="Replace an existing --plot file.")] = False,
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
 ) -> None:
-    """Forward kinematics: the tool pose for joint values q1 ... qn."""
+    """Forward kinematics: the tool pose for joint values q1 ... qn.
+
+    Example: armkit fk puma560 0 -0.5 0.5 0 1 0 --plot puma.png
+    """
     arm = load_robot(robot, base, tip, lock)
     q_si = to_si(arm, q, deg)
     check_limits_or_warn(arm, q_si, strict, deg)
+    if plot is not None:
+        from armkit.plots import save_figure
+
+        if plot.suffix.lower() not in FIGURE_SUFFIXES:
+            raise InputError(f"--plot {plot}: expected a file name ending in {', '.join(FIGURE_SUFFIXES)}")
+        check_output_path(plot, force, remedy="pass --force")
+        save_figure(arm.plot(q_si), plot, overwrite=True)
+        err_console.print(f"wrote {plot}", highlight=False)
     quaternion = euler.strip().lower() in QUATERNION_NAMES
     convention = None if quaternion else parse_convention(euler)
     T = arm.fk(q_si)

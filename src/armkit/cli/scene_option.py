@@ -18,8 +18,9 @@ SceneOpt = Annotated[Path | None, typer.Option(
     "--scene", metavar="FILE", help="A scene file (TOML: floor, obstacles; see docs/collision.md) to check "
                                     "the arm against for collisions.", show_default=False)]
 PackagePathOpt = Annotated[list[Path] | None, typer.Option(
-    "--package-path", metavar="DIR", help="A folder holding the packages of the URDF's package:// meshes; "
-                                          "repeat for more.", show_default=False)]
+    "--package-path", metavar="DIR", help="URDF: a folder holding the packages its package:// meshes name "
+                                          "(repeat for more; ROS_PACKAGE_PATH and the URDF's own folders are "
+                                          "searched too).", show_default=False)]
 
 
 def load_scene_option(robot: Robot, scene: Path | None,

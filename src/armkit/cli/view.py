@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import warnings
 import webbrowser
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from armkit.cli.app import BaseOpt, LockOpt, RobotArg, TipOpt, app, console, err_console, load_robot
+from armkit.cli.app import BaseOpt, LockOpt, RobotArg, TipOpt, app, console, err_console, load_robot, warn
 from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
 
 #: Exit code after Ctrl-C (128 + SIGINT), as shells report it.
@@ -17,10 +18,10 @@ INTERRUPTED = 130
 
 def serve(viewer, open_browser: bool) -> None:
     """Print the address, open it in the browser unless told not to, serve until Ctrl-C."""
-    console.print(f"armkit view: {viewer.robot.name} at {viewer.url} (Ctrl-C to stop)", highlight=False)
-    if open_browser:
-        webbrowser.open(viewer.url)
-    try:
+    try:  # Ctrl-C as soon as the address is out (a script reading it may send one at once) stops cleanly
+        console.print(f"armkit view: {viewer.robot.name} at {viewer.url} (Ctrl-C to stop)", highlight=False)
+        if open_browser:
+            webbrowser.open(viewer.url)
         viewer.serve_forever()
     except KeyboardInterrupt:
         viewer.close()
@@ -50,7 +51,12 @@ def view_command(
     from armkit.view import Viewer
 
     arm = load_robot(robot, base, tip, lock)
-    viewer = Viewer(arm, port=port, host=host, scene=load_scene_option(arm, scene, package_path))
+    with warnings.catch_warnings(record=True) as said:  # a missing mesh: one "warning:" line
+        warnings.simplefilter("always", UserWarning)
+        viewer = Viewer(arm, port=port, host=host, package_paths=package_path or (),
+                        scene=load_scene_option(arm, scene, package_path))
+    for warning in said:
+        warn(str(warning.message))
     try:
         if trajectory is not None:
             viewer.load(trajectory)

@@ -7,7 +7,7 @@ is either
 
 * the capsules of :func:`armkit.export.physical.capsule_bodies` (the MJCF export's shapes: a housing
   sphere at each joint and capsules along the links; the radius per link from ``link_radius``), or
-* a URDF's ``<collision>`` elements (:class:`armkit.urdf.UrdfCollision`), box, cylinder, sphere and
+* a URDF's ``<collision>`` elements (:class:`armkit.urdf.UrdfGeometry`), box, cylinder, sphere and
   mesh; a mesh collides as its convex hull (MuJoCo's rule).
 
 Every part (the base, each link, the floor, each obstacle) is a MuJoCo body of its own, so pairs can be
@@ -31,6 +31,7 @@ from armkit.errors import ArmkitError, InputError
 from armkit.export.mjcf import _numbers, _pose, add_capsule_geoms, mjcf_element
 from armkit.export.physical import capsule_bodies
 from armkit.robot import Robot
+from armkit.urdf import find_mesh_file, mesh_search_folders
 
 __all__ = ["FLOOR", "Parts", "body_names", "build_xml", "compile_model", "part_names", "require_mujoco",
            "resolve_mesh"]
@@ -82,29 +83,22 @@ def part_names(robot: Robot, obstacles: Sequence[Obstacle], floor: bool) -> Part
 
 
 def resolve_mesh(filename: str, relative_to: Path | None, package_paths: Sequence[str | Path]) -> Path:
-    """The file a mesh reference names: ``package://pkg/rest`` looked up as ``DIR/pkg/rest`` (or
-    ``DIR/rest`` when ``DIR`` is the package itself) in each of ``package_paths``; ``file://`` and
-    absolute paths as they are; other paths relative to ``relative_to``.
+    """The file a mesh reference names (:func:`armkit.urdf.find_mesh_file`: ``package://`` through
+    ``package_paths``, ``ROS_PACKAGE_PATH`` and ``relative_to`` and the folders above it; other
+    paths relative to ``relative_to``), in a format MuJoCo reads.
 
     Raises
     ------
     InputError
         If no such file exists (the message lists where it looked), or MuJoCo cannot read its format.
     """
-    tried: list[Path] = []
-    if filename.startswith("package://"):
-        package, _, rest = filename[len("package://"):].partition("/")
-        for folder in map(Path, package_paths):
-            tried += [folder / package / rest] + ([folder / rest] if folder.name == package else [])
-    else:
-        path = Path(filename.removeprefix("file://")).expanduser()
-        tried.append(path if path.is_absolute() or relative_to is None else relative_to / path)
-    found = next((path for path in tried if path.is_file()), None)
+    found = find_mesh_file(filename, relative_to, package_paths)
     if found is None:
-        where = ", ".join(str(path) for path in tried) or "no package path given"
+        where = ", ".join(str(p) for p in mesh_search_folders(relative_to, package_paths)) \
+            if filename.startswith("package://") else str(relative_to or Path.cwd())
         remedy = " (give the folder holding the package with --package-path DIR or package_paths=[DIR])" \
             if filename.startswith("package://") else ""
-        raise InputError(f"mesh {filename!r}: file not found (looked at {where}){remedy}")
+        raise InputError(f"mesh {filename!r}: file not found (looked in {where}){remedy}")
     if found.suffix.lower() not in _MESH_SUFFIXES:
         raise InputError(f"mesh {found}: MuJoCo reads STL, OBJ and MSH meshes, not {found.suffix!r}; "
                          f"convert it (or give the link primitive <collision> shapes)")

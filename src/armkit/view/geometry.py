@@ -16,7 +16,7 @@ from armkit import kinematics
 from armkit.robot import Robot
 from armkit.spatial.rotations import quaternion_wxyz_from_matrix
 
-__all__ = ["ArmPlacement", "arm_placement", "arm_size", "ellipsoid_axes", "rotations_z_to",
+__all__ = ["ArmPlacement", "arm_placement", "arm_size", "ellipsoid_axes", "label_positions", "rotations_z_to",
            "unit_cylinder", "unit_sphere"]
 
 #: Segments shorter than this [m] are not drawn (coincident frame origins).
@@ -105,6 +105,33 @@ def arm_placement(robot: Robot, q: NDArray[np.float64], radius: float) -> ArmPla
         scales=np.concatenate([link_scales, joint_scales]),
         joint_origins=T_joints[:, :3, 3], joint_axes=axes,
         link_frames=kinematics.link_frames(robot, q), link_count=len(lengths))
+
+
+def label_positions(candidates: list[NDArray[np.float64]], spacing: float) -> NDArray[np.float64]:
+    """One label position ``(G, 3)`` per ghost, every two at least ``spacing`` [m] apart.
+
+    ``candidates[g]`` ``(K, 3)`` are the points of ghost ``g`` a label may mark (its joint
+    origins). Ghost by ghost, the label goes to its candidate farthest from the labels placed
+    so far (the middle candidate for the first); one still closer than ``spacing`` to a placed
+    label (ghosts that differ only in their wrist) is lifted along z in steps of ``spacing``
+    until it is clear.
+
+    >>> same = [np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((3, 3))]
+    >>> label_positions(same, 0.1).round(6).tolist()
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 0.1], [0.0, 0.0, 0.2]]
+    """
+    placed: list[NDArray[np.float64]] = []
+    for points in candidates:
+        points = np.asarray(points, dtype=float)
+        if not placed:
+            placed.append(points[len(points) // 2])
+            continue
+        distance = np.linalg.norm(points[:, None] - np.array(placed)[None], axis=-1).min(axis=1)
+        point = points[int(np.argmax(distance))].copy()
+        while np.linalg.norm(np.array(placed) - point, axis=-1).min() < spacing:
+            point[2] += spacing
+        placed.append(point)
+    return np.array(placed).reshape(-1, 3)
 
 
 def unit_cylinder(segments: int = 24) -> tuple[NDArray[np.float32], NDArray[np.uint32]]:

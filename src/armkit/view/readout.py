@@ -16,11 +16,47 @@ from armkit.ik.solve import IKSolutions
 from armkit.robot import Robot
 from armkit.spatial.rotations import euler_from_matrix, parse_convention, quaternion_wxyz_from_matrix
 
-__all__ = ["QUATERNION", "angle_conventions", "copy_pose_text", "copy_q_text", "joint_text",
-           "pose_html", "solutions_html", "waypoints_html"]
+__all__ = ["BOX_CHARS", "LABEL_CHARS", "QUATERNION", "angle_conventions", "box_decimals", "box_range",
+           "copy_pose_text", "copy_q_text", "joint_name_html", "joint_text", "pose_html", "solutions_html",
+           "waypoints_html"]
 
 #: The read-out's name for the unit quaternion ``w x y z``.
 QUATERNION = "wxyz"
+#: Characters of a slider label that fit the panel's label column on one line or two.
+LABEL_CHARS = 16
+#: Characters a slider's number box shows in full.
+BOX_CHARS = 6
+
+
+def box_decimals(low: float, high: float, most: int) -> int:
+    """Decimals (at most ``most``) that keep every value of ``[low, high]`` within :data:`BOX_CHARS`.
+
+    >>> box_decimals(-360.0, 360.0, 1), box_decimals(-6.2832, 6.2832, 3), box_decimals(-0.1, 0.25, 4)
+    (1, 3, 3)
+    """
+    widest = max(len(f"{value:.0f}") for value in (low, high))
+    return int(np.clip(BOX_CHARS - widest - 1, 0, most))
+
+
+def box_range(low: float, high: float, decimals: int) -> tuple[float, float]:
+    """A slider's ends rounded inwards to ``decimals`` (``-360.0``, not ``-360.000842``); an end
+    within a millionth of a step of a step is that step (``169.99999999999997`` is ``170.0``). A range
+    narrower than a step stays as it is.
+
+    >>> box_range(-360.000842, 360.000842, 1), box_range(-2.9671, 2.9671, 3)
+    ((-360.0, 360.0), (-2.967, 2.967))
+    >>> box_range(0.0, 169.99999999999997, 1), box_range(0.00012, 0.00018, 4)
+    ((0.0, 170.0), (0.00012, 0.00018))
+    """
+    scale = 10.0**decimals
+    inner = np.ceil(np.round(low * scale, 6)) / scale, np.floor(np.round(high * scale, 6)) / scale
+    return (float(inner[0]), float(inner[1])) if inner[0] <= inner[1] else (float(low), float(high))
+
+
+def joint_name_html(j: int, label: str) -> str:
+    """A joint's full name and unit on a row of its own above its slider (``q{j+1}``), wrapping."""
+    return (f"<div style='font-size:0.8em;overflow-wrap:anywhere;margin-top:4px' data-armkit='joint-name'>"
+            f"q{j + 1}: {html.escape(label)}</div>")
 
 
 def angle_conventions() -> tuple[str, ...]:

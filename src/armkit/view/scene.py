@@ -1,4 +1,5 @@
-"""The arm in viser's scene: one instanced mesh of link and joint cylinders per drawn configuration."""
+"""The arm in viser's scene: one instanced mesh of link and joint cylinders per drawn configuration, or
+a URDF arm's own meshes, each fixed in a scene frame that follows its chain frame."""
 
 from __future__ import annotations
 
@@ -8,9 +9,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit.robot import Robot
+from armkit.spatial.rotations import quaternion_wxyz_from_matrix
 from armkit.view.geometry import arm_placement, unit_cylinder
+from armkit.view.meshes import LinkVisual
 
-__all__ = ["ArmDrawing", "Colours"]
+__all__ = ["ArmDrawing", "Colours", "MeshDrawing"]
 
 
 class Colours:
@@ -85,3 +88,36 @@ class ArmDrawing:
     @visible.setter
     def visible(self, value: bool) -> None:
         self.handle.visible = value
+
+
+class MeshDrawing:
+    """A URDF arm drawn with its own visuals (:func:`armkit.view.meshes.link_visuals`).
+
+    Each chain frame that carries a visual is a scene frame (``{name}/{frame}``) whose pose
+    :meth:`update` sets; the visuals sit in it at their fixed ``T_frame_visual``.
+    """
+
+    def __init__(self, scene: Any, name: str, visuals: tuple[LinkVisual, ...],
+                 link_frames: NDArray[np.float64]) -> None:
+        self._nodes = {i: scene.add_frame(f"{name}/{i}", show_axes=False)
+                       for i in sorted({v.frame for v in visuals})}
+        self.meshes = [scene.add_mesh_trimesh(f"{name}/{v.frame}/{k}", v.mesh,
+                                              position=v.T_frame_visual[:3, 3],
+                                              wxyz=quaternion_wxyz_from_matrix(v.T_frame_visual[:3, :3]))
+                       for k, v in enumerate(visuals)]
+        self.update(link_frames)
+
+    def update(self, link_frames: NDArray[np.float64]) -> None:
+        """Place the visuals for the chain frames ``(n + 2, 4, 4)`` (:meth:`Robot.link_frames`)."""
+        for i, node in self._nodes.items():
+            node.position = link_frames[i, :3, 3]
+            node.wxyz = quaternion_wxyz_from_matrix(link_frames[i, :3, :3])
+
+    @property
+    def visible(self) -> bool:
+        return all(node.visible for node in self._nodes.values())
+
+    @visible.setter
+    def visible(self, value: bool) -> None:
+        for node in self._nodes.values():
+            node.visible = value

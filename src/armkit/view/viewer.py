@@ -15,6 +15,7 @@ import logging
 import threading
 import time
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -33,10 +34,11 @@ from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.plan import plan_trajectory
 from armkit.trajectory.waypoints import joint_waypoints, write_waypoints
 from armkit.view import readout
-from armkit.view.geometry import arm_size, ellipsoid_axes, unit_sphere
+from armkit.view.geometry import arm_size, ellipsoid_axes, label_positions, unit_sphere
+from armkit.view.meshes import link_visuals
 from armkit.view.obstacles import colour_contacts, draw_obstacles
 from armkit.view.playback import Playback
-from armkit.view.scene import ArmDrawing, Colours
+from armkit.view.scene import ArmDrawing, Colours, MeshDrawing
 from armkit.view.server_log import SERVER_LOGGERS, OneLineMessageErrors
 
 if TYPE_CHECKING:  # armkit.collision needs MuJoCo only when a scene is given
@@ -44,12 +46,22 @@ if TYPE_CHECKING:  # armkit.collision needs MuJoCo only when a scene is given
 
 __all__ = ["Viewer"]
 
-#: Ghost arms kept in the scene: the most closed-form solutions of any armkit case.
-MAX_GHOSTS = 8
+#: Ghost arms kept in the scene: the most IK solutions armkit lists for one pose (a general 6R arm).
+MAX_GHOSTS = 16
+#: Least distance between two ghosts' labels, in link radii.
+LABEL_SPACING = 3.0
+#: Height of the page inside a notebook cell [px] (:meth:`Viewer._repr_html_`).
+NOTEBOOK_HEIGHT_PX = 600
 #: Frames per second of the timeline while playing.
 PLAY_RATE_HZ = 30.0
 #: Seconds of motion the velocity ellipsoid is drawn for (semi-axes [m] = rate [m/s] times this).
 ELLIPSOID_SECONDS = 0.3
+
+
+# A value of the wrong type in a client's message: viser warns, then its handler fails (said in one line
+# by OneLineMessageErrors). Set once, here: a filter set by a viewer inside warnings.catch_warnings()
+# would be gone when that block ends.
+warnings.filterwarnings("ignore", r"\[viser\] .* does not match annotation", UserWarning)
 
 
 def _import_viser() -> Any:
@@ -86,6 +98,11 @@ class Viewer:
     scene : armkit.Scene, optional
         A collision scene (built for this robot): its floor and obstacles are drawn, and the arm's
         links in contact are coloured magenta (:mod:`armkit.view.obstacles`).
+    package_paths : sequence of str or Path
+        Folders to look for ``package://`` meshes of a URDF arm in, before ``ROS_PACKAGE_PATH``
+        and the URDF's own folders (see :mod:`armkit.view.meshes`). A URDF arm is drawn with
+        its ``<visual>`` meshes and shapes (the "meshes" box switches to capsules); if one is
+        missing, with capsules, and a warning and the panel say which.
 
     Examples
     --------
@@ -102,7 +119,8 @@ class Viewer:
     """
 
     def __init__(self, robot: Robot | str, port: int = 8080, host: str = "127.0.0.1", *,
-                 q: ArrayLike | None = None, verbose: bool = False, scene: Scene | None = None) -> None:
+                 q: ArrayLike | None = None, verbose: bool = False,
+                 package_paths: Sequence[str | Path] = (), scene: Scene | None = None) -> None:
         viser = _import_viser()
         self.robot = load(robot) if isinstance(robot, str | Path) else robot
         self.source = str(robot) if isinstance(robot, str | Path) else self.robot.name
@@ -124,13 +142,12 @@ class Viewer:
         self._message_errors = OneLineMessageErrors()
         for name in SERVER_LOGGERS:
             logging.getLogger(name).addFilter(self._message_errors)
-        # a value of the wrong type in a client's message: viser warns, then its handler fails (one line)
-        warnings.filterwarnings("ignore", r"\[viser\] .* does not match annotation", UserWarning)
         with contextlib.redirect_stdout(io.StringIO()) if not verbose else contextlib.nullcontext():
             self._server = viser.ViserServer(host=host, port=port, label=f"armkit view: {self.robot.name}",
                                              verbose=verbose)
         self._verbose = verbose
         self._host = host
+        self._package_paths = tuple(package_paths)
         self._build_scene()
         self._build_gui()
         self._redraw()
@@ -339,6 +356,19 @@ class Viewer:
     def __repr__(self) -> str:
         return f"Viewer({self.robot.name!r}, url={self.url!r})"
 
+    def _repr_html_(self) -> str:
+        """The live page inside a Jupyter cell whose value is the viewer: an iframe on :attr:`url`.
+
+        The browser showing the notebook loads the page, so it must reach :attr:`url` (a notebook
+        on this machine does; for a remote kernel start the viewer with ``host="0.0.0.0"`` or
+        forward the port).
+        """
+        url = html.escape(self.url, quote=True)
+        return (f"<iframe src=\"{url}\" width=\"100%\" height=\"{NOTEBOOK_HEIGHT_PX}\" "
+                f"style=\"border:1px solid #ddd\" data-armkit=\"viewer\"></iframe>"
+                f"<div style=\"font-size:0.8em\">armkit view: {html.escape(self.robot.name)} at "
+                f"<a href=\"{url}\" target=\"_blank\">{url}</a></div>")
+
     # ------------------------------------------------------------------ scene
     def _build_scene(self) -> None:
         scene = self._server.scene
@@ -359,6 +389,14 @@ class Viewer:
                             font_screen_scale=0.7)
         scene.add_frame("/world", axes_length=0.6 * step, axes_radius=0.04 * step, origin_radius=0.0)
         self._arm = ArmDrawing(scene, "/arm", self.robot, self._radius, self._q)
+        self._meshes: MeshDrawing | None = None
+        found = link_visuals(self.robot, self._package_paths)
+        self._visual_note = "" if found is None else found.summary(self.robot.name)
+        if self._visual_note:  # said once: here, and in the panel
+            warnings.warn(self._visual_note, UserWarning, stacklevel=3)
+        elif found is not None:
+            self._meshes = MeshDrawing(scene, "/visuals", found.visuals, self.robot.link_frames(self._q))
+            self._arm.visible = False
         if self._scene is not None:
             draw_obstacles(scene, self._scene, self._size)
         axis = 3 * self._radius
@@ -397,6 +435,8 @@ class Viewer:
                          placement.joint_origins + self._axis_length * placement.joint_axes], axis=1)
         self._axes.points = ends
         frames = placement.link_frames
+        if self._meshes is not None:
+            self._meshes.update(frames)
         self._frames.batched_positions = frames[:, :3, 3]
         self._frames.batched_wxyzs = quaternion_wxyz_from_matrix(frames[:, :3, :3])
         if self._show_ellipsoid.value:
@@ -451,11 +491,16 @@ class Viewer:
         gui = self._server.gui
         gui.add_markdown(f"**{self.robot.name}**: {self.robot.n} joints, "
                          f"{'closed-form' if self.closed_form else 'numeric'} IK")
+        if self._visual_note:
+            gui.add_html(f"<div style='font-size:0.8em;color:#a60' data-armkit='visual-note'>"
+                         f"{html.escape(self._visual_note)}</div>")
         with gui.add_folder("Joints"):
             self._units = gui.add_dropdown("angles", ("deg", "rad"), initial_value="deg")
             self._units.on_update(lambda _: self._rebuild_sliders())
             self._slider_folder = gui.add_folder("q", expand_by_default=True)
             self._sliders: list[Any] = []
+            self._name_rows: list[Any] = []
+            self._slider_decimals: list[int] = []
             self._rebuild_sliders()
             gui.add_button("home").on_click(lambda _: self._guarded(self._home))
         with gui.add_folder("Tool pose"):
@@ -465,6 +510,10 @@ class Viewer:
             self._readout = gui.add_html("")
             self._show_frames = gui.add_checkbox("link frames", True)
             self._show_frames.on_update(lambda _: setattr(self._frames, "visible", self._show_frames.value))
+            if self._meshes is not None:
+                self._show_meshes = gui.add_checkbox(
+                    "meshes", True, hint="the URDF's visual meshes; off: capsules (joints at a limit in red)")
+                self._show_meshes.on_update(lambda _: self._guarded(self._toggle_meshes))
             self._show_ellipsoid = gui.add_checkbox("velocity ellipsoid", False,
                                                     hint=f"tool velocities for unit joint-rate norm, "
                                                          f"drawn for {ELLIPSOID_SECONDS} s")
@@ -516,9 +565,13 @@ class Viewer:
 
     def _rebuild_sliders(self) -> None:
         with self._lock:
-            for slider in self._sliders:
-                slider.remove()
-            self._sliders = []
+            for element in (*self._sliders, *self._name_rows):
+                element.remove()
+            self._sliders, self._name_rows, self._slider_decimals = [], [], []
+            units = ["m" if prismatic else self._units.value for prismatic in self.robot.chain.prismatic]
+            # names too long for the label column get a full-width row of their own (wrapping if need be)
+            long_names = any(len(f"{name} [{unit}]") > readout.LABEL_CHARS
+                             for name, unit in zip(self.robot.joint_names, units, strict=True))
             with self._slider_folder:
                 for j, (name, (lower, upper)) in enumerate(zip(self.robot.joint_names, self.robot.limits,
                                                               strict=True)):
@@ -526,11 +579,18 @@ class Viewer:
                     span = self._size if prismatic else np.pi
                     lower = lower if np.isfinite(lower) else -span
                     upper = upper if np.isfinite(upper) else span
-                    unit = "m" if prismatic else self._units.value
-                    step = 0.0005 if prismatic else (0.1 if self._degrees else 0.001)
+                    label = f"{name} [{units[j]}]"
+                    if long_names:
+                        self._name_rows.append(self._server.gui.add_html(readout.joint_name_html(j, label)))
+                        label = f"q{j + 1} [{units[j]}]"
+                    low, high = self._to_slider(j, lower), self._to_slider(j, upper)
+                    most = 4 if prismatic else (1 if self._degrees else 3)
+                    decimals = readout.box_decimals(low, high, most)
+                    shown = readout.box_range(low, high, decimals)
+                    self._slider_decimals.append(decimals)
                     slider = self._server.gui.add_slider(
-                        f"{name} [{unit}]", min=self._to_slider(j, lower), max=self._to_slider(j, upper),
-                        step=step, initial_value=self._to_slider(j, np.clip(self._q[j], lower, upper)))
+                        label, min=shown[0], max=shown[1], step=10.0 ** -decimals,
+                        initial_value=self._slider_value(j, np.clip(self._q[j], lower, upper), *shown))
                     slider.on_update(lambda _, j=j: self._guarded(lambda: self._on_slider(j)))
                     self._sliders.append(slider)
             if hasattr(self, "_readout"):
@@ -540,11 +600,15 @@ class Viewer:
                 if self._solutions is not None:
                     self._show_list()
 
+    def _slider_value(self, j: int, value: float, low: float, high: float) -> float:
+        """Joint ``j``'s ``value`` [rad or m] as its slider shows it: unit, box precision, range."""
+        return float(np.clip(round(self._to_slider(j, value), self._slider_decimals[j]), low, high))
+
     def _sync_sliders(self) -> None:
         self._syncing = True
         try:
             for j, slider in enumerate(self._sliders):
-                slider.value = float(np.clip(self._to_slider(j, self._q[j]), slider.min, slider.max))
+                slider.value = self._slider_value(j, self._q[j], slider.min, slider.max)
         finally:
             self._syncing = False
 
@@ -576,6 +640,10 @@ class Viewer:
 
     def _home(self) -> None:
         self.q = self.robot.home
+
+    def _toggle_meshes(self) -> None:
+        self._meshes.visible = self._show_meshes.value
+        self._arm.visible = not self._show_meshes.value
 
     def _toggle_ellipsoid(self) -> None:
         self._ellipsoid.visible = self._show_ellipsoid.value
@@ -646,18 +714,24 @@ class Viewer:
             return found
         self._solutions = found
         self._solution_index = None
+        if len(found.q) > MAX_GHOSTS:
+            self._status.content = (f"<div style='font-size:0.8em'>{len(found.q)} solutions; the first "
+                                    f"{MAX_GHOSTS} are drawn</div>")
+        for k, ghost in enumerate(self._ghosts[:len(found.q)]):
+            colour = (Colours.GHOST_OUT if not found.within_limits[k] else
+                      Colours.GHOST_FAMILY if found.family[k] else Colours.GHOST_IN)
+            with self._server.atomic():
+                ghost.update(found.q[k])
+                ghost.colour(colour, colour)
+        drawn = self._ghosts[:len(found.q)]
+        # each label at a joint of its ghost away from the others' labels: no two overlap
+        first = min(1, self.robot.n - 1)  # the first joint's origin is every ghost's
+        positions = label_positions([ghost.placement.joint_origins[first:] for ghost in drawn],
+                                    LABEL_SPACING * self._radius)
         for k, (ghost, label) in enumerate(zip(self._ghosts, self._ghost_labels, strict=True)):
-            shown = k < len(found.q)
+            shown = k < len(drawn)
             if shown:
-                colour = (Colours.GHOST_OUT if not found.within_limits[k] else
-                          Colours.GHOST_FAMILY if found.family[k] else Colours.GHOST_IN)
-                with self._server.atomic():
-                    ghost.update(found.q[k])
-                    ghost.colour(colour, colour)
-                # beside the middle joint, towards the next joint's axis: wrist flips get apart
-                middle = self.robot.n // 2
-                side = ghost.placement.joint_axes[min(middle + 1, self.robot.n - 1)]
-                label.position = ghost.placement.joint_origins[middle] + 5 * self._radius * side
+                label.position = positions[k]
             ghost.visible = shown
             label.visible = shown
         inside = np.flatnonzero(found.within_limits)

@@ -1,0 +1,321 @@
+"""MJCF import: the chain read from MuJoCo's compiled model, checked against MuJoCo's own kinematics
+and dynamics (mj_kinematics, mj_fullM, qfrc_bias) on random configurations."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import assert_transform_close
+from typer.testing import CliRunner
+
+import armkit
+from armkit.errors import RobotDefinitionError
+from armkit.export import write_mjcf
+from armkit.mjcf import robot_from_mjcf
+
+mujoco = pytest.importorskip("mujoco")
+
+# Written by hand after MuJoCo Menagerie's universal_robots_ur5e/ur5e.xml (its bodies, joint
+# classes, inertials and attachment site; capsules instead of the meshes): default classes,
+# quaternions, joint axes along y, armature (which armkit ignores) and a site as the tool.
+UR5E = """<mujoco model="ur5e">
+  <compiler angle="radian" autolimits="true"/>
+  <default>
+    <default class="ur5e">
+      <joint axis="0 1 0" range="-6.28319 6.28319" armature="0.1"/>
+      <geom type="capsule" size="0.04 0.05" contype="0" conaffinity="0"/>
+      <default class="size3"><joint actuatorfrcrange="-150 150"/>
+        <default class="size3_limited"><joint range="-3.1415 3.1415"/></default>
+      </default>
+      <default class="size1"><joint actuatorfrcrange="-28 28"/></default>
+    </default>
+  </default>
+  <worldbody>
+    <body name="base" quat="0 0 0 -1" childclass="ur5e">
+      <inertial mass="4.0" pos="0 0 0" diaginertia="0.00443333156 0.00443333156 0.0072"/>
+      <geom/>
+      <body name="shoulder_link" pos="0 0 0.163">
+        <inertial mass="3.7" pos="0 0 0" diaginertia="0.0102675 0.0102675 0.00666"/>
+        <joint name="shoulder_pan_joint" class="size3" axis="0 0 1"/>
+        <geom/>
+        <body name="upper_arm_link" pos="0 0.138 0" quat="1 0 1 0">
+          <inertial mass="8.393" pos="0 0 0.2125" diaginertia="0.133886 0.133886 0.0151074"/>
+          <joint name="shoulder_lift_joint" class="size3"/>
+          <geom fromto="0 0 0 0 0 0.425"/>
+          <body name="forearm_link" pos="0 -0.131 0.425">
+            <inertial mass="2.275" pos="0 0 0.196" diaginertia="0.0311796 0.0311796 0.004095"/>
+            <joint name="elbow_joint" class="size3_limited"/>
+            <geom fromto="0 0 0 0 0 0.392"/>
+            <body name="wrist_1_link" pos="0 0 0.392" quat="1 0 1 0">
+              <inertial mass="1.219" pos="0 0.127 0" diaginertia="0.0025599 0.0025599 0.0021942"/>
+              <joint name="wrist_1_joint" class="size1"/>
+              <geom/>
+              <body name="wrist_2_link" pos="0 0.127 0">
+                <inertial mass="1.219" pos="0 0 0.1" diaginertia="0.0025599 0.0025599 0.0021942"/>
+                <joint name="wrist_2_joint" axis="0 0 1" class="size1"/>
+                <geom/>
+                <body name="wrist_3_link" pos="0 0 0.1">
+                  <inertial mass="0.1889" pos="0 0.0771683 0" quat="1 0 0 1"
+                    diaginertia="0.000132134 9.90863e-05 9.90863e-05"/>
+                  <joint name="wrist_3_joint" class="size1"/>
+                  <geom/>
+                  <site name="attachment_site" pos="0 0.1 0" quat="-1 1 0 0"/>
+                </body>
+              </body>
+            </body>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+# Everything else MJCF allows on a path: degrees and Euler angles, a joint away from its body's
+# origin, a joint reference (ref) != 0, two joints in one body, a slide joint, an unlimited
+# hinge, a fixed body between joints, a side branch with a hinge of its own (held at its ref),
+# mass beyond the tip and a rotated site as the tool, all below a floating base.
+ODD = """<mujoco model="odd arm">
+  <compiler angle="degree" eulerseq="zyx"/>
+  <worldbody>
+    <body name="cart" pos="0.3 -0.2 0.1" euler="20 -10 5">
+      <freejoint name="float"/>
+      <geom type="box" size="0.1 0.1 0.05" mass="3"/>
+      <body name="l1" pos="0 0 0.15" axisangle="1 1 0 30">
+        <joint name="j1" type="hinge" axis="0 0 1" range="-170 170" ref="15"/>
+        <geom type="capsule" fromto="0 0 0 0 0 0.3" size="0.03" mass="1.5"/>
+        <body name="l2" pos="0.02 0 0.3">
+          <joint name="j2a" type="hinge" axis="0.3 -0.4 0.5" pos="0.01 0.02 -0.03"/>
+          <joint name="j2b" type="hinge" axis="1 0 0" pos="0 0.05 0" range="-90 120"/>
+          <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.025" mass="1.1"/>
+          <body name="spacer" pos="0.3 0 0" xyaxes="0 1 0 -1 0 0">
+            <geom type="sphere" size="0.03" mass="0.4"/>
+            <body name="l3" pos="0 0 0.05">
+              <joint name="j3" type="slide" axis="-1 1 0.2" range="-0.1 0.2" ref="0.05"/>
+              <geom type="box" size="0.02 0.02 0.1" mass="0.7"/>
+              <body name="camera" pos="0.05 0 0">
+                <joint name="pan" type="hinge" axis="0 0 1" ref="30"/>
+                <geom type="sphere" size="0.02" mass="0.2"/>
+              </body>
+              <body name="l4" pos="0 0 0.12" quat="0.9 0.1 -0.3 0.2">
+                <joint name="j4" type="hinge" axis="0 -1 0" range="-60 60" ref="-20"/>
+                <geom type="capsule" fromto="0 0 0 0 0 0.08" size="0.02" mass="0.3"/>
+                <site name="tcp" pos="0.01 0 0.1" euler="0 90 45"/>
+                <body name="gripper" pos="0 0 0.1">
+                  <geom type="box" size="0.03 0.01 0.02" mass="0.25"/>
+                </body>
+              </body>
+            </body>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def _pose(model, data, name: str) -> np.ndarray:
+    """The world pose ``(4, 4)`` of a body or a site after mj_kinematics."""
+    T = np.eye(4)
+    site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name)
+    if site >= 0:
+        T[:3, :3], T[:3, 3] = data.site_xmat[site].reshape(3, 3), data.site_xpos[site]
+    else:
+        body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
+        T[:3, :3], T[:3, 3] = data.xmat[body].reshape(3, 3), data.xpos[body]
+    return T
+
+
+def _mujoco_tool(model, robot: armkit.Robot, q: np.ndarray, base: str, tip: str,
+                 rng: np.random.Generator | None = None) -> np.ndarray:
+    """MuJoCo's pose of ``tip`` in ``base`` at the chain joints' ``q`` ``(N, n)``; joints off the chain
+    at their ref (a free base joint, when ``rng`` is given, anywhere: the pose in ``base`` ignores it)."""
+    data = mujoco.MjData(model)
+    out = []
+    for q_k in q:
+        data.qpos[:] = model.qpos0
+        if rng is not None and model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE:
+            data.qpos[:3] = rng.uniform(-1, 1, 3)
+            data.qpos[3:7] = rng.normal(size=4) / np.linalg.norm(rng.normal(size=4))
+            data.qpos[3:7] /= np.linalg.norm(data.qpos[3:7])
+        for name, value in zip(robot.joint_names, q_k, strict=True):
+            data.qpos[model.jnt_qposadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)]] = value
+        mujoco.mj_kinematics(model, data)
+        out.append(np.linalg.inv(_pose(model, data, base)) @ _pose(model, data, tip))
+    return np.array(out)
+
+
+def _mujoco_dynamics(model, robot: armkit.Robot, q: np.ndarray,
+                     qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """MuJoCo's joint-space inertia without armature and its bias forces (Coriolis and gravity), on
+    the chain's dofs (every other joint held still: the submatrix is the locked system's)."""
+    data = mujoco.MjData(model)
+    dofs = [model.jnt_dofadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)]
+            for name in robot.joint_names]
+    data.qpos[:] = model.qpos0
+    for name, value, rate in zip(robot.joint_names, q, qd, strict=True):
+        joint = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
+        data.qpos[model.jnt_qposadr[joint]] = value
+        data.qvel[model.jnt_dofadr[joint]] = rate
+    mujoco.mj_forward(model, data)
+    M = np.zeros((model.nv, model.nv))
+    try:
+        mujoco.mj_fullM(model, data, M)  # MuJoCo 4
+    except TypeError:
+        mujoco.mj_fullM(model, M, data.qM)  # MuJoCo 3
+    M -= np.diag(model.dof_armature)
+    return M[np.ix_(dofs, dofs)], data.qfrc_bias[dofs]
+
+
+@pytest.fixture
+def ur5e_file(tmp_path: Path) -> Path:
+    path = tmp_path / "ur5e.xml"
+    path.write_text(UR5E)
+    return path
+
+
+def test_a_menagerie_style_ur5e_matches_mujocos_kinematics_at_its_attachment_site(ur5e_file):
+    robot = armkit.load(ur5e_file, tip="attachment_site")
+    assert robot.joint_names == ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint",
+                                 "wrist_2_joint", "wrist_3_joint"]
+    np.testing.assert_allclose(robot.limits[2], [-3.1415, 3.1415])
+    np.testing.assert_allclose(robot.max_torque, [150, 150, 150, 28, 28, 28])
+    q = robot.random_q(200, rng=1)
+    model = mujoco.MjModel.from_xml_path(str(ur5e_file))
+    assert_transform_close(robot.fk(q), _mujoco_tool(model, robot, q, "world", "attachment_site"),
+                           1e-12, 1e-12)
+
+
+def test_the_loaded_ur5e_is_a_closed_form_arm_whose_eight_solutions_reach_the_pose(ur5e_file):
+    robot = armkit.load(ur5e_file, tip="attachment_site")
+    assert armkit.analyze_structure(robot).closed_form
+    T = robot.fk([0.4, -1.1, 1.3, -0.9, 1.2, 0.3])
+    solutions = armkit.ik_solutions(robot, T, turn_copies=False)
+    assert len(solutions.q) == 8
+    assert_transform_close(robot.fk(solutions.q), np.broadcast_to(T, (8, 4, 4)), 1e-9, 1e-9)
+
+
+def test_the_ur5e_dynamics_match_mujocos_mass_matrix_and_bias_forces_without_armature(ur5e_file):
+    robot = armkit.load(ur5e_file, tip="attachment_site")
+    model = mujoco.MjModel.from_xml_path(str(ur5e_file))
+    rng = np.random.default_rng(2)
+    for q in robot.random_q(20, rng=3):
+        qd = rng.uniform(-2, 2, robot.n)
+        M, bias = _mujoco_dynamics(model, robot, q, qd)
+        np.testing.assert_allclose(robot.mass_matrix(q), M, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(robot.inverse_dynamics(q, qd, np.zeros(robot.n)), bias, rtol=1e-10,
+                                   atol=1e-10)
+
+
+def test_every_mjcf_feature_on_a_path_matches_mujoco_in_the_base_bodys_frame():
+    model = mujoco.MjModel.from_xml_string(ODD)
+    robot = robot_from_mjcf(ODD, base="cart", tip="tcp")
+    assert robot.joint_names == ["j1", "j2a", "j2b", "j3", "j4"]
+    assert robot.joint_types == ["revolute", "revolute", "revolute", "prismatic", "revolute"]
+    np.testing.assert_allclose(robot.limits[[0, 1, 3]],
+                               [np.radians([-170, 170]), [-np.inf, np.inf], [-0.1, 0.2]])
+    q = np.column_stack([robot.random_q(300, rng=4)[:, :1], np.random.default_rng(5).uniform(-4, 4, 300),
+                         robot.random_q(300, rng=6)[:, 2:]])
+    rng = np.random.default_rng(7)
+    assert_transform_close(robot.fk(q), _mujoco_tool(model, robot, q, "cart", "tcp", rng), 1e-12, 1e-12)
+    at_ref = model.qpos0[[model.jnt_qposadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)]
+                          for name in robot.joint_names]]
+    assert_transform_close(robot.link_frames(at_ref)[-2], _mujoco_tool(model, robot, at_ref[None], "cart",
+                                                                       "l4")[0], 1e-12, 1e-12)
+
+
+def test_masses_of_fixed_bodies_side_branches_and_bodies_beyond_the_tip_join_their_link():
+    robot = robot_from_mjcf(ODD, base="cart", tip="tcp")
+    masses = [joint.inertial.mass for joint in robot.chain.joints]
+    np.testing.assert_allclose(masses, [1.5, 0.0, 1.1 + 0.4, 0.7 + 0.2, 0.3 + 0.25])
+    robot_world = robot_from_mjcf(ODD.replace('<freejoint name="float"/>', ""), tip="tcp")
+    model = mujoco.MjModel.from_xml_string(ODD.replace('<freejoint name="float"/>', ""))
+    rng = np.random.default_rng(8)
+    for q in robot_world.random_q(10, rng=9):
+        qd = rng.uniform(-1, 1, robot_world.n)
+        M, bias = _mujoco_dynamics(model, robot_world, q, qd)
+        np.testing.assert_allclose(robot_world.mass_matrix(q), M, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(robot_world.inverse_dynamics(q, qd, np.zeros(robot_world.n)), bias,
+                                   rtol=1e-10, atol=1e-10)
+
+
+@pytest.mark.parametrize("name", ["puma560", "probot-anno", "grb400-scara"])
+def test_armkits_own_mjcf_export_loads_back_with_the_same_kinematics(tmp_path, name):
+    original = armkit.load(name)
+    path = write_mjcf(original, tmp_path / f"{name}.xml")
+    robot = armkit.load(path)
+    assert robot.joint_names == original.joint_names and robot.joint_types == original.joint_types
+    np.testing.assert_allclose(robot.limits, original.limits)
+    q = original.random_q(200, rng=10)
+    assert_transform_close(robot.fk(q), original.fk(q), 1e-12, 1e-12)
+    model = mujoco.MjModel.from_xml_path(str(path))
+    assert_transform_close(robot.fk(q), _mujoco_tool(model, robot, q, "world", "tool"), 1e-12, 1e-12)
+    # the masses the export wrote (the robot's own, or estimated; PUMA link 1 raised to a rigid body's)
+    qd = np.random.default_rng(11).uniform(-1, 1, robot.n)
+    M, bias = _mujoco_dynamics(model, robot, q[0], qd)
+    np.testing.assert_allclose(robot.mass_matrix(q[0]), M, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(robot.inverse_dynamics(q[0], qd, np.zeros(robot.n)), bias, rtol=1e-10,
+                               atol=1e-10)
+
+
+def test_every_command_taking_robot_reads_an_mjcf_file(ur5e_file):
+    from armkit.cli.main import app
+
+    result = CliRunner().invoke(app, ["fk", str(ur5e_file), "0", "-1", "1", "0", "1", "0", "--tip",
+                                      "attachment_site", "--json"])
+    assert result.exit_code == 0, result.output
+    robot = armkit.load(ur5e_file, tip="attachment_site")
+    import json
+
+    position = json.loads(result.output)["position"]
+    np.testing.assert_allclose(position, robot.fk([0, -1, 1, 0, 1, 0])[:3, 3], atol=1e-12)
+    shown = CliRunner().invoke(app, ["show", str(ur5e_file), "--tip", "wrist_2_link"])
+    assert shown.exit_code == 0 and "wrist_2_joint" in shown.output and "wrist_3_joint" not in shown.output
+
+
+def test_an_mjcf_file_mujoco_cannot_compile_is_one_error_naming_the_file(tmp_path):
+    path = tmp_path / "bad.xml"
+    path.write_text('<mujoco><worldbody><body name="a"><joint type="hinge"/><geom size="-1"/></body>'
+                    '<body name="a"/></worldbody></mujoco>')
+    with pytest.raises(RobotDefinitionError, match=r"bad\.xml: MuJoCo cannot compile it: .*"):
+        armkit.load(path)
+
+
+def test_unknown_bodies_ball_joints_and_several_leaves_are_refused_by_name():
+    with pytest.raises(RobotDefinitionError, match="tip 'hand' is neither a body nor a site.*l1"):
+        robot_from_mjcf(ODD, base="cart", tip="hand")
+    with pytest.raises(RobotDefinitionError, match="base body 'table' is not in the model"):
+        robot_from_mjcf(ODD, base="table", tip="tcp")
+    with pytest.raises(RobotDefinitionError, match="a free joint on the path from 'world' to 'tcp'.*base="):
+        robot_from_mjcf(ODD, tip="tcp")
+    with pytest.raises(RobotDefinitionError, match="2 leaf bodies below 'cart': .*camera.*gripper"):
+        robot_from_mjcf(ODD, base="cart")
+    with pytest.raises(RobotDefinitionError, match="tip body 'l1' is not below base body 'l3'"):
+        robot_from_mjcf(ODD, base="l3", tip="l1")
+    ball = ODD.replace('type="slide" axis="-1 1 0.2" range="-0.1 0.2" ref="0.05"', 'type="ball"')
+    with pytest.raises(RobotDefinitionError, match="joint 'j3' of body 'l3': a ball joint"):
+        robot_from_mjcf(ball, base="cart", tip="tcp")
+    with pytest.raises(RobotDefinitionError, match="no joint between bodies 'l4' and 'gripper'"):
+        robot_from_mjcf(ODD, base="l4", tip="gripper")
+
+
+def test_a_urdf_named_xml_is_still_read_as_urdf(tmp_path):
+    path = tmp_path / "arm.xml"
+    path.write_text('<?xml version="1.0"?>\n<!-- a comment --><robot name="r"><link name="a"/>'
+                    '<link name="b"/><joint name="j" type="continuous"><parent link="a"/><child link="b"/>'
+                    '</joint></robot>')
+    robot = armkit.load(path)
+    assert robot.urdf is not None and robot.joint_names == ["j"]
+
+
+def test_without_mujoco_an_mjcf_file_is_one_error_naming_the_extra(ur5e_file, monkeypatch):
+    import sys
+
+    from armkit.errors import ArmkitError
+
+    monkeypatch.setitem(sys.modules, "mujoco", None)  # import mujoco now raises ImportError
+    with pytest.raises(ArmkitError, match=r"reading an MJCF file needs MuJoCo: pip install 'armkit\[sim\]'"):
+        armkit.load(ur5e_file)
