@@ -11,6 +11,9 @@ from numpy.typing import ArrayLike, NDArray
 from armkit.robot import Robot
 from armkit.sim.runner import Simulation
 
+#: The floor the experiments keep clear of and are checked against: the plane z = 0 of the base frame [m].
+FLOOR_HEIGHT = 0.0
+
 __all__ = ["LabContext", "fmt", "fmt_error", "fmt_q"]
 
 
@@ -31,6 +34,7 @@ class LabContext:
     stage: str = ""
     motions: list[tuple[str, NDArray[np.float64]]] = field(default_factory=list)
     _sim: Simulation | None = None
+    _scene: object = None
 
     def record(self, q: NDArray[np.float64]) -> None:
         """Keep a motion's commanded configurations ``(N, n)`` for the collision check (under ``stage``)."""
@@ -42,6 +46,15 @@ class LabContext:
         if self._sim is None:
             self._sim = Simulation(self.robot, gravity=True, gravity_compensation=True)
         return self._sim
+
+    @property
+    def scene(self):  # -> armkit.Scene
+        """The arm with a floor at :data:`FLOOR_HEIGHT` and its self-collision (built on first use)."""
+        if self._scene is None:
+            from armkit.collision import Scene
+
+            self._scene = Scene(self.robot, floor=FLOOR_HEIGHT)
+        return self._scene
 
     @property
     def home(self) -> NDArray[np.float64]:

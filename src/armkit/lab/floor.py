@@ -11,24 +11,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from armkit.lab.context import LabContext, fmt, fmt_q
+from armkit.lab.context import FLOOR_HEIGHT, LabContext, fmt, fmt_q
 from armkit.lab.report import Section, Table
 
 __all__ = ["FLOOR_HEIGHT", "floor_check"]
 
-#: The floor the experiments are checked against: the plane z = 0 of the base frame [m].
-FLOOR_HEIGHT = 0.0
 
 
 def floor_check(ctx: LabContext) -> Section:
     """Collisions with a floor and with the arm itself along every simulated motion."""
-    from armkit.collision import Scene
-
     section = Section("floor", "Collision check: floor and self-collision",
                       f"Every configuration the experiments command in MuJoCo, checked with armkit.Scene: "
                       f"the arm's capsules against a floor at z = {FLOOR_HEIGHT:g} m of the base frame and "
                       f"against themselves (docs/collision.md).", own=True)
-    scene = Scene(ctx.robot, floor=FLOOR_HEIGHT)
+    scene = ctx.scene
     rows, colliding = [], 0
     for name, q in ctx.motions:
         hit = scene.collides(q)

@@ -64,16 +64,31 @@ def _not_applicable(section: Section, because: str) -> Section:
 WAYPOINT_SEED = 2024
 
 
-def ready_configuration(robot: Robot, rng: np.random.Generator) -> NDArray[np.float64]:
-    """A well-conditioned configuration inside the limits (largest smallest singular value of 64)."""
+def ready_configuration(robot: Robot, rng: np.random.Generator, scene=None) -> NDArray[np.float64]:
+    """A well-conditioned configuration inside the limits: of 64 random ones, those clear of the
+    floor and of the arm itself in ``scene`` (all if none is), the one with the largest smallest
+    singular value."""
     q = robot.random_q(64, rng=rng)
     margin = 0.15 * np.ptp(np.where(np.isfinite(robot.limits), robot.limits, 0), axis=1)
     q = np.clip(q, robot.limits[:, 0] + margin, robot.limits[:, 1] - margin)
+    if scene is not None:
+        free = ~scene.collides(q)
+        q = q[free] if free.any() else q
     return q[int(np.argmax(robot.singular_values(q)[:, -1]))]
 
 
+def _free_offset(robot: Robot, q0: NDArray[np.float64], rng: np.random.Generator,
+                 scene) -> NDArray[np.float64]:
+    """``q0`` moved by a random offset inside the limits (up to 0.5 rad or 0.1 m per joint): the
+    first of 16 draws clear of the floor and of the arm itself in ``scene``."""
+    span = np.where(robot.chain.prismatic, 0.1, 0.5)
+    draws = np.clip(q0 + rng.uniform(-span, span, (16, robot.n)), *robot.limits.T)
+    return draws[int(np.argmax(~scene.collides(draws)))]
+
+
 def _simulate(ctx: LabContext, t: NDArray, q: NDArray, mode: str = "position") -> SimResult:
-    ctx.record(q)
+    if mode == "position":  # the same commanded motion run in velocity mode is recorded once
+        ctx.record(q)
     return ctx.sim.run(t, q, mode=mode)
 
 
@@ -113,7 +128,7 @@ def _linear_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object] | None:
         q0 = np.zeros(6)
         displacement = np.array(published.PROBOT_LINE_DISPLACEMENT)
         return q0, displacement, move_linear(robot, q0, displacement, LINE_SECONDS)
-    q0 = ready_configuration(robot, ctx.rng)
+    q0 = ready_configuration(robot, ctx.rng, ctx.scene)
     length = 0.15 * max(np.linalg.norm(robot.fk(q0)[:3, 3]), 0.1)
     plan = None
     for direction in LINE_DIRECTIONS:
@@ -208,9 +223,8 @@ def _waypoints(ctx: LabContext) -> tuple[NDArray, NDArray | None, NDArray | None
     robot = ctx.robot
     if not ctx.seeds:  # drawn from their own seed: experiments 4 and 6 get the same ones
         rng = np.random.default_rng(WAYPOINT_SEED)
-        q0 = ready_configuration(robot, rng)
-        span = np.where(robot.chain.prismatic, 0.1, 0.5)
-        q = [q0] + [np.clip(q0 + rng.uniform(-span, span), *robot.limits.T) for _ in range(3)]
+        q0 = ready_configuration(robot, rng, ctx.scene)
+        q = [q0] + [_free_offset(robot, q0, rng, ctx.scene) for _ in range(3)]
         limited = np.isfinite(robot.max_velocity).any() or np.isfinite(robot.max_acceleration).any()
         return np.array(q), None, None, None if limited else np.full(3, UNLIMITED_SEGMENT_SECONDS)
     poses = np.array(published.PROBOT_WAYPOINT_POSES)
@@ -398,7 +412,7 @@ def _rotation_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object, str] | No
         motion = rotate_about_tool_point(robot, np.zeros(6), axis, angle,
                                          angular_velocity=float(np.linalg.norm(w)))
         return np.zeros(6), axis, motion, "The axis is the report's: -x of the base frame."
-    q0 = ready_configuration(robot, ctx.rng)
+    q0 = ready_configuration(robot, ctx.rng, ctx.scene)
     T0 = robot.fk(q0)
     candidates = [(axis, why) for axis, why in rotation_axes(robot, q0)
                   if twist_possible(robot, q0, np.append(np.zeros(3), axis))]
