@@ -162,6 +162,15 @@ def test_self_collision_pairs_found_by_sampling_include_adjacent_always_and_neve
     assert ("link1", "floor") not in enabled.disabled_pairs and enabled.collides(Q_FREE)
 
 
+def test_an_enabled_adjacent_pair_collides_exactly_where_its_clearance_is_negative():
+    """MuJoCo skips parent and child bodies by default: the scene turns that off and excludes the
+    adjacent pairs by name, so a user who enables one gets it checked by collides as by clearance."""
+    scene = armkit.Scene(UR5, floor=None, samples=0, enabled_pairs=[("link2", "link3")], threads=1)
+    q = UR5.random_q(300, rng=1)
+    np.testing.assert_array_equal(scene.collides(q), scene.clearance(q) < 0)
+    assert ("link2", "link3") in scene.contacts(q[0])
+
+
 def test_user_disabled_pairs_are_not_checked():
     robot, r = one_link()
     scene = armkit.Scene(robot, [armkit.Sphere(0.1, [0.5, 0.0, 0.12])], floor=None, link_radius=r,

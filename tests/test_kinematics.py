@@ -397,3 +397,12 @@ def test_one_configuration_in_any_form_gives_the_fast_path_s_numbers():
         robot.fk(np.array([0, 0, np.nan, 0, 0, 0.0]))
     with pytest.raises(InputError, match="expected 6 joint values"):
         robot.jacobian(np.zeros(5))
+    for call in (robot.fk, robot.jacobian, robot.pose):
+        with pytest.raises(InputError, match="q: expected 6"):
+            call(None)
+    puma = armkit.load("puma560")
+    for call in (lambda: puma.inverse_dynamics(None), lambda: puma.mass_matrix(None),
+                 lambda: puma.gravity_torques(None), lambda: puma.forward_dynamics(np.zeros(6), None, np.zeros(6)),
+                 lambda: puma.forward_dynamics(np.zeros(6), np.zeros(6), None)):
+        with pytest.raises(InputError):
+            call()

@@ -188,3 +188,24 @@ def test_without_via_points_the_motion_stops_at_every_vertex(monkeypatch, ur5, w
     _, qd, _ = trajectory.at_time(trajectory.waypoint_times)
     np.testing.assert_allclose(qd, 0.0, atol=1e-9)
     assert_collision_free(wall_scene, trajectory)
+
+
+@pytest.mark.parametrize("limits", [{}, {"max_acceleration": 5.0}])
+def test_the_stop_at_every_vertex_fallback_holds_short_fast_segments(monkeypatch, wall_scene, limits):
+    """A short segment at high acceleration has polynomial coefficients of 1e7 and more: their
+    rounding alone once failed the on-the-chord test (a PlanningError instead of the motion)."""
+    monkeypatch.setattr(armkit.plan, "VIA_POINT_ROUNDS", 0)
+    trajectory = plan_path(wall_scene, Q_START, Q_GOAL, **limits)
+    _, qd, _ = trajectory.at_time(trajectory.waypoint_times)
+    np.testing.assert_allclose(qd, 0.0, atol=1e-9)
+    assert_collision_free(wall_scene, trajectory)
+
+
+def test_a_spline_through_a_corner_is_not_on_its_chords(ur5):
+    from armkit.plan import _on_segment
+
+    corner = np.array([Q_START, [0.8, -1.6, 1.2, 0.0, 1.57, 0.0], Q_GOAL])
+    smooth = plan_trajectory(ur5, corner)  # passes the middle waypoint moving: curved on both sides
+    assert not _on_segment(smooth, 0) and not _on_segment(smooth, 1)
+    stopping = armkit.plan._concatenated([plan_trajectory(ur5, corner[k:k + 2]) for k in range(2)])
+    assert _on_segment(stopping, 0) and _on_segment(stopping, 1)

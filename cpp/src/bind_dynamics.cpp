@@ -144,14 +144,15 @@ void bind_dynamics(nb::module_& m) {
     m.def("inverse_dynamics", &inverse_dynamics_batch, nb::arg("model"), nb::arg("q"), nb::arg("qd").none(),
           nb::arg("qdd").none(), nb::arg("gravity"), nb::arg("tau"), nb::arg("threads"), release,
           "Joint torques of the states (q, qd, qdd) (N, n) into tau (N, n); qd or qdd None: zero.");
-    m.def("inverse_dynamics_one", &inverse_dynamics_one, nb::arg("model"), nb::arg("q"), nb::arg("qd").none(),
+    m.def("inverse_dynamics_one", &inverse_dynamics_one, nb::arg("model"), nb::arg("q").none(),
+          nb::arg("qd").none(),
           nb::arg("qdd").none(),
           "Joint torques (n,) of one state (n,) each, qd or qdd None: zero, the model's gravity; None if a "
           "value is not finite.");
-    m.def("mass_matrix_one", &mass_matrix_one, nb::arg("model"), nb::arg("q"),
+    m.def("mass_matrix_one", &mass_matrix_one, nb::arg("model"), nb::arg("q").none(),
           "The mass matrix (n, n) of one configuration (n,); None if a value is not finite.");
-    m.def("forward_dynamics_one", &forward_dynamics_one, nb::arg("model"), nb::arg("q"), nb::arg("qd"),
-          nb::arg("tau"),
+    m.def("forward_dynamics_one", &forward_dynamics_one, nb::arg("model"), nb::arg("q").none(),
+          nb::arg("qd").none(), nb::arg("tau").none(),
           "Joint accelerations (n,) of one state, the model's gravity; None if a value is not finite or M is "
           "singular.");
     m.def("mass_matrix", &mass_matrix_batch, nb::arg("model"), nb::arg("q"), nb::arg("M"), nb::arg("threads"),

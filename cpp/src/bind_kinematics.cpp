@@ -207,10 +207,10 @@ void bind_kinematics(nb::module_& m) {
     const auto release = nb::call_guard<nb::gil_scoped_release>();
     m.def("fk", &fk, nb::arg("chain"), nb::arg("q"), nb::arg("T"), nb::arg("threads"), release,
           "Tool poses of q (N, n) into T (N, 4, 4); the flat index of the first non-finite q, or -1.");
-    m.def("fk_one", &fk_one, nb::arg("chain"), nb::arg("q"),
+    m.def("fk_one", &fk_one, nb::arg("chain"), nb::arg("q").none(),
           "Tool pose (4, 4) of one configuration q, or None unless q is a finite C-ordered float64 "
           "array (n,).");
-    m.def("jacobian_one", &jacobian_one, nb::arg("chain"), nb::arg("q"),
+    m.def("jacobian_one", &jacobian_one, nb::arg("chain"), nb::arg("q").none(),
           "Base-frame geometric Jacobian (6, n) of one configuration q (n,), or None as fk_one.");
     m.def("joint_frames", &joint_frames, nb::arg("chain"), nb::arg("q"), nb::arg("frames"), nb::arg("tool"),
           nb::arg("threads"), release,

@@ -87,6 +87,8 @@ IK_SEEDS = 16
 _SAME_SOLUTION = 1e-6
 #: Distance [rad or m] from its straight segment within which a stopping motion counts as on it (rounding).
 _ON_PATH = 1e-9
+#: Samples per polynomial piece of the on-the-chord test (more than its degree, 5, plus one).
+_SAMPLES_PER_PIECE = 8
 
 # OMPL draws every seed from one process-wide generator: one plan at a time, so that a seed
 # gives the same answer whatever else runs.
@@ -434,18 +436,19 @@ def _timed(scene: Scene, path: NDArray[np.float64], resolution: float, vmax: NDA
 
 def _on_segment(trajectory: JointTrajectory, k: int) -> bool:
     """Whether segment ``k`` of ``trajectory`` runs along the straight line between its waypoints and
-    no farther than them: every polynomial coefficient parallel to the chord (to rounding), and
-    the progress along the chord, sampled at 1 kHz, within ``[0, 1]``."""
+    no farther than them: sampled at :data:`_SAMPLES_PER_PIECE` points per polynomial piece (and at
+    least 1 kHz), every sample within ``_ON_PATH`` of the chord and its progress along it in
+    ``[0, 1]``. A piece is a polynomial of degree at most 5, so one that small at that many evenly
+    spread points is small between them too (their Lebesgue constant is below 30); its
+    coefficients cannot be compared instead: their rounding grows like ``L / T^5``."""
     a, b = trajectory.waypoints[k], trajectory.waypoints[k + 1]
     chord = b - a
     length = float(np.linalg.norm(chord))
-    first, last = trajectory.segment_pieces[:k].sum(), trajectory.segment_pieces[:k + 1].sum()
-    c = trajectory.coefficients[:, first:last].copy()
-    c[0] -= a
-    across = c - np.einsum("kpn,n->kp", c, chord)[..., None] * chord / length**2
     t0, t1 = trajectory.waypoint_times[k], trajectory.waypoint_times[k + 1]
-    q, _, _ = trajectory.at_time(np.linspace(t0, t1, max(int((t1 - t0) * 1000.0), 2)))
+    count = max(_SAMPLES_PER_PIECE * int(trajectory.segment_pieces[k]), int((t1 - t0) * 1000.0), 2)
+    q, _, _ = trajectory.at_time(np.linspace(t0, t1, count))
     progress = (q - a) @ chord / length**2
+    across = (q - a) - progress[:, None] * chord
     tol = _ON_PATH * max(1.0, length)
     return bool(np.abs(across).max() <= tol and progress.min() >= -tol and progress.max() <= 1 + tol)
 

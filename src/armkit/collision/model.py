@@ -236,6 +236,11 @@ def compile_model(root: ET.Element, excluded: Sequence[tuple[str, str]]):  # -> 
     """
     mujoco = require_mujoco()
     root = ET.fromstring(ET.tostring(root))  # a copy: the caller's element is reused
+    # parent and child bodies are checked too unless excluded (adjacent links are, by name): an
+    # enabled adjacent pair then collides exactly when its distance is negative, as clearance says
+    option = root.find("option")
+    option = ET.SubElement(root, "option") if option is None else option
+    ET.SubElement(option, "flag", filterparent="disable")
     if excluded:
         contact = ET.SubElement(root, "contact")
         for a, b in excluded:
