@@ -76,3 +76,13 @@ def test_a_scene_of_another_robot_is_refused(scene):
     puma = armkit.load("puma560")
     with pytest.raises(InputError, match="built for"):
         puma.ik(puma.fk(np.zeros(6)), scene=scene)
+
+
+def test_the_same_arm_loaded_again_takes_the_scene_and_a_locked_copy_does_not(scene):
+    again = armkit.load("ur5")
+    T = again.fk([0.3, -1.2, 1.0, -0.5, 1.2, 0.4])
+    np.testing.assert_array_equal(again.ik(T, all_solutions=True, scene=scene),
+                                  scene.robot.ik(T, all_solutions=True, scene=scene))
+    locked = again.lock({"q6": 0.0})
+    with pytest.raises(InputError, match="joints, links or limits differ"):
+        locked.ik(locked.fk(np.zeros(5)), scene=scene)

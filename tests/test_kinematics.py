@@ -401,8 +401,9 @@ def test_one_configuration_in_any_form_gives_the_fast_path_s_numbers():
         with pytest.raises(InputError, match="q: expected 6"):
             call(None)
     puma = armkit.load("puma560")
+    zero = np.zeros(6)
     for call in (lambda: puma.inverse_dynamics(None), lambda: puma.mass_matrix(None),
-                 lambda: puma.gravity_torques(None), lambda: puma.forward_dynamics(np.zeros(6), None, np.zeros(6)),
-                 lambda: puma.forward_dynamics(np.zeros(6), np.zeros(6), None)):
+                 lambda: puma.gravity_torques(None), lambda: puma.forward_dynamics(zero, None, zero),
+                 lambda: puma.forward_dynamics(zero, zero, None)):
         with pytest.raises(InputError):
             call()

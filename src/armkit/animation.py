@@ -393,6 +393,8 @@ def animate_trajectory(robot: Robot, q: ArrayLike, path: str | Path, *, t: Array
         raise InputError(f"labels: expected {len(q)}, one per configuration, got {len(labels)}")
     model = physical_model(robot)
     picks = np.unique(np.linspace(0, len(q) - 1, max(2, frames)).round().astype(int))
+    if scene is not None:
+        scene.check_robot(robot)
     outlines = [] if scene is None else [line for shape in scene.world_shapes() for line in _outlines(shape)]
     centre, half = _bounds(robot, model, q[picks], outlines)
     tool_path = robot.fk(q)[:, :3, 3]

@@ -91,14 +91,18 @@ def _gravity(gravity: ArrayLike) -> NDArray[np.float64]:
     return g
 
 
-def _states(chain: Chain, **arrays: ArrayLike | None) -> list[NDArray[np.float64] | None]:
-    """The named arrays as C-ordered float64 ``(..., n)``, broadcast against each other; None stays None."""
+def _states(chain: Chain, optional: tuple[str, ...] = (),
+            **arrays: ArrayLike | None) -> list[NDArray[np.float64] | None]:
+    """The named arrays as C-ordered float64 ``(..., n)``, broadcast against each other; None stays
+    None for the ``optional`` ones (zero) and is refused for the others."""
     n = chain.n
     out = {}
     for name, values in arrays.items():
-        if values is None:
+        if values is None and name in optional:
             out[name] = None
             continue
+        if values is None:
+            raise InputError(f"{name}: expected {n} numbers per state (shape (..., {n})), got None")
         try:
             a = np.asarray(values, dtype=float)
         except (TypeError, ValueError) as exc:
@@ -164,7 +168,7 @@ def inverse_dynamics(robot: Robot | Chain, q: ArrayLike, qd: ArrayLike | None = 
     """
     chain = as_chain(robot)
     model = _model(chain)
-    q, qd, qdd = _states(chain, q=q, qd=qd, qdd=qdd)  # broadcast to one shape
+    q, qd, qdd = _states(chain, ("qd", "qdd"), q=q, qd=qd, qdd=qdd)  # broadcast to one shape
     tau = np.empty(q.shape)
     _core.inverse_dynamics(model, q, qd, qdd, _gravity(gravity), tau, thread_count(threads))
     return tau

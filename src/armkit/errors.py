@@ -86,6 +86,12 @@ class CollisionError(ArmkitError):
         self.contacts = [] if contacts is None else contacts
 
 
+def pair_text(contacts: list[tuple[str, str]], none: str = "no pair in contact") -> str:
+    """A :class:`CollisionError`'s contacts as messages and tables name them, ``'link3-wall, link4-wall'``
+    (``none`` if there are none)."""
+    return ", ".join(f"{a}-{b}" for a, b in contacts) or none
+
+
 class ConvergenceError(ArmkitError):
     """An iterative solver did not reach its tolerance within its budget."""
 

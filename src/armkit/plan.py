@@ -48,6 +48,7 @@ from armkit.errors import (
     NoClosedFormError,
     PlanningError,
     UnreachableError,
+    pair_text,
 )
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.plan import plan_trajectory, planning_limits
@@ -209,7 +210,7 @@ def goal_configurations(scene: Scene, goal: ArrayLike, *, near: ArrayLike | None
     candidates = _ik_candidates(robot, goal, near, seed)
     free = ~np.asarray(scene.collides(candidates), dtype=bool)
     if not free.any():
-        listing = "; ".join(f"{_show(q)}: {_contacts_text(scene.contacts(q))}" for q in candidates)
+        listing = "; ".join(f"{_show(q)}: {pair_text(scene.contacts(q), 'in contact')}" for q in candidates)
         raise CollisionError(f"goal pose: every IK solution collides ({len(candidates)}: {listing})",
                              q=candidates, contacts=scene.contacts(candidates[0]))
     return candidates[free]
@@ -255,14 +256,9 @@ def _free_configuration(scene: Scene, q: NDArray[np.float64], name: str) -> NDAr
     robot.check_limits(q)
     if scene.collides(q):
         contacts = scene.contacts(q)
-        raise CollisionError(f"{name} {_show(q)} collides: {_contacts_text(contacts)}", q=q,
+        raise CollisionError(f"{name} {_show(q)} collides: {pair_text(contacts, 'in contact')}", q=q,
                              contacts=contacts)
     return q
-
-
-def _contacts_text(contacts: list[tuple[str, str]]) -> str:
-    """The pairs in contact, e.g. ``'link3-wall, link4-wall'``."""
-    return ", ".join(f"{a}-{b}" for a, b in contacts) if contacts else "in contact"
 
 
 def _ik_candidates(robot: Robot, T: NDArray[np.float64], near: NDArray[np.float64],

@@ -30,7 +30,7 @@ from armkit.cli.app import (
     to_si,
 )
 from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
-from armkit.errors import InputError, JointLimitError, NoClosedFormError
+from armkit.errors import InputError, JointLimitError, NoClosedFormError, pair_text
 from armkit.ik.messages import outside_limits
 from armkit.ik.pipeline import count_turn_copies
 from armkit.ik.position import position_case, position_solutions
@@ -73,7 +73,7 @@ SAME_SOLUTION = 1e-9
 
 def _contact_text(contacts: list[tuple[str, str]]) -> str:
     """A table cell: ``free``, or the pairs in contact (``link3-floor``)."""
-    return ", ".join(f"{a}-{b}" for a, b in contacts) if contacts else "free"
+    return pair_text(contacts, "free")
 
 
 def _joint_index(robot: Robot, word: str) -> int:

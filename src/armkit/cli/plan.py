@@ -12,6 +12,7 @@ from rich.table import Table
 
 from armkit.cli.app import (
     ALLOW_NEGATIVE,
+    JOINT_UNITS,
     BaseOpt,
     LockOpt,
     RobotArg,
@@ -39,7 +40,7 @@ from armkit.cli.trajectory import (
     _limit_option,
     _summary,
 )
-from armkit.errors import CollisionError, InputError
+from armkit.errors import CollisionError, InputError, pair_text
 from armkit.robot import Robot
 from armkit.spatial.rotations import parse_convention
 
@@ -155,8 +156,7 @@ def plan_command(
         option = "--from" if np.array_equal(exc.q, q_start) else "--to"
         scale, units = _joint_scale(arm, deg)
         shown = " ".join(f"{fmt_number(v, 4)} {unit}" for v, unit in zip(exc.q * scale, units, strict=True))
-        pairs = ", ".join(f"{a}-{b}" for a, b in exc.contacts)
-        raise CollisionError(f"{option} {shown}: the arm collides there ({pairs})", q=exc.q,
+        raise CollisionError(f"{option} {shown}: the arm collides there ({pair_text(exc.contacts)})", q=exc.q,
                              contacts=exc.contacts) from None
     check = traj.sample(max(CHECK_RATE_HZ, 2.0 / traj.duration))
     clearance = float(np.min(world.clearance(check.q)))
@@ -180,8 +180,10 @@ def plan_command(
                     "peak_velocity": traj.peak_velocity, "max_velocity": limits[0],
                     "peak_acceleration": traj.peak_acceleration, "max_acceleration": limits[1],
                     "min_clearance_m": clearance, "seed": seed, "time_budget_s": time_budget,
-                    "resolution_m": resolution, "units": "SI: rad or m, per s, per s²",
-                    "written": [str(path) for path in written]})
+                    "resolution_m": resolution, "written": [str(path) for path in written]},
+                   {"q_start": JOINT_UNITS, "q_goal": JOINT_UNITS, "waypoints": JOINT_UNITS,
+                    "peak_velocity": "rad/s, m/s", "max_velocity": "rad/s, m/s",
+                    "peak_acceleration": "rad/s^2, m/s^2", "max_acceleration": "rad/s^2, m/s^2"})
         return
     console.print(_waypoint_table(arm, traj.waypoint_times, traj.waypoints, deg))
     console.print(_summary(arm, traj, limits, deg))

@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.collision.scene import Scene
-from armkit.errors import CollisionError, InputError
+from armkit.errors import CollisionError, InputError, pair_text
 from armkit.ik.structure import analyze_structure
 from armkit.robot import Robot
 
@@ -39,9 +39,7 @@ def ik_free(robot: Robot, scene: Scene, T_base_tool: ArrayLike, *, all_solutions
     """
     if not isinstance(scene, Scene):
         raise InputError(f"scene: expected an armkit.Scene, got {type(scene).__name__}")
-    if scene.robot.chain is not robot.chain:
-        raise InputError(f"scene: built for {scene.robot.name} ({scene.robot.n} joints), not for "
-                         f"{robot.name}; build one with armkit.Scene(robot, ...) for this robot")
+    scene.check_robot(robot)
     if all_solutions:
         listed = robot.ik(T_base_tool, all_solutions=True, near=near, within_limits=within_limits, **options)
         if isinstance(listed, list):
@@ -54,7 +52,7 @@ def ik_free(robot: Robot, scene: Scene, T_base_tool: ArrayLike, *, all_solutions
             i = int(np.argmax(hit))
             one = np.reshape(q, (-1, robot.n))[i]
             raise CollisionError(f"{_label(i, q.ndim > 1)}: the numeric IK solution from near collides "
-                                 f"({_pairs(scene.contacts(one))}); try another near", q=one,
+                                 f"({pair_text(scene.contacts(one))}); try another near", q=one,
                                  contacts=scene.contacts(one))
         return q
     listed = robot.ik(T_base_tool, all_solutions=True, near=near, within_limits=within_limits, **options)
@@ -65,7 +63,8 @@ def ik_free(robot: Robot, scene: Scene, T_base_tool: ArrayLike, *, all_solutions
         if not free.any():
             contacts = scene.contacts(q[0])
             raise CollisionError(f"{_label(i, batch)}: all {len(q)} IK solution{'s' * (len(q) != 1)} "
-                                 f"collide (the nearest to near: {_pairs(contacts)})", q=q, contacts=contacts)
+                                 f"collide (the nearest to near: {pair_text(contacts)})", q=q,
+                                 contacts=contacts)
         chosen.append(q[int(np.argmax(free))])
     if not batch:
         return chosen[0]
@@ -73,5 +72,4 @@ def ik_free(robot: Robot, scene: Scene, T_base_tool: ArrayLike, *, all_solutions
     return np.reshape(np.array(chosen), (*shape, robot.n))
 
 
-def _pairs(contacts: list[tuple[str, str]]) -> str:
-    return ", ".join(f"{a} with {b}" for a, b in contacts) or "no pair in contact"
+

@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 import os
 import queue
+import threading
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -209,7 +210,11 @@ class Scene:
         self._model = compile_model(self._xml, [(body[a], body[b]) for a, b in self.disabled_pairs])
         self._mujoco = require_mujoco()
         self._pool: queue.SimpleQueue = queue.SimpleQueue()
+        old = getattr(self, "_executor", None)
+        if old is not None:  # the sampling's threads: done with
+            old.shutdown(wait=False)
         self._executor: ThreadPoolExecutor | None = None
+        self._executor_lock = threading.Lock()
         model = self._model
         part_of_body = np.full(model.nbody, -1)
         for i, name in enumerate(self._bodies):
@@ -268,8 +273,9 @@ class Scene:
 
         if chunks == 1:
             return [run(0)]
-        if self._executor is None:
-            self._executor = ThreadPoolExecutor(self.threads, thread_name_prefix="armkit-collision")
+        with self._executor_lock:  # one pool, whichever thread asks first
+            if self._executor is None:
+                self._executor = ThreadPoolExecutor(self.threads, thread_name_prefix="armkit-collision")
         return list(self._executor.map(run, range(chunks)))
 
     def _batch(self, kernel: Callable, q: ArrayLike, dtype: type) -> NDArray:
@@ -371,6 +377,19 @@ class Scene:
         lines = ["[self_collision]", "samples = 0", "disabled = ["]
         lines += [f'    ["{a}", "{b}"],  # {why}' for (a, b), why in self.disabled_pairs.items()]
         return "\n".join([*lines, "]"]) + "\n"
+
+    def check_robot(self, robot: Robot, label: str = "scene") -> None:
+        """Raise :class:`InputError` unless ``robot`` has this scene's kinematics (the same joints,
+        link transforms and limits: the same arm loaded twice counts, a locked copy does not)."""
+        mine, theirs = self.robot.chain, robot.chain
+        if mine is theirs:
+            return
+        if not (mine.n == theirs.n and np.array_equal(mine.T_between, theirs.T_between)
+                and np.array_equal(mine.prismatic, theirs.prismatic)
+                and np.array_equal(mine.lower, theirs.lower) and np.array_equal(mine.upper, theirs.upper)):
+            raise InputError(f"{label}: built for {self.robot.name} ({self.robot.n} joints), whose joints, "
+                             f"links or limits differ from {robot.name}'s ({robot.n} joints); build one with "
+                             f"armkit.Scene(robot, ...) for this robot")
 
     def world_shapes(self) -> list[WorldShape]:
         """The floor's and the obstacles' geoms as MuJoCo holds them (meshes as their vertices and faces),

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from armkit.errors import pair_text
 from armkit.lab.context import FLOOR_HEIGHT, LabContext, fmt, fmt_q
 from armkit.lab.report import Section, Table
 
@@ -31,7 +32,7 @@ def floor_check(ctx: LabContext) -> Section:
         clearance = scene.clearance(q[:: max(1, len(q) // 200)])  # about 200 samples per motion
         first = int(np.argmax(hit)) if hit.any() else None
         contact = ("-" if first is None else
-                   ", ".join(f"{a}-{b}" for a, b in scene.contacts(q[first])) + f" at {fmt_q(q[first], 3)}")
+                   pair_text(scene.contacts(q[first])) + f" at {fmt_q(q[first], 3)}")
         rows.append([name, f"{len(q):,}", f"{int(hit.sum()):,}", fmt(float(clearance.min()), 4), contact])
         colliding += int(hit.any())
     section.tables.append(Table("Configurations in collision per experiment",

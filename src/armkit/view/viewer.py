@@ -136,6 +136,8 @@ class Viewer:
         self._playing = False
         self._player: threading.Thread | None = None
         self._closed = False
+        if scene is not None:
+            scene.check_robot(self.robot)
         self._scene = scene
         self._size = arm_size(self.robot)
         self._radius = float(np.clip(0.025 * self._size, 0.004, 0.05))
@@ -148,9 +150,13 @@ class Viewer:
         self._verbose = verbose
         self._host = host
         self._package_paths = tuple(package_paths)
-        self._build_scene()
-        self._build_gui()
-        self._redraw()
+        try:
+            self._build_scene()
+            self._build_gui()
+            self._redraw()
+        except BaseException:  # nothing left listening on the port
+            self.close()
+            raise
 
     # ------------------------------------------------------------------ public API
     @property

@@ -290,7 +290,8 @@ def reachability(robot: Robot, *, resolution: float = 0.02, grid: Grid | None = 
     grid = grid_for(robot, resolution) if grid is None else grid
     plan = SamplePlan(int(samples), int(chunk_size), int(seed), method)
     accumulator = _Hits(grid)
-    attrs = plan.to_attrs() if scene is None else {**plan.to_attrs(), "scene": _scene_digest(scene)}
+    attrs = (plan.to_attrs() if scene is None or store is None  # the digest guards a store's resume
+             else {**plan.to_attrs(), "scene": _scene_digest(scene)})
     task = _Task(robot_to_toml(robot), grid, plan, scene)
     done = run_resumable(partial(_hits_of_chunks, task), plan.n_chunks, accumulator, store=store,
                          name=section, attrs=attrs, resume=resume,
