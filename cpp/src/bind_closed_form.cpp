@@ -178,6 +178,8 @@ void bind_closed_form(nb::module_& m) {
     m.attr("OUT_TOLERANCE") = kOutTolerance;
     m.attr("TANGENT_TOLERANCE") = kTangentTolerance;
     m.attr("FREE_TOLERANCE") = kFreeTolerance;
+    m.attr("DUPLICATE_TOLERANCE") = kDuplicateTolerance;
+    m.attr("RANK_ONE_TOLERANCE") = kRankOne;
 
     m.def("rotate", [](V3 k, double t, V3 v) { return tuple3(rotate(vec(k), t, vec(v))); }, nb::arg("k"),
           nb::arg("theta"), nb::arg("v"), "R(k, theta) v by Rodrigues' formula (k a unit vector).");

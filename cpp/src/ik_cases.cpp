@@ -115,7 +115,7 @@ void quartic(const CaseGeometry& g, const Mat2& P, const double* r, AngleCandida
                                Complex(A[1], A[2]) / 2.0, Complex(A[3], A[4]) / 2.0};
     double size = 0.0;
     for (const Complex& c : coeffs) size = std::max(size, std::abs(c));
-    if (std::abs(coeffs[0]) > 1e-12 * size) {
+    if (std::abs(coeffs[0]) > kQuarticLeading * size) {
         Complex roots[4];
         quartic_roots(coeffs, roots);
         for (int i = 0; i < 4; ++i) {
@@ -126,7 +126,7 @@ void quartic(const CaseGeometry& g, const Mat2& P, const double* r, AngleCandida
                 if (std::abs(dF) > 1e-300) t -= std::min(std::max(F / dF, -0.1), 0.1);
             }
             out.t1[i] = t;
-            out.valid[i] = std::abs(std::abs(roots[i]) - 1.0) <= 1e-6;
+            out.valid[i] = std::abs(std::abs(roots[i]) - 1.0) <= kUnitCircle;
         }
     } else {  // degenerate: F is of degree 1, a cos t + b sin t = -A0
         const Angles2 lin = solve_trig_linear(A[1], A[2], -A[0], size, true);
@@ -159,7 +159,7 @@ double polish(const double (&Q)[2][2], const Mat2& P, const double* r, double& t
         const double det = d1[0] * d2[1] - d1[1] * d2[0];
         const double scale = 1.0 + std::max(std::abs(d1[0]), std::abs(d1[1])) *
                                        std::max(std::abs(d2[0]), std::abs(d2[1]));
-        if (std::abs(det) > 1e-12 * scale) {
+        if (std::abs(det) > kTwoAngleSingular * scale) {
             t1 -= std::min(std::max((d2[1] * F[0] - d2[0] * F[1]) / det, -0.1), 0.1);
             t2 -= std::min(std::max((d1[0] * F[1] - d1[1] * F[0]) / det, -0.1), 0.1);
         }
@@ -205,7 +205,7 @@ void merge_multiple_root(const CaseGeometry& g, const Mat2& P, const double* r, 
             const double slope = trig_derivative(A, c, m);
             if (!(std::abs(slope) > 1e-300)) break;
             c -= trig_derivative(A, c, m - 1) / slope;
-            near = std::abs(c - t1) <= 1e-3;
+            near = std::abs(c - t1) <= kMultipleRootReach;
         }
         if (!near) continue;
         const double c2 = second_angle(g, P, r, c);
@@ -218,11 +218,6 @@ void merge_multiple_root(const CaseGeometry& g, const Mat2& P, const double* r, 
         }
     }
 }
-
-//: F's coefficients below this in sum are zero (its terms include the 1 of the unit
-//: circle), times 1 + (the largest entry of Q^-1) x system_size (Q^-1 amplifies the
-//: pose's rounding: seen 1e-12 in sum with an entry of 1.3e3): the two equations are one.
-constexpr double kIdentityTolerance = 1e-12;
 
 // All (t1, t2) with P x(t1) - Q x(t2) = r (Q = g.Q fixed by the chain; P, r by the pose).
 // Q of rank 1: a combination of the equations holds t1 alone, then t2 the same way (up to
@@ -254,7 +249,7 @@ AngleCandidates two_angle_system(const CaseGeometry& g, const Mat2& P, const dou
     for (int i = 0; i < 4; ++i) {
         double residual = polish(g.Q, P, r, out.t1[i], out.t2[i]);
         merge_multiple_root(g, P, r, A, size, out.t1[i], out.t2[i], residual);
-        out.valid[i] = out.valid[i] && residual <= 1e-10 * size;
+        out.valid[i] = out.valid[i] && residual <= kTwoAngleResidual * size;
         out.free[i] = false;
     }
     return out;
@@ -364,13 +359,6 @@ ArmCandidates wrist_centre_joints(const CaseGeometry& g, Vec3 w) {
     return out;
 }
 
-//: Angle [rad] between axis 6's target direction and axis 4 within which a spherical
-//: wrist counts as aligned for the family flag (the values themselves are not moved).
-constexpr double kNearlyAligned = 1e-7;
-//: Angle [rad] between axis 6 and the three parallel axes within which q6 may be taken
-//: as free where the 2R cannot follow the q6 SP1 gives (see three_parallel).
-constexpr double kAlignedToRounding = 1e-11;
-
 // R123^T v for arm joints qa (3): a direction of the target in the wrist's frame.
 Vec3 in_wrist_frame(const CaseGeometry& g, const double* qa, Vec3 v) {
     for (int j = 0; j < 3; ++j)
@@ -477,7 +465,7 @@ double q5_near_aligned_wrist(const CaseGeometry& g, const Mat3& R, double q1, do
             gap = d;
         }
     }
-    if (std::abs(gap) > 1e-3) return q5;
+    if (std::abs(gap) > kAlignedWristReach) return q5;
     const Vec3 v = mul_transposed(R, rotate(g.h[0], q1, g.hp));
     const Vec3 c = cross(g.h[5], v);
     const double S2 = std::min(dot(c, c), 1.0);
@@ -501,7 +489,7 @@ void snap_to_aligned_wrist(const CaseGeometry& g, const Mat2& P, const double* r
     const double det = P.m[0][0] * P.m[1][1] - P.m[0][1] * P.m[1][0];
     const double size = 1.0 + std::max(std::max(std::abs(P.m[0][0]), std::abs(P.m[0][1])),
                                        std::max(std::abs(P.m[1][0]), std::abs(P.m[1][1])));
-    if (g.q5_aligned.empty() || std::abs(det) <= 1e-9 * size) return;
+    if (g.q5_aligned.empty() || std::abs(det) <= kAlignedWristSolvable * size) return;
     const auto& Q = g.Q;
     for (int i = 0; i < 4; ++i) {
         std::size_t nearest = 0;
@@ -513,7 +501,7 @@ void snap_to_aligned_wrist(const CaseGeometry& g, const Mat2& P, const double* r
                 gap = d;
             }
         }
-        if (gap > 1e-6) continue;
+        if (gap > kAlignedWristSnap) continue;
         const double q5 = g.q5_aligned[nearest];
         const double rhs0 = r[0] + Q[0][0] * std::cos(q5) + Q[0][1] * std::sin(q5);
         const double rhs1 = r[1] + Q[1][0] * std::cos(q5) + Q[1][1] * std::sin(q5);
@@ -617,7 +605,7 @@ int family_loops(const CaseGeometry& g, const Mat2& P, const double* r, int i, d
     b = detail::in_plane(b, h);
     const double middle = dot(a, a) + dot(b, b), half_width = std::max(2.0 * std::sqrt(dot(a, a) * dot(b, b)), 1e-300);
     const double size = system_size(P, r);
-    const double band = 1.0 + 1e-9 * (1.0 + middle / half_width);  // |f| within: reached, to rounding
+    const double band = 1.0 + kFamilyReach * (1.0 + middle / half_width);  // |f| within: reached, to rounding
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     // f(t1), and t2; NaN where t1 has no t2
     auto reach = [&](double t1, double& t2) {

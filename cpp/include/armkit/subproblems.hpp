@@ -23,17 +23,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "armkit/tolerances.hpp"
 #include "armkit/vec.hpp"
 
 namespace armkit {
-
-// Relative amount by which an instance may be impossible and still count as tangent.
-constexpr double kOutTolerance = 1e-9;
-// Relative distance to tangency below which a double solution is returned once (SP3, SP4:
-// their error is second order in the angle).
-constexpr double kTangentTolerance = 1e-14;
-// Relative size below which a vector counts as lying on the rotation axis (any angle).
-constexpr double kFreeTolerance = 1e-12;
 
 struct Angle1 {
     double t;   // [rad], in (-pi, pi]

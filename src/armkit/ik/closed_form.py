@@ -57,8 +57,9 @@ __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_
 #: is checked again, to :data:`armkit.ik.results.SOLUTION_TOLERANCE`. (Its old name
 #: ``VERIFY_TOLERANCE`` was also the old name of that one; it still works, with a warning.)
 CANDIDATE_TOLERANCE = 1e-8
-#: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution.
-DUPLICATE_TOLERANCE = 1e-9
+#: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution
+#: (the core's, ``cpp/include/armkit/tolerances.hpp``).
+DUPLICATE_TOLERANCE = _core.DUPLICATE_TOLERANCE
 
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
@@ -121,7 +122,7 @@ def _two_angle_constants(Q: Array, snap_t2: bool = True) -> dict:
     """The constant part of a two-angle system ``P x(t1) - Q x(t2) = r`` (see
     :func:`armkit.ik.cases.two_angle_system`): rank, the combinations ``lam``, ``mu``."""
     U, S, _ = np.linalg.svd(Q)
-    rank1 = bool(S[1] <= 1e-9 * S[0])
+    rank1 = bool(S[1] <= _core.RANK_ONE_TOLERANCE * S[0])
     return {"Q": Q, "Q_inv": np.zeros((2, 2)) if rank1 else np.linalg.inv(Q), "rank1": rank1,
             "lam": (float(U[0, 1]), float(U[1, 1])), "mu": (float(U[0, 0]), float(U[1, 0])),
             "snap_t2": snap_t2}
