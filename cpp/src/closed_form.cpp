@@ -112,8 +112,8 @@ void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double*
             // singular than either (a family, or where two cross), or the first is rough
             // (no solution to rounding: it then loses nothing)
             double mid[kMaxJoints];
-            const int between = nullity_between(chain, T, qa, qb, cf.geometry.size, mid);
-            const bool rough = fk_difference(chain, T, qa) > kOnFamily * cf.geometry.size;
+            const int between = nullity_between(chain, T, qa, qb, case_chain(cf.geometry).size, mid);
+            const bool rough = fk_difference(chain, T, qa) > kOnFamily * case_chain(cf.geometry).size;
             if (between > std::max(at_a, at_b) || (between > 0 && rough)) {
                 for (int j = 0; j < n; ++j) qa[j] = chain.prismatic[j] ? mid[j] : wrap_angle(mid[j]);
                 family[a] = family[b] = true;
@@ -173,7 +173,7 @@ void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bo
             if (!valid[b] || family[a] || family[b] || !within(cf.chain, q + a * n, q + b * n, kCloseCandidates))
                 continue;
             const double at_a = fk_difference(cf.chain, T, q + a * n), at_b = fk_difference(cf.chain, T, q + b * n);
-            if (!(std::min(at_a, at_b) <= kOnFamily * cf.geometry.size)) continue;
+            if (!(std::min(at_a, at_b) <= kOnFamily * case_chain(cf.geometry).size)) continue;
             double mid[kMaxJoints];
             midpoint(cf.chain, q + a * n, q + b * n, mid);
             if (fk_difference(cf.chain, T, mid) > kBarrier * std::max(at_a, at_b)) continue;

@@ -50,7 +50,7 @@ double family_representative(double m0, double m1, double mr) {
 }
 
 // The system when Q has rank 1: lam holds t1 alone, mu then t2.
-void rank1(const CaseGeometry& g, const Mat2& P, const double* r, double size, AngleCandidates& out) {
+void rank1(const TwoAngleSystem& g, const Mat2& P, const double* r, double size, AngleCandidates& out) {
     const double l0 = g.lam[0], l1 = g.lam[1], m0 = g.mu[0], m1 = g.mu[1];
     const double lP0 = l0 * P.m[0][0] + l1 * P.m[1][0], lP1 = l0 * P.m[0][1] + l1 * P.m[1][1];
     Angles2 first = solve_trig_linear(lP0, lP1, r[0] * l0 + r[1] * l1, size, true);
@@ -89,7 +89,7 @@ double trig_derivative(const double* A, double t, int k) {
 }
 
 // t2 of the two-angle system for t1: x(t2) = Q^-1 (P x(t1) - r), its direction.
-double second_angle(const CaseGeometry& g, const Mat2& P, const double* r, double t1) {
+double second_angle(const TwoAngleSystem& g, const Mat2& P, const double* r, double t1) {
     const auto& Qi = g.Q_inv;
     const double c = std::cos(t1), s = std::sin(t1);
     const double v0 = P.m[0][0] * c + P.m[0][1] * s - r[0], v1 = P.m[1][0] * c + P.m[1][1] * s - r[1];
@@ -97,7 +97,7 @@ double second_angle(const CaseGeometry& g, const Mat2& P, const double* r, doubl
 }
 
 // Roots of the quartic in exp(i t1), with t2 from Q^-1; F's coefficients into A (5).
-void quartic(const CaseGeometry& g, const Mat2& P, const double* r, AngleCandidates& out, double* A) {
+void quartic(const TwoAngleSystem& g, const Mat2& P, const double* r, AngleCandidates& out, double* A) {
     const auto& Qi = g.Q_inv;
     const double W00 = Qi[0][0] * P.m[0][0] + Qi[0][1] * P.m[1][0];
     const double W01 = Qi[0][0] * P.m[0][1] + Qi[0][1] * P.m[1][1];
@@ -177,7 +177,7 @@ double system_size(const Mat2& P, const double* r) {
 
 // t2 for t1 of a candidate of the two-angle system whose t1 is free (branch: candidate
 // index i, whose t2 branch is i % 2 when Q has rank 1); ok: that t2 exists.
-double family_t2(const CaseGeometry& g, const Mat2& P, const double* r, double t1, int i, double size, bool& ok) {
+double family_t2(const TwoAngleSystem& g, const Mat2& P, const double* r, double t1, int i, double size, bool& ok) {
     ok = true;
     if (!g.rank1) return second_angle(g, P, r, t1);
     const double m0 = g.mu[0], m1 = g.mu[1];
@@ -195,7 +195,7 @@ double family_t2(const CaseGeometry& g, const Mat2& P, const double* r, double t
 // root, which Newton steps on it reach to eps. For m = 4, 3, 2 within 1e-3 of t1: taken
 // where it solves P x(t1) - Q x(t2) = r no worse than (t1, t2) or to the rounding level of
 // terms of size (the m roots are then one, as far as the equations can tell).
-void merge_multiple_root(const CaseGeometry& g, const Mat2& P, const double* r, const double* A, double size,
+void merge_multiple_root(const TwoAngleSystem& g, const Mat2& P, const double* r, const double* A, double size,
                          double& t1, double& t2, double& residual) {
     const double rounding = 8.0 * std::numeric_limits<double>::epsilon() * size;
     for (int m = 4; m >= 2; --m) {
@@ -224,7 +224,7 @@ void merge_multiple_root(const CaseGeometry& g, const Mat2& P, const double* r, 
 // 2 x 2 pairs). Otherwise x(t2) = Q^-1 (P x(t1) - r) on the unit circle is a quartic in
 // exp(i t1) (then Newton steps on the equations themselves); where it vanishes, every t1
 // (candidate 0, t1 = 0). free: t1 (or t2) arbitrary (family_t2 then gives t2 for any t1).
-AngleCandidates two_angle_system(const CaseGeometry& g, const Mat2& P, const double* r) {
+AngleCandidates two_angle_system(const TwoAngleSystem& g, const Mat2& P, const double* r) {
     const double size = system_size(P, r);
     AngleCandidates out{};
     if (g.rank1) {
@@ -269,11 +269,11 @@ Angles2 slide_to_sphere(Vec3 v, Vec3 h, double d) {
     return {{-b + root, -b - root}, {exists, exists && !touch}, false};
 }
 
-// Joints 1-3 for general axes: a two-angle system in q1, q3 (g.a1, g.a2 are the closest
-// points o2, o3 of axes 2 and 3), then q2 by SP1.
-ArmCandidates general_position(const CaseGeometry& g, Vec3 w) {
+// Joints 1-3 for general axes: a two-angle system in q1, q3 (o2, o3: the closest points of
+// axes 2 and 3), then q2 by SP1.
+ArmCandidates general_position(const PointGeometry& g, Vec3 w) {
     const Vec3 h0 = g.h[0], h1 = g.h[1], h2 = g.h[2], p0 = g.p[0];
-    const Vec3 o2 = g.a1, o3 = g.a2, c = g.c;
+    const Vec3 o2 = g.o2, o3 = g.o3, c = g.c;
     const Vec3 u = w - p0;
     TrigCoeffs height = trig_coeffs(h1, -h0, u);
     TrigCoeffs distance = trig_coeffs(2.0 * (p0 - o2), -h0, u);
@@ -297,7 +297,7 @@ ArmCandidates general_position(const CaseGeometry& g, Vec3 w) {
 }
 
 // Joints 1-3 that put the wrist centre g.c at w: four triples.
-ArmCandidates wrist_centre_joints(const CaseGeometry& g, Vec3 w) {
+ArmCandidates wrist_centre_joints(const PointGeometry& g, Vec3 w) {
     if (g.position_case == PositionCase::General123) return general_position(g, w);
     const Vec3 c = g.c, o = g.o;
     const Vec3 h0 = g.h[0], h1 = g.h[1], h2 = g.h[2];
@@ -360,7 +360,7 @@ ArmCandidates wrist_centre_joints(const CaseGeometry& g, Vec3 w) {
 }
 
 // R123^T v for arm joints qa (3): a direction of the target in the wrist's frame.
-Vec3 in_wrist_frame(const CaseGeometry& g, const double* qa, Vec3 v) {
+Vec3 in_wrist_frame(const CaseChain& g, const double* qa, Vec3 v) {
     for (int j = 0; j < 3; ++j)
         if (!g.prismatic[j]) v = rotate(-g.h[j], qa[j], v);
     return v;
@@ -368,10 +368,10 @@ Vec3 in_wrist_frame(const CaseGeometry& g, const double* qa, Vec3 v) {
 
 // The sine of the angle between axis 6's target direction a (in the wrist's frame) and
 // axis 4: 0 where the wrist is aligned.
-double wrist_misalignment(const CaseGeometry& g, Vec3 a) { return norm(cross(a, g.h[3])); }
+double wrist_misalignment(const CaseChain& g, Vec3 a) { return norm(cross(a, g.h[3])); }
 
 // The point x (at q = 0) moved by arm joints qa (3).
-Vec3 moved_by_arm(const CaseGeometry& g, const double* qa, Vec3 x) {
+Vec3 moved_by_arm(const CaseChain& g, const double* qa, Vec3 x) {
     for (int j = 2; j >= 0; --j)
         x = g.prismatic[j] ? x + qa[j] * g.h[j] : g.p[j] + rotate(g.h[j], qa[j], x - g.p[j]);
     return x;
@@ -385,7 +385,7 @@ constexpr int kFreeArmSamples = 16;
 // gets a second member in an unused slot of arm: the free joint where the wrist is farthest
 // from aligned. At the first the Jacobian lacks the family's direction (the wrist would
 // have to turn infinitely fast), which the walk to near follows; at the second it has it.
-void second_free_arm_member(const CaseGeometry& g, const Mat3& R, ArmCandidates& arm) {
+void second_free_arm_member(const PointGeometry& g, const Mat3& R, ArmCandidates& arm) {
     const Vec3 axis6 = R * g.h[5];
     bool first[4];  // the triples of the closed form (not the members added here)
     for (int i = 0; i < 4; ++i) first[i] = arm.valid[i] && arm.free[i];
@@ -417,7 +417,7 @@ void second_free_arm_member(const CaseGeometry& g, const Mat3& R, ArmCandidates&
 }
 
 // Spherical wrist: joints 1-3 for the wrist centre, then the wrist: 8 candidates.
-void spherical(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+void spherical(const SphericalGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
     const Vec3 h3 = g.h[3], h4 = g.h[4], h5 = g.h[5], u = g.u;
     const int n = g.n;
     ArmCandidates arm = wrist_centre_joints(g, R * g.c + t);
@@ -454,11 +454,11 @@ void spherical(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* va
 // differs from +-1 by b (1 - cos d) only, lost below d ~ 1e-8. S = |h6 x R_G^T R1 h| keeps
 // its relative accuracy: b (1 - cos d) = S^2 / (1 + sqrt(1 - S^2)). The two branches of
 // candidate pair s straddle the aligned value.
-double q5_near_aligned_wrist(const CaseGeometry& g, const Mat3& R, double q1, double q5, int s) {
-    if (g.q5_aligned.empty()) return q5;
-    std::size_t nearest = 0;
+double q5_near_aligned_wrist(const ThreeParallelGeometry& g, const Mat3& R, double q1, double q5, int s) {
+    if (g.aligned == 0) return q5;
+    int nearest = 0;
     double gap = std::numeric_limits<double>::infinity();
-    for (std::size_t a = 0; a < g.q5_aligned.size(); ++a) {
+    for (int a = 0; a < g.aligned; ++a) {
         const double d = wrap_angle(q5 - g.q5_aligned[a]);
         if (std::abs(d) < std::abs(gap)) {
             nearest = a;
@@ -485,16 +485,16 @@ double q5_near_aligned_wrist(const CaseGeometry& g, const Mat3& R, double q1, do
 // There the quartic has a double root, which Newton steps reach only to ~1e-8; the exact
 // value lets the family (q6 against q2 + q3 + q4) be recognised. q1 is then solved from
 // P x1 = r + Q x5 (a 2x2 linear system).
-void snap_to_aligned_wrist(const CaseGeometry& g, const Mat2& P, const double* r, double* t1, double* t5) {
+void snap_to_aligned_wrist(const ThreeParallelGeometry& g, const Mat2& P, const double* r, double* t1, double* t5) {
     const double det = P.m[0][0] * P.m[1][1] - P.m[0][1] * P.m[1][0];
     const double size = 1.0 + std::max(std::max(std::abs(P.m[0][0]), std::abs(P.m[0][1])),
                                        std::max(std::abs(P.m[1][0]), std::abs(P.m[1][1])));
-    if (g.q5_aligned.empty() || std::abs(det) <= kAlignedWristSolvable * size) return;
+    if (g.aligned == 0 || std::abs(det) <= kAlignedWristSolvable * size) return;
     const auto& Q = g.Q;
     for (int i = 0; i < 4; ++i) {
-        std::size_t nearest = 0;
+        int nearest = 0;
         double gap = std::numeric_limits<double>::infinity();
-        for (std::size_t a = 0; a < g.q5_aligned.size(); ++a) {
+        for (int a = 0; a < g.aligned; ++a) {
             const double d = std::abs(wrap_angle(t5[i] - g.q5_aligned[a]));
             if (d < gap) {
                 nearest = a;
@@ -519,7 +519,8 @@ void snap_to_aligned_wrist(const CaseGeometry& g, const Mat2& P, const double* r
 // 2R reaches it on at most two intervals of theta, each a separate loop of the family: the
 // two angles where it crosses that middle value (side = +1 or -1) lie one in each. Returns
 // qw and theta.
-void wrist_family_representative(const CaseGeometry& g, double s, double& qw, double& theta, Vec3 A, Vec3 B,
+template <class G>
+void wrist_family_representative(const G& g, double s, double& qw, double& theta, Vec3 A, Vec3 B,
                                  Vec3 a, Vec3 b, double side) {
     const Vec3 h = g.hp;
     A = detail::in_plane(A, h);
@@ -597,8 +598,8 @@ FamilyMember bisect_middle(Reach reach, FamilyMember a, FamilyMember b) {
 // the pieces between are taken as monotone: a loop's member is where f crosses 0 (bisection),
 // else its point of least |f|. Every member solves the system exactly; which one stands for a
 // loop only decides whether the rest of the chain can follow (the walk to near comes later).
-template <class Target>
-int family_loops(const CaseGeometry& g, const Mat2& P, const double* r, int i, double start, Target target_of,
+template <class G, class Target>
+int family_loops(const G& g, const Mat2& P, const double* r, int i, double start, Target target_of,
                  Vec3 a, Vec3 b, FamilyMember* loops) {
     const Vec3 h = g.hp;
     a = detail::in_plane(a, h);
@@ -697,8 +698,8 @@ struct SlotAngles {
     bool valid[4][2];
 };
 
-template <class Target>
-SlotAngles family_slots(const CaseGeometry& g, const Mat2& P, const double* r, const AngleCandidates& pair,
+template <class G, class Target>
+SlotAngles family_slots(const G& g, const Mat2& P, const double* r, const AngleCandidates& pair,
                         Target target_of, Vec3 a, Vec3 b) {
     SlotAngles slots{};
     for (int i = 0; i < 4; ++i)
@@ -723,11 +724,10 @@ SlotAngles family_slots(const CaseGeometry& g, const Mat2& P, const double* r, c
 }
 
 // Axes 2-4 parallel: (q1, q5), then q6, q2 + q3 + q4 and a planar 2R: 8 candidates.
-// g.a1, g.a2: the closest points p5, p6 of axes 5 and 6.
-void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+void three_parallel(const ThreeParallelGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
     const Vec3 h = g.hp, h0 = g.h[0], h4 = g.h[4], h5 = g.h[5];
     const Vec3 p0 = g.p[0], p1 = g.p[1], p2 = g.p[2], p3 = g.p[3];
-    const Vec3 p5 = g.a1, p6 = g.a2;
+    const Vec3 p5 = g.p5, p6 = g.p6;
     const int n = g.n;
     const Vec3 G_p6 = R * p6 + t;
     const TrigCoeffs e1 = trig_coeffs(h, -h0, R * h5);
@@ -800,11 +800,10 @@ void three_parallel(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, boo
 // Axes 1-3 parallel: (q6, q4), then q5, q1 + q2 + q3 and a planar 2R: 8 candidates. Their
 // motion keeps h-components, which leaves two equations in q4 and q6: h . R4 h5 =
 // (R_G^T h) . R6^T h5 (orientation, since R5 h5 = h5) and h . e4 o5 = h . G e6^-1 o5.
-// g.a1 .. g.a3: points o4, o5, o6 of axes 4-6 (o4, o5 closest to each other).
-void parallel_base(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+void parallel_base(const ParallelBaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
     const Vec3 h = g.hp, h3 = g.h[3], h4 = g.h[4], h5 = g.h[5];
     const Vec3 p0 = g.p[0], p1 = g.p[1], p2 = g.p[2];
-    const Vec3 o4 = g.a1, o5 = g.a2, o6 = g.a3;
+    const Vec3 o4 = g.o4, o5 = g.o5, o6 = g.o6;
     const int n = g.n;
     const Vec3 gh = mul_transposed(R, h);  // R_G^T h
     const TrigCoeffs e1 = trig_coeffs(gh, -h5, h4);
@@ -860,11 +859,10 @@ void parallel_base(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool
 
 // ------------------------------------------------------------- SCARA and planar
 
-// SCARA / planar arm: angle sum, height, planar 2R: 2 candidates. g.a1: a point moved by
-// the first two revolute joints only.
-void planar(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
-    const Vec3 h = g.hp, y = g.a1;
-    const auto& rev = g.revolute_joints;
+// SCARA / planar arm: angle sum, height, planar 2R: 2 candidates.
+void planar(const PlanarGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    const Vec3 h = g.hp, y = g.y;
+    const int* rev = g.revolute;
     const int n = g.n;
     const double theta = sp1(g.u, R * g.u, h).t;
     const Vec3 Gy = R * y + t;
@@ -876,7 +874,7 @@ void planar(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid
         for (int j = 0; j < n; ++j) qs[j] = 0.0;
         qs[rev[0]] = ab.ta[b];
         qs[rev[1]] = ab.tb[b];
-        if (rev.size() == 3) qs[rev[2]] = theta - ab.ta[b] - ab.tb[b];
+        if (g.revolute_count == 3) qs[rev[2]] = theta - ab.ta[b] - ab.tb[b];
         if (g.prismatic_joint >= 0) qs[g.prismatic_joint] = slide;
         valid[b] = ab.ok[b];
         family[b] = ab.free;
@@ -884,7 +882,7 @@ void planar(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid
 }
 
 // Joints 1-3 carrying the tool point g.c to w = t (position IK; G = T, no M^-1): 4 candidates.
-void point(const CaseGeometry& g, Vec3 w, double* q, bool* valid, bool* family) {
+void point(const PointGeometry& g, Vec3 w, double* q, bool* valid, bool* family) {
     const ArmCandidates a = wrist_centre_joints(g, w);
     for (int s = 0; s < 4; ++s) {
         for (int j = 0; j < 3; ++j) q[3 * s + j] = a.q[s][j];
@@ -895,27 +893,24 @@ void point(const CaseGeometry& g, Vec3 w, double* q, bool* valid, bool* family) 
 
 }  // namespace
 
-void solve_pose(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
-    switch (g.kind) {
-        case CaseKind::Spherical:
-            spherical(g, R, t, q, valid, family);
-            break;
-        case CaseKind::ThreeParallel:
-            three_parallel(g, R, t, q, valid, family);
-            break;
-        case CaseKind::ParallelBase:
-            parallel_base(g, R, t, q, valid, family);
-            break;
-        case CaseKind::Planar:
-            planar(g, R, t, q, valid, family);
-            break;
-        case CaseKind::Point:
-            point(g, t, q, valid, family);
-            break;
-        case CaseKind::General:
-            general_six_r(g.general, R, t, q, valid, family);
-            break;
-    }
+void solve_case(const SphericalGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    spherical(g, R, t, q, valid, family);
+}
+
+void solve_case(const ThreeParallelGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    three_parallel(g, R, t, q, valid, family);
+}
+
+void solve_case(const ParallelBaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    parallel_base(g, R, t, q, valid, family);
+}
+
+void solve_case(const PlanarGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    planar(g, R, t, q, valid, family);
+}
+
+void solve_case(const PointGeometry& g, const Mat3&, Vec3 t, double* q, bool* valid, bool* family) {
+    point(g, t, q, valid, family);
 }
 
 }  // namespace armkit

@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 
+#include "armkit/ik_cases.hpp"
 #include "armkit/tolerances.hpp"
 
 namespace armkit {
@@ -281,6 +282,10 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
         valid[found++] = true;
     }
     return found;
+}
+
+void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    general_six_r(*g.arm, R, t, q, valid, family);
 }
 
 }  // namespace armkit

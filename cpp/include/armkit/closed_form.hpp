@@ -15,8 +15,6 @@
 
 namespace armkit {
 
-//: Largest number of candidates per pose of any case solver.
-constexpr int kMaxCandidates = kGeneralRoots;
 
 // What the per-pose loop needs of one chain, made once by ClosedFormSolver (Python). It
 // holds copies of the chain and the case geometry, so it outlives neither's Python object.
