@@ -7,7 +7,6 @@
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 
-#include "armkit/ik_cases.hpp"
 #include "armkit/tolerances.hpp"
 
 namespace armkit {

@@ -2,7 +2,7 @@
 
 The chain is taken as screw axes at ``q = 0`` (see :mod:`armkit.ik.structure`):
 ``T(q) = exp(xi_1 q_1) ... exp(xi_n q_n) M``, so the target gives ``G = T M^-1``, the
-motion of the joints alone. One solver per geometric case (``cpp/src/ik_cases.cpp``)
+motion of the joints alone. One solver per geometric case (``cpp/src/ik_case_<name>.cpp``)
 splits ``G`` (rotation ``R``, translation ``t``) into Paden-Kahan subproblems
 (:mod:`armkit.ik.subproblems`) and writes every candidate into the rows of ``q``
 ``(k, n)`` (internal joint order), with ``valid`` and ``family`` flags ``(k,)``:

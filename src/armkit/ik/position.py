@@ -3,7 +3,7 @@
 The tool point of a 3-joint arm (or of any arm with joints 4..n held at given values) goes
 where joints 1-3 put it. Which pair of axes 1-3 meets or is parallel decides the
 subproblems, exactly as for a spherical wrist's centre (:mod:`armkit.ik.structure`,
-``wrist_centre_joints`` in ``cpp/src/ik_cases.cpp``): an elbow arm (axes 2 and 3 parallel)
+``wrist_centre_joints`` in ``cpp/src/ik_case_point.cpp``): an elbow arm (axes 2 and 3 parallel)
 by SP4 for q1 and a planar 2R, intersecting axes by SP3 and SP2, general axes by a quartic.
 Up to 4 solutions; where the target is on a line that leaves a joint free (e.g. on axis 1
 of an elbow arm) a family, whose member is flagged ``family``. Every solution is checked
