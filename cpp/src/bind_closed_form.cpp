@@ -65,6 +65,12 @@ void copy2(const M2& from, double (&to)[2][2]) {
         for (int j = 0; j < 2; ++j) to[i][j] = from[i][j];
 }
 
+// position_case: an index of kPositionCaseNames.
+void check_position_case(int position_case) {
+    if (position_case < 0 || position_case > int(PositionCase::General123))
+        throw nb::value_error("position_case must be 0 .. 5 (armkit.ik.cases.POSITION_CASES)");
+}
+
 // The chain of a case with `n` joints (`what` names the case in the error).
 void check_joints(const CaseChain& c, int n, const char* what) {
     if (c.n != n)
@@ -72,12 +78,25 @@ void check_joints(const CaseChain& c, int n, const char* what) {
                                std::to_string(c.n)).c_str());
 }
 
-void set_point(PointGeometry& g, const CaseChain& chain, const TwoAngleSystem& system, int position_case, V3 c, V3 o,
-               V3 o2, V3 o3) {
-    if (position_case < 0 || position_case > int(PositionCase::General123))
-        throw nb::value_error("position_case must be 0 .. 5 (armkit.ik.cases.POSITION_CASES)");
-    static_cast<CaseChain&>(g) = chain;
-    static_cast<TwoAngleSystem&>(g) = system;
+// A geometry G constructed in place over `chain` (and a two-angle system), after checking
+// that the chain has n joints (0: any).
+template <class G>
+G& construct(G* g, const CaseChain& chain, int n, const char* what) {
+    if (n > 0) check_joints(chain, n, what);
+    new (g) G();
+    static_cast<CaseChain&>(*g) = chain;
+    return *g;
+}
+
+template <class G>
+G& construct(G* g, const CaseChain& chain, const TwoAngleSystem& system, int n, const char* what) {
+    G& out = construct(g, chain, n, what);
+    static_cast<TwoAngleSystem&>(out) = system;
+    return out;
+}
+
+// The fields of the point case (the wrist centre's of a spherical wrist).
+void set_point(PointGeometry& g, int position_case, V3 c, V3 o, V3 o2, V3 o3) {
     g.position_case = PositionCase(position_case);
     g.c = vec(c);
     g.o = vec(o);
@@ -206,9 +225,8 @@ void bind_closed_form(nb::module_& m) {
                                     "Joints 1-3 carry the point c to a target (position IK): 4 candidates.");
     point.def("__init__", [](PointGeometry* g, const CaseChain& chain, const TwoAngleSystem& system, int position_case,
                              V3 c, V3 o, V3 o2, V3 o3) {
-                  check_joints(chain, 3, "PointGeometry");
-                  new (g) PointGeometry();
-                  set_point(*g, chain, system, position_case, c, o, o2, o3);
+                  check_position_case(position_case);
+                  set_point(construct(g, chain, system, 3, "PointGeometry"), position_case, c, o, o2, o3);
               }, nb::arg("chain"), nb::arg("system"), nb::arg("position_case"), nb::arg("c"), nb::arg("o"),
               nb::arg("o2"), nb::arg("o3"));
     case_properties(point);
@@ -216,9 +234,8 @@ void bind_closed_form(nb::module_& m) {
         m, "SphericalGeometry", "A spherical wrist at c: joints 1-3 place it, then the wrist (u: a normal of h6).");
     spherical.def("__init__", [](SphericalGeometry* g, const CaseChain& chain, const TwoAngleSystem& system,
                                  int position_case, V3 c, V3 o, V3 o2, V3 o3, V3 u) {
-                      check_joints(chain, 6, "SphericalGeometry");
-                      new (g) SphericalGeometry();
-                      set_point(*g, chain, system, position_case, c, o, o2, o3);
+                      check_position_case(position_case);
+                      set_point(construct(g, chain, system, 6, "SphericalGeometry"), position_case, c, o, o2, o3);
                       g->u = vec(u);
                   }, nb::arg("chain"), nb::arg("system"), nb::arg("position_case"), nb::arg("c"), nb::arg("o"),
                   nb::arg("o2"), nb::arg("o3"), nb::arg("u"));
@@ -227,11 +244,8 @@ void bind_closed_form(nb::module_& m) {
                                             "Axes 2-4 parallel to hp: (q1, q5), then q6, the angle sum and a 2R.");
     three.def("__init__", [](ThreeParallelGeometry* g, const CaseChain& chain, const TwoAngleSystem& system, V3 hp,
                              V3 u, V3 p5, V3 p6, std::vector<double> q5_aligned, double b_aligned) {
-                  check_joints(chain, 6, "ThreeParallelGeometry");
                   if (q5_aligned.size() > 4) throw nb::value_error("ThreeParallelGeometry: at most 4 q5_aligned");
-                  new (g) ThreeParallelGeometry();
-                  static_cast<CaseChain&>(*g) = chain;
-                  static_cast<TwoAngleSystem&>(*g) = system;
+                  construct(g, chain, system, 6, "ThreeParallelGeometry");
                   g->hp = vec(hp), g->u = vec(u), g->p5 = vec(p5), g->p6 = vec(p6);
                   g->aligned = int(q5_aligned.size());
                   std::copy(q5_aligned.begin(), q5_aligned.end(), g->q5_aligned);
@@ -243,10 +257,7 @@ void bind_closed_form(nb::module_& m) {
                                           "Axes 1-3 parallel to hp: (q6, q4), then q5, the angle sum and a 2R.");
     base.def("__init__", [](ParallelBaseGeometry* g, const CaseChain& chain, const TwoAngleSystem& system, V3 hp,
                             V3 u, V3 o4, V3 o5, V3 o6) {
-                 check_joints(chain, 6, "ParallelBaseGeometry");
-                 new (g) ParallelBaseGeometry();
-                 static_cast<CaseChain&>(*g) = chain;
-                 static_cast<TwoAngleSystem&>(*g) = system;
+                 construct(g, chain, system, 6, "ParallelBaseGeometry");
                  g->hp = vec(hp), g->u = vec(u), g->o4 = vec(o4), g->o5 = vec(o5), g->o6 = vec(o6);
              }, nb::arg("chain"), nb::arg("system"), nb::arg("hp"), nb::arg("u"), nb::arg("o4"), nb::arg("o5"),
              nb::arg("o6"));
@@ -263,8 +274,7 @@ void bind_closed_form(nb::module_& m) {
                    if (prismatic_joint < -1 || prismatic_joint >= chain.n ||
                        (prismatic_joint >= 0 && !chain.prismatic[prismatic_joint]))
                        throw nb::value_error("PlanarGeometry: prismatic_joint must be -1 or a prismatic joint's index");
-                   new (g) PlanarGeometry();
-                   static_cast<CaseChain&>(*g) = chain;
+                   construct(g, chain, 0, "PlanarGeometry");
                    g->hp = vec(hp), g->u = vec(u), g->y = vec(y);
                    g->revolute_count = int(revolute.size());
                    std::copy(revolute.begin(), revolute.end(), g->revolute);
@@ -277,12 +287,12 @@ void bind_closed_form(nb::module_& m) {
     general.def("__init__", [](GeneralGeometry* g, const CaseChain& chain, int shift) {
                     check_joints(chain, 6, "GeneralGeometry");
                     for (int j = 0; j < 6; ++j)
-                        if (chain.prismatic[j]) throw nb::value_error("GeneralGeometry: the general 6R case takes revolute joints only");
+                        if (chain.prismatic[j])
+                            throw nb::value_error("GeneralGeometry: the general 6R case takes revolute joints only");
                     if (shift < 0 || shift > 5) throw nb::value_error("GeneralGeometry: shift must be 0 .. 5");
                     auto arm = std::make_shared<GeneralSixR>();
                     prepare_general(chain.h, chain.p, shift, *arm);
-                    new (g) GeneralGeometry();
-                    static_cast<CaseChain&>(*g) = chain;
+                    construct(g, chain, 6, "GeneralGeometry");
                     g->arm = std::move(arm);
                 }, nb::arg("chain"), nb::arg("shift") = 0);
     case_properties(general);
