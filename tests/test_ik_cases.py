@@ -16,7 +16,7 @@ from test_ik_closed_form import CLOSED_FORM_ROBOTS, _random_transform, random_ar
 import armkit
 from armkit import _core
 from armkit.chain import DHRow, chain_from_dh
-from armkit.ik.cases import CaseGeometry, solve_pose
+from armkit.ik.cases import CASE_CANDIDATES, CASE_NAMES, MAX_CANDIDATES, SphericalGeometry, solve_pose
 from armkit.ik.closed_form import closed_form_solver
 from armkit.ik.structure import plan_closed_form
 
@@ -113,21 +113,39 @@ def test_unreachable_motion_has_no_valid_candidate():
         assert not valid.any(), name
 
 
-def test_geometry_fields_are_checked():
-    fields = dict(kind=0, position_case=0, h=np.eye(3).repeat(2, axis=0), p=np.zeros((6, 3)),
-                  prismatic=np.zeros(6, bool), c=(0, 0, 0), o=(0, 0, 0), u=(1, 0, 0), hp=(0, 0, 1),
-                  a1=(0, 0, 0), a2=(0, 0, 0), a3=(0, 0, 0), Q=np.eye(2), Q_inv=np.eye(2), f=(0, 0),
-                  rank1=False, lam=(0, 1), mu=(1, 0), snap_t2=True, q5_aligned=np.zeros(0), b_aligned=0.0,
-                  revolute_joints=np.zeros(0, int), prismatic_joint=-1)
-    assert CaseGeometry(**fields).k == 8
-    with pytest.raises(TypeError, match="missing field 'Q'"):
-        CaseGeometry(**{k: v for k, v in fields.items() if k != "Q"})
-    with pytest.raises(TypeError, match="unknown field 'bogus'"):
-        CaseGeometry(**fields, bogus=1)
-    with pytest.raises(ValueError, match="'c' has 2 values"):
-        CaseGeometry(**{**fields, "c": (0.0, 1.0)})
-    with pytest.raises(ValueError, match="n = 6"):
-        CaseGeometry(**{**fields, "h": np.eye(3), "p": np.zeros((3, 3)), "prismatic": np.zeros(3)})
+def test_case_geometries_are_plain_structs_checked_by_the_core():
+    chain = _core.CaseChain(np.eye(3).repeat(2, axis=0), np.zeros((6, 3)), np.zeros(6, bool))
+    fields = dict(chain=chain, system=_core.TwoAngleSystem(), position_case=0, c=(0, 0, 0), o=(0, 0, 0),
+                  o2=(0, 0, 0), o3=(0, 0, 0), u=(1, 0, 0))
+    geometry = SphericalGeometry(**fields)
+    assert (geometry.k, geometry.n, geometry.case) == (8, 6, "spherical")
+    with pytest.raises(TypeError):
+        SphericalGeometry(**{k: v for k, v in fields.items() if k != "u"})
+    with pytest.raises(TypeError):
+        SphericalGeometry(**fields, bogus=1)
+    with pytest.raises(TypeError):
+        SphericalGeometry(**{**fields, "c": (0.0, 1.0)})
+    with pytest.raises(ValueError, match="position_case must be 0 .. 5"):
+        SphericalGeometry(**{**fields, "position_case": 6})
+    three = _core.CaseChain(np.eye(3), np.zeros((3, 3)), np.zeros(3, bool))
+    with pytest.raises(ValueError, match="needs a chain of 6 joints, got 3"):
+        SphericalGeometry(**{**fields, "chain": three})
+    with pytest.raises(ValueError, match=r"h and p must both be \(n, 3\)"):
+        _core.CaseChain(np.eye(3), np.zeros((2, 3)), np.zeros(3, bool))
+    with pytest.raises(ValueError, match="revolute joints only"):
+        prismatic = _core.CaseChain(np.eye(3).repeat(2, axis=0), np.zeros((6, 3)), np.ones(6, bool))
+        _core.GeneralGeometry(prismatic)
+
+
+def test_every_registered_case_has_a_geometry_and_a_fixed_capacity():
+    """The registry (the core's kCases) names every case once, the general 6R arm last, and
+    the largest candidate count is the buffers' capacity."""
+    assert CASE_NAMES[-1] == "general" and len(set(CASE_NAMES)) == len(CASE_NAMES)
+    assert max(CASE_CANDIDATES) == MAX_CANDIDATES == 16
+    for name in CLOSED_FORM_ROBOTS:
+        geometry = closed_form_solver(armkit.load(name).chain).geometry
+        assert geometry.case in CASE_NAMES
+        assert geometry.k == CASE_CANDIDATES[CASE_NAMES.index(geometry.case)]
 
 
 # --------------------------------------------------------------------- quartic

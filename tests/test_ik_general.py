@@ -191,13 +191,13 @@ def test_a_loop_joint_at_its_offset_plus_pi_is_found(index):
     # joints 3-5 of the loop are measured from offsets (0.3, 0.7, 1.1 rad); at offset + pi the
     # half-angle tangent is infinite and only the x^3 (or x^2) monomials of the null vector
     # are non-zero (x4, x5 from the largest pair by atan2; missed on 3 of 10 arms before)
-    from armkit.ik.cases import GENERAL, CaseGeometry, solve_pose
-    from armkit.ik.closed_form import case_fields
+    from armkit.ik.cases import GeneralGeometry, solve_pose
+    from armkit.ik.closed_form import case_chain
 
     rng = np.random.default_rng(2005)
     robot = general_arm(rng)
     poe = poe_from_chain(robot.chain)
-    geometry = CaseGeometry(**{**case_fields(poe, None, None), "kind": GENERAL, "general_shift": 0})
+    geometry = GeneralGeometry(case_chain(poe), shift=0)
     for _ in range(5):
         q0 = rng.uniform(-np.pi, np.pi, 6)
         q0[index] = np.angle(np.exp(1j * ([0.3, 0.7, 1.1][index - 2] + np.pi)))

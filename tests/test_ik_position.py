@@ -9,6 +9,7 @@ the target is found (or a flagged family stands for it), and numeric IK from man
 
 from __future__ import annotations
 
+import itertools
 import json
 
 import numpy as np
@@ -197,3 +198,44 @@ def test_cli_position_all_with_and_without_turn_copies(capsys):
     assert main(["ik", "ur5", "--position", "0.3", "0.1", "0.3", "--all", "--json"]) == 0
     once = json.loads(capsys.readouterr().out)
     assert len(once["solutions"]) == 4 and once["configurations_inside_limits"] == 32
+
+
+
+def _poe_elbow_arm(tool):
+    """A 6R POE arm: axis 1 meets axis 2, axes 2 and 3 parallel, the wrist centre on axis 3
+    (so on the pi/2 grid the tool point often lies on axis 3 and q3 turns it nowhere)."""
+    axes = [[0, 0, 1], [0, 1, 0], [0, 1, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0]]
+    centre = [0.4, 0.0, 0.3]
+    points = [[0, 0, 0], [0, 0, 0.3], [0.4, 0, 0.3], centre, centre, centre]
+    return armkit.Robot.from_poe(axes, points, transform_from(np.eye(3), np.add(centre, tool)))
+
+
+def _covered(chain, row, is_family, q) -> bool:
+    """``row`` is ``q`` (joints 1-3, modulo 2 pi), or a flagged family member that differs from
+    ``q`` in one joint only, a joint that moves the tool point nowhere (the family holds ``q``)."""
+    d = np.abs((row[:3] - q[:3] + pi) % (2 * pi) - pi)
+    if d.max() <= 1e-6:
+        return True
+    for j in range(3):
+        if is_family and np.delete(d, j).max() <= 1e-6:
+            moved = row.copy()
+            moved[j] = q[j]
+            return bool(np.linalg.norm(fk(chain, moved)[:3, 3] - fk(chain, row)[:3, 3]) <= 1e-9)
+    return False
+
+
+@pytest.mark.parametrize("tool", [[0.0, 0.0, 0.1], [0.1, 0.0, 0.0]])
+def test_every_position_on_the_grid_of_a_poe_elbow_arm_is_found(tool):
+    """Issue 26 item 6: with the tool point on axis 3 (to rounding) the planar 2R's second link
+    has length 0, and SP3 measured the rounding of |a|^2 - |v|^2 against their difference (0)
+    instead of against |a|^2: 'out of reach ... 5.55e-17 m away', or the branch lost."""
+    robot = _poe_elbow_arm(tool)
+    for q in itertools.product(GRID, repeat=6):
+        q = np.array(q)
+        p = robot.fk(q)[:3, 3]
+        nearest = robot.ik_position(p, near=q, within_limits=False)
+        assert np.linalg.norm(robot.fk(nearest)[:3, 3] - p) <= 1e-9
+        found = position_solutions(robot, p, near=q)
+        rows = zip(found.q, found.family, strict=True)
+        assert any(_covered(robot.chain, row, fam, q) for row, fam in rows), \
+            f"q = {q.tolist()}: listed {found.q[:, :3].tolist()}, family {found.family.tolist()}"

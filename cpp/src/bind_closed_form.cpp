@@ -1,11 +1,14 @@
-// Bindings of the subproblems and the case solvers: _core.CaseGeometry (built once per chain
-// by armkit/ik/closed_form.py), _core.solve_pose (one pose, for tests) and the subproblems
-// themselves (for the chain preparation and tests).
+// Bindings of the subproblems and the case solvers: the registry (_core.CASE_NAMES), one
+// class per case geometry (plain structs with typed keyword constructors, built once per
+// chain by armkit/ik/closed_form.py), _core.solve_pose (one pose, for tests) and the
+// subproblems themselves (for the chain preparation and tests).
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include <nanobind/stl/array.h>
@@ -13,6 +16,8 @@
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
+#include <nanobind/stl/variant.h>
+#include <nanobind/stl/vector.h>
 
 #include "armkit/ik_cases.hpp"
 #include "armkit/quartic.hpp"
@@ -30,139 +35,95 @@ using Flags = std::pair<bool, bool>;
 Vec3 vec(const V3& v) { return {v[0], v[1], v[2]}; }
 std::tuple<double, double, double> tuple3(Vec3 v) { return {v.x, v.y, v.z}; }
 
-// ------------------------------------------------------------------ CaseGeometry
+// ------------------------------------------------------------------ case geometries
 
-// The values of a keyword argument as float64, flattened; its size must be `size` (or any
-// multiple of `per_row` when size is 0).
-std::vector<double> doubles(const nb::kwargs& kw, const char* name, std::size_t size, std::size_t per_row = 1) {
-    if (!kw.contains(name)) throw nb::type_error(("CaseGeometry: missing field '" + std::string(name) + "'").c_str());
-    nb::module_ np = nb::module_::import_("numpy");
-    nb::object flat = np.attr("ascontiguousarray")(kw[name], nb::arg("dtype") = "float64").attr("ravel")();
-    auto a = nb::cast<nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>>(flat);
-    const std::size_t got = a.shape(0);
-    if ((size != 0 && got != size) || (size == 0 && got % per_row != 0))
-        throw nb::value_error(("CaseGeometry: field '" + std::string(name) + "' has " + std::to_string(got) +
-                               " values, expected " + (size ? std::to_string(size) : "a multiple of " +
-                               std::to_string(per_row)))
-                                  .c_str());
-    return {a.data(), a.data() + got};
-}
+using V2 = std::array<double, 2>;
+using M2 = std::array<V2, 2>;
+using Lines = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using Kinds = nb::ndarray<const bool, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 
-Vec3 vec_field(const nb::kwargs& kw, const char* name) {
-    const std::vector<double> v = doubles(kw, name, 3);
-    return {v[0], v[1], v[2]};
-}
-
-double number(const nb::kwargs& kw, const char* name) { return doubles(kw, name, 1)[0]; }
-
-int integer(const nb::kwargs& kw, const char* name) {
-    const double v = number(kw, name);
-    if (v != double(int(v))) throw nb::value_error(("CaseGeometry: field '" + std::string(name) + "' must be an integer").c_str());
-    return int(v);
-}
-
-bool flag(const nb::kwargs& kw, const char* name) {
-    if (!kw.contains(name)) throw nb::type_error(("CaseGeometry: missing field '" + std::string(name) + "'").c_str());
-    const int truth = PyObject_IsTrue(kw[name].ptr());  // Python truth (bool, numpy.bool_, 0 / 1)
-    if (truth < 0) throw nb::python_error();
-    return truth != 0;
-}
-
-void matrix2(const nb::kwargs& kw, const char* name, double (&M)[2][2]) {
-    const std::vector<double> v = doubles(kw, name, 4);
-    M[0][0] = v[0];
-    M[0][1] = v[1];
-    M[1][0] = v[2];
-    M[1][1] = v[3];
-}
-
-void pair_field(const nb::kwargs& kw, const char* name, double (&x)[2]) {
-    const std::vector<double> v = doubles(kw, name, 2);
-    x[0] = v[0];
-    x[1] = v[1];
-}
-
-constexpr const char* kFields[] = {"kind", "position_case", "h", "p", "prismatic", "c", "o", "u", "hp", "a1", "a2",
-                                   "a3", "Q", "Q_inv", "f", "rank1", "lam", "mu", "snap_t2", "q5_aligned",
-                                   "b_aligned", "revolute_joints", "prismatic_joint", "k", "general_shift"};
-
-// A CaseGeometry from the keyword arguments named like the fields of ik_cases.hpp (k
-// optional: 2 for planar arms, else 8), checked for sizes and ranges.
-CaseGeometry make_geometry(const nb::kwargs& kw) {
-    for (auto [key, value] : kw) {
-        const std::string name = nb::cast<std::string>(key);
-        bool known = false;
-        for (const char* f : kFields) known = known || name == f;
-        if (!known) throw nb::type_error(("CaseGeometry: unknown field '" + name + "'").c_str());
+// The joint lines of a case's chain: axes h and points p (n, 3), prismatic (n,), 1 <= n <= 6.
+CaseChain make_case_chain(Lines h, Lines p, Kinds prismatic) {
+    const std::size_t n = h.shape(0);
+    if (h.shape(1) != 3 || p.shape(0) != n || p.shape(1) != 3 || prismatic.shape(0) != n || n < 1 ||
+        n > std::size_t(kMaxCaseJoints))
+        throw nb::value_error(("CaseChain: h and p must both be (n, 3) and prismatic (n,), 1 <= n <= " +
+                               std::to_string(kMaxCaseJoints)).c_str());
+    CaseChain c;
+    c.n = int(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        c.h[j] = vec3(h.data() + 3 * j);
+        c.p[j] = vec3(p.data() + 3 * j);
+        c.prismatic[j] = prismatic.data()[j];
+        for (int i = 0; i < 3; ++i) c.size = std::max(c.size, 1.0 + std::abs(p.data()[3 * j + i]));
     }
-    CaseGeometry g;
-    const int kind = integer(kw, "kind"), position_case = integer(kw, "position_case");
-    if (kind < 0 || kind > 5) throw nb::value_error("CaseGeometry: kind must be 0 (spherical) .. 5 (general)");
-    if (position_case < -1 || position_case > 5) throw nb::value_error("CaseGeometry: position_case must be -1 .. 5");
-    g.kind = CaseKind(kind);
+    return c;
+}
+
+void copy2(const M2& from, double (&to)[2][2]) {
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) to[i][j] = from[i][j];
+}
+
+// position_case: an index of kPositionCaseNames.
+void check_position_case(int position_case) {
+    if (position_case < 0 || position_case > int(PositionCase::General123))
+        throw nb::value_error("position_case must be 0 .. 5 (armkit.ik.cases.POSITION_CASES)");
+}
+
+// The chain of a case with `n` joints (`what` names the case in the error).
+void check_joints(const CaseChain& c, int n, const char* what) {
+    if (c.n != n)
+        throw nb::value_error((std::string(what) + ": needs a chain of " + std::to_string(n) + " joints, got " +
+                               std::to_string(c.n)).c_str());
+}
+
+// A geometry G constructed in place over `chain` (and a two-angle system), after checking
+// that the chain has n joints (0: any).
+template <class G>
+G& construct(G* g, const CaseChain& chain, int n, const char* what) {
+    if (n > 0) check_joints(chain, n, what);
+    new (g) G();
+    static_cast<CaseChain&>(*g) = chain;
+    return *g;
+}
+
+template <class G>
+G& construct(G* g, const CaseChain& chain, const TwoAngleSystem& system, int n, const char* what) {
+    G& out = construct(g, chain, n, what);
+    static_cast<TwoAngleSystem&>(out) = system;
+    return out;
+}
+
+// The fields of the point case (the wrist centre's of a spherical wrist).
+void set_point(PointGeometry& g, int position_case, V3 c, V3 o, V3 o2, V3 o3) {
     g.position_case = PositionCase(position_case);
-    const std::vector<double> h = doubles(kw, "h", 0, 3), p = doubles(kw, "p", 0, 3);
-    g.n = int(h.size() / 3);
-    if (p.size() != h.size() || g.n < 1 || g.n > 16)
-        throw nb::value_error("CaseGeometry: h and p must both be (n, 3) with 1 <= n <= 16");
-    if (g.kind == CaseKind::Point ? g.n != 3 : g.kind != CaseKind::Planar && g.n != 6)
-        throw nb::value_error("CaseGeometry: a 6-joint case needs n = 6, a point case n = 3");
-    if ((g.kind == CaseKind::Spherical || g.kind == CaseKind::Point) && g.position_case == PositionCase::None)
-        throw nb::value_error("CaseGeometry: a spherical wrist or a point case needs a position_case 0 .. 5");
-    for (int j = 0; j < g.n; ++j) {
-        g.h.push_back({h[3 * j], h[3 * j + 1], h[3 * j + 2]});
-        g.p.push_back({p[3 * j], p[3 * j + 1], p[3 * j + 2]});
-    }
-    for (double v : p) g.size = std::max(g.size, 1.0 + std::abs(v));
-    for (double v : doubles(kw, "prismatic", std::size_t(g.n))) g.prismatic.push_back(v != 0.0);
-    g.c = vec_field(kw, "c");
-    g.o = vec_field(kw, "o");
-    g.u = vec_field(kw, "u");
-    g.hp = vec_field(kw, "hp");
-    g.a1 = vec_field(kw, "a1");
-    g.a2 = vec_field(kw, "a2");
-    g.a3 = vec_field(kw, "a3");
-    matrix2(kw, "Q", g.Q);
-    matrix2(kw, "Q_inv", g.Q_inv);
-    pair_field(kw, "f", g.f);
-    g.rank1 = flag(kw, "rank1");
-    pair_field(kw, "lam", g.lam);
-    pair_field(kw, "mu", g.mu);
-    g.snap_t2 = flag(kw, "snap_t2");
-    g.q5_aligned = doubles(kw, "q5_aligned", 0);
-    g.b_aligned = number(kw, "b_aligned");
-    for (double v : doubles(kw, "revolute_joints", 0)) {
-        if (v < 0 || v >= g.n || v != double(int(v)))
-            throw nb::value_error("CaseGeometry: revolute_joints must be joint indices 0 .. n - 1");
-        g.revolute_joints.push_back(int(v));
-    }
-    g.prismatic_joint = integer(kw, "prismatic_joint");
-    if (g.prismatic_joint < -1 || g.prismatic_joint >= g.n)
-        throw nb::value_error("CaseGeometry: prismatic_joint must be -1 or a joint index");
-    if (g.kind == CaseKind::Planar && g.revolute_joints.size() != 2 && g.revolute_joints.size() != 3)
-        throw nb::value_error("CaseGeometry: a planar arm needs 2 or 3 revolute_joints");
-    if (g.kind == CaseKind::General) {
-        if (std::any_of(g.prismatic.begin(), g.prismatic.end(), [](std::uint8_t v) { return v != 0; }))
-            throw nb::value_error("CaseGeometry: the general 6R case takes revolute joints only");
-        const int shift = kw.contains("general_shift") ? integer(kw, "general_shift") : 0;
-        if (shift < 0 || shift > 5) throw nb::value_error("CaseGeometry: general_shift must be 0 .. 5");
-        prepare_general(g.h.data(), g.p.data(), shift, g.general);
-    }
-    g.k = g.kind == CaseKind::Planar ? 2 : g.kind == CaseKind::Point ? 4 : g.kind == CaseKind::General ? kGeneralRoots : 8;
-    if (kw.contains("k") && integer(kw, "k") != g.k)
-        throw nb::value_error(("CaseGeometry: k must be " + std::to_string(g.k) + " for this kind").c_str());
-    return g;
+    g.c = vec(c);
+    g.o = vec(o);
+    g.o2 = vec(o2);
+    g.o3 = vec(o3);
+}
+
+// The properties every case's Python class has: n, k (candidates per pose) and its registry name.
+template <class G, class... Base>
+void case_properties(nb::class_<G, Base...>& cls) {
+    cls.def_prop_ro("n", [](const G& g) { return g.n; })
+        .def_prop_ro("k", [](const G& g) { return case_entry(CaseGeometry(g)).candidates; })
+        .def_prop_ro("case", [](const G& g) { return std::string(case_entry(CaseGeometry(g)).name); });
+    if constexpr (std::is_base_of_v<TwoAngleSystem, G>)
+        cls.def_prop_ro("rank1", [](const G& g) { return g.rank1; }, "Its two-angle system's Q has rank 1.");
 }
 
 // Every candidate of one joint motion G = (R, t) as new arrays (q (k, n), valid, family (k,)).
 nb::tuple solve_one(const CaseGeometry& g, In R, In t) {
     if (R.size() != 9 || t.size() != 3) throw nb::value_error("solve_pose: expected R (3, 3) and t (3,)");
+    const int k = case_entry(g).candidates, n = case_chain(g).n;
     const double* r = R.data();
     const Mat3 M{{{r[0], r[1], r[2]}, {r[3], r[4], r[5]}, {r[6], r[7], r[8]}}};
     nb::module_ np = nb::module_::import_("numpy");
-    nb::object q = np.attr("empty")(nb::make_tuple(g.k, g.n));
-    nb::object valid = np.attr("empty")(g.k, nb::arg("dtype") = "bool");
-    nb::object family = np.attr("empty")(g.k, nb::arg("dtype") = "bool");
+    nb::object q = np.attr("empty")(nb::make_tuple(k, n));
+    nb::object valid = np.attr("empty")(k, nb::arg("dtype") = "bool");
+    nb::object family = np.attr("empty")(k, nb::arg("dtype") = "bool");
     solve_pose(g, M, vec3(t.data()), nb::cast<Out>(q).data(), nb::cast<OutBool>(valid).data(),
                nb::cast<OutBool>(family).data());
     return nb::make_tuple(q, valid, family);
@@ -178,6 +139,8 @@ void bind_closed_form(nb::module_& m) {
     m.attr("OUT_TOLERANCE") = kOutTolerance;
     m.attr("TANGENT_TOLERANCE") = kTangentTolerance;
     m.attr("FREE_TOLERANCE") = kFreeTolerance;
+    m.attr("DUPLICATE_TOLERANCE") = kDuplicateTolerance;
+    m.attr("RANK_ONE_TOLERANCE") = kRankOne;
 
     m.def("rotate", [](V3 k, double t, V3 v) { return tuple3(rotate(vec(k), t, vec(v))); }, nb::arg("k"),
           nb::arg("theta"), nb::arg("v"), "R(k, theta) v by Rodrigues' formula (k a unit vector).");
@@ -230,16 +193,111 @@ void bind_closed_form(nb::module_& m) {
             return z;
         }, nb::arg("coeffs"), "The 4 roots of coeffs[0] z^4 + ... + coeffs[4] (complex).");
 
-    nb::class_<CaseGeometry>(m, "CaseGeometry",
-                             "Everything a closed-form case solver needs from a chain (built once per chain).")
-        .def("__init__", [](CaseGeometry* self, nb::kwargs kw) { new (self) CaseGeometry(make_geometry(kw)); })
-        .def_ro("n", &CaseGeometry::n)
-        .def_ro("k", &CaseGeometry::k)
-        .def_ro("rank1", &CaseGeometry::rank1)
-        .def_prop_ro("kind", [](const CaseGeometry& g) { return int(g.kind); })
-        .def_prop_ro("position_case", [](const CaseGeometry& g) { return int(g.position_case); });
+    nb::list names, candidates, position_cases;
+    for (const CaseEntry& entry : kCases) names.append(entry.name), candidates.append(entry.candidates);
+    for (const char* name : kPositionCaseNames) position_cases.append(name);
+    m.attr("CASE_NAMES") = nb::tuple(names);
+    m.attr("CASE_CANDIDATES") = nb::tuple(candidates);
+    m.attr("POSITION_CASES") = nb::tuple(position_cases);
+    m.attr("MAX_CANDIDATES") = kMaxCandidates;
+
+    nb::class_<CaseChain>(m, "CaseChain", "The joint lines a case starts from: axes h, points p (n, 3), prismatic (n,).")
+        .def(nb::new_(&make_case_chain), nb::arg("h"), nb::arg("p"), nb::arg("prismatic"))
+        .def_ro("n", &CaseChain::n)
+        .def_ro("size", &CaseChain::size);
+    nb::class_<TwoAngleSystem>(m, "TwoAngleSystem",
+                               "The constant part of a two-angle system P x(t1) - Q x(t2) = r (ik_cases.hpp).")
+        .def("__init__", [](TwoAngleSystem* s, M2 Q, M2 Q_inv, V2 f, bool rank1, V2 lam, V2 mu, bool snap_t2) {
+                 new (s) TwoAngleSystem();
+                 copy2(Q, s->Q);
+                 copy2(Q_inv, s->Q_inv);
+                 s->f[0] = f[0], s->f[1] = f[1];
+                 s->rank1 = rank1;
+                 s->lam[0] = lam[0], s->lam[1] = lam[1];
+                 s->mu[0] = mu[0], s->mu[1] = mu[1];
+                 s->snap_t2 = snap_t2;
+             }, nb::arg("Q"), nb::arg("Q_inv"), nb::arg("f"), nb::arg("rank1"), nb::arg("lam"), nb::arg("mu"),
+             nb::arg("snap_t2") = true)
+        .def(nb::init<>())
+        .def_ro("rank1", &TwoAngleSystem::rank1);
+
+    nb::class_<PointGeometry> point(m, "PointGeometry",
+                                    "Joints 1-3 carry the point c to a target (position IK): 4 candidates.");
+    point.def("__init__", [](PointGeometry* g, const CaseChain& chain, const TwoAngleSystem& system, int position_case,
+                             V3 c, V3 o, V3 o2, V3 o3) {
+                  check_position_case(position_case);
+                  set_point(construct(g, chain, system, 3, "PointGeometry"), position_case, c, o, o2, o3);
+              }, nb::arg("chain"), nb::arg("system"), nb::arg("position_case"), nb::arg("c"), nb::arg("o"),
+              nb::arg("o2"), nb::arg("o3"));
+    case_properties(point);
+    nb::class_<SphericalGeometry, PointGeometry> spherical(
+        m, "SphericalGeometry", "A spherical wrist at c: joints 1-3 place it, then the wrist (u: a normal of h6).");
+    spherical.def("__init__", [](SphericalGeometry* g, const CaseChain& chain, const TwoAngleSystem& system,
+                                 int position_case, V3 c, V3 o, V3 o2, V3 o3, V3 u) {
+                      check_position_case(position_case);
+                      set_point(construct(g, chain, system, 6, "SphericalGeometry"), position_case, c, o, o2, o3);
+                      g->u = vec(u);
+                  }, nb::arg("chain"), nb::arg("system"), nb::arg("position_case"), nb::arg("c"), nb::arg("o"),
+                  nb::arg("o2"), nb::arg("o3"), nb::arg("u"));
+    case_properties(spherical);
+    nb::class_<ThreeParallelGeometry> three(m, "ThreeParallelGeometry",
+                                            "Axes 2-4 parallel to hp: (q1, q5), then q6, the angle sum and a 2R.");
+    three.def("__init__", [](ThreeParallelGeometry* g, const CaseChain& chain, const TwoAngleSystem& system, V3 hp,
+                             V3 u, V3 p5, V3 p6, std::vector<double> q5_aligned, double b_aligned) {
+                  if (q5_aligned.size() > 4) throw nb::value_error("ThreeParallelGeometry: at most 4 q5_aligned");
+                  construct(g, chain, system, 6, "ThreeParallelGeometry");
+                  g->hp = vec(hp), g->u = vec(u), g->p5 = vec(p5), g->p6 = vec(p6);
+                  g->aligned = int(q5_aligned.size());
+                  std::copy(q5_aligned.begin(), q5_aligned.end(), g->q5_aligned);
+                  g->b_aligned = b_aligned;
+              }, nb::arg("chain"), nb::arg("system"), nb::arg("hp"), nb::arg("u"), nb::arg("p5"), nb::arg("p6"),
+              nb::arg("q5_aligned"), nb::arg("b_aligned"));
+    case_properties(three);
+    nb::class_<ParallelBaseGeometry> base(m, "ParallelBaseGeometry",
+                                          "Axes 1-3 parallel to hp: (q6, q4), then q5, the angle sum and a 2R.");
+    base.def("__init__", [](ParallelBaseGeometry* g, const CaseChain& chain, const TwoAngleSystem& system, V3 hp,
+                            V3 u, V3 o4, V3 o5, V3 o6) {
+                 construct(g, chain, system, 6, "ParallelBaseGeometry");
+                 g->hp = vec(hp), g->u = vec(u), g->o4 = vec(o4), g->o5 = vec(o5), g->o6 = vec(o6);
+             }, nb::arg("chain"), nb::arg("system"), nb::arg("hp"), nb::arg("u"), nb::arg("o4"), nb::arg("o5"),
+             nb::arg("o6"));
+    case_properties(base);
+    nb::class_<PlanarGeometry> planar(m, "PlanarGeometry",
+                                      "SCARA / planar 2R or 3R about hp: angle sum, height, planar 2R.");
+    planar.def("__init__", [](PlanarGeometry* g, const CaseChain& chain, V3 hp, V3 u, V3 y, std::vector<int> revolute,
+                              int prismatic_joint) {
+                   if (revolute.size() != 2 && revolute.size() != 3)
+                       throw nb::value_error("PlanarGeometry: a planar arm needs 2 or 3 revolute joints");
+                   for (int j : revolute)
+                       if (j < 0 || j >= chain.n || chain.prismatic[j])
+                           throw nb::value_error("PlanarGeometry: revolute must be revolute joint indices 0 .. n - 1");
+                   if (prismatic_joint < -1 || prismatic_joint >= chain.n ||
+                       (prismatic_joint >= 0 && !chain.prismatic[prismatic_joint]))
+                       throw nb::value_error("PlanarGeometry: prismatic_joint must be -1 or a prismatic joint's index");
+                   construct(g, chain, 0, "PlanarGeometry");
+                   g->hp = vec(hp), g->u = vec(u), g->y = vec(y);
+                   g->revolute_count = int(revolute.size());
+                   std::copy(revolute.begin(), revolute.end(), g->revolute);
+                   g->prismatic_joint = prismatic_joint;
+               }, nb::arg("chain"), nb::arg("hp"), nb::arg("u"), nb::arg("y"), nb::arg("revolute"),
+               nb::arg("prismatic_joint"));
+    case_properties(planar);
+    nb::class_<GeneralGeometry> general(m, "GeneralGeometry",
+                                        "Any 6R arm: Raghavan-Roth elimination, the loop starting at joint shift + 1.");
+    general.def("__init__", [](GeneralGeometry* g, const CaseChain& chain, int shift) {
+                    check_joints(chain, 6, "GeneralGeometry");
+                    for (int j = 0; j < 6; ++j)
+                        if (chain.prismatic[j])
+                            throw nb::value_error("GeneralGeometry: the general 6R case takes revolute joints only");
+                    if (shift < 0 || shift > 5) throw nb::value_error("GeneralGeometry: shift must be 0 .. 5");
+                    auto arm = std::make_shared<GeneralSixR>();
+                    prepare_general(chain.h, chain.p, shift, *arm);
+                    construct(g, chain, 6, "GeneralGeometry");
+                    g->arm = std::move(arm);
+                }, nb::arg("chain"), nb::arg("shift") = 0);
+    case_properties(general);
     m.def("solve_pose", &solve_one, nb::arg("geometry"), nb::arg("R"), nb::arg("t"),
-          "Every candidate (q (k, n), valid (k,), family (k,)) for the joint motion G = (R, t).");
+          "Every candidate (q (k, n), valid (k,), family (k,)) of a case geometry for the joint motion G = (R, t).");
 }
 
 }  // namespace armkit::bindings

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <nanobind/stl/tuple.h>
+#include <nanobind/stl/variant.h>
 
 #include "armkit/batch.hpp"
 #include "armkit/closed_form.hpp"
@@ -23,7 +24,7 @@ using OutIndex = nb::ndarray<std::int64_t, nb::c_contig, nb::device::cpu>;
 ClosedForm make_closed_form(const Chain& chain, const CaseGeometry& geometry, InIndex index, In sign, In M_inv,
                             bool inverted, int k, bool verify, bool polish, double verify_tolerance) {
     const std::size_t n = std::size_t(chain.n);
-    if (geometry.n != chain.n || index.size() != n || sign.size() != n || M_inv.size() != 16 || k < 1 ||
+    if (case_chain(geometry).n != chain.n || index.size() != n || sign.size() != n || M_inv.size() != 16 || k < 1 ||
         k > kMaxCandidates)
         throw std::invalid_argument("ClosedForm: expected a geometry of the chain's n joints, index and sign "
                                     "(n,), M_inv (4, 4), 1 <= k <= 16");
@@ -44,9 +45,9 @@ ClosedForm make_closed_form(const Chain& chain, const CaseGeometry& geometry, In
     cf.k = k;
     cf.verify = verify;
     cf.polish = polish;
-    if (geometry.kind == CaseKind::General) {
+    if (std::holds_alternative<GeneralGeometry>(geometry)) {
         cf.polish_steps = kGeneralNewtonSteps;
-        cf.polish_stop = kPolished * geometry.size;
+        cf.polish_stop = kPolished * case_chain(geometry).size;
     }
     cf.verify_tolerance = verify_tolerance;
     return cf;

@@ -26,7 +26,7 @@ void newton(const Chain& chain, const Pose& T, double* q, int steps, double stop
         jacobian_from_axes(F, axes, points, chain.prismatic.data(), n, J);
         pose_error(T, F, e);
         if (stop > 0.0 && std::all_of(e, e + 6, [stop](double v) { return std::fabs(v) <= stop; })) return;
-        damped_step(J, n, e, rows, 6, free, 1e-14, dq);
+        damped_step(J, n, e, rows, 6, free, kNewtonDamping, dq);
         for (int j = 0; j < n; ++j) q[j] += dq[j];
     }
 }
@@ -82,18 +82,6 @@ void midpoint(const Chain& chain, const double* a, const double* b, double* mid)
     }
 }
 
-//: Two candidates within this in every joint [rad or m, modulo 2 pi] may be the two roots
-//: of a double root on either side of a family (see flag_close_singular_candidates): the
-//: case solver places them ~1e-7 off it and, the family being singular, up to ~1e-3
-//: apart along it.
-constexpr double kSplitRoots = 1e-2;
-
-//: The point between split roots, put onto the solution set, must reproduce the pose to
-//: this [m, times the arm's size; rad] (rounding: a family's members are exact, while
-//: beside a fold the projection stops in a neighbourhood of residual ~1e-13 that is
-//: singular too, between twin roots that are two solutions).
-constexpr double kOnFamily = 1e-14;
-
 // The nullity of the point between configurations a and b (n, within kSplitRoots), put
 // onto the solution set of T exactly (into mid; size: the arm's, see kOnFamily), or -1
 // where it does not get there or leaves kSplitRoots of either.
@@ -124,8 +112,8 @@ void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double*
             // singular than either (a family, or where two cross), or the first is rough
             // (no solution to rounding: it then loses nothing)
             double mid[kMaxJoints];
-            const int between = nullity_between(chain, T, qa, qb, cf.geometry.size, mid);
-            const bool rough = fk_difference(chain, T, qa) > kOnFamily * cf.geometry.size;
+            const int between = nullity_between(chain, T, qa, qb, case_chain(cf.geometry).size, mid);
+            const bool rough = fk_difference(chain, T, qa) > kOnFamily * case_chain(cf.geometry).size;
             if (between > std::max(at_a, at_b) || (between > 0 && rough)) {
                 for (int j = 0; j < n; ++j) qa[j] = chain.prismatic[j] ? mid[j] : wrap_angle(mid[j]);
                 family[a] = family[b] = true;
@@ -140,14 +128,10 @@ void flag_close_singular_candidates(const ClosedForm& cf, const Pose& T, double*
 // there FK decides. A finite invalid candidate within kExactFraction of cf.verify_tolerance
 // after kExactNewtonSteps Newton steps, and not a twin of an accepted one, is valid, and a
 // family member if the Jacobian there is singular.
-//: A candidate within this many times cf.verify_tolerance of the pose is polished and checked.
-constexpr double kNearlyExact = 1e4;
-//: Newton steps for it: enough to reach rounding from 1e4 times the tolerance, so that a
-//: rejected twin of a valid candidate lands on it and is marked a duplicate.
+//: Newton steps for it (kNearlyExact, kExactFraction): enough to reach rounding from 1e4
+//: times the tolerance, so that a rejected twin of a valid candidate lands on it and is
+//: marked a duplicate.
 constexpr int kExactNewtonSteps = 6;
-//: ... after which it must reproduce T to this fraction of cf.verify_tolerance (rounding):
-//: near a fold the point between two twin roots comes within ~1e-9 and is no solution.
-constexpr double kExactFraction = 1e-4;
 
 // Whether q (n) lies within kCloseCandidates of a candidate the case accepted (a twin of it:
 // near a fold the rejected root of a pair converges onto the accepted one only slowly).
@@ -180,14 +164,6 @@ void take_exact_candidates(const ClosedForm& cf, const Pose& T, double* q, bool*
     }
 }
 
-//: Two close candidates (kCloseCandidates), the better exact to rounding (kOnFamily), are
-//: one solution unless the point between them misses the pose by more than this many
-//: times the worse one's residual (a barrier between two roots): near a fold the closed
-//: form can place a second root at a residual minimum of ~1e-13 beside the exact one (the
-//: point between them misses by about as much), while twin roots of a pose just inside a
-//: fold, each exact to rounding, have a barrier of 1e-13 to 1e-10 between them.
-constexpr double kBarrier = 10.0;
-
 // Of two valid, close candidates (not family members) that are one solution, the one
 // farther from the pose is no longer valid.
 void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bool* valid, const bool* family) {
@@ -197,7 +173,7 @@ void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bo
             if (!valid[b] || family[a] || family[b] || !within(cf.chain, q + a * n, q + b * n, kCloseCandidates))
                 continue;
             const double at_a = fk_difference(cf.chain, T, q + a * n), at_b = fk_difference(cf.chain, T, q + b * n);
-            if (!(std::min(at_a, at_b) <= kOnFamily * cf.geometry.size)) continue;
+            if (!(std::min(at_a, at_b) <= kOnFamily * case_chain(cf.geometry).size)) continue;
             double mid[kMaxJoints];
             midpoint(cf.chain, q + a * n, q + b * n, mid);
             if (fk_difference(cf.chain, T, mid) > kBarrier * std::max(at_a, at_b)) continue;

@@ -7,6 +7,8 @@
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 
+#include "armkit/tolerances.hpp"
+
 namespace armkit {
 
 namespace {
@@ -15,14 +17,6 @@ namespace {
 //: infinity (t = pi) then needs the arm to stand at offset + pi, which a generic pose does
 //: not ask. Any values do; these are far from 0, pi/2, pi and from each other.
 constexpr double kGeneralOffsets[3] = {0.3, 0.7, 1.1};
-//: A root x3 counts as real when |Im x3| is at most this times max(1, |x3|) (for a root of
-//: the inverted companion, of 1 / x3): a double root (a fold of the pose) splits into a complex pair ~1e-8 apart, and
-//: an arm near a Pieper class loses digits; a complex candidate that is no solution fails
-//: the pipeline's Newton steps and FK check, so the bar can be generous.
-constexpr double kRealRoot = 1e-4;
-//: The companion matrix needs the leading (or trailing) coefficient matrix inverted; below
-//: this reciprocal condition number of both the pencil goes to QZ instead.
-constexpr double kCompanionCondition = 1e-10;
 
 // The three sample angles of a three-point DFT and the matrix taking samples to the
 // coefficients of (1, cos t, sin t).
@@ -128,7 +122,7 @@ int half_angle_roots(const Mat12 (&M)[3], double* t) {
             const double beta = qz.betas()(r);
             // beta ~ 0: a root at infinity, taken as 1 / x = 0
             const std::complex<double> alpha = qz.alphas()(r);
-            x[r] = std::fabs(beta) > 1e-16 * std::abs(alpha) ? alpha / beta : std::complex<double>(1e300, 0.0);
+            x[r] = std::fabs(beta) > kInfiniteEigenvalue * std::abs(alpha) ? alpha / beta : std::complex<double>(1e300, 0.0);
         }
     }
     int order[24], count = 0;
@@ -287,6 +281,10 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
         valid[found++] = true;
     }
     return found;
+}
+
+void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    general_six_r(*g.arm, R, t, q, valid, family);
 }
 
 }  // namespace armkit

@@ -9,12 +9,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "armkit/tolerances.hpp"
 #include "armkit/vec.hpp"
 
 namespace armkit {
-
-//: Slack [rad or m] allowed beyond a joint limit (bound as armkit.chain.LIMIT_TOLERANCE).
-constexpr double kLimitTolerance = 1e-9;
 
 struct Chain {
     int n = 0;

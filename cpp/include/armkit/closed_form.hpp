@@ -11,17 +11,10 @@
 #include "armkit/chain.hpp"
 #include "armkit/ik_cases.hpp"
 #include "armkit/linalg.hpp"
+#include "armkit/tolerances.hpp"
 
 namespace armkit {
 
-//: Largest number of candidates per pose of any case solver.
-constexpr int kMaxCandidates = kGeneralRoots;
-//: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution
-//: (armkit.ik.closed_form.DUPLICATE_TOLERANCE).
-constexpr double kDuplicateTolerance = 1e-9;
-//: Two candidates closer than this in every joint [rad or m, modulo 2 pi] are looked at
-//: together (flag_close_singular_candidates).
-constexpr double kCloseCandidates = 1e-3;
 
 // What the per-pose loop needs of one chain, made once by ClosedFormSolver (Python). It
 // holds copies of the chain and the case geometry, so it outlives neither's Python object.
@@ -47,8 +40,6 @@ void joint_motion(const ClosedForm& cf, const Pose& T, Mat3& R, Vec3& t);
 //: near a Pieper class (candidates ~1e-4 off at deviations of 1e-6), and quadratic
 //: convergence takes 1e-4 to rounding in four steps; a few more for a slow start.
 constexpr int kGeneralNewtonSteps = 8;
-//: Newton stops early once the pose error [m, rad] is below this times the arm's size.
-constexpr double kPolished = 1e-15;
 
 // `steps` damped Newton steps on fk(q) = T (all six rows, damping 1e-14) for one
 // candidate q (n), in place, stopping early where the pose error is at most `stop` [m,

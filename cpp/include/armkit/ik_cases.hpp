@@ -1,58 +1,70 @@
-// The closed-form case solvers, one target at a time (port of armkit/ik/cases.py).
+// The closed-form cases, one target at a time, behind one case interface: the registry.
 //
 // The chain is taken as screw axes at q = 0: T(q) = exp(xi_1 q_1) ... exp(xi_n q_n) M, so a
 // target gives G = T M^-1, the motion of the joints alone. One solver per geometric case
 // splits G (rotation R, translation t) into Paden-Kahan subproblems (subproblems.hpp) and
 // writes every candidate into the rows of q (k x n, internal joint order), with valid and
-// family flags (k). New cases (general 6R, 16 solutions; 7R through a locked joint) join
-// as another CaseKind and solver function.
+// family flags (k), k at most kMaxCandidates.
+//
+// The interface: a case is a geometry struct (what its solver needs of the chain, made once
+// per chain; it derives from CaseChain, the joint lines every case starts from, and holds
+// only its own constants) and a solve_case overload over it, declared in the case's header
+// ik_case_<name>.hpp and defined in its source ik_case_<name>.cpp (the general 6R arm:
+// ik_general.hpp / .cpp). CaseGeometry holds one of them (a std::variant), and kCases lists
+// them in the variant's order with their names and candidates per pose: this file is the
+// one place that registers a case. solve_pose dispatches on the variant.
+//
+// Adding a case: its header/source pair; its alternative in CaseGeometry and its entry in
+// kCases (here); its binding class (cpp/src/bind_closed_form.cpp); its detection and
+// geometry in armkit/ik/structure.py and armkit/ik/closed_form.py; its test.
 #pragma once
 
-#include <cstdint>
-#include <vector>
+#include <variant>
 
+#include "armkit/case_chain.hpp"
+#include "armkit/ik_case_parallel_base.hpp"
+#include "armkit/ik_case_planar.hpp"
+#include "armkit/ik_case_point.hpp"
+#include "armkit/ik_case_spherical.hpp"
+#include "armkit/ik_case_three_parallel.hpp"
 #include "armkit/ik_general.hpp"
-#include "armkit/vec.hpp"
 
 namespace armkit {
 
-// Point: joints 1-3 of any chain carry a tool point to a target position (position IK, 4
-// candidates); General: any 6R arm (ik_general.hpp, 16 candidates); the others solve full poses.
-enum class CaseKind : int { Spherical = 0, ThreeParallel = 1, ParallelBase = 2, Planar = 3, Point = 4, General = 5 };
+//: Largest number of candidates per pose of any case solver (the general 6R arm's 16):
+//: every per-pose buffer is sized by it.
+constexpr int kMaxCandidates = kGeneralRoots;
 
-// How joints 1-3 of a spherical-wrist arm place the wrist centre
-// (armkit.ik.cases.POSITION_CASES, same order).
-enum class PositionCase : int {
-    Parallel23 = 0, Parallel12 = 1, Intersect23 = 2, Intersect12Revolute = 3, Intersect12Prismatic = 4,
-    General123 = 5, None = -1
+// One case's geometry; the alternatives in the order of kCases.
+using CaseGeometry = std::variant<SphericalGeometry, ThreeParallelGeometry, ParallelBaseGeometry, PlanarGeometry,
+                                  PointGeometry, GeneralGeometry>;
+
+// One entry of the registry: the case's name (armkit.ik.cases.CASE_NAMES) and candidates per pose.
+struct CaseEntry {
+    const char* name;
+    int candidates;
 };
 
-// Everything a case solver needs from the chain, computed once per chain by the Python
-// layer (armkit/ik/closed_form.py, ClosedFormSolver), field for field cases.CaseGeometry.
-struct CaseGeometry {
-    CaseKind kind = CaseKind::Spherical;
-    PositionCase position_case = PositionCase::None;
-    int n = 0;
-    std::vector<Vec3> h, p;               // internal axes and points (n)
-    std::vector<std::uint8_t> prismatic;  // (n)
-    Vec3 c, o, u, hp, a1, a2, a3;         // points / directions, meaning by case
-    double Q[2][2] = {{0, 0}, {0, 0}};    // the constant part of the two-angle system
-    double Q_inv[2][2] = {{0, 0}, {0, 0}};
-    double f[2] = {0, 0};
-    bool rank1 = false;
-    double lam[2] = {0, 0}, mu[2] = {0, 0};
-    bool snap_t2 = true;
-    std::vector<double> q5_aligned;  // q5 values that turn axis 6 parallel to h (three-parallel)
-    double b_aligned = 0.0;
-    std::vector<int> revolute_joints;  // planar: the revolute joints (2 or 3)
-    int prismatic_joint = -1;          // planar: the prismatic joint, or -1
-    GeneralSixR general;               // general: the elimination's constants
-    int k = 8;                         // candidates per pose (8; 2 planar, 4 point, 16 general)
-    double size = 1.0;                 // length scale [m]: 1 + the largest coordinate of p
+// The registry, in the order of CaseGeometry's alternatives. Point: joints 1-3 of any chain
+// carry a tool point to a target position (position IK); general: any 6R arm, the last case.
+constexpr CaseEntry kCases[] = {
+    {"spherical", 8}, {"three-parallel", 8}, {"parallel-base", 8}, {"planar", 2}, {"point", 4}, {"general", kGeneralRoots},
 };
+constexpr int kCaseCount = int(sizeof(kCases) / sizeof(kCases[0]));
+static_assert(kCaseCount == int(std::variant_size_v<CaseGeometry>), "one registry entry per case");
 
-// Every candidate for the joint motion G = (R, t): into q (g.k x g.n, row-major, internal
-// joint order), valid and family (g.k).
-void solve_pose(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
+// The registry entry of a geometry's case.
+inline const CaseEntry& case_entry(const CaseGeometry& g) { return kCases[g.index()]; }
+
+// The joint lines of a geometry's chain.
+inline const CaseChain& case_chain(const CaseGeometry& g) {
+    return std::visit([](const auto& c) -> const CaseChain& { return c; }, g);
+}
+
+// Every candidate for the joint motion G = (R, t) of the geometry's case into q (k x n,
+// row-major, internal joint order), valid and family (k), k = case_entry(g).candidates.
+inline void solve_pose(const CaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    std::visit([&](const auto& c) { solve_case(c, R, t, q, valid, family); }, g);
+}
 
 }  // namespace armkit

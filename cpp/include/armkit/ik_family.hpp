@@ -20,29 +20,20 @@
 #include "armkit/chain.hpp"
 #include "armkit/fk.hpp"
 #include "armkit/linalg.hpp"
+#include "armkit/tolerances.hpp"
 #include "armkit/transform.hpp"
 
 namespace armkit {
 
 //: Steps along a singular family towards near (one where the family is a line in joint space).
 constexpr int kFamilySteps = 10;
-//: Singular values below this fraction of the largest span a family's directions.
-constexpr double kNullSpace = 1e-8;
-//: ... and below this, near a crossing of two families (where the trace stops short: a
-//: kink), the other family's direction too, for a step towards near that ends stuck.
-constexpr double kNearCrossing = 0.05;
-//: Two axes within this of one line (angle [rad], distance / size of the arm) are walked
-//: along as one, then projected (see move_along_collinear_pairs).
-constexpr double kNearlyCollinear = 1e-6;
 //: Points sampled along a family's line (two whole turns of its fastest joint).
 constexpr int kFamilySamples = 257;
-//: The projection back onto the solution set: iterations, and the residual [m, rad] it must reach.
+//: The projection back onto the solution set: iterations (its residual: kProjectionTolerance).
 constexpr int kProjectionIterations = 10;
-constexpr double kProjectionTolerance = 1e-13;
-//: Tracing a curved family: the step along its tangent [rad or m], the smallest step tried
-//: before a direction is given up, and the length traced either way (several whole turns).
+//: Tracing a curved family: the step along its tangent [rad or m] and the length traced
+//: either way (several whole turns); the smallest step tried: kTraceSmallestStep.
 constexpr double kTraceStep = 0.1;
-constexpr double kTraceSmallestStep = 1e-3;
 constexpr double kTraceLength = 6.0 * kTwoPi;
 
 // Singular values s (n) and right singular vectors V (n x n, row-major, column j for s[j])
@@ -223,9 +214,6 @@ inline int null_space(const Chain& chain, const double* q, double* V, int* null,
     return count;
 }
 
-//: A step [rad or m] along the Jacobian's null space that tells a family from an isolated
-//: singular solution (see on_a_family).
-constexpr double kFamilyProbe = 1e-3;
 
 // Whether the solution q (n) of T lies on a family: its Jacobian has a null space, and a
 // step of kFamilyProbe along it, put back onto the solution set, stays a solution that far
@@ -313,13 +301,6 @@ inline void trace_family(const Chain& chain, const Pose& T, double* q, const dou
     for (int j = 0; j < n; ++j) q[j] = chain.prismatic[j] ? best_q[j] : near[j] + wrap_angle(best_q[j] - near[j]);
 }
 
-//: A point aimed along the family from q and put onto the solution set stays on q's family
-//: when the projection moves it by at most this fraction of the aim (a line family: ~0; a
-//: curved one: the curvature times the step). A projection from a point far along the line
-//: can land on another branch of the pose (another elbow or shoulder) that happens to be
-//: nearer to near: the wrist family of a PUMA at q5 = 0 was replaced by another branch's
-//: member on 8 of 300 poses, so the listing lost the generating configuration's branch.
-constexpr double kStayOnFamily = 0.5;
 
 // Whether target (n), the projection of aimed, a point reached from q along the family,
 // stays on q's family (see kStayOnFamily).

@@ -27,6 +27,9 @@
 // the full pose and checks them by FK (closed_form.cpp).
 #pragma once
 
+#include <memory>
+
+#include "armkit/case_chain.hpp"
 #include "armkit/vec.hpp"
 
 namespace armkit {
@@ -56,5 +59,14 @@ void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g);
 // valid (kGeneralRoots; false for unused rows) and family (all false: the pipeline flags
 // families). Returns the number of valid candidates.
 int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
+
+// The general case of the registry (ik_cases.hpp), the last: any 6R arm, the elimination's
+// constants made once and shared by copies (3 KB: not carried by any other case).
+struct GeneralGeometry : CaseChain {
+    std::shared_ptr<const GeneralSixR> arm;
+};
+
+// general_six_r on g.arm: 16 candidates.
+void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
 
 }  // namespace armkit

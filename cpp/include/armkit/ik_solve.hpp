@@ -11,22 +11,11 @@
 #include "armkit/closed_form.hpp"
 #include "armkit/fk.hpp"
 #include "armkit/ik_family.hpp"
+#include "armkit/tolerances.hpp"
 #include "armkit/transform.hpp"
 
 namespace armkit {
 
-//: Position [m] and angle [rad] within which every returned solution reproduces the target
-//: (bound as armkit.ik.results.SOLUTION_TOLERANCE).
-constexpr double kSolutionTolerance = 1e-9;
-//: Candidates with a larger FK residual [m or rad] are rough: refined (see refine).
-constexpr double kRefineAbove = 1e-13;
-//: A refinement may move a candidate by at most this [rad or m] (it must stay on its branch)...
-constexpr double kRefineMove = 1e-6;
-//: ... and a family's representative by this: the exact points near it are members of its
-//: family (or of one crossing it), so no distinct solution is lost, and at a doubly
-//: singular pose the closed form places it only to ~1e-5 (a multiple root; the residual
-//: grows with the square of the distance along the family's second direction).
-constexpr double kRefineFamilyMove = 1e-3;
 
 // Indices of the per-candidate flags (the last axis of Found::flags).
 enum FoundFlag : int { kValid = 0, kKeep = 1, kInside = 2, kFamily = 3, kFlags = 4 };

@@ -1,6 +1,8 @@
 // The small dense linear algebra of the solvers: the damped least-squares step.
 #pragma once
 
+#include "armkit/tolerances.hpp"
+
 namespace armkit {
 
 //: Largest number of joints the core's fixed-size work arrays hold.
@@ -11,10 +13,6 @@ constexpr int kMaxJoints = 16;
 // positive definite. Written out: for k <= 7 a LAPACK call costs more than the arithmetic.
 bool cholesky_solve(double* A, double* b, int k);
 
-//: Damping, relative to trace(J^T J), of a step whose damped normal equations were not
-//: positive definite (a singular Jacobian and no damping): within about 1e-7 of the
-//: minimum-norm least-squares step on rank-deficient random Jacobians.
-constexpr double kSingularDamping = 1e-10;
 
 // The damped least-squares (Levenberg-Marquardt) step dq (n) for the task rows `rows`
 // (m of 0..5) of J (6 x n, row-major) and e (6). Joints held at a bound (sides[i] = -1 at

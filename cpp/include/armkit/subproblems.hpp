@@ -23,17 +23,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "armkit/tolerances.hpp"
 #include "armkit/vec.hpp"
 
 namespace armkit {
-
-// Relative amount by which an instance may be impossible and still count as tangent.
-constexpr double kOutTolerance = 1e-9;
-// Relative distance to tangency below which a double solution is returned once (SP3, SP4:
-// their error is second order in the angle).
-constexpr double kTangentTolerance = 1e-14;
-// Relative size below which a vector counts as lying on the rotation axis (any angle).
-constexpr double kFreeTolerance = 1e-12;
 
 struct Angle1 {
     double t;   // [rad], in (-pi, pi]
@@ -102,17 +95,21 @@ inline Angles2 solve_trig_linear(double a, double b, double c, double size, bool
     return {{phi + delta, phi - delta}, {true, true}, false};
 }
 
-// SP4: all t with h . R(k, t) p = d (h any vector).
-inline Angles2 sp4(Vec3 h, Vec3 p, Vec3 k, double d) {
+// SP4: all t with h . R(k, t) p = d (h any vector). d_size: the size of the terms d was
+// computed from, where they are larger than d (its rounding is relative to them).
+inline Angles2 sp4(Vec3 h, Vec3 p, Vec3 k, double d, double d_size = 0.0) {
     const double kp = dot(k, p), hk = dot(h, k);
-    const double size = std::sqrt(dot(h, h) * dot(p, p)) + std::abs(d);
+    const double size = std::sqrt(dot(h, h) * dot(p, p)) + std::max(std::abs(d), d_size);
     return solve_trig_linear(dot(h, p) - hk * kp, dot(h, cross(k, p)), d - hk * kp, size);
 }
 
 // SP3: all t with |R(k, t) p1 - p2| = d (d >= 0): expanding the square gives SP4,
-// p2 . R(k, t) p1 = (|p1|^2 + |p2|^2 - d^2) / 2.
+// p2 . R(k, t) p1 = (|p1|^2 + |p2|^2 - d^2) / 2, whose right side carries the rounding of
+// its terms: where p1 (or p2) lies on the axis and |p2| = d (|p1| = d) it is 0 only to
+// that rounding, and t is free (the tool point on the last axis of a planar 2R).
 inline Angles2 sp3(Vec3 p1, Vec3 p2, Vec3 k, double d) {
-    return sp4(p2, p1, k, 0.5 * (dot(p1, p1) + dot(p2, p2) - d * d));
+    const double terms = 0.5 * (dot(p1, p1) + dot(p2, p2) + d * d);
+    return sp4(p2, p1, k, 0.5 * (dot(p1, p1) + dot(p2, p2) - d * d), terms);
 }
 
 namespace detail {

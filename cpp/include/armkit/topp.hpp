@@ -16,6 +16,8 @@
 
 #include <cstddef>
 
+#include "armkit/tolerances.hpp"
+
 namespace armkit {
 
 // The problem on a grid of `points` = N + 1 grid points with `rows` = m constraint rows each.
@@ -48,8 +50,6 @@ struct ToppResult {
 // Most constraint rows per grid point (bounds kept on the stack, no allocation per point).
 constexpr std::size_t kToppMaxRows = 64;
 
-// Relative slack by which rounding may leave a bound violated before a set counts as empty.
-constexpr double kToppSlack = 1e-9;
 
 // Solves `problem` (rows <= kToppMaxRows): x (N+1) = s'^2 at the grid points, u (N) = s'' on the intervals, and the
 // controllable sets [k_lo, k_hi] (N+1 each). On failure x and u are left unspecified.

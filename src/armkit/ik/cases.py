@@ -2,7 +2,7 @@
 
 The chain is taken as screw axes at ``q = 0`` (see :mod:`armkit.ik.structure`):
 ``T(q) = exp(xi_1 q_1) ... exp(xi_n q_n) M``, so the target gives ``G = T M^-1``, the
-motion of the joints alone. One solver per geometric case (``cpp/src/ik_cases.cpp``)
+motion of the joints alone. One solver per geometric case (``cpp/src/ik_case_<name>.cpp``)
 splits ``G`` (rotation ``R``, translation ``t``) into Paden-Kahan subproblems
 (:mod:`armkit.ik.subproblems`) and writes every candidate into the rows of ``q``
 ``(k, n)`` (internal joint order), with ``valid`` and ``family`` flags ``(k,)``:
@@ -27,32 +27,49 @@ Every subproblem says whether its branch exists, so for the closed paths the fla
 exact (an unreachable pose gives no valid candidate); :mod:`armkit.ik.closed_form`
 verifies the over-determined and quartic paths by forward kinematics.
 
-:class:`CaseGeometry` (``armkit._core.CaseGeometry``) holds what a case solver needs from
-the chain, built once per chain by :class:`armkit.ik.closed_form.ClosedFormSolver` from
-keyword arguments: ``kind`` and ``position_case`` (the constants below), ``h``, ``p``
-internal axes and points ``(n, 3)`` [-, m], ``prismatic`` ``(n,)``; ``c``, ``o``, ``u``,
-``hp``, ``a1 .. a3`` points and directions whose meaning depends on the case; ``Q``,
-``Q_inv`` ``(2, 2)``, ``f``, ``lam``, ``mu`` ``(2,)``, ``rank1``, ``snap_t2``: the
-constant part of the case's two-angle system; ``q5_aligned``, ``b_aligned``: the aligned
-wrist of the three-parallel case; ``revolute_joints``, ``prismatic_joint``: the joints of
-a planar arm; optional ``k`` (candidates per pose: 8; 2 for planar arms, 16 general).
-:func:`solve_pose` ``(geometry, R (3, 3), t (3,)) -> (q (k, n), valid (k,), family (k,))``
-solves one joint motion.
+The cases are registered in one place, the core's registry (``kCases`` in
+``cpp/include/armkit/ik_cases.hpp``): :data:`CASE_NAMES` and :data:`CASE_CANDIDATES` are read
+from it. Each case has its own geometry, a plain struct bound as a class with a typed keyword
+constructor (``armkit._core``): :class:`SphericalGeometry`, :class:`ThreeParallelGeometry`,
+:class:`ParallelBaseGeometry`, :class:`PlanarGeometry`, :class:`PointGeometry` (joints 1-3 carry
+a tool point: position IK) and :class:`GeneralGeometry` (any 6R arm, the last case), each over a
+:class:`CaseChain` (internal axes and points ``(n, 3)`` [-, m], ``prismatic`` ``(n,)``) and, where
+the case has one, a :class:`TwoAngleSystem`; built once per chain by
+:class:`armkit.ik.closed_form.ClosedFormSolver`. Each has ``n``, ``k`` (candidates per pose) and
+``case`` (its registry name). :func:`solve_pose` ``(geometry, R (3, 3), t (3,)) -> (q (k, n),
+valid (k,), family (k,))`` solves one joint motion.
 """
 
 from __future__ import annotations
 
 import math
 
-from armkit._core import CaseGeometry, solve_pose
+from armkit import _core
+from armkit._core import (
+    CaseChain,
+    GeneralGeometry,
+    ParallelBaseGeometry,
+    PlanarGeometry,
+    PointGeometry,
+    SphericalGeometry,
+    ThreeParallelGeometry,
+    TwoAngleSystem,
+    solve_pose,
+)
 
-__all__ = ["CaseGeometry", "solve_pose", "SPHERICAL", "THREE_PARALLEL", "PARALLEL_BASE", "PLANAR", "POINT",
-           "GENERAL", "POSITION_CASES", "TWO_PI"]
+__all__ = ["CASE_NAMES", "CASE_CANDIDATES", "MAX_CANDIDATES", "POSITION_CASES", "TWO_PI", "CaseChain",
+           "CaseGeometry", "GeneralGeometry", "ParallelBaseGeometry", "PlanarGeometry", "PointGeometry",
+           "SphericalGeometry", "ThreeParallelGeometry", "TwoAngleSystem", "solve_pose"]
 
-#: Solver kinds (``CaseGeometry.kind``); POINT: joints 1-3 carry a tool point to a position;
-#: GENERAL: any 6R arm (Raghavan-Roth elimination, ``cpp/src/ik_general.cpp``, 16 candidates).
-SPHERICAL, THREE_PARALLEL, PARALLEL_BASE, PLANAR, POINT, GENERAL = range(6)
-#: How joints 1-3 of a spherical-wrist arm place the wrist centre (``CaseGeometry.position_case``).
-POSITION_CASES = ("parallel-23", "parallel-12", "intersect-23", "intersect-12-revolute",
-                  "intersect-12-prismatic", "general-123")
+#: The registered cases, in the core's order (the general 6R solver last), and the candidates
+#: per pose of each: one fixed-capacity buffer of :data:`MAX_CANDIDATES` holds any of them.
+CASE_NAMES: tuple[str, ...] = _core.CASE_NAMES
+CASE_CANDIDATES: tuple[int, ...] = _core.CASE_CANDIDATES
+MAX_CANDIDATES: int = _core.MAX_CANDIDATES
+#: How joints 1-3 of a spherical-wrist arm (or a point case) place the wrist centre
+#: (``position_case`` of :class:`PointGeometry`, an index into this).
+POSITION_CASES: tuple[str, ...] = _core.POSITION_CASES
+#: Any case's geometry.
+CaseGeometry = (SphericalGeometry | ThreeParallelGeometry | ParallelBaseGeometry | PlanarGeometry
+                | PointGeometry | GeneralGeometry)
 TWO_PI = 2.0 * math.pi

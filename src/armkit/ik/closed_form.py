@@ -31,16 +31,7 @@ from armkit import _core
 from armkit._deprecation import deprecated_constants
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError
-from armkit.ik.cases import (
-    GENERAL,
-    PARALLEL_BASE,
-    PLANAR,
-    POSITION_CASES,
-    SPHERICAL,
-    THREE_PARALLEL,
-    CaseGeometry,
-    solve_pose,
-)
+from armkit.ik.cases import POSITION_CASES, CaseGeometry, solve_pose
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
 from armkit.ik.subproblems import sp4, trig_coeffs
 from armkit.spatial.transforms import check_transform
@@ -57,8 +48,9 @@ __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_
 #: is checked again, to :data:`armkit.ik.results.SOLUTION_TOLERANCE`. (Its old name
 #: ``VERIFY_TOLERANCE`` was also the old name of that one; it still works, with a warning.)
 CANDIDATE_TOLERANCE = 1e-8
-#: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution.
-DUPLICATE_TOLERANCE = 1e-9
+#: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution
+#: (the core's, ``cpp/include/armkit/tolerances.hpp``).
+DUPLICATE_TOLERANCE = _core.DUPLICATE_TOLERANCE
 
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
@@ -117,26 +109,50 @@ def _vector(v: ArrayLike | None) -> tuple[float, float, float]:
     return (0.0, 0.0, 0.0) if v is None else tuple(float(x) for x in np.asarray(v, dtype=float))
 
 
-def _two_angle_constants(Q: Array, snap_t2: bool = True) -> dict:
-    """The constant part of a two-angle system ``P x(t1) - Q x(t2) = r`` (see
-    :func:`armkit.ik.cases.two_angle_system`): rank, the combinations ``lam``, ``mu``."""
+def _two_angle_system(Q: Array, f: tuple[float, float], snap_t2: bool = True) -> _core.TwoAngleSystem:
+    """The constant part of a two-angle system ``P x(t1) - Q x(t2) = r`` (``ik_cases.hpp``):
+    ``Q``, its inverse or, of rank 1, the combinations ``lam`` (holds ``t1`` alone) and ``mu``."""
     U, S, _ = np.linalg.svd(Q)
-    rank1 = bool(S[1] <= 1e-9 * S[0])
-    return {"Q": Q, "Q_inv": np.zeros((2, 2)) if rank1 else np.linalg.inv(Q), "rank1": rank1,
-            "lam": (float(U[0, 1]), float(U[1, 1])), "mu": (float(U[0, 0]), float(U[1, 0])),
-            "snap_t2": snap_t2}
+    rank1 = bool(S[1] <= _core.RANK_ONE_TOLERANCE * S[0])
+    return _core.TwoAngleSystem(Q=Q, Q_inv=np.zeros((2, 2)) if rank1 else np.linalg.inv(Q), f=f, rank1=rank1,
+                                lam=(float(U[0, 1]), float(U[1, 1])), mu=(float(U[0, 0]), float(U[1, 0])),
+                                snap_t2=snap_t2)
 
 
-def case_fields(poe, point: Array | None, point2: Array | None) -> dict:
-    """The fields of a :class:`CaseGeometry` every case has: axes, points, joint kinds, the
-    case's point ``c`` and second point ``o``; the rest at their neutral values."""
-    return {"h": np.ascontiguousarray(poe.axes), "p": np.ascontiguousarray(poe.points),
-            "prismatic": np.ascontiguousarray(poe.prismatic), "position_case": -1,
-            "c": _vector(point), "o": _vector(point2), "u": _vector(None),
-            "hp": _vector(None), "a1": _vector(None), "a2": _vector(None), "a3": _vector(None),
-            "f": (0.0, 0.0), "q5_aligned": np.zeros(0), "b_aligned": 0.0,
-            "revolute_joints": np.zeros(0, dtype=np.int64), "prismatic_joint": -1,
-            **_two_angle_constants(np.eye(2))}
+def case_chain(poe) -> _core.CaseChain:
+    """The joint lines a case geometry starts from: ``poe``'s axes, points and joint kinds."""
+    return _core.CaseChain(np.ascontiguousarray(poe.axes), np.ascontiguousarray(poe.points),
+                           np.ascontiguousarray(poe.prismatic, dtype=bool))
+
+
+def point_geometry(poe, case: str, c: Array, o: Array | None, wrist: bool) -> CaseGeometry:
+    """Joints 1-3 of ``poe`` carrying the point ``c`` (``o``: where axes 1, 2 or 2, 3 meet),
+    by the position case ``case``: a spherical wrist at ``c`` (``wrist``) or position IK."""
+    system, o2, o3 = _core.TwoAngleSystem(), _vector(None), _vector(None)
+    if case == "general-123":
+        system, o2, o3 = _general_position(poe, c)
+    fields = dict(chain=case_chain(poe), system=system, position_case=POSITION_CASES.index(case),
+                  c=_vector(c), o=_vector(o), o2=o2, o3=o3)
+    if wrist:
+        return _core.SphericalGeometry(**fields, u=_vector(_unit_normal(poe.axes[5])))
+    return _core.PointGeometry(**fields)
+
+
+def _general_position(poe, c: Array) -> tuple[_core.TwoAngleSystem, tuple, tuple]:
+    """Axes 1-3 general: two equations in q1 and q3 alone; the closest points ``o2, o3`` of axes 2, 3.
+
+    With ``y = e1^-1 G c`` (q1) and ``x = e3 c`` (q3), ``e2 x = y`` keeps the height along
+    axis 2 and the distance to a point ``o2`` of it: ``h2 . (y - o2) = h2 . (x - o2)`` and
+    ``|y - o2|^2 = |x - o2|^2``, each first order in its angle.
+    """
+    h, p = poe.axes, poe.points
+    o2, o3 = _closest_points(p[1], h[1], p[2], h[2])
+    height = trig_coeffs(_vector(h[1]), _vector(h[2]), _vector(c - o3))
+    distance = trig_coeffs(_vector(2.0 * (o3 - o2)), _vector(h[2]), _vector(c - o3))
+    Q = np.array([[height[1], height[2]], [distance[1], distance[2]]])
+    f = (height[0] + float(h[1] @ (o3 - o2)),
+         distance[0] + float((o3 - o2) @ (o3 - o2) + (c - o3) @ (c - o3)))
+    return _two_angle_system(Q, f), _vector(o2), _vector(o3)
 
 
 class ClosedFormSolver:
@@ -150,29 +166,26 @@ class ClosedFormSolver:
         self.structure: ArmStructure = plan.structure
         poe = plan.poe
         kind = plan.structure.kind
-        fields = case_fields(poe, plan.point, plan.point2)
         # Over-determined chains (fewer than 6 joints) must be checked by FK; for 6 joints
         # every subproblem checks its own existence, so the flags are exact.
         verify, polish = chain.n < 6, False
+        #: The case solver's constants (one of the case geometries of :mod:`armkit.ik.cases`).
+        self.geometry: CaseGeometry
         if kind in ("spherical-wrist", "spherical-base"):
-            fields.update(kind=SPHERICAL, position_case=POSITION_CASES.index(plan.case),
-                          u=_vector(_unit_normal(poe.axes[5])))
-            if plan.case == "general-123":
-                fields.update(self._general_position(poe, plan.point))
-                polish = True
+            self.geometry = point_geometry(poe, plan.case, plan.point, plan.point2, wrist=True)
+            polish = plan.case == "general-123"  # a quartic: polished on the full pose and checked by FK
         elif kind == "three-parallel" and plan.case == "parallel-123":
-            fields.update(kind=PARALLEL_BASE, **self._parallel_base(poe))
-            polish = not fields["rank1"]  # a quartic: polished on the full pose and checked by FK
+            self.geometry = self._parallel_base(poe)
+            polish = not self.geometry.rank1
         elif kind == "three-parallel":
-            fields.update(kind=THREE_PARALLEL, **self._three_parallel(poe))
-            polish = not fields["rank1"]
+            self.geometry = self._three_parallel(poe)
+            polish = not self.geometry.rank1
         elif kind == "general-6r":
-            poe, shift = _general_formulation(chain, poe, fields)
-            fields.update(kind=GENERAL, general_shift=shift, **case_fields(poe, None, None))
+            poe, shift = _general_formulation(chain, poe)
+            self.geometry = _core.GeneralGeometry(case_chain(poe), shift)
             verify = polish = True
         else:
-            fields.update(kind=PLANAR, **self._planar(poe))
-        self.geometry = CaseGeometry(**fields)
+            self.geometry = self._planar(poe)
         size = 1.0 + max(np.abs(poe.points).max(), np.abs(poe.M[:3, 3]).max())
         M_inv = np.eye(4)
         M_inv[:3, :3] = poe.M[:3, :3].T
@@ -211,26 +224,9 @@ class ClosedFormSolver:
 
     # ------------------------------------------------------------ per case
     @staticmethod
-    def _general_position(poe, c: Array) -> dict:
-        """Axes 1-3 general: two equations in q1 and q3 alone.
-
-        With ``y = e1^-1 G c`` (q1) and ``x = e3 c`` (q3), ``e2 x = y`` keeps the height along
-        axis 2 and the distance to a point ``o2`` of it: ``h2 . (y - o2) = h2 . (x - o2)`` and
-        ``|y - o2|^2 = |x - o2|^2``, each first order in its angle.
-        """
-        h, p = poe.axes, poe.points
-        o2, o3 = _closest_points(p[1], h[1], p[2], h[2])
-        height = trig_coeffs(_vector(h[1]), _vector(h[2]), _vector(c - o3))
-        distance = trig_coeffs(_vector(2.0 * (o3 - o2)), _vector(h[2]), _vector(c - o3))
-        Q = np.array([[height[1], height[2]], [distance[1], distance[2]]])
-        f = (height[0] + float(h[1] @ (o3 - o2)),
-             distance[0] + float((o3 - o2) @ (o3 - o2) + (c - o3) @ (c - o3)))
-        return {"a1": _vector(o2), "a2": _vector(o3), "f": f, **_two_angle_constants(Q)}
-
-    @staticmethod
-    def _three_parallel(poe) -> dict:
-        """Axes 2-4 parallel to ``h``: two equations in ``q1, q5``; ``a1, a2``: the closest
-        points ``p5, p6`` of axes 5 and 6."""
+    def _three_parallel(poe) -> _core.ThreeParallelGeometry:
+        """Axes 2-4 parallel to ``h``: two equations in ``q1, q5``; ``p5, p6``: the closest
+        points of axes 5 and 6."""
         h_all, p = poe.axes, poe.points
         h = h_all[1]
         p5, p6 = _closest_points(p[4], h_all[4], p[5], h_all[5])
@@ -246,14 +242,15 @@ class ClosedFormSolver:
         b_aligned = float(np.linalg.norm(np.cross(h_all[4], h))
                           * np.linalg.norm(np.cross(h_all[4], h_all[5])))
         # q5 near an aligned wrist is refined from sines, so its cosine equation must not snap
-        return {"hp": _vector(h), "u": _vector(_unit_normal(h)), "a1": _vector(p5), "a2": _vector(p6),
-                "f": f, "q5_aligned": np.array(q5_aligned, dtype=float), "b_aligned": b_aligned,
-                **_two_angle_constants(Q, snap_t2=False)}
+        return _core.ThreeParallelGeometry(case_chain(poe), _two_angle_system(Q, f, snap_t2=False),
+                                           hp=_vector(h), u=_vector(_unit_normal(h)), p5=_vector(p5),
+                                           p6=_vector(p6), q5_aligned=[float(x) for x in q5_aligned],
+                                           b_aligned=b_aligned)
 
     @staticmethod
-    def _parallel_base(poe) -> dict:
-        """Axes 1-3 parallel to ``h``: two equations in ``q6, q4``; ``a1 .. a3``: points
-        ``o4, o5, o6`` of axes 4-6."""
+    def _parallel_base(poe) -> _core.ParallelBaseGeometry:
+        """Axes 1-3 parallel to ``h``: two equations in ``q6, q4``; ``o4, o5, o6``: points
+        of axes 4-6 (``o4, o5`` closest to each other)."""
         h_all, p = poe.axes, poe.points
         h = h_all[0]
         o4, o5 = _closest_points(p[3], h_all[3], p[4], h_all[4])
@@ -261,19 +258,20 @@ class ClosedFormSolver:
         rows = [trig_coeffs(_vector(h), _vector(h_all[3]), _vector(v)) for v in (h_all[4], o5 - o4)]
         Q = np.array([[r[1], r[2]] for r in rows])
         f = (rows[0][0], rows[1][0] + float(h @ o4))
-        return {"hp": _vector(h), "u": _vector(_unit_normal(h)), "a1": _vector(o4), "a2": _vector(o5),
-                "a3": _vector(o6), "f": f, **_two_angle_constants(Q)}
+        return _core.ParallelBaseGeometry(case_chain(poe), _two_angle_system(Q, f), hp=_vector(h),
+                                          u=_vector(_unit_normal(h)), o4=_vector(o4), o5=_vector(o5),
+                                          o6=_vector(o6))
 
     @staticmethod
-    def _planar(poe) -> dict:
-        """SCARA / planar: ``a1`` a point moved by the first two revolute joints only."""
+    def _planar(poe) -> _core.PlanarGeometry:
+        """SCARA / planar: ``y`` a point moved by the first two revolute joints only."""
         rev = [j for j in range(poe.n) if not poe.prismatic[j]]
         pri = [j for j in range(poe.n) if poe.prismatic[j]]
         h = poe.axes[rev[0]]
         u = _unit_normal(h)
         y = poe.points[rev[2]] if len(rev) == 3 else poe.points[rev[1]] + u
-        return {"hp": _vector(h), "u": _vector(u), "a1": _vector(y),
-                "revolute_joints": np.array(rev, dtype=np.int64), "prismatic_joint": pri[0] if pri else -1}
+        return _core.PlanarGeometry(case_chain(poe), hp=_vector(h), u=_vector(u), y=_vector(y), revolute=rev,
+                                    prismatic_joint=pri[0] if pri else -1)
 
 
 #: Configurations at which :func:`_general_formulation` compares the loops.
@@ -283,7 +281,7 @@ _FORMULATION_SAMPLES = 12
 _GOOD_LOOP = 1e-8
 
 
-def _general_formulation(chain: Chain, poe, fields: dict):
+def _general_formulation(chain: Chain, poe):
     """The chain (``poe`` or ``poe.reversed()``) and the loop's first joint (``shift``, 0-5)
     on which the general 6R solver is best conditioned for this arm.
 
@@ -305,8 +303,7 @@ def _general_formulation(chain: Chain, poe, fields: dict):
     for candidate in (poe, poe.reversed()):
         M_inv = np.linalg.inv(candidate.M)
         for shift in range(6):
-            geometry = CaseGeometry(**{**fields, **case_fields(candidate, None, None), "kind": GENERAL,
-                                       "general_shift": shift})
+            geometry = _core.GeneralGeometry(case_chain(candidate), shift)
             errors = []
             for q_user, T_user in zip(q, T, strict=True):
                 G = (np.linalg.inv(T_user) if candidate.inverted else T_user) @ M_inv

@@ -3,7 +3,7 @@
 The tool point of a 3-joint arm (or of any arm with joints 4..n held at given values) goes
 where joints 1-3 put it. Which pair of axes 1-3 meets or is parallel decides the
 subproblems, exactly as for a spherical wrist's centre (:mod:`armkit.ik.structure`,
-``wrist_centre_joints`` in ``cpp/src/ik_cases.cpp``): an elbow arm (axes 2 and 3 parallel)
+``wrist_centre_joints`` in ``cpp/src/ik_case_point.cpp``): an elbow arm (axes 2 and 3 parallel)
 by SP4 for q1 and a planar 2R, intersecting axes by SP3 and SP2, general axes by a quartic.
 Up to 4 solutions; where the target is on a line that leaves a joint free (e.g. on axis 1
 of an elbow arm) a family, whose member is flagged ``family``. Every solution is checked
@@ -28,8 +28,8 @@ from numpy.typing import ArrayLike, NDArray
 from armkit import _core
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
-from armkit.ik.cases import POINT, POSITION_CASES, CaseGeometry, solve_pose
-from armkit.ik.closed_form import ClosedFormSolver, case_fields
+from armkit.ik.cases import PointGeometry, solve_pose
+from armkit.ik.closed_form import point_geometry
 from armkit.ik.numeric import _float_array, wrap_into_limits
 from armkit.ik.pipeline import with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions
@@ -108,15 +108,12 @@ def _position_rank(chain: Chain, tries: int = 4) -> int:
     return int((S > 1e-9 * (1.0 + np.abs(_fk(chain, q)[:, :3, 3]).max())).sum(axis=1).max())
 
 
-def _geometry(chain: Chain, tail: NDArray[np.float64]) -> CaseGeometry:
-    """The point case for joints 1-3 with joints 4..n at ``tail``: its tool point at q1-3 = 0."""
+def _geometry(chain: Chain, tail: NDArray[np.float64]) -> tuple[PointGeometry, NDArray[np.float64]]:
+    """The point case for joints 1-3 with joints 4..n at ``tail`` (its tool point at q1-3 = 0),
+    and the signs of joints 1-3."""
     three, (case, point), _ = _plan(chain)
     c = _fk(chain, np.concatenate([np.zeros(3), tail])[None])[0, :3, 3]
-    fields = case_fields(three, c, point)
-    fields.update(kind=POINT, position_case=POSITION_CASES.index(case))
-    if case == "general-123":
-        fields.update(ClosedFormSolver._general_position(three, c))
-    return CaseGeometry(**fields), three.sign
+    return point_geometry(three, case, c, point, wrist=False), three.sign
 
 
 def _polish(chain: Chain, q: NDArray[np.float64], p: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -1,0 +1,103 @@
+// A spherical wrist (ik_case_spherical.hpp): joints 1-3 place the wrist centre (the point
+// case), then the wrist turns h6 (SP2) and a normal of it (SP1) into place.
+#include "armkit/ik_case_spherical.hpp"
+
+#include <cmath>
+
+#include "armkit/subproblems.hpp"
+
+namespace armkit {
+
+namespace {
+
+// R123^T v for arm joints qa (3): a direction of the target in the wrist's frame.
+Vec3 in_wrist_frame(const CaseChain& g, const double* qa, Vec3 v) {
+    for (int j = 0; j < 3; ++j)
+        if (!g.prismatic[j]) v = rotate(-g.h[j], qa[j], v);
+    return v;
+}
+
+// The sine of the angle between axis 6's target direction a (in the wrist's frame) and
+// axis 4: 0 where the wrist is aligned.
+double wrist_misalignment(const CaseChain& g, Vec3 a) { return norm(cross(a, g.h[3])); }
+
+// The point x (at q = 0) moved by arm joints qa (3).
+Vec3 moved_by_arm(const CaseChain& g, const double* qa, Vec3 x) {
+    for (int j = 2; j >= 0; --j)
+        x = g.prismatic[j] ? x + qa[j] * g.h[j] : g.p[j] + rotate(g.h[j], qa[j], x - g.p[j]);
+    return x;
+}
+
+//: Values of a free arm joint tried for a second member of its family.
+constexpr int kFreeArmSamples = 16;
+
+// A free arm triple (its wrist centre on the axis of one of its revolute joints, which
+// then turns freely while the wrist follows) whose wrist is aligned (within kNearlyAligned)
+// gets a second member in an unused slot of arm: the free joint where the wrist is farthest
+// from aligned. At the first the Jacobian lacks the family's direction (the wrist would
+// have to turn infinitely fast), which the walk to near follows; at the second it has it.
+void second_free_arm_member(const PointGeometry& g, const Mat3& R, ArmCandidates& arm) {
+    const Vec3 axis6 = R * g.h[5];
+    bool first[4];  // the triples of the closed form (not the members added here)
+    for (int i = 0; i < 4; ++i) first[i] = arm.valid[i] && arm.free[i];
+    for (int i = 0; i < 4; ++i) {
+        if (!(first[i] && wrist_misalignment(g, in_wrist_frame(g, arm.q[i], axis6)) <= kNearlyAligned)) continue;
+        int spare = -1;
+        for (int e = 0; e < 4 && spare < 0; ++e)
+            if (!arm.valid[e]) spare = e;
+        if (spare < 0) return;
+        const Vec3 centre = moved_by_arm(g, arm.q[i], g.c);
+        for (int j = 0; j < 3; ++j) {
+            if (g.prismatic[j]) continue;
+            double turned[3] = {arm.q[i][0], arm.q[i][1], arm.q[i][2]};
+            turned[j] += 1.0;
+            if (norm(moved_by_arm(g, turned, g.c) - centre) > kOutTolerance * g.size) continue;
+            double best = -1.0;
+            for (int m = 0; m < kFreeArmSamples; ++m) {
+                turned[j] = arm.q[i][j] + (m + 0.5) * (kTwoPi / kFreeArmSamples);
+                const double misaligned = wrist_misalignment(g, in_wrist_frame(g, turned, axis6));
+                if (misaligned <= best) continue;
+                best = misaligned;
+                for (int c = 0; c < 3; ++c) arm.q[spare][c] = turned[c];
+            }
+            arm.q[spare][j] = wrap_angle(arm.q[spare][j]);
+            arm.valid[spare] = arm.free[spare] = true;
+            break;
+        }
+    }
+}
+
+}  // namespace
+
+// Spherical wrist: joints 1-3 for the wrist centre, then the wrist: 8 candidates.
+void solve_case(const SphericalGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    const Vec3 h3 = g.h[3], h4 = g.h[4], h5 = g.h[5], u = g.u;
+    const int n = g.n;
+    ArmCandidates arm = wrist_centre_joints(g, R * g.c + t);
+    second_free_arm_member(g, R, arm);
+    // the wrist's rotation R_w = R123^T R_G, applied to h6 and a normal u of it
+    for (int i = 0; i < 4; ++i) {
+        const Vec3 a = in_wrist_frame(g, arm.q[i], R * h5), b = in_wrist_frame(g, arm.q[i], R * u);
+        const AnglePairs2 q45 = sp2(a, h5, -h3, h4);
+        // the wrist within kNearlyAligned of aligned: its family may be exact (q1-q3 carry
+        // errors of up to ~1e-8 from a double root), walked later
+        const bool nearly_aligned = wrist_misalignment(g, a) <= kNearlyAligned;
+        for (int m = 0; m < 2; ++m) {
+            // R6 u = R5^T R4^T R_w u
+            const Vec3 target = rotate(-h4, q45.t2[m], rotate(-h3, q45.t1[m], b));
+            const Angle1 q6 = sp1(u, target, h5);
+            const int s = 2 * i + m;
+            double* qs = q + n * s;
+            qs[0] = arm.q[i][0];
+            qs[1] = arm.q[i][1];
+            qs[2] = arm.q[i][2];
+            qs[3] = q45.t1[m];
+            qs[4] = q45.t2[m];
+            qs[5] = q6.t;
+            valid[s] = arm.valid[i] && q45.ok[m];
+            family[s] = arm.free[i] || q45.free1 || q45.free2 || q6.free || nearly_aligned;
+        }
+    }
+}
+
+}  // namespace armkit

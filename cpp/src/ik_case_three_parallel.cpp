@@ -1,0 +1,151 @@
+// Three parallel axes 2-4 (ik_case_three_parallel.hpp): two equations in q1, q5 alone (a
+// two-angle system), then q6 (SP1), q2 + q3 + q4 (SP1) and a planar 2R.
+#include "armkit/ik_case_three_parallel.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "armkit/subproblems.hpp"
+#include "armkit/two_angle.hpp"
+
+namespace armkit {
+
+namespace {
+
+// Near an aligned wrist, q5 from a sine (accurate) rather than a cosine (~1e-8). h6 . R5^T h
+// is the cosine-like quantity the equations give; at a distance d from the aligned value it
+// differs from +-1 by b (1 - cos d) only, lost below d ~ 1e-8. S = |h6 x R_G^T R1 h| keeps
+// its relative accuracy: b (1 - cos d) = S^2 / (1 + sqrt(1 - S^2)). The two branches of
+// candidate pair s straddle the aligned value.
+double q5_near_aligned_wrist(const ThreeParallelGeometry& g, const Mat3& R, double q1, double q5, int s) {
+    if (g.aligned == 0) return q5;
+    int nearest = 0;
+    double gap = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < g.aligned; ++a) {
+        const double d = wrap_angle(q5 - g.q5_aligned[a]);
+        if (std::abs(d) < std::abs(gap)) {
+            nearest = a;
+            gap = d;
+        }
+    }
+    if (std::abs(gap) > kAlignedWristReach) return q5;
+    const Vec3 v = mul_transposed(R, rotate(g.h[0], q1, g.hp));
+    const Vec3 c = cross(g.h[5], v);
+    const double S2 = std::min(dot(c, c), 1.0);
+    const double one_minus_cos = S2 / (1.0 + std::sqrt(1.0 - S2)) / g.b_aligned;
+    const double d = 2.0 * std::asin(std::min(std::sqrt(0.5 * one_minus_cos), 1.0));
+    double sign;
+    if (gap > 0)
+        sign = 1.0;
+    else if (gap < 0)
+        sign = -1.0;
+    else
+        sign = s % 2 == 0 ? 1.0 : -1.0;  // (+d, -d) pairs
+    return g.q5_aligned[nearest] + sign * d;
+}
+
+// Put q5 exactly where axis 6 is parallel to h when a quartic root is that close to it.
+// There the quartic has a double root, which Newton steps reach only to ~1e-8; the exact
+// value lets the family (q6 against q2 + q3 + q4) be recognised. q1 is then solved from
+// P x1 = r + Q x5 (a 2x2 linear system).
+void snap_to_aligned_wrist(const ThreeParallelGeometry& g, const Mat2& P, const double* r, double* t1, double* t5) {
+    const double det = P.m[0][0] * P.m[1][1] - P.m[0][1] * P.m[1][0];
+    const double size = 1.0 + std::max(std::max(std::abs(P.m[0][0]), std::abs(P.m[0][1])),
+                                       std::max(std::abs(P.m[1][0]), std::abs(P.m[1][1])));
+    if (g.aligned == 0 || std::abs(det) <= kAlignedWristSolvable * size) return;
+    const auto& Q = g.Q;
+    for (int i = 0; i < 4; ++i) {
+        int nearest = 0;
+        double gap = std::numeric_limits<double>::infinity();
+        for (int a = 0; a < g.aligned; ++a) {
+            const double d = std::abs(wrap_angle(t5[i] - g.q5_aligned[a]));
+            if (d < gap) {
+                nearest = a;
+                gap = d;
+            }
+        }
+        if (gap > kAlignedWristSnap) continue;
+        const double q5 = g.q5_aligned[nearest];
+        const double rhs0 = r[0] + Q[0][0] * std::cos(q5) + Q[0][1] * std::sin(q5);
+        const double rhs1 = r[1] + Q[1][0] * std::cos(q5) + Q[1][1] * std::sin(q5);
+        t1[i] = std::atan2((P.m[0][0] * rhs1 - P.m[1][0] * rhs0) / det, (P.m[1][1] * rhs0 - P.m[0][1] * rhs1) / det);
+        t5[i] = q5;
+    }
+}
+
+}  // namespace
+
+// Axes 2-4 parallel: (q1, q5), then q6, q2 + q3 + q4 and a planar 2R: 8 candidates.
+void solve_case(const ThreeParallelGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
+    const Vec3 h = g.hp, h0 = g.h[0], h4 = g.h[4], h5 = g.h[5];
+    const Vec3 p0 = g.p[0], p1 = g.p[1], p2 = g.p[2], p3 = g.p[3];
+    const Vec3 p5 = g.p5, p6 = g.p6;
+    const int n = g.n;
+    const Vec3 G_p6 = R * p6 + t;
+    const TrigCoeffs e1 = trig_coeffs(h, -h0, R * h5);
+    const TrigCoeffs e2 = trig_coeffs(h, -h0, G_p6 - p0);
+    const Mat2 P{{{e1.cos_coeff, e1.sin_coeff}, {e2.cos_coeff, e2.sin_coeff}}};  // P x1 - Q x5 = r
+    const double r[2] = {g.f[0] - e1.constant, g.f[1] - e2.constant};
+    AngleCandidates pair = two_angle_system(g, P, r);
+    if (g.rank1) {
+        for (int i = 0; i < 4; ++i) pair.t2[i] = q5_near_aligned_wrist(g, R, pair.t1[i], pair.t2[i], i);
+    } else {
+        snap_to_aligned_wrist(g, P, r, pair.t1, pair.t2);
+    }
+    // axis 6 within kAlignedToRounding of h at q5
+    auto axis6_parallel_to_rounding = [&](double q5) { return norm(cross(rotate(-h4, q5, h), h5)) <= kAlignedToRounding; };
+    // q6, q2 + q3 + q4 and the planar 2R's target for (q1, q5)
+    // (nearly_free: q6 within kAlignedToRounding of free counts as free)
+    auto arm = [&](double q5, double q1, Angle1& q6, double& theta, double side, bool nearly_free) {
+        // q6: R6^T (R5^T h) = R_G^T R1 h
+        const Vec3 v = rotate(-h4, q5, h);
+        q6 = sp1(v, mul_transposed(R, rotate(h0, q1, h)), -h5);
+        q6.free = q6.free || (nearly_free && axis6_parallel_to_rounding(q5));
+        // q2 + q3 + q4: R234 = R1^T R_G R6^T R5^T, applied to a normal of h
+        const Vec3 turned = rotate(-h0, q1, R * rotate(-h5, q6.t, rotate(-h4, q5, g.u)));
+        theta = sp1(g.u, turned, h).t;
+        // planar part: e2 e3 e4 y = z with y = e5 p6, z = e1^-1 G p6
+        const Vec3 y = p5 + rotate(h4, q5, p6 - p5);
+        const Vec3 z = p0 + rotate(-h0, q1, G_p6 - p0);
+        if (q6.free)  // axis 6 parallel to h: a family of q6, one loop of it per elbow slot
+            wrist_family_representative(g, sign_of(dot(v, h5)), q6.t, theta, z - p1, y - p3, p2 - p1, p3 - p2, side);
+        return (z - p1) - rotate(h, theta, y - p3);
+    };
+    const SlotAngles slots = family_slots(
+        g, P, r, pair, [&](double q5, double q1, Angle1& q6, double& theta, double side) { return arm(q5, q1, q6, theta, side, false); },
+        p2 - p1, p3 - p2);
+    for (int i = 0; i < 4; ++i) {
+        Angle1 q6;
+        double theta;
+        Planar2 q23{};
+        for (int b = 0; b < 2; ++b) {
+            const double q1 = slots.t1[i][b], q5 = slots.t2[i][b];
+            const double side = b == 0 ? 1.0 : -1.0;
+            if (b == 0 || q1 != slots.t1[i][0] || q5 != slots.t2[i][0] || q6.free)
+                q23 = planar_2r(h, p2 - p1, p3 - p2, arm(q5, q1, q6, theta, side, false));
+            // axis 6 within kAlignedToRounding of h, and the 2R cannot follow: q1 and q5 carry
+            // the errors of a near-tangent root (seen 4e-12, leaving q6 0.008 off), so q6 is
+            // taken as free (which misses the pose by about that angle times the arm's size),
+            // the family's member refined by FK later
+            if (!q23.ok[b] && !q6.free && axis6_parallel_to_rounding(q5)) {
+                Angle1 free6;
+                double free_theta;
+                const Planar2 again = planar_2r(h, p2 - p1, p3 - p2, arm(q5, q1, free6, free_theta, side, true));
+                if (free6.free && again.ok[b]) q23 = again, q6 = free6, theta = free_theta;
+            }
+            const int s = 2 * i + b;
+            double* qs = q + n * s;
+            qs[0] = q1;
+            qs[1] = q23.ta[b];
+            qs[2] = q23.tb[b];
+            qs[3] = theta - q23.ta[b] - q23.tb[b];
+            qs[4] = q5;
+            qs[5] = q6.t;
+            valid[s] = slots.valid[i][b] && q23.ok[b];
+            family[s] = pair.free[i] || q6.free || q23.free;
+        }
+    }
+}
+
+}  // namespace armkit
