@@ -54,6 +54,10 @@ def pinocchio_peer(scene: armkit.Scene):
                   for i, joint in enumerate(scene.robot.joint_names)}
     for g in range(m.ngeom):
         kind, size = mujoco.mjtGeom(m.geom_type[g]), m.geom_size[g]
+        if kind == mujoco.mjtGeom.mjGEOM_MESH:  # armkit's boxes are meshes of their corners (BOX_MESH)
+            start, count = m.mesh_vertadr[m.geom_dataid[g]], m.mesh_vertnum[m.geom_dataid[g]]
+            corners = m.mesh_vert[start:start + count].astype(float)
+            kind, size = mujoco.mjtGeom.mjGEOM_BOX, np.abs(corners).max(axis=0)
         shape = _coal_shape(coal, mujoco, kind, size)
         joint = body_joint.get(int(m.geom_bodyid[g]), 0)
         if joint:

@@ -8,9 +8,9 @@ folder, then copied over ``docs/img/``:
   summary is its trajectory animation's last frame, its P-V-A figure and its straight-line
   tracking, under the run's own headline numbers.
 - ``workspace-vertical.png``: ``armkit workspace probot-anno --samples 1e7 --report``.
-
-``docs/img/view.png`` (a screenshot of the browser viewer) is not made here: it needs a
-browser; see docs/viewer.md.
+- ``view.png``: the browser viewer (``armkit.view.Viewer``) on report 000's first IK target with
+  its solutions as ghosts, photographed by headless Debian ``chromium`` through Playwright
+  (software WebGL); skipped, with a line saying so, where either is missing.
 
 Run: python docs/figures.py [--quick] [--out DIR]   (--quick: smaller runs, to check the script;
 --out: write there instead of docs/img)
@@ -83,12 +83,49 @@ def workspace_figure(folder: Path, quick: bool) -> list[Path]:
     return [folder / "workspace-vertical.png"]
 
 
+CHROMIUM = "/usr/bin/chromium"
+CHROMIUM_ARGS = ["--headless=new", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-sandbox"]
+
+
+def viewer_figure(folder: Path) -> list[Path]:
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        print("view.png skipped: playwright is not installed (pip install playwright)")
+        return []
+    if not Path(CHROMIUM).exists():
+        print(f"view.png skipped: no {CHROMIUM} (apt-get install chromium)")
+        return []
+    from armkit.lab.published import PROBOT_IK
+    from armkit.spatial.transforms import transform_from_pose
+    from armkit.view import Viewer
+
+    print("$ python -c 'Viewer(\"probot-anno\").show_solutions(<report 000 IK target 1>)'  (+ chromium)")
+    path = folder / "view.png"
+    with Viewer("probot-anno", port=0) as viewer, sync_playwright() as playwright:
+        viewer.show_solutions(transform_from_pose(PROBOT_IK[0][0]))
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        page = browser.new_page(viewport={"width": 1280, "height": 760})
+        page.set_default_timeout(600_000)
+        page.goto(viewer.url)
+        page.wait_for_selector("[data-armkit=pose-matrix]")
+        page.wait_for_selector("canvas")
+        page.wait_for_timeout(4000)  # the scene's meshes arrive after the panel; software WebGL draws them
+        for close in page.locator("[class*=Notification] button").all():  # viser's "software WebGL" notice
+            close.click()
+        page.wait_for_timeout(1000)
+        page.screenshot(path=str(path))
+        browser.close()
+    return [path]
+
+
 def main(argv: list[str]) -> int:
     quick = "--quick" in argv
     out = Path(argv[argv.index("--out") + 1]) if "--out" in argv else IMG
     with tempfile.TemporaryDirectory(prefix="armkit-figures-") as tmp:
         folder = Path(tmp)
-        made = trajectory_figures(folder) + lab_figures(folder, quick) + workspace_figure(folder, quick)
+        made = (trajectory_figures(folder) + lab_figures(folder, quick) + workspace_figure(folder, quick)
+                + viewer_figure(folder))
         for path in made:
             shutil.copy(path, out / path.name)
             print(f"wrote {out / path.name}")

@@ -22,6 +22,8 @@ pytest.importorskip("mujoco")
 UR5 = armkit.load("ur5")
 #: A UR5 configuration clear of the floor and of itself (elbow up, the tool pointing down above the floor).
 Q_FREE = np.array([0.0, -1.2, 1.0, 0.0, 1.5, 0.0])
+#: Relative precision of MuJoCo's mesh vertices (single precision) [1].
+FLOAT32 = 6e-8
 
 
 def one_link(radius: float = 0.05) -> tuple[armkit.Robot, float]:
@@ -58,7 +60,8 @@ def test_clearance_against_boxes_and_cylinders_is_the_distance_to_their_faces():
     robot, r = one_link()
     box = armkit.Box([0.2, 0.2, 0.2], transform_from(np.eye(3), [0.5, 0.0, 0.5]), name="crate")
     scene = armkit.Scene(robot, [box], floor=None, link_radius=r)
-    assert scene.clearance([0.0]) == pytest.approx(0.5 - 0.1 - r, abs=1e-9)  # the bottom face at 0.4
+    # a box is a convex mesh whose corners (here +-0.1 m) MuJoCo keeps in single precision
+    assert scene.clearance([0.0]) == pytest.approx(0.5 - 0.1 - r, abs=0.1 * FLOAT32)  # the bottom face, 0.4
     upright = armkit.Cylinder(0.1, 0.4, transform_from(np.eye(3), [0.0, 0.6, 0.0]))
     scene = armkit.Scene(robot, [upright], floor=None, link_radius=r)
     assert scene.clearance([np.pi / 2]) == pytest.approx(-(0.1 + r), abs=1e-6)  # the link runs through it
@@ -155,7 +158,7 @@ def test_self_collision_pairs_found_by_sampling_include_adjacent_always_and_neve
     pairs = ur5_scene.disabled_pairs
     assert pairs[("base", "link1")] == "adjacent" and pairs[("link5", "link6")] == "adjacent"
     assert pairs[("link1", "floor")] == "always"  # the first link stands on the floor
-    assert set(pairs.values()) <= {"adjacent", "always", "never"}
+    assert set(pairs.values()) <= {"adjacent", "always", "never", "home"}
     folded = np.array([0.0, -1.2, 3.1, 0.0, 0.0, 0.0])  # the forearm folded back onto the upper arm
     assert ur5_scene.contacts(folded)  # self-collision is checked where pairs are not disabled
     enabled = armkit.Scene(UR5, floor=0.0, enabled_pairs=[("link1", "floor")])
@@ -357,3 +360,32 @@ def test_example_robot_datas_ur5_collision_meshes_load_through_package_paths():
     under = frames[:, 2:, 2, 3].min(axis=1) < -0.1  # the elbow or a wrist joint 10 cm under the floor
     assert under.any() and scene.collides(q[under]).all()
     assert all(any("floor" in pair for pair in scene.contacts(qi)) for qi in q[under][:5])
+
+
+def test_a_link_through_a_thin_wall_with_both_ends_outside_collides():
+    """MuJoCo's capsule-box test misses a capsule crossing a thin box with both ends outside (no
+    contact, distance +0.146 m here); boxes go to MuJoCo as convex meshes, which it does not miss.
+    The tester's UR5 solution: the forearm from (-0.29, 0.05, 0.40) to (-0.67, 0.13, 0.38) through
+    a 4 cm wall at x = -0.45 m."""
+    wall = armkit.Box([0.04, 1.0, 0.8], [[1, 0, 0, -0.45], [0, 1, 0, 0], [0, 0, 1, 0.4], [0, 0, 0, 1]],
+                      name="wall")
+    scene = armkit.Scene(UR5, [wall], floor=None, samples=0)
+    q = np.array([-0.1829, -0.8111, 0.8502, 1.5317, 1.5708, -1.7537])
+    frames = UR5.link_frames(q)
+    assert frames[2][0, 3] > -0.45 > frames[3][0, 3]  # the forearm's two ends on either side of the wall
+    assert scene.collides(q) and ("link3", "wall") in scene.contacts(q) and scene.clearance(q) < 0
+    (shape,) = [s for s in scene.world_shapes() if s.part == "wall"]
+    assert shape.kind == "box"
+    np.testing.assert_allclose(sorted(shape.size), [0.02, 0.4, 0.5], rtol=1e-6)  # float32 vertices
+
+
+def test_arm_pairs_in_contact_at_home_are_disabled_as_moveit_s_default_rule():
+    scara = armkit.load("grb400-scara")
+    plain = armkit.Scene(scara, floor=None, samples=0)
+    touching = [pair for pair in plain.contacts(scara.home) if "floor" not in pair]
+    assert touching  # the quill's capsule passes through the forearm's
+    scene = armkit.Scene(scara, floor=None)
+    assert all(scene.disabled_pairs.get(pair) in ("home", "adjacent", "always") for pair in touching)
+    assert not scene.collides(scara.home)
+    with pytest.raises(InputError, match="samples: expected a whole number from 0 to 1000000"):
+        armkit.Scene(scara, floor=None, samples=10**9)

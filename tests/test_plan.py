@@ -143,6 +143,7 @@ def test_a_start_already_at_the_goal_is_refused(ur5, wall_scene):
     ("seed", -1, "seed: expected a whole number from 0"),
     ("resolution", float("nan"), "resolution: expected a finite number > 0, got nan"),
     ("resolution", 1e-300, "resolution: 1e-300 m is finer than the 0.0001 m plan_path checks at"),
+    ("resolution", 10.0, "resolution: 10 m is coarser than the 0.02 m plan_path checks at"),
 ])
 def test_bad_options_are_refused(wall_scene, keyword, value, message):
     with pytest.raises(InputError, match=message):

@@ -57,13 +57,16 @@ if TYPE_CHECKING:
     from armkit.collision.scene import Scene
     from armkit.robot import Robot
 
-__all__ = ["DEFAULT_RESOLUTION", "DEFAULT_TIME_BUDGET", "MIN_RESOLUTION", "UNBOUNDED_MARGIN",
-           "VIA_POINT_ROUNDS", "collision_time", "goal_configurations", "plan_path"]
+__all__ = ["DEFAULT_RESOLUTION", "DEFAULT_TIME_BUDGET", "MAX_RESOLUTION", "MIN_RESOLUTION",
+           "UNBOUNDED_MARGIN", "VIA_POINT_ROUNDS", "collision_time", "goal_configurations", "plan_path"]
 
 #: Largest displacement [m] of any point of the arm between two collision checks (default), and the
 #: finest accepted (0.1 mm: a metre of motion is then 10,000 checks; finer asks for endless checking).
 DEFAULT_RESOLUTION = 0.005
 MIN_RESOLUTION = 1e-4
+#: The coarsest accepted [m]: between two checks a link may step over an obstacle thinner than the
+#: resolution (a 10 m "resolution" checked a UR5's motion at its two ends only and went through a wall).
+MAX_RESOLUTION = 0.02
 #: Seconds the search may take before :func:`plan_path` gives up (default).
 DEFAULT_TIME_BUDGET = 10.0
 #: Beyond the span of start and goal, the room [rad] a joint without position limits gets.
@@ -118,7 +121,8 @@ def plan_path(scene: Scene, q_start: ArrayLike, goal: ArrayLike, *, time_budget:
         Seed of the search and the simplifier (0 or more): the same call gives the same motion.
     resolution : float
         Largest displacement [m] of any point of the arm between two collision checks along a
-        motion; default :data:`DEFAULT_RESOLUTION` (5 mm).
+        motion; default :data:`DEFAULT_RESOLUTION` (5 mm), from :data:`MIN_RESOLUTION` (0.1 mm) to
+        :data:`MAX_RESOLUTION` (2 cm): an obstacle thinner than it can be stepped over unseen.
     max_velocity, max_acceleration : float or (n,) array, optional
         Limits in place of the robot's (:func:`~armkit.trajectory.planning_limits`).
     torque_limits : bool, optional
@@ -167,6 +171,9 @@ def plan_path(scene: Scene, q_start: ArrayLike, goal: ArrayLike, *, time_budget:
     if resolution < MIN_RESOLUTION:
         raise InputError(f"resolution: {resolution:g} m is finer than the {MIN_RESOLUTION:g} m plan_path "
                          f"checks at (each metre of arm motion costs 1/resolution collision checks)")
+    if resolution > MAX_RESOLUTION:
+        raise InputError(f"resolution: {resolution:g} m is coarser than the {MAX_RESOLUTION:g} m plan_path "
+                         f"checks at (a link could step over an obstacle thinner than that between checks)")
     vmax, amax = planning_limits(robot, max_velocity, max_acceleration)
     q_start = _free_configuration(scene, robot.check_q(q_start, "q_start"), "q_start")
     goals = goal_configurations(scene, goal, near=q_start, seed=seed)

@@ -111,12 +111,34 @@ def _geom(parent: ET.Element, kind: str, size: Sequence[float], T: NDArray[np.fl
                   **types, **extra)
 
 
-def _add_mesh(root: ET.Element, body: ET.Element, path: Path, scale: Sequence[float],
-              T: NDArray[np.float64], types: dict) -> None:
+#: Name prefix of the mesh geoms that stand for boxes (see _add_box).
+BOX_MESH = "armkit_box"
+
+
+def _add_box(root: ET.Element, body: ET.Element, size: Sequence[float], T: NDArray[np.float64],
+             types: dict) -> None:
+    """A box of full edge lengths ``size`` [m], as the convex mesh of its eight corners: MuJoCo's own
+    capsule-box test misses a capsule that crosses a thin box with both ends outside it (MuJoCo 3.x and
+    4.0.1: no contact, a positive distance; tests/test_collision.py), its convex-mesh test does not."""
+    assets = _assets(root)
+    name = f"{BOX_MESH}{len(assets)}"
+    half = np.asarray(size, dtype=float) / 2
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * half
+    ET.SubElement(assets, "mesh", name=name, vertex=_numbers(corners.ravel()))
+    ET.SubElement(body, "geom", name=name, type="mesh", mesh=name, **_pose(T), **types)
+
+
+def _assets(root: ET.Element) -> ET.Element:
     assets = root.find("asset")
     if assets is None:
         assets = ET.Element("asset")
         root.insert(list(root).index(root.find("worldbody")), assets)
+    return assets
+
+
+def _add_mesh(root: ET.Element, body: ET.Element, path: Path, scale: Sequence[float],
+              T: NDArray[np.float64], types: dict) -> None:
+    assets = _assets(root)
     name = f"mesh{len(assets)}"
     ET.SubElement(assets, "mesh", name=name, file=str(path), scale=_numbers(np.asarray(scale, dtype=float)))
     ET.SubElement(body, "geom", type="mesh", mesh=name, **_pose(T), **types)
@@ -125,7 +147,7 @@ def _add_mesh(root: ET.Element, body: ET.Element, path: Path, scale: Sequence[fl
 def _add_obstacle(root: ET.Element, body: ET.Element, obstacle: Obstacle, relative_to: Path | None) -> None:
     types = {**_WORLD_TYPES, "rgba": _OBSTACLE_COLOR}
     if isinstance(obstacle, Box):
-        _geom(body, "box", np.array(obstacle.size) / 2, np.eye(4), types)
+        _add_box(root, body, obstacle.size, np.eye(4), types)
     elif isinstance(obstacle, Sphere):
         _geom(body, "sphere", [obstacle.radius], np.eye(4), types)
     elif isinstance(obstacle, Cylinder):
@@ -188,7 +210,7 @@ def build_xml(robot: Robot, parts: Parts, obstacles: Sequence[Obstacle], floor: 
                 _add_mesh(root, body, resolve_mesh(item.filename, folder, package_paths), item.size, T,
                           _ROBOT_TYPES)
             elif item.kind == "box":
-                _geom(body, "box", np.array(item.size) / 2, T, _ROBOT_TYPES)
+                _add_box(root, body, item.size, T, _ROBOT_TYPES)
             elif item.kind == "cylinder":
                 _geom(body, "cylinder", [item.size[0], item.size[1] / 2], T, _ROBOT_TYPES)
             else:

@@ -30,15 +30,25 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit._params import positive_float, thread_count, whole_number
-from armkit.collision.model import FLOOR, body_names, build_xml, compile_model, part_names, require_mujoco
+from armkit.collision.model import (
+    BOX_MESH,
+    FLOOR,
+    body_names,
+    build_xml,
+    compile_model,
+    part_names,
+    require_mujoco,
+)
 from armkit.collision.shapes import Box, Cylinder, Mesh, Obstacle, Sphere
 from armkit.errors import InputError
 from armkit.robot import Robot
 
-__all__ = ["DEFAULT_SAMPLES", "Scene", "WorldShape"]
+__all__ = ["DEFAULT_SAMPLES", "MAX_SAMPLES", "Scene", "WorldShape"]
 
-#: Random configurations sampled to find the pairs that always or never touch.
+#: Random configurations sampled to find the pairs that always or never touch (default), and the most
+#: accepted (about 10-30 s of checks; more only holds a user up, and a billion took 45 GB).
 DEFAULT_SAMPLES = 5000
+MAX_SAMPLES = 1_000_000
 #: Largest distance [m] :meth:`Scene.clearance` measures; farther pairs count as this far.
 MAX_DISTANCE = 1e3
 _CHUNK_MIN = 64  # configurations below which a batch runs on the calling thread
@@ -93,7 +103,8 @@ class Scene:
     disabled_pairs, enabled_pairs : sequence of (str, str)
         Part pairs never to check, or always to check (overriding adjacency and sampling).
     samples : int
-        Random configurations that find the always/never-touching pairs (0: no sampling).
+        Random configurations that find the always/never-touching pairs (0: no sampling; at most
+        :data:`MAX_SAMPLES`).
     threads : int, optional
         Threads for batches (``None`` or 0: every core).
     relative_to : path, optional
@@ -108,8 +119,8 @@ class Scene:
         The part names queries report: the base and the links (URDF link names, or ``base``,
         ``link1``, ...), then ``floor`` and the obstacles (their ``name``, or ``box1``, ``sphere1``, ...).
     disabled_pairs : dict
-        ``(part, part) -> reason`` (``"adjacent"``, ``"always"``, ``"never"``, ``"user"``) of the pairs
-        not checked.
+        ``(part, part) -> reason`` (``"adjacent"``, ``"always"``, ``"never"``, ``"home"``, ``"user"``) of
+        the pairs not checked.
 
     Examples
     --------
@@ -144,7 +155,7 @@ class Scene:
         self.threads = thread_count(threads) or os.cpu_count() or 1
         self._options = {"link_radius": link_radius, "geometry": geometry,
                          "package_paths": tuple(package_paths), "relative_to": relative_to}
-        samples = whole_number(samples, "samples", minimum=0)
+        samples = whole_number(samples, "samples", minimum=0, maximum=MAX_SAMPLES)
         names = part_names(robot, self.obstacles, floor is not None)
         self.parts = names.names
         self._robot_parts = names.robot
@@ -233,7 +244,9 @@ class Scene:
         self._geom_pairs = tuple(pairs)
 
     def _sampled_pairs(self, q: NDArray[np.float64]) -> dict[Pair, str]:
-        """Arm pairs in contact in every or no configuration of ``q``, arm-floor pairs in every one."""
+        """Arm pairs in contact in every or no configuration of ``q``, arm-floor pairs in every one, and
+        (MoveIt's "default" rule) the arm pairs in contact at the robot's home configuration: a shape
+        model that overlaps there (a SCARA's quill through its forearm capsule) is no fault of a motion."""
         counts = np.zeros((len(self.parts), len(self.parts)), dtype=np.int64)
         for part in self._map(self._contact_counts, q, len(self.parts)):
             counts += part
@@ -250,6 +263,10 @@ class Scene:
                     found[pair] = "never" if counts[i, j] == 0 else "always"
             if FLOOR in self._index and has_geometry[i] and counts[i, self._index[FLOOR]] == len(q):
                 found[(self.parts[i], FLOOR)] = "always"
+        arm_parts = set(self.parts[:arm])
+        for pair in self.contacts(self.robot.home):
+            if set(pair) <= arm_parts and pair not in found:
+                found[pair] = "home"
         return found
 
     # ------------------------------------------------------------------ batches
@@ -407,14 +424,18 @@ class Scene:
                 T[:3, :3], T[:3, 3] = data.geom_xmat[g].reshape(3, 3), data.geom_xpos[g]
                 kind = mujoco.mjtGeom(model.geom_type[g]).name.removeprefix("mjGEOM_").lower()
                 vertices = faces = None
-                if kind == "mesh":
+                size = model.geom_size[g].copy()
+                if kind == "mesh" and model.geom(g).name.startswith(BOX_MESH):  # a box (model._add_box)
+                    mesh = model.geom_dataid[g]
+                    start, count = model.mesh_vertadr[mesh], model.mesh_vertnum[mesh]
+                    kind, size = "box", np.abs(model.mesh_vert[start:start + count]).max(axis=0).astype(float)
+                elif kind == "mesh":
                     mesh = model.geom_dataid[g]
                     start, count = model.mesh_vertadr[mesh], model.mesh_vertnum[mesh]
                     vertices = model.mesh_vert[start:start + count].copy()
                     first, faces_count = model.mesh_faceadr[mesh], model.mesh_facenum[mesh]
                     faces = model.mesh_face[first:first + faces_count].copy()
-                shapes.append(WorldShape(self.parts[part], kind, model.geom_size[g].copy(), T, vertices,
-                                         faces))
+                shapes.append(WorldShape(self.parts[part], kind, size, T, vertices, faces))
             return shapes
         finally:
             self._pool.put(data)

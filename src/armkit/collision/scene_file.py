@@ -38,7 +38,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from armkit.collision.scene import DEFAULT_SAMPLES, Scene
+from armkit.collision.scene import DEFAULT_SAMPLES, MAX_SAMPLES, Scene
 from armkit.collision.shapes import Box, Cylinder, Mesh, Obstacle, Sphere
 from armkit.errors import InputError, RobotDefinitionError
 from armkit.robot import Robot
@@ -116,8 +116,9 @@ def scene_from_dict(data: dict[str, Any], robot: Robot, source: str = "scene", *
         where = f"{source}, [self_collision]"
         _check_keys(self_collision, _SELF_KEYS, set(), where)
         samples = self_collision.get("samples", DEFAULT_SAMPLES)
-        if isinstance(samples, bool) or not isinstance(samples, int) or samples < 0:
-            raise InputError(f"{where}, key 'samples': expected a whole number >= 0, got {_shown(samples)}")
+        if isinstance(samples, bool) or not isinstance(samples, int) or not 0 <= samples <= MAX_SAMPLES:
+            raise InputError(f"{where}, key 'samples': expected a whole number from 0 to {MAX_SAMPLES:,}, "
+                             f"got {_shown(samples)}")
         disabled = _pairs(self_collision.get("disabled", []), f"{where}, key 'disabled'")
         enabled = _pairs(self_collision.get("enabled", []), f"{where}, key 'enabled'")
     except RobotDefinitionError as exc:  # the robot-file helpers' errors: here a bad input file
