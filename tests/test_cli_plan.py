@@ -108,6 +108,10 @@ def test_a_goal_pose_ends_on_that_pose(capsys, ur5_wall):
      r"--to 45.0000 deg -68.7500 deg .* the arm collides there \(link3-wall, link4-wall\)"),
     (["--scene", SCENE, "--from", *START, "--to", *GOAL, "--time-budget", "1e-9"],
      "no collision-free path found within time_budget=1e-09 s"),
+    (["--scene", SCENE, "--from", "0", "-68.75", "68.75", "0", "90", "0",
+      "--to", "400", "-68.75", "68.75", "0", "90", "0", "--deg"],
+     r"--to: joint q1 = 400 deg is outside its limits \[-360, 360\] deg"),
+    (["--scene", SCENE, "--to", *GOAL], r"the start \(the home configuration: no --from given\) .* collides"),
 ])
 def test_errors_are_one_line(capsys, argv, message):
     code, out, err = run(capsys, "plan", "ur5", *argv)

@@ -40,7 +40,7 @@ from armkit.cli.trajectory import (
     _limit_option,
     _summary,
 )
-from armkit.errors import CollisionError, InputError, pair_text
+from armkit.errors import CollisionError, InputError, JointLimitError, pair_text
 from armkit.robot import Robot
 from armkit.spatial.rotations import parse_convention
 
@@ -142,6 +142,9 @@ def plan_command(
         raise InputError("give the goal as one of --to Q... (joint values) or --to-pose X Y Z A B C")
     arm = load_robot(robot, base, tip, lock)
     joints = _joint_lists(arm, list(ctx.params), {"--from": start, "--to": goal}, values or [], deg)
+    for option in ("--from", "--to"):  # said in the units typed, naming the option
+        if joints[option] is not None and (outside := arm.limit_violations(joints[option], deg)):
+            raise JointLimitError(f"{option}: {'; '.join(outside)}")
     q_start = arm.home if joints["--from"] is None else joints["--from"]
     target = joints["--to"] if to_pose is None else _target(to_pose, None, None, parse_convention(euler), deg)
     limits = planning_limits(arm, _limit_option(max_velocity, arm, deg, "--max-velocity"),
@@ -154,6 +157,8 @@ def plan_command(
         if exc.q is None or np.ndim(exc.q) != 1:
             raise
         option = "--from" if np.array_equal(exc.q, q_start) else "--to"
+        if option == "--from" and joints["--from"] is None:
+            option = "the start (the home configuration: no --from given)"
         scale, units = _joint_scale(arm, deg)
         shown = " ".join(f"{fmt_number(v, 4)} {unit}" for v, unit in zip(exc.q * scale, units, strict=True))
         raise CollisionError(f"{option} {shown}: the arm collides there ({pair_text(exc.contacts)})", q=exc.q,
