@@ -231,9 +231,9 @@ void bind_solve(nb::module_& m) {
           "|weights * (q - near)| (None: ones) into q (N, k, n), errors (N, k, 2) [m, rad], flags (N, k, 4) "
           "(valid, keep, inside, family) and count (N,). nearest: verify nearest first, up to the first kept. "
           "rigid_tolerance >= 0: first check that every T is exactly rigid (as check_transform would return "
-          "it unchanged); if not, solve nothing and return -1. Rough candidates (FK residual above 1e-10) "
-          "are refined by a few Levenberg-Marquardt steps that stay on their branch. Returns the number of "
-          "poses without a usable candidate.");
+          "it unchanged); if not, solve nothing and return -1. Rough candidates (FK residual above "
+          "kRefineAbove, 1e-13) are refined by a few Levenberg-Marquardt steps that stay on their branch. "
+          "Returns the number of poses without a usable candidate.");
     m.def("solve_one", &solve_one, nb::arg("closed_form"), nb::arg("T"), nb::arg("near").none(),
           nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("nearest"), nb::arg("rigid_tolerance"),
           "One pose (4, 4): its usable solutions (count, n) nearest to near first, or with nearest the "
@@ -246,8 +246,8 @@ void bind_solve(nb::module_& m) {
     m.def("verify_candidates", &verify_candidates, nb::arg("closed_form"), nb::arg("T"), nb::arg("q"),
           nb::arg("errors"), nb::arg("flags"), nb::arg("count"),
           "FK residuals of the valid candidates q (N, k, n) of poses T (N, 4, 4) into errors (N, k, 2), rough "
-          "ones (above 1e-10) refined on their branch (in place; the verification stage of solve_batch, "
-          "bound for its tests).");
+          "ones (above kRefineAbove, 1e-13) refined on their branch (in place; the verification stage of "
+          "solve_batch, bound for its tests).");
     m.def("candidates", &candidates, nb::arg("closed_form"), nb::arg("T"), nb::arg("q"), nb::arg("valid"),
           nb::arg("family"), nb::arg("threads"), nb::call_guard<nb::gil_scoped_release>(),
           "Every closed-form candidate of poses T (N, 4, 4) into q (N, k, n), valid and family (N, k).");
