@@ -7,8 +7,9 @@ velocity of the tool origin [m/s] over angular velocity [rad/s].
 The formulas live in armkit's compiled core (``armkit._core``, C++): FK, joint frames,
 the geometric Jacobian and the pose error of one configuration cost about half a microsecond
 from Python (``benchmarks/bench_fk.py``), and batches are split over ``threads`` (default:
-every core) with the same result whatever the thread count. This module checks the inputs once (arrays that are already
-float64 and C-ordered go straight through) and shapes the outputs.
+every core) with the same result whatever the thread count. This module checks the inputs
+once (arrays that are already float64 and C-ordered go straight through) and shapes the
+outputs.
 """
 
 from __future__ import annotations
