@@ -21,7 +21,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from armkit.export.physical import TIMESTEP, BodyShape, PhysicalModel, physical_model
+from armkit.dynamics import missing_inertia
+from armkit.export.physical import DENSITY, TIMESTEP, BodyShape, PhysicalModel, physical_model
 from armkit.export.writing import write_text
 from armkit.robot import Robot
 from armkit.spatial.rotations import quaternion_wxyz_from_matrix
@@ -101,6 +102,11 @@ def mjcf_element(robot: Robot, *, gravity: bool = True, model: PhysicalModel | N
     """
     model = physical_model(robot) if model is None else model
     root = ET.Element("mujoco", model=robot.name)
+    if missing_inertia(robot.chain) is not None:  # said in the file: read back, they pass for the arm's own
+        root.append(ET.Comment(f" armkit: {robot.name} gives no masses; the inertials below are estimated "
+                               f"from the capsules (density {DENSITY:g} kg/m^3, "
+                               f"robot.with_estimated_inertia): give the arm's own for dynamics. MJCF has no "
+                               f"velocity or acceleration limits. "))
     ET.SubElement(root, "compiler", angle="radian", autolimits="true")
     ET.SubElement(root, "option", timestep=repr(TIMESTEP), integrator="implicitfast",
                   gravity="0 0 -9.81" if gravity else "0 0 0")
