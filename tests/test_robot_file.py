@@ -138,6 +138,19 @@ def test_unknown_robot_lists_builtins():
         armkit.load("kuka")
 
 
+@pytest.mark.parametrize(("name", "text", "message"), [
+    ("empty.xml", "  \n", "the file is empty; expected a robot file"),
+    ("empty.toml", "", "the file is empty; expected a robot file"),
+    ("arm.xml", "a = 1\n", r"not XML \(a .xml file should hold a URDF <robot> or an MJCF <mujoco>"),
+    ("arm.urdf", "name = 'x'\n", r"not XML \(a .urdf file"),
+])
+def test_empty_and_non_xml_files_are_named_for_what_they_are(tmp_path, name, text, message):
+    path = tmp_path / name
+    path.write_text(text)
+    with pytest.raises(RobotDefinitionError, match=message):
+        armkit.load(path)
+
+
 def test_a_robot_file_with_more_joints_than_armkit_handles_is_refused_at_load_in_one_line(tmp_path, capsys):
     from armkit.chain import MAX_JOINTS
     from armkit.cli.main import main

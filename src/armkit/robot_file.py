@@ -148,6 +148,12 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
         data = path.read_bytes()
     except OSError as exc:
         raise RobotDefinitionError(f"{path}: cannot be read ({exc.strerror or exc})") from exc
+    if not data.strip(b"\xef\xbb\xbf \t\r\n"):
+        raise RobotDefinitionError(f"{path}: the file is empty; expected a robot file (TOML), "
+                                   f"a URDF or an MJCF file")
+    if path.suffix.lower() in _XML_SUFFIXES and _xml_root(data) is None:
+        raise RobotDefinitionError(f"{path}: not XML (a {path.suffix} file should hold a URDF <robot> "
+                                   f"or an MJCF <mujoco> element)")
     if path.suffix.lower() != ".urdf" and _xml_root(data) == b"mujoco":
         from armkit.mjcf import load_mjcf
 
@@ -157,6 +163,9 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
     _no_links(base, tip, str(path))
     return _load_text(data, str(path))
 
+
+#: File suffixes that promise XML (a URDF or an MJCF file).
+_XML_SUFFIXES = (".urdf", ".xml", ".mjcf", ".xacro")
 
 #: The first element's name in XML text, after any declaration, comments and processing instructions.
 _XML_ROOT = re.compile(rb"\s*(?:<\?.*?\?>\s*|<!--.*?-->\s*)*<([A-Za-z_][\w.:-]*)", re.DOTALL)
