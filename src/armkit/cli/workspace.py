@@ -31,21 +31,21 @@ INTERRUPTED = 130
 LOCAL_CLUSTER = "local"
 
 
-def _count(text: str, option: str) -> int:
-    """A count such as ``1e8`` or ``250000`` as an int."""
+def _count(text: str, option: str, minimum: int = 1) -> int:
+    """A count such as ``1e8`` or ``250000`` as an int, at least ``minimum``."""
     try:
         value = float(text)
     except ValueError as exc:
         raise InputError(f"{option}: {text!r} is not a number") from exc
     from armkit.workspace.sampling import MAX_SAMPLES
 
-    if not (0 <= value <= MAX_SAMPLES and value == int(value)):
-        raise InputError(f"{option}: expected a whole number from 0 to {MAX_SAMPLES:.4g}, got {text!r}")
+    if not (minimum <= value <= MAX_SAMPLES and value == int(value)):
+        raise InputError(f"{option}: expected a whole number from {minimum} to {MAX_SAMPLES:.4g}, got {text!r}")
     return int(value)
 
 
-def _optional_count(text: str | None, option: str) -> int | None:
-    return None if text is None else _count(text, option)
+def _optional_count(text: str | None, option: str, minimum: int = 1) -> int | None:
+    return None if text is None else _count(text, option, minimum)
 
 
 def _engine(dask: str | None, threads: int | None):
@@ -206,7 +206,7 @@ def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, 
             result = workspace.compute(arm, resolution=resolution, samples=_count(samples, "--samples"),
                                        chunk_size=chunk_size, orientations=orientations,
                                        manipulability_samples=_optional_count(manipulability_samples,
-                                                                              "--manipulability-samples"),
+                                                                              "--manipulability-samples", 0),
                                        ik_solves=_optional_count(ik_solves, "--ik-solves"),
                                        singular_threshold=singular_threshold, out=out, scene=world, **common)
     finally:
