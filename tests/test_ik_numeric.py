@@ -406,3 +406,17 @@ def test_wrap_into_limits_broadcasts_and_moves_by_whole_turns():
     assert inside[fits & ~chain.prismatic].all()
     with pytest.raises(InputError, match=r"wrap_into_limits: expected q \(\.\.\., 6\)"):
         wrap_into_limits(chain, np.zeros(5), 0.0)
+
+
+@pytest.mark.parametrize("distance", [1e10, 1e160, 1e300])
+def test_a_target_too_far_for_squares_is_out_of_reach_by_its_distance_not_inf(distance):
+    # The squared error of a target 1e160 m away overflows; the reported distance must not.
+    from armkit.errors import UnreachableError
+
+    robot = armkit.load("ur5")
+    T = np.eye(4)
+    T[0, 3] = distance
+    with pytest.raises(UnreachableError, match="out of reach") as caught:
+        robot.ik(T)
+    assert caught.value.position_error == pytest.approx(distance, rel=1e-6)
+    assert 0.0 <= caught.value.orientation_error <= np.pi

@@ -45,6 +45,22 @@ double turn_remainder(double x) {
     return r;
 }
 
+// The 2-norm of the kept error rows of one kind (position: rows 0-2), scaled so that a target
+// 1e160 m away or farther, whose squares overflow, still gets its distance rather than inf.
+double scaled_error_norm(const double* e, const NumericSettings& s, bool position_rows) {
+    double largest = 0.0;
+    for (int k = 0; k < s.m; ++k)
+        if ((s.rows[k] < 3) == position_rows) largest = std::max(largest, std::abs(e[s.rows[k]]));
+    if (largest == 0.0 || !std::isfinite(largest)) return largest;
+    double sum = 0.0;
+    for (int k = 0; k < s.m; ++k) {
+        if ((s.rows[k] < 3) != position_rows) continue;
+        const double x = e[s.rows[k]] / largest;
+        sum += x * x;
+    }
+    return largest * std::sqrt(sum);
+}
+
 // One Levenberg-Marquardt attempt from q (updated in place to the last configuration
 // evaluated); best keeps the lowest-cost configuration.
 Attempt attempt(const NumericSolver& solver, const Pose& target, double* q, Best& best) {
@@ -66,7 +82,14 @@ Attempt attempt(const NumericSolver& solver, const Pose& target, double* q, Best
         position = orientation = 0.0;
         for (int k = 0; k < s.m; ++k) (s.rows[k] < 3 ? position : orientation) += e[s.rows[k]] * e[s.rows[k]];
         const double cost = 0.5 * (position + orientation);
-        if (cost < best.cost) {
+        if (!std::isfinite(cost)) {  // squares overflowed: keep the distances, end the attempt below
+            const double position_norm = scaled_error_norm(e, s, true);
+            if (std::isinf(best.cost) && !(position_norm >= best.position)) {
+                best.position = position_norm;
+                best.orientation = scaled_error_norm(e, s, false);
+                std::copy(q, q + n, best.q);
+            }
+        } else if (cost < best.cost) {
             best.cost = cost;
             best.position = std::sqrt(position);
             best.orientation = std::sqrt(orientation);
