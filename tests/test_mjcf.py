@@ -261,6 +261,24 @@ def test_armkits_own_mjcf_export_loads_back_with_the_same_kinematics(tmp_path, n
                                atol=1e-10)
 
 
+def test_velocity_acceleration_and_torque_limits_survive_an_mjcf_round_trip(tmp_path):
+    # MJCF has no element for them: the export writes custom numerics, the import reads them back.
+    from dataclasses import replace
+
+    from armkit.chain import Chain
+
+    original = armkit.load("puma560")
+    joints = [replace(joint, max_velocity=1.0 + i, max_acceleration=10.0 + i,
+                      max_torque=None if i == 2 else 100.0 + i)
+              for i, joint in enumerate(original.chain.joints)]
+    chain = Chain(joints, original.chain.T_base, original.chain.T_tool)
+    arm = armkit.Robot(chain, name="limited")
+    robot = armkit.load(write_mjcf(arm, tmp_path / "limited.xml"))
+    for read, written in zip(robot.chain.joints, joints, strict=True):
+        assert (read.max_velocity, read.max_acceleration, read.max_torque) == \
+            (written.max_velocity, written.max_acceleration, written.max_torque)
+
+
 def test_every_command_taking_robot_reads_an_mjcf_file(ur5e_file):
     from armkit.cli.main import app
 

@@ -22,8 +22,11 @@ What is read
     ``max_torque``; mass, centre of mass and inertia of every body moving with a chain link
     (bodies fixed to it, side branches and bodies beyond the tip held at ``q = ref``),
     merged into that link as :mod:`armkit.urdf` does. Bodies fixed to the base carry no
-    load and are left out. Armature, damping, friction, actuators, geoms and contacts are
-    ignored (MuJoCo has no velocity or acceleration limits to read).
+    load and are left out. A joint's velocity, acceleration and torque limits from the custom
+    numerics ``armkit:<joint>:max_velocity`` (``max_acceleration``, ``max_torque``) that
+    :mod:`armkit.export.mjcf` writes (MJCF itself has no velocity or acceleration limits;
+    ``actuatorfrcrange`` wins over the numeric torque). Armature, damping, friction,
+    actuators, geoms and contacts are ignored.
 Refused, with one :class:`~armkit.errors.RobotDefinitionError`
     A file MuJoCo cannot compile (its message is passed on), unknown base or tip names,
     a tip not below the base, ball and free joints on the chosen path, no joint on it.
@@ -123,7 +126,7 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
     base_id = 0 if base is None else _body_id(bodies, base, "base", source)
     tip_body, T_body_tip, tip_name = _tip(mujoco, model, bodies, base_id, tip, source)
     path = _path(model, bodies, base_id, tip_body, source)
-    kinds, before, after, limits, torque, names, frame_of = [], [], [], [], [], [], {}
+    kinds, before, after, limits, names, ids, frame_of = [], [], [], [], [], [], {}
     pending = np.eye(4)
     for body in path:
         pending = pending @ _body_pose(model, body)
@@ -142,18 +145,30 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
             before.append(pending @ P @ R @ (rot_z(-ref) if kind == _HINGE else trans_z(-ref)))
             after.append(R.T @ np.linalg.inv(P))
             limits.append(tuple(model.jnt_range[j]) if model.jnt_limited[j] else (-np.inf, np.inf))
-            torque.append(float(np.abs(model.jnt_actfrcrange[j]).max()) if model.jnt_actfrclimited[j]
-                          else None)
             names.append(name)
+            ids.append(j)
             pending = np.eye(4)
         frame_of[body] = (len(kinds), pending.copy())
     if not kinds:
         raise RobotDefinitionError(f"{source}: no joint between bodies {bodies[base_id]!r} and {tip_name!r}")
+    torque = [float(np.abs(model.jnt_actfrcrange[j]).max()) if model.jnt_actfrclimited[j]
+              else _limit_numeric(mujoco, model, name, "max_torque") for j, name in zip(ids, names)]
     chain = chain_from_frames(kinds, before, after, limits=limits, T_tool=pending @ T_body_tip, names=names,
+                              max_velocity=[_limit_numeric(mujoco, model, n, "max_velocity") for n in names],
+                              max_acceleration=[_limit_numeric(mujoco, model, n, "max_acceleration")
+                                                for n in names],
                               max_torque=torque, inertials=_inertials(model, path, frame_of, len(kinds)))
     name = _model_name(model) or Path(source).stem
     return Robot(chain, name=name, source=source,
                  description=f"MJCF {Path(source).name}, {bodies[base_id]} to {tip_name}")
+
+
+def _limit_numeric(mujoco: Any, model: Any, joint: str, limit: str) -> float | None:
+    """Joint ``joint``'s ``limit`` from its custom numeric (see :data:`armkit.export.mjcf.LIMIT_NUMERIC`)."""
+    from armkit.export.mjcf import LIMIT_NUMERIC
+
+    i = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, LIMIT_NUMERIC.format(joint=joint, limit=limit))
+    return None if i < 0 or model.numeric_size[i] < 1 else float(model.numeric_data[model.numeric_adr[i]])
 
 
 def _one_line(exc: Exception) -> str:

@@ -11,6 +11,11 @@ Every joint ``qN`` has two actuators: ``qN_position`` (position servo, ``ctrl`` 
 position) and ``qN_velocity`` (velocity servo, ``ctrl`` = target velocity); together
 ``kp (q* - q) + kv (qd* - qd)``. Geoms do not collide (the model checks kinematics and
 servo tracking, not contacts).
+
+MJCF has no velocity, acceleration or (without changing the simulation) torque limits: a
+joint's ``max_velocity``, ``max_acceleration`` and ``max_torque`` are written as custom
+numerics named ``armkit:<joint>:<limit>`` (:data:`LIMIT_NUMERIC`), which MuJoCo keeps and
+ignores and :mod:`armkit.mjcf` reads back.
 """
 
 from __future__ import annotations
@@ -27,7 +32,13 @@ from armkit.export.writing import write_text
 from armkit.robot import Robot
 from armkit.spatial.rotations import quaternion_wxyz_from_matrix
 
-__all__ = ["mjcf_element", "mjcf_from_robot", "write_mjcf"]
+__all__ = ["LIMIT_NUMERIC", "mjcf_element", "mjcf_from_robot", "write_mjcf"]
+
+#: Name of the custom numeric holding joint ``joint``'s limit ``limit`` (a :class:`~armkit.chain.Joint` field).
+LIMIT_NUMERIC = "armkit:{joint}:{limit}"
+
+#: The joint limits MJCF has no element for, written as custom numerics.
+_NUMERIC_LIMITS = ("max_velocity", "max_acceleration", "max_torque")
 
 _COLORS = ("0.85 0.45 0.12 1", "0.20 0.40 0.75 1")  # alternate link colours
 _HOUSING_COLOR = "0.25 0.25 0.28 1"
@@ -105,8 +116,7 @@ def mjcf_element(robot: Robot, *, gravity: bool = True, model: PhysicalModel | N
     if missing_inertia(robot.chain) is not None:  # said in the file: read back, they pass for the arm's own
         root.append(ET.Comment(f" armkit: {robot.name} gives no masses; the inertials below are estimated "
                                f"from the capsules (density {DENSITY:g} kg/m^3, "
-                               f"robot.with_estimated_inertia): give the arm's own for dynamics. MJCF has no "
-                               f"velocity or acceleration limits. "))
+                               f"robot.with_estimated_inertia): give the arm's own for dynamics. "))
     ET.SubElement(root, "compiler", angle="radian", autolimits="true")
     ET.SubElement(root, "option", timestep=repr(TIMESTEP), integrator="implicitfast",
                   gravity="0 0 -9.81" if gravity else "0 0 0")
@@ -136,7 +146,19 @@ def mjcf_element(robot: Robot, *, gravity: bool = True, model: PhysicalModel | N
     tool = ET.SubElement(parent, "body", name="tool", **_pose(model.T_last_tool))
     ET.SubElement(tool, "site", name="tool", size=repr(model.radius), rgba="0.1 0.7 0.2 1")
     root.append(actuators)
+    _add_limit_numerics(root, robot)
     return root
+
+
+def _add_limit_numerics(root: ET.Element, robot: Robot) -> None:
+    """The joints' velocity, acceleration and torque limits as ``<custom><numeric>`` elements."""
+    numerics = [(LIMIT_NUMERIC.format(joint=joint.name, limit=limit), getattr(joint, limit))
+                for joint in robot.chain.joints for limit in _NUMERIC_LIMITS]
+    numerics = [(name, value) for name, value in numerics if value is not None]
+    if numerics:
+        custom = ET.SubElement(root, "custom")
+        for name, value in numerics:
+            ET.SubElement(custom, "numeric", name=name, data=repr(float(value)))
 
 
 def write_mjcf(robot: Robot, path: str | Path, *, overwrite: bool = False, gravity: bool = True) -> Path:
