@@ -40,7 +40,8 @@ def _count(text: str, option: str, minimum: int = 1) -> int:
     from armkit.workspace.sampling import MAX_SAMPLES
 
     if not (minimum <= value <= MAX_SAMPLES and value == int(value)):
-        raise InputError(f"{option}: expected a whole number from {minimum} to {MAX_SAMPLES:.4g}, got {text!r}")
+        raise InputError(f"{option}: expected a whole number from {minimum} to {MAX_SAMPLES:.4g}, "
+                         f"got {text!r}")
     return int(value)
 
 

@@ -34,7 +34,7 @@ from armkit.spatial.rotations import quaternion_wxyz_from_matrix
 
 __all__ = ["LIMIT_NUMERIC", "mjcf_element", "mjcf_from_robot", "write_mjcf"]
 
-#: Name of the custom numeric holding joint ``joint``'s limit ``limit`` (a :class:`~armkit.chain.Joint` field).
+#: Name of the custom numeric holding joint ``joint``'s ``limit`` (a :class:`~armkit.chain.Joint` field).
 LIMIT_NUMERIC = "armkit:{joint}:{limit}"
 
 #: The joint limits MJCF has no element for, written as custom numerics.
