@@ -152,7 +152,8 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
     if not kinds:
         raise RobotDefinitionError(f"{source}: no joint between bodies {bodies[base_id]!r} and {tip_name!r}")
     torque = [float(np.abs(model.jnt_actfrcrange[j]).max()) if model.jnt_actfrclimited[j]
-              else _limit_numeric(mujoco, model, name, "max_torque") for j, name in zip(ids, names)]
+              else _limit_numeric(mujoco, model, name, "max_torque")
+              for j, name in zip(ids, names, strict=True)]
     chain = chain_from_frames(kinds, before, after, limits=limits, T_tool=pending @ T_body_tip, names=names,
                               max_velocity=[_limit_numeric(mujoco, model, n, "max_velocity") for n in names],
                               max_acceleration=[_limit_numeric(mujoco, model, n, "max_acceleration")
