@@ -114,3 +114,11 @@ def test_random_q_with_a_negative_seed_is_one_input_error():
     """Found by the CLI fuzz: 'armkit sim probot-anno --seed -1' ended in numpy's ValueError."""
     with pytest.raises(InputError, match="non-negative integer seed"):
         armkit.load("probot-anno").random_q(3, rng=-1)
+
+
+@pytest.mark.filterwarnings("error")
+def test_a_huge_joint_value_is_named_as_it_is_not_as_inf():
+    # rounding to 1e-9 by scaling by 1e9 overflowed: "q1 = inf rad" and a RuntimeWarning
+    chain = armkit.load("ur5").chain
+    message = chain.limit_violations(np.array([1e300, 0, 0, 0, 0, -1e-14]))[0]
+    assert message.startswith("joint q1 = 1e+300 rad"), message

@@ -269,8 +269,9 @@ class Chain:
             revolute = joint.kind == "revolute"
             scale, unit = ((180 / np.pi, " deg") if degrees and revolute
                            else (1.0, " rad" if revolute else " m"))
-            # rounded to 1e-9: no -1e-14 from a root finder beside values of 6 digits
-            low_shown, high_shown = np.round([q[j] * scale, high[j] * scale], 9) + 0.0
+            # below 1e-9 shown as 0: no -1e-14 from a root finder beside values of 6 digits
+            low_shown, high_shown = (0.0 if abs(x) < 1e-9 else float(x)
+                                     for x in (q[j] * scale, high[j] * scale))
             value = f"{low_shown:.6g}" if q_max is None else f"{low_shown:.6g} .. {high_shown:.6g}"
             messages.append(f"joint {joint.name} = {value}{unit}{where} is outside its limits "
                             f"[{joint.lower * scale:.6g}, {joint.upper * scale:.6g}]{unit}")
