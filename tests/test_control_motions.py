@@ -194,6 +194,13 @@ def test_target_beyond_reach_is_called_out_of_reach():
     assert "singularity" in result.message and "probably out of reach" in result.message
 
 
+@pytest.mark.filterwarnings("error")
+def test_a_target_too_far_for_squares_is_that_far_away_not_inf():
+    result = move_linear(PROBOT, np.zeros(6), [1e300, 0.0, 0.0], 2.0)
+    assert not result.success and result.position_error == pytest.approx(1e300, rel=1e-6)
+    assert result.max_position_error == pytest.approx(1e300, rel=1e-6)
+
+
 def test_an_arm_with_fewer_than_six_joints_is_told_why_it_missed():
     arm = armkit.load(Path(__file__).parent.parent / "examples" / "data" / "my_arm.toml")
     result = move_linear(arm, np.radians([10, 20, 30]), [0.05, 0.0, 0.0], 2.0)

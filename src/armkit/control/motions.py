@@ -275,14 +275,15 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     poses[last] = T
     sigma[last] = control._solve(J, np.zeros(6)).sigma_min
     sl = slice(0, last + 1)
-    errors = (float(np.linalg.norm(T[:3, 3] - reference[-1, :3, 3])),
+    # hypot, not norm: a target 1e160 m or farther is that far away, not inf
+    errors = (float(np.hypot.reduce(T[:3, 3] - reference[-1, :3, 3])),
               float(rotation_angle_between(T, reference[-1])))
     if not message and (errors[0] > position_tolerance or errors[1] > orientation_tolerance):
         message = _shortfall(errors, scale[sl], sigma[sl], control)
     return MotionResult(
         t=t[sl].copy(), q=qs[sl], qd=qds[sl], poses=poses[sl], reference=reference[sl].copy(),
         target=reference[-1].copy(), position_error=errors[0], orientation_error=errors[1],
-        max_position_error=float(np.linalg.norm(poses[sl, :3, 3] - reference[sl, :3, 3], axis=-1).max()),
+        max_position_error=float(np.hypot.reduce(poses[sl, :3, 3] - reference[sl, :3, 3], axis=-1).max()),
         max_orientation_error=float(rotation_angle_between(poses[sl], reference[sl]).max()),
         sigma_min=sigma[sl], scale=scale[sl], success=not message, message=message or "completed")
 
