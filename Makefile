@@ -15,8 +15,8 @@ CORE := CMakeLists.txt $(wildcard cpp/src/*.cpp cpp/src/*.hpp cpp/include/armkit
 
 # pip's own progress (downloads, then "Building editable for armkit": the C++ core, 1-3 minutes)
 $(VENV)/.installed-demo: pyproject.toml $(CORE) | $(BIN)/activate
-	@echo "==> installing armkit with MuJoCo and the viewer; the C++ core compiles at 'Building editable'"
-	$(BIN)/python -m pip install --progress-bar on -e ".[sim,view]"
+	@echo "==> installing armkit with MuJoCo, the viewer and the planner; the C++ core compiles at 'Building editable'"
+	$(BIN)/python -m pip install --progress-bar on -e ".[sim,view,plan]"
 	@echo "==> installed"
 	touch $@
 

@@ -27,9 +27,9 @@ pytestmark = pytest.mark.slow
 
 PNGS = ["fk_configuration.png", "ik_solutions.png", "line_tracking.png", "trajectory_pva.png",
         "trajectory_tracking.png", "rotation.png", "zju_configuration.png", "scara_configuration.png",
-        "dynamics_torques.png"]
+        "dynamics_torques.png", "plan_pva.png"]
 EXAMPLE_ARM = Path(__file__).parents[1] / "examples" / "data" / "my_arm.toml"
-GIFS = ["ik_solutions.gif", "line.gif", "trajectory.gif", "rotation.gif"]
+GIFS = ["ik_solutions.gif", "line.gif", "trajectory.gif", "rotation.gif", "plan.gif"]
 DATA = [motion.TRAJECTORY_FILE, motion.WAYPOINTS_FILE]
 
 
@@ -41,7 +41,8 @@ def seed_report(tmp_path_factory):
 
 def test_every_seed_experiment_is_reproduced(seed_report):
     keys = [s.key for s in seed_report.sections]
-    assert keys == ["fk", "ik", "line", "trajectory", "rotation", "dynamics", "zju", "scara", "floor", "dh"]
+    assert keys == ["fk", "ik", "line", "trajectory", "rotation", "dynamics", "plan", "zju", "scara", "floor",
+                    "dh"]
     problems = [(s.key, s.notes) for s in seed_report.sections if s.status != "ok"]
     assert not problems
     ik = next(s for s in seed_report.sections if s.key == "ik")
@@ -75,7 +76,8 @@ def test_report_tables_show_published_computed_and_simulated_values(seed_report)
     for published in ("0.150035", "0.199922", "-148.05", "36.31", "141.4214", "370.1666", "0.303826"):
         assert published in page
     assert page.count(">reproduced<") == 2 * 8  # badges and summary
-    assert page.count(">checked<") == 2  # the collision check's (no seed report checked collisions)
+    # the planned motion's and the collision check's (no seed report planned motions or checked collisions)
+    assert page.count(">checked<") == 2 * 2
     assert "its text says &quot;3 solutions in range&quot; but it prints 4" in page
     fk_errors = re.findall(r"max \|MuJoCo - armkit\| ([0-9.e+-]+) m", page)
     assert fk_errors and float(fk_errors[0]) < 1e-9
@@ -134,7 +136,7 @@ def test_lab_on_a_users_robot_file(tmp_path, capsys):
     assert "report:" in capsys.readouterr().out
     page = (out / "index.html").read_text()
     assert "armkit lab: PUMA 560 in MuJoCo" in page
-    assert "ZJU-I" not in page and page.count("data:image/gif;base64,") == 4
+    assert "ZJU-I" not in page and page.count("data:image/gif;base64,") == 5
     assert re.search(r"(\d+) \+ (\d+) \+ (\d+) solutions", page)
     text = re.sub(r"<[^>]+>", " ", re.sub(r'src="data:[^"]+"', "", page))
     for seed_only in ("report", "Gazebo", "reproduced", "pi/2", "printed", "twist"):
@@ -200,13 +202,13 @@ def test_twist_possible_follows_the_jacobian_range():
 
 
 def _fake_experiments(monkeypatch, failing: str | None = None, interrupt: str | None = None):
-    """Replace the six experiments by instant ones (``failing`` fails, ``interrupt`` raises Ctrl-C)."""
-    from armkit.lab import dynamics, fk_ik
+    """Replace the seven experiments by instant ones (``failing`` fails, ``interrupt`` raises Ctrl-C)."""
+    from armkit.lab import dynamics, fk_ik, planning
     from armkit.lab.report import Section
 
     for module, name in ((fk_ik, "fk_check"), (fk_ik, "ik_check"), (motion, "linear_motion"),
                          (motion, "trajectory_experiment"), (motion, "fixed_point_rotation"),
-                         (dynamics, "dynamics_experiment")):
+                         (dynamics, "dynamics_experiment"), (planning, "planned_motion")):
         def experiment(ctx, name=name):
             if name == interrupt:
                 raise KeyboardInterrupt
@@ -231,7 +233,7 @@ def test_a_failed_experiment_makes_the_run_exit_1(tmp_path, capsys, monkeypatch)
     assert main(["lab", "--robot", "puma560", "--out", str(out), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     # the fake experiments run no motion: nothing for the collision check ("n/a"), before the DH tables
-    assert data["failed"] == 0 and [s["status"] for s in data["sections"]] == ["ok"] * 6 + ["n/a", "ok"]
+    assert data["failed"] == 0 and [s["status"] for s in data["sections"]] == ["ok"] * 7 + ["n/a", "ok"]
 
 
 def test_an_interrupted_run_leaves_the_previous_report_whole(tmp_path, capsys, monkeypatch):
@@ -314,7 +316,7 @@ def test_the_dynamics_experiment_finds_armkit_and_mujoco_agree(seed_report):
 def test_a_users_arm_is_timed_to_its_own_limits_and_its_peak_table_has_units(tmp_path):
     robot = armkit.load("ur5")
     ctx = LabContext(robot=robot, folder=tmp_path, quick=True, seeds=False)
-    q, poses, report_q, durations = motion._waypoints(ctx)
+    q, poses, report_q, durations = motion.experiment_waypoints(ctx)
     assert durations is None                           # timed by plan_trajectory to the limits
     section = motion.trajectory_experiment(ctx)
     assert any(note.startswith("Timed to the arm's own limits") for note in section.notes)
@@ -323,3 +325,30 @@ def test_a_users_arm_is_timed_to_its_own_limits_and_its_peak_table_has_units(tmp
     assert np.isclose(peaks / robot.max_velocity, 1.0, atol=1e-6).any()   # some joint at its limit
     assert all(row[1].endswith(" rad/s") and row[3].endswith(" rad/s²") and row[5].endswith(" rad")
                for row in table.rows)
+
+
+def test_the_planned_motion_goes_around_a_box_the_straight_motion_hits(tmp_path):
+    from armkit.lab import planning
+
+    ctx = LabContext(armkit.load("puma560"), tmp_path, quick=True, seeds=False)
+    q, *_ = motion.experiment_waypoints(ctx)
+    goal, (scene, grown) = next((goal, found) for goal in planning._goals(ctx, q[0], q[-1])
+                                if (found := planning._obstacle(ctx, q[0], goal)) is not None)
+    assert scene.path_collides(q[0], goal) and not grown.collides(np.array([q[0], goal])).any()
+    assert np.allclose(np.array(grown.obstacles[0].size) - scene.obstacles[0].size, 2 * planning.MARGIN)
+    section = planning.planned_motion(ctx)
+    assert section.status == "ok", section.notes
+    assert "free of collisions" in section.tables[1].note and section.headline.startswith("around a ")
+
+
+def test_without_ompl_the_planned_motion_is_not_applicable_and_says_what_to_install(tmp_path, monkeypatch):
+    import importlib.util
+
+    from armkit.lab import planning
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *args: None if name == "ompl" else real(name, *args))
+    ctx = LabContext(armkit.load("puma560"), tmp_path, quick=True, seeds=False)
+    section = planning.planned_motion(ctx)
+    assert section.status == "n/a" and "pip install 'armkit[plan]'" in section.notes[0]

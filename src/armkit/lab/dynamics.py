@@ -11,7 +11,7 @@ from armkit._format import fmt_significant
 from armkit.dynamics import _with_inertials, missing_inertia
 from armkit.inertial import Inertial
 from armkit.lab.context import LabContext, fmt, fmt_error
-from armkit.lab.motion import _save, _waypoints
+from armkit.lab.motion import experiment_waypoints, save_figure
 from armkit.lab.report import Section, Table
 from armkit.robot import Robot
 from armkit.trajectory import plan_trajectory
@@ -47,7 +47,7 @@ def dynamics_experiment(ctx: LabContext) -> Section:
         "compensation (as in experiment 4), and with armkit's torques (plus the armature's) as "
         "computed-torque feedforward."))
     robot = simulated_robot(ctx)
-    q_waypoints, _, _, durations = _waypoints(ctx)
+    q_waypoints, _, _, durations = experiment_waypoints(ctx)
     trajectory = plan_trajectory(robot, q_waypoints, durations)
     torques = trajectory.torques(robot, 100.0 if ctx.quick else 1000.0)
     samples = trajectory.sample(100.0 if ctx.quick else 1000.0)
@@ -100,6 +100,7 @@ def dynamics_experiment(ctx: LabContext) -> Section:
     ax_tau.legend(fontsize=7, ncol=3)
     for ax in (ax_tau, ax_diff):
         ax.grid(True, lw=0.3)
-    _save(ctx, figure, "dynamics_torques.png", "Joint torques along experiment 4's trajectory: armkit's "
-          "inverse dynamics and MuJoCo's mj_inverse, and their difference.", section)
+    save_figure(ctx, figure, "dynamics_torques.png",
+                "Joint torques along experiment 4's trajectory: armkit's inverse dynamics and MuJoCo's "
+                "mj_inverse, and their difference.", section)
     return section

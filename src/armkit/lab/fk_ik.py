@@ -223,7 +223,7 @@ def fk_table_zju(ctx: LabContext) -> Section:
     q = np.vstack([np.array(published.ZJU_FK[0][0]), robot.random_q(3, rng=ctx.rng)])
     rows, groups, worst = _fk_rows(robot, sim, q, [row[1:] for row in published.ZJU_FK], "xyz-euler",
                                    True, ctx.quick)
-    section = Section("zju", "7. ZJU-I forward kinematics (report 003)", (
+    section = Section("zju", "8. ZJU-I forward kinematics (report 003)", (
         "The ZJU-I arm (standard DH) in the report's pose format: position [m] and X-Y'-Z' Euler "
         "angles in degrees, R = Rx(a1) Ry(a2) Rz(a3). The report gives the joint values of its "
         "fifth row, q = pi/12 for every joint; the other rows are random configurations."))
@@ -258,7 +258,7 @@ def fk_table_scara(ctx: LabContext) -> Section:
         rows.append([f"{q_user[0]:g}, {q_user[1]:g}, {q_user[2]:g}, {q_user[3]:g}", axis, f"{value:.4f}",
                      f"{computed[k, i]:.4f}", f"{simulated[k, i]:.4f}", fmt_error(misses[-1]),
                      fmt_error(simulated[k, i] - computed[k, i])])
-    section = Section("scara", "8. GRB400 SCARA forward kinematics (report 004)", (
+    section = Section("scara", "9. GRB400 SCARA forward kinematics (report 004)", (
         "The four-joint SCARA (R-R-P-R, l1 = l2 = 200 mm) with the report's joint values "
         "(theta1, theta2 [deg], d3 [mm], theta4 [deg]); the report checked them on the real arm."))
     section.tables.append(Table("SCARA tool coordinates [mm]",

@@ -24,8 +24,9 @@ from armkit.spatial.transforms import pose_from_transform, transform_from_pose
 from armkit.trajectory import plan_trajectory
 from armkit.trajectory.waypoints import write_waypoints
 
-__all__ = ["TRAJECTORY_FILE", "WAYPOINTS_FILE", "fixed_point_rotation", "linear_motion",
-           "ready_configuration", "trajectory_experiment"]
+__all__ = ["TRAJECTORY_FILE", "WAYPOINTS_FILE", "experiment_waypoints", "fixed_point_rotation",
+           "linear_motion", "not_applicable", "ready_configuration", "save_figure", "save_gif", "tool_errors",
+           "trajectory_experiment"]
 
 LINE_SECONDS = 5.0
 #: Files of the report folder holding experiment 4's samples and waypoints (``armkit lab --view`` plays them).
@@ -53,7 +54,7 @@ def twist_possible(robot: Robot, q: NDArray, twist: NDArray) -> bool:
     return bool(np.linalg.norm(J @ rates - twist) <= TWIST_TOLERANCE * np.linalg.norm(twist))
 
 
-def _not_applicable(section: Section, because: str) -> Section:
+def not_applicable(section: Section, because: str) -> Section:
     """Mark ``section`` as an experiment this arm cannot do, saying why once (in its note)."""
     section.status, section.headline = "n/a", ""
     section.notes.append(f"Not applicable, because {because}.")
@@ -92,15 +93,17 @@ def _simulate(ctx: LabContext, t: NDArray, q: NDArray, mode: str = "position") -
     return ctx.sim.run(t, q, mode=mode)
 
 
-def _gif(ctx: LabContext, name: str, result: SimResult, title: str, caption: str, section: Section) -> None:
+def save_gif(ctx: LabContext, name: str, result: SimResult, title: str, caption: str, section: Section,
+             scene=None) -> None:
+    """An animation of the simulated motion (``scene``'s obstacles outlined, if given)."""
     path = ctx.path(name)
     stride = max(1, len(result.t) // 400)
     animation.animate_trajectory(ctx.robot, result.q[::stride], path, t=result.t[::stride] - result.t[0],
-                                 frames=ctx.gif_frames, dpi=ctx.gif_dpi, title=title)
+                                 frames=ctx.gif_frames, dpi=ctx.gif_dpi, title=title, scene=scene)
     section.images.append((path.name, caption))
 
 
-def _save(ctx: LabContext, figure: Figure, name: str, caption: str, section: Section) -> None:
+def save_figure(ctx: LabContext, figure: Figure, name: str, caption: str, section: Section) -> None:
     path = ctx.path(name)
     if figure.get_layout_engine() is None:
         figure.subplots_adjust(left=0.08, right=0.98, bottom=0.16, top=0.9, wspace=0.28)
@@ -108,7 +111,7 @@ def _save(ctx: LabContext, figure: Figure, name: str, caption: str, section: Sec
     section.images.append((path.name, caption))
 
 
-def _tool_errors(robot: Robot, result: SimResult) -> tuple[NDArray, NDArray]:
+def tool_errors(robot: Robot, result: SimResult) -> tuple[NDArray, NDArray]:
     """Simulated vs commanded tool: position distance [m] and rotation [rad] per step."""
     T_command = robot.fk(result.q_command)
     return (np.linalg.norm(result.T_tool[:, :3, 3] - T_command[:, :3, 3], axis=-1),
@@ -151,7 +154,7 @@ def linear_motion(ctx: LabContext) -> Section:
     robot = ctx.robot
     plan = _linear_plan(ctx)
     if plan is None:
-        return _not_applicable(section, (
+        return not_applicable(section, (
             f"move_linear holds the tool's orientation while its point moves, and this arm "
             f"({robot.n} joints) cannot move its tool point without turning the tool in any of the "
             f"{len(LINE_DIRECTIONS)} directions tried"))
@@ -183,7 +186,7 @@ def linear_motion(ctx: LabContext) -> Section:
         f"q0 = {fmt_q(q0, 3)} (the rows: where each run ended and how far it moved)",
         ["run", "start [m]", "end [m]", "moved [m]", "|end - target| [m]", "max distance from the line [m]",
          "max orientation change [rad]"], rows, note=motion.message))
-    position_error, _ = _tool_errors(robot, both)
+    position_error, _ = tool_errors(robot, both)
     miss = np.linalg.norm(both.T_tool[-1, :3, 3] - start - displacement)
     section.headline = (f"ends {miss:.1e} m from the target in MuJoCo; "
                         f"tracking within {position_error.max():.1e} m")
@@ -206,10 +209,10 @@ def linear_motion(ctx: LabContext) -> Section:
     ax_deviation.legend(fontsize=7)
     for ax in (ax_position, ax_deviation):
         ax.grid(True, lw=0.3)
-    _save(ctx, figure, "line_tracking.png", "Tool position over time (computed and simulated) and its "
-                                            "distance from the ideal straight line.", section)
-    _gif(ctx, "line.gif", both, "Straight line in MuJoCo", "The straight-line motion in MuJoCo, tool "
-                                                            "path traced.", section)
+    save_figure(ctx, figure, "line_tracking.png", "Tool position over time (computed and simulated) and its "
+                "distance from the ideal straight line.", section)
+    save_gif(ctx, "line.gif", both, "Straight line in MuJoCo", "The straight-line motion in MuJoCo, tool "
+             "path traced.", section)
     return section
 
 
@@ -217,7 +220,7 @@ def linear_motion(ctx: LabContext) -> Section:
 UNLIMITED_SEGMENT_SECONDS = 4.0
 
 
-def _waypoints(ctx: LabContext) -> tuple[NDArray, NDArray | None, NDArray | None, NDArray | None]:
+def experiment_waypoints(ctx: LabContext) -> tuple[NDArray, NDArray | None, NDArray | None, NDArray | None]:
     """Joint waypoints, their target poses (or None), the report's joint values (or None), durations
     (None for a user's arm with limits: the fastest timing within them)."""
     robot = ctx.robot
@@ -290,7 +293,7 @@ def trajectory_experiment(ctx: LabContext) -> Section:
         + ("Waypoints given as poses are solved by IK, each nearest the previous solution. " if ctx.seeds
            else "The waypoints are a well-conditioned configuration and three random moves from it. ")
         + "MuJoCo tracks the 1 kHz samples with gravity on."))
-    q, poses, report_q, durations = _waypoints(ctx)
+    q, poses, report_q, durations = experiment_waypoints(ctx)
     robot = ctx.robot
     trajectory = plan_trajectory(robot, q, durations)
     if durations is None:
@@ -317,7 +320,7 @@ def trajectory_experiment(ctx: LabContext) -> Section:
                            f"{fmt(trajectory.peak_acceleration[j], 4)} {unit}/s²",
                            f"{fmt(robot.max_acceleration[j], 4)} {unit}/s²",
                            f"{fmt_error(np.abs(result.joint_error[:, j]).max())} {unit}"])
-    position_error, rotation_error = _tool_errors(robot, result)
+    position_error, rotation_error = tool_errors(robot, result)
     T_goal = robot.fk(q[-1])
     final = np.append(result.T_tool[-1, :3, 3] - T_goal[:3, 3],
                       rotation_angle_between(result.T_tool[-1], T_goal))
@@ -335,8 +338,8 @@ def trajectory_experiment(ctx: LabContext) -> Section:
                                  "max |q_MuJoCo - q_command|"], limit_rows, note=note))
     section.headline = (f"{trajectory.duration:.0f} s, within limits; tracked in MuJoCo to "
                         f"{position_error.max():.1e} m, {rotation_error.max():.1e} rad")
-    _save(ctx, plot_pva(trajectory, robot), "trajectory_pva.png", "Position, velocity and "
-          "acceleration of every joint (dots: waypoints, dashed: limits).", section)
+    save_figure(ctx, plot_pva(trajectory, robot), "trajectory_pva.png", "Position, velocity and "
+                "acceleration of every joint (dots: waypoints, dashed: limits).", section)
     figure = Figure(figsize=(8.5, 3.0))
     ax_joint, ax_tool = figure.subplots(1, 2)
     _plot_joint_errors(ax_joint, robot, result)
@@ -352,10 +355,10 @@ def trajectory_experiment(ctx: LabContext) -> Section:
         ax.grid(True, lw=0.3)
         for t_k in trajectory.waypoint_times:
             ax.axvline(t_k, color="0.6", lw=0.6, ls=":")
-    _save(ctx, figure, "trajectory_tracking.png", "Tracking error in MuJoCo with gravity on and gravity "
-                                                  "compensation.", section)
-    _gif(ctx, "trajectory.gif", result, "Minimum-jerk trajectory in MuJoCo",
-         "The trajectory in MuJoCo with the tool path traced.", section)
+    save_figure(ctx, figure, "trajectory_tracking.png",
+                "Tracking error in MuJoCo with gravity on and gravity compensation.", section)
+    save_gif(ctx, "trajectory.gif", result, "Minimum-jerk trajectory in MuJoCo",
+             "The trajectory in MuJoCo with the tool path traced.", section)
     return section
 
 
@@ -448,7 +451,7 @@ def fixed_point_rotation(ctx: LabContext) -> Section:
         "stops at the first joint limit. MuJoCo then drives the joint motion with gravity on."))
     plan = _rotation_plan(ctx)
     if plan is None:
-        return _not_applicable(section, (
+        return not_applicable(section, (
             f"this arm ({ctx.robot.n} joints) cannot turn its tool about any of the axes tried (base x, y, z "
             f"and two perpendicular to the last joint's axis; turning about that axis alone tests nothing) "
             f"while its tool point stays where it is"))
@@ -490,9 +493,9 @@ def fixed_point_rotation(ctx: LabContext) -> Section:
     ax_drift.legend(fontsize=7)
     for ax in (ax_angle, ax_drift):
         ax.grid(True, lw=0.3)
-    _save(ctx, figure, "rotation.png", "Angle turned and tool-point drift over time.", section)
-    _gif(ctx, "rotation.gif", result, "Rotation about the tool point in MuJoCo",
-         "The fixed-point rotation in MuJoCo (tool frame drawn).", section)
+    save_figure(ctx, figure, "rotation.png", "Angle turned and tool-point drift over time.", section)
+    save_gif(ctx, "rotation.gif", result, "Rotation about the tool point in MuJoCo",
+             "The fixed-point rotation in MuJoCo (tool frame drawn).", section)
     return section
 
 

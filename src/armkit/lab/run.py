@@ -21,7 +21,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 import armkit
 from armkit.errors import ArmkitError
-from armkit.lab import dynamics, fk_ik, floor, motion
+from armkit.lab import dynamics, fk_ik, floor, motion, planning
 from armkit.lab.context import LabContext
 from armkit.lab.report import (
     Section,
@@ -164,7 +164,7 @@ def _run_stages(ctx: LabContext, started: float, progress: bool) -> list[Section
         ("FK check", fk_ik.fk_check), ("IK, every solution", fk_ik.ik_check),
         ("straight line", motion.linear_motion), ("minimum-jerk trajectory", motion.trajectory_experiment),
         ("fixed-point rotation", motion.fixed_point_rotation),
-        ("joint torques", dynamics.dynamics_experiment)]
+        ("joint torques", dynamics.dynamics_experiment), ("planned around a box", planning.planned_motion)]
     if seeds:
         stages += [("ZJU-I table", fk_ik.fk_table_zju), ("SCARA table", fk_ik.fk_table_scara)]
     sections = []
