@@ -26,7 +26,7 @@ from armkit.view.scene import Colours
 viser = pytest.importorskip("viser")
 
 from armkit.view import Viewer  # noqa: E402  (after the importorskip)
-from armkit.view.viewer import LABEL_SPACING  # noqa: E402
+from armkit.view.ik_ghosts import LABEL_SPACING  # noqa: E402
 
 ROBOTS = ["probot-anno", "puma560", "ur5", "stanford", "panda", "grb400-scara"]
 
@@ -118,8 +118,8 @@ def test_report_000s_first_target_has_four_solutions_in_the_limits_and_four_outs
     probot.q = probot.robot.home
     found = probot.show_solutions(T, follow=False)
     assert (len(found.q), int(found.within_limits.sum())) == (8, 4)
-    assert [g.visible for g in probot._ghosts] == [True] * 8 + [False] * (len(probot._ghosts) - 8)
-    labels = np.array([label.position for label in probot._ghost_labels[:8]])
+    assert [g.visible for g in probot._ik.ghosts] == [True] * 8 + [False] * (len(probot._ik.ghosts) - 8)
+    labels = np.array([label.position for label in probot._ik.labels[:8]])
     apart = np.linalg.norm(labels[:, None] - labels[None], axis=-1)[np.triu_indices(8, 1)]
     assert apart.min() >= LABEL_SPACING * probot._radius - 1e-12  # no two labels on one spot
     np.testing.assert_array_equal(probot.q, probot.robot.home)              # follow=False: stays
@@ -134,8 +134,8 @@ def test_an_unreachable_target_says_how_far_the_closest_pose_is(probot):
     T = transform_from(np.eye(3), [2.0, 0.0, 0.3])                         # 2 m out, the arm reaches ~0.6 m
     found = probot.show_solutions(T)
     assert len(found.q) == 0
-    assert not any(g.visible for g in probot._ghosts)
-    text = probot._ik_status.content
+    assert not any(g.visible for g in probot._ik.ghosts)
+    text = probot._ik.status.content
     mm = float(text.split("closest pose found is ")[1].split(" mm")[0])
     with pytest.raises(UnreachableError) as solver:
         probot.robot.ik(T, near=probot.q, within_limits=False)
@@ -186,9 +186,9 @@ def test_a_trajectory_file_from_armkit_traj_plays_on_the_timeline(probot, tmp_pa
     probot.play()
     wait_until(lambda: probot.time > 0.2, "the timeline to move")
     probot.pause()
-    probot._player.join(WAIT_S)           # the player thread ends at the pause: the time stays put
+    probot._timeline.player.join(WAIT_S)           # the player thread ends at the pause: the time stays put
     paused = probot.time
-    assert 0.2 < paused < trajectory.duration and not probot._player.is_alive()
+    assert 0.2 < paused < trajectory.duration and not probot._timeline.player.is_alive()
     assert probot.time == paused
     with pytest.raises(InputError, match="joint columns"):
         Playback.from_file(trajectory.to_csv(tmp_path / "t.csv"), armkit.load("grb400-scara"))
@@ -229,8 +229,8 @@ def test_a_wrist_singular_target_flags_its_families():
         found = viewer.show_solutions(robot.fk(q), follow=False)
         assert found.family.any()
         family = int(np.flatnonzero(found.family & found.within_limits)[0])
-        assert viewer._ghosts[family].handle.batched_colors[0].tolist() == list(Colours.GHOST_FAMILY)
-        assert "singular family" in viewer._ik_status.content
+        assert viewer._ik.ghosts[family].handle.batched_colors[0].tolist() == list(Colours.GHOST_FAMILY)
+        assert "singular family" in viewer._ik.status.content
         np.testing.assert_allclose(robot.fk(found.q[family]), robot.fk(q), atol=1e-12)
 
 
@@ -293,6 +293,26 @@ def test_junk_websocket_frames_are_one_line_each_and_the_server_stays_up(tmp_pat
     assert all(line.startswith("armkit view: ignored a message it cannot read (") for line in lines[:-1]), err
 
 
+def test_a_probe_of_the_port_logs_nothing_and_a_bad_message_still_one_line(caplog):
+    import socket
+
+    import msgspec
+
+    with Viewer("probot-anno", port=0) as viewer:
+        port = int(viewer.url.rsplit(":", 1)[1])
+        with socket.create_connection(("127.0.0.1", port), timeout=WAIT_S):
+            pass                                     # a port check (nc -z), a browser's unused pre-connection
+        with socket.create_connection(("127.0.0.1", port), timeout=WAIT_S) as probe:
+            probe.sendall(b"\x16\x03\x01\x00\xa5\x01\x00\x00\xa1\x03\x03\r\n\r\n")  # TLS hello, no HTTP
+            probe.recv(100)                            # the server answers or closes: it has read it
+        _send_messages(viewer.url, [msgspec.msgpack.encode({"type": "NoSuchMessage"})])
+        wait_until(lambda: any("ignored a message" in r.getMessage() for r in caplog.records),
+                   "the bad message's line")
+    server = [r.getMessage() for r in caplog.records if r.name in ("websockets.server", "asyncio")]
+    assert len(server) == 1, server
+    assert server[0].startswith("armkit view: ignored a message it cannot read ("), server
+
+
 # ------------------------------------------------------------------ a URDF arm's own look, the panel
 SHAPES_URDF = """<robot name="shapes">
   <link name="base"><visual><origin xyz="0 0 0.05"/><geometry><box size="0.2 0.1 0.1"/></geometry>
@@ -331,15 +351,16 @@ def test_a_urdf_arm_is_drawn_with_its_meshes_and_shapes_each_in_its_chain_frame(
         ("hand", "sphere", (0.04,))]
     viewer = Viewer(robot, port=0)
     try:
-        assert viewer._meshes is not None and not viewer._arm.visible and len(viewer._meshes.meshes) == 4
+        panel = viewer._arm_panel
+        assert panel.meshes is not None and not panel.arm.visible and len(panel.meshes.meshes) == 4
         viewer.q = [0.7, -1.1]
         frames = robot.link_frames(viewer.q)
-        for i, node in viewer._meshes._nodes.items():
+        for i, node in viewer._arm_panel.meshes._nodes.items():
             np.testing.assert_allclose(node.position, frames[i, :3, 3], atol=1e-12)
             np.testing.assert_allclose(armkit.spatial.matrix_from_quaternion_wxyz(node.wxyz),
                                        frames[i, :3, :3], atol=1e-12)
-        viewer._show_meshes.value = False   # the box in the panel: capsules instead
-        assert viewer._arm.visible and not viewer._meshes.visible
+        viewer._arm_panel.show_meshes.value = False   # the box in the panel: capsules instead
+        assert viewer._arm_panel.arm.visible and not viewer._arm_panel.meshes.visible
     finally:
         viewer.close()
 
@@ -350,7 +371,7 @@ def test_a_missing_mesh_draws_capsules_and_says_so_once(tmp_path):
                                          r"hand\.stl of link hand not found") as caught:
         viewer = Viewer(robot, port=0)
     try:
-        assert len(caught) == 1 and viewer._meshes is None and viewer._arm.visible
+        assert len(caught) == 1 and viewer._arm_panel.meshes is None and viewer._arm_panel.arm.visible
         viewer.q = [0.1, 0.2]  # moving warns no more
     finally:
         viewer.close()
@@ -376,13 +397,13 @@ def test_long_joint_names_get_a_row_of_their_own_and_number_boxes_show_every_dig
     robot = _shapes_arm(tmp_path, with_mesh=True)
     viewer = Viewer(robot, port=0)
     try:
-        names = [row.content for row in viewer._name_rows]
+        names = [row.content for row in viewer._joints.name_rows]
         assert len(names) == 2 and "shoulder_pan_joint_of_the_arm [deg]" in names[0]
-        assert [slider.label for slider in viewer._sliders] == ["q1 [deg]", "q2 [deg]"]
+        assert [slider.label for slider in viewer._joints.sliders] == ["q1 [deg]", "q2 [deg]"]
         viewer.q = [1.234567, -3.0]
-        for slider in viewer._sliders:
+        for slider in viewer._joints.sliders:
             assert len(f"{slider.value:.{round(-np.log10(slider.step))}f}") <= BOX_CHARS
-        assert viewer._sliders[0].value == round(np.degrees(1.234567), 1)
+        assert viewer._joints.sliders[0].value == round(np.degrees(1.234567), 1)
     finally:
         viewer.close()
     assert (box_decimals(-360.0, 360.0, 1), box_decimals(-0.5, 0.5, 4), box_decimals(0, 2000, 1)) == (1, 3, 1)
@@ -414,12 +435,13 @@ def test_a_general_6r_arms_ten_solutions_are_all_drawn_as_ghosts_with_labels_apa
     with Viewer(robot, port=0) as viewer:
         found = viewer.show_solutions(T, follow=False)
         count = len(found.q)
-        assert count > 8 and len(viewer._ghosts) >= count  # more than the 8 ghosts the viewer used to keep
-        assert [g.visible for g in viewer._ghosts] == [True] * count + [False] * (len(viewer._ghosts) - count)
-        for ghost, q in zip(viewer._ghosts, found.q, strict=False):  # each ghost its solution, at the target
+        assert count > 8 and len(viewer._ik.ghosts) >= count  # more than the 8 ghosts the viewer used to keep
+        ghosts = viewer._ik.ghosts
+        assert [g.visible for g in ghosts] == [True] * count + [False] * (len(ghosts) - count)
+        for ghost, q in zip(ghosts, found.q, strict=False):  # each ghost its solution, at the target
             np.testing.assert_allclose(ghost.placement.link_frames[-1], T, atol=1e-9)
             np.testing.assert_allclose(ghost.placement.link_frames, robot.link_frames(q), atol=1e-12)
-        labels = np.array([label.position for label in viewer._ghost_labels[:count]])
+        labels = np.array([label.position for label in viewer._ik.labels[:count]])
         apart = np.linalg.norm(labels[:, None] - labels[None], axis=-1)[np.triu_indices(count, 1)]
         assert apart.min() >= LABEL_SPACING * viewer._radius - 1e-12
 
