@@ -194,24 +194,47 @@ def test_a_trajectory_file_from_armkit_traj_plays_on_the_timeline(probot, tmp_pa
         Playback.from_file(trajectory.to_csv(tmp_path / "t.csv"), armkit.load("grb400-scara"))
 
 
-def test_cli_view_serves_the_page_and_ctrl_c_ends_it_with_one_line(tmp_path):
+def _serve_and_interrupt(args: list[str], cwd, while_serving=None) -> tuple[str, int, str, str]:
+    """Run ``armkit view ARGS --port 0 --no-browser``, call ``while_serving(url)`` once it prints its
+    address, then Ctrl-C it; its first line, exit code, the rest of stdout, and stderr."""
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", "probot-anno", "--port", "0",
+    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", *args, "--port", "0",
                                 "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env=env, cwd=tmp_path, preexec_fn=interruptible)
+                               env=env, cwd=cwd, preexec_fn=interruptible)
     try:
         line = process.stdout.readline()
-        assert line.startswith("armkit view: PROBOT Anno at http://127.0.0.1:")
-        url = line.split(" at ")[1].split()[0]
-        with urllib.request.urlopen(url, timeout=WAIT_S) as response:
-            assert b"<html" in response.read(2000).lower()
+        if while_serving is not None:
+            while_serving(line.split(" at ")[1].split()[0])
+            assert process.poll() is None
         process.send_signal(signal.SIGINT)
         out, err = process.communicate(timeout=WAIT_S)
     finally:
         process.kill()
-    assert process.returncode == 130
+    return line, process.returncode, out, err
+
+
+def _page_is_served(url: str) -> None:
+    with urllib.request.urlopen(url, timeout=WAIT_S) as response:
+        assert b"<html" in response.read(2000).lower()
+
+
+def test_cli_view_serves_the_page_and_ctrl_c_ends_it_with_one_line(tmp_path):
+    line, code, out, err = _serve_and_interrupt(["probot-anno"], tmp_path, _page_is_served)
+    assert line.startswith("armkit view: PROBOT Anno at http://127.0.0.1:")
+    assert code == 130
     assert err.strip() == "armkit view: stopped"
     assert out.strip() == ""
+
+
+def test_cli_view_free_joint_serves_a_7_joint_arms_self_motion_and_a_6_joint_arm_is_one_error_line(tmp_path):
+    line, code, _, err = _serve_and_interrupt(["panda", "--free-joint", "3"], tmp_path, _page_is_served)
+    assert line.startswith("armkit view: Panda at http://127.0.0.1:")
+    assert (code, err.strip()) == (130, "armkit view: stopped")
+    result = subprocess.run([sys.executable, "-m", "armkit.cli.main", "view", "ur5", "--free-joint", "3",
+                             "--port", "0", "--no-browser"], capture_output=True, text=True, timeout=WAIT_S)
+    assert result.returncode == 1
+    assert result.stderr.strip().splitlines() == [
+        "error: self-motion: needs a 7-joint arm (one joint free, six solved in closed form); UR5 has 6"]
 
 
 def test_cli_view_of_an_unknown_robot_is_one_error_line():
@@ -269,24 +292,16 @@ def test_a_zero_quaternion_on_the_ik_handle_is_a_status_line_not_a_traceback(cap
 def test_junk_websocket_frames_are_one_line_each_and_the_server_stays_up(tmp_path):
     import msgspec
 
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", "probot-anno", "--port", "0",
-                                "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env=env, cwd=tmp_path, preexec_fn=interruptible)
     frames = [b"\x00\x01junk", "a text frame", b"\x81\xa3", msgspec.msgpack.encode({"type": "NoSuchMessage"}),
               msgspec.msgpack.encode([1, 2, 3]),
               msgspec.msgpack.encode({"type": "TransformControlsUpdateMessage", "name": "/target",
                                       "wxyz": "abc", "position": [0.2, 0.1, 0.3]})]
-    try:
-        url = process.stdout.readline().split(" at ")[1].split()[0]
+
+    def send_junk(url: str) -> None:
         _send_messages(url, frames)
-        with urllib.request.urlopen(url, timeout=WAIT_S) as response:  # still serving
-            assert b"<html" in response.read(2000).lower()
-        assert process.poll() is None
-        process.send_signal(signal.SIGINT)
-        _, err = process.communicate(timeout=WAIT_S)
-    finally:
-        process.kill()
+        _page_is_served(url)                                 # still serving
+
+    _, _, _, err = _serve_and_interrupt(["probot-anno"], tmp_path, send_junk)
     lines = err.strip().splitlines()
     assert "Traceback" not in err and lines[-1] == "armkit view: stopped", err
     assert len(lines) == len(frames) + 1, err
@@ -451,15 +466,7 @@ def test_cli_view_of_a_urdf_with_a_missing_mesh_says_so_in_one_warning_line(tmp_
     path.write_text('<robot name="m"><link name="a"><visual><geometry><mesh filename="package://nopkg/a.stl"/>'
                     '</geometry></visual></link><link name="b"/><joint name="j" type="continuous">'
                     '<parent link="a"/><child link="b"/><origin xyz="0 0 0.3"/></joint></robot>')
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", str(path), "--port", "0",
-                                "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env=env, cwd=tmp_path, preexec_fn=interruptible)
-    try:
-        assert process.stdout.readline().startswith("armkit view: m at http://127.0.0.1:")
-        process.send_signal(signal.SIGINT)
-        _, err = process.communicate(timeout=WAIT_S)
-    finally:
-        process.kill()
+    line, _, _, err = _serve_and_interrupt([str(path)], tmp_path)
+    assert line.startswith("armkit view: m at http://127.0.0.1:")
     assert err.strip().splitlines() == ["warning: m: drawn as capsules: mesh package://nopkg/a.stl of link a "
                                         "not found", "armkit view: stopped"]

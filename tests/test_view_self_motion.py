@@ -1,16 +1,10 @@
 """A 7-joint arm's self-motion in the viewer: ghosts along a branch, the arm moved along it
-(a real viser server in this process, no page connected), and ``armkit view --free-joint``."""
+(a real viser server in this process, no page connected). ``armkit view --free-joint``: test_view.py."""
 
 from __future__ import annotations
 
-import os
-import signal
-import subprocess
-import sys
-
 import numpy as np
 import pytest
-from conftest import WAIT_S, interruptible
 
 import armkit
 from armkit.errors import InputError
@@ -125,23 +119,3 @@ def test_a_six_joint_arm_has_no_self_motion_panel_and_says_why():
             viewer.show_self_motion(2)
     with Viewer(PANDA, port=0) as viewer, pytest.raises(InputError, match="free_joint 'elbow'"):
         viewer.show_self_motion("elbow")
-
-
-def test_cli_view_free_joint_serves_the_self_motion_and_a_six_joint_arm_is_one_error_line(tmp_path):
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", "panda", "--free-joint", "3",
-                                "--port", "0", "--no-browser"], stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path,
-                               preexec_fn=interruptible)
-    try:
-        assert process.stdout.readline().startswith("armkit view: Panda at http://127.0.0.1:")
-        process.send_signal(signal.SIGINT)
-        _, err = process.communicate(timeout=WAIT_S)
-    finally:
-        process.kill()
-    assert err.strip() == "armkit view: stopped"
-    result = subprocess.run([sys.executable, "-m", "armkit.cli.main", "view", "ur5", "--free-joint", "3",
-                             "--port", "0", "--no-browser"], capture_output=True, text=True, timeout=WAIT_S)
-    assert result.returncode == 1
-    assert result.stderr.strip().splitlines() == [
-        "error: self-motion: needs a 7-joint arm (one joint free, six solved in closed form); UR5 has 6"]
