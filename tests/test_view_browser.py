@@ -344,3 +344,35 @@ def test_a_urdf_arm_shows_its_shapes_long_joint_names_whole_and_every_digit_in_i
     finally:
         page.close()
         viewer.close()
+
+
+def test_a_7_joint_arms_self_motion_ghosts_are_drawn_and_the_pages_slider_moves_the_arm_along_them(browser):
+    from armkit.view import Viewer
+
+    viewer = Viewer("panda", port=0, q=[0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
+    page = browser.new_page(viewport={"width": 1100, "height": 700})
+    page.set_default_timeout(WAIT_MS)
+    try:
+        T = viewer.target
+        motion = viewer.show_self_motion(2, samples=17)
+        part = viewer._self_motion
+        existing = np.flatnonzero(np.isfinite(motion.q[part.branch]).all(axis=-1))
+        viewer.move_along_self_motion(motion.values[existing[-1]])
+        page.goto(viewer.url)
+        page.wait_for_selector(f"[data-armkit=self-motion][data-branches='{len(motion.q)}']")
+        box = _slider_number_input(page, part.slider)
+        box.fill(f"{np.degrees(motion.values[existing[0]]):.4f}")
+        box.press("Enter")
+        box.blur()
+        wait_until(lambda: np.array_equal(viewer.q, motion.q[part.branch, existing[0]]),
+                   "the arm at the branch's first sample")
+        np.testing.assert_allclose(_wait_for_matrix(page, viewer.robot.fk(viewer.q)), T, atol=1.5e-6)
+        shot = ARTIFACTS / "view_self_motion.png"
+        notice = page.locator("#webgl-software-rendering button")
+        if notice.count() and notice.first.is_visible():
+            notice.first.click()
+        page.screenshot(path=shot, timeout=WAIT_MS)
+        assert _distinct_colours(shot) > 200
+    finally:
+        page.close()
+        viewer.close()

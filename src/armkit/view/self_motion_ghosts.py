@@ -63,7 +63,7 @@ class SelfMotionGhosts:
         for ghost in self.ghosts:
             ghost.visible = False
         gui = viewer._server.gui
-        with gui.add_folder("Self-motion", expand_by_default=False):
+        with gui.add_folder("Self-motion"):
             self.free_joint = gui.add_dropdown("free joint", tuple(robot.joint_names),
                                                initial_value=robot.joint_names[min(2, robot.n - 1)])
             self.samples = gui.add_number("samples", SAMPLES, min=2, max=1000, step=1)
@@ -106,8 +106,11 @@ class SelfMotionGhosts:
             self.branch_pick.disabled = False
             values = self._to_slider(motion.values)
             self.slider.label = f"{self._robot.joint_names[index]} [{self._unit}]"
-            self.slider.min, self.slider.max = float(values[0]), float(values[-1])
-            self.slider.step = float((values[-1] - values[0]) / (len(values) - 1))
+            # ends rounded (-166.1, not -166.003062) just outside the samples; a value picks its nearest sample
+            scale = 10.0 ** self._decimals
+            self.slider.min = float(np.floor(values[0] * scale) / scale)
+            self.slider.max = float(np.ceil(values[-1] * scale) / scale)
+            self.slider.step = 1 / scale
             self.slider.disabled = False
         finally:
             self._syncing = False
@@ -163,6 +166,11 @@ class SelfMotionGhosts:
         prismatic = self.motion is not None and self._robot.chain.prismatic[self.motion.free_joint]
         return "m" if prismatic else "deg"
 
+    @property
+    def _decimals(self) -> int:
+        """Decimals of the slider: 0.1 deg, 0.1 mm."""
+        return 4 if self._unit == "m" else 1
+
     def _to_slider(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.asarray(values, dtype=float) if self._unit == "m" else np.degrees(values)
 
@@ -206,7 +214,7 @@ class SelfMotionGhosts:
         motion, branch = self.motion, self.branch
         self._syncing = True
         try:
-            self.slider.value = float(self._to_slider(motion.values[k]))
+            self.slider.value = round(float(self._to_slider(motion.values[k])), self._decimals)
         finally:
             self._syncing = False
         self._viewer._set_q(motion.q[branch, k], from_ik=True)
