@@ -106,7 +106,7 @@ class SelfMotionGhosts:
             self.branch_pick.disabled = False
             values = self._to_slider(motion.values)
             self.slider.label = f"{self._robot.joint_names[index]} [{self._unit}]"
-            # ends rounded (-166.1, not -166.003062) just outside the samples; a value picks its nearest sample
+            # ends rounded (-166.1, not -166.003062) just outside the samples: a value takes its nearest one
             scale = 10.0 ** self._decimals
             self.slider.min = float(np.floor(values[0] * scale) / scale)
             self.slider.max = float(np.ceil(values[-1] * scale) / scale)
