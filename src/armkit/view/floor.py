@@ -29,7 +29,6 @@ def add_floor(server: Any, size: float) -> None:
     """
     scene = server.scene
     scene.set_up_direction("+z")
-    server.gui.configure_theme(control_width="large", show_share_button=False)
     server.initial_camera.look_at = (0.12 * size, 0.16 * size, 0.3 * size)
     server.initial_camera.position = (0.85 * size, -0.7 * size, 0.65 * size)
     step = grid_step(size)

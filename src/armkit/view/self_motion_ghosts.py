@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit.errors import InputError
-from armkit.ik.self_motion import SelfMotion, free_joint_index, self_motion
+from armkit.ik.self_motion import SelfMotion
 from armkit.kinematics import pose_error
 from armkit.view.scene import ArmDrawing, Colours
 
@@ -78,21 +78,17 @@ class SelfMotionGhosts:
         self.clear()
 
     # ------------------------------------------------------------------ what the viewer calls
-    def show(self, free_joint: int | str, T: NDArray[np.float64], samples: int) -> SelfMotion:
-        """Sample the self-motion at ``T`` along ``free_joint`` and show the branch nearest the arm;
-        the arm moves onto that branch (its sample nearest the arm)."""
-        if self._robot.n != 7:
-            raise InputError(f"self-motion: needs a 7-joint arm (one joint free, six solved in closed form); "
-                             f"{self._robot.name} has {self._robot.n}")
-        index = free_joint_index(self._robot, free_joint)
-        motion = self_motion(self._robot, T, free_joint=index, samples=samples)
+    def show(self, motion: SelfMotion, T: NDArray[np.float64]) -> None:
+        """Show ``motion``, the self-motion at ``T`` ``(4, 4)`` [m]: ghosts along the branch nearest the
+        arm, and the arm moved onto that branch (its sample nearest the arm)."""
+        index = motion.free_joint
         self.clear()
         found = np.isfinite(motion.q).all(axis=-1)
         if not found.any():
             self.status.content = ("<div style='font-size:0.8em;color:#d33' data-armkit='self-motion'>"
                                    "the target is out of reach at every sampled value of "
                                    f"{self._robot.joint_names[index]}</div>")
-            return motion
+            return
         self.motion, self.target = motion, T.copy()
         distance = np.full(found.shape, np.inf)
         distance[found] = self._distance(motion.q[found], self._viewer.q)
@@ -115,7 +111,6 @@ class SelfMotionGhosts:
         finally:
             self._syncing = False
         self._show_branch(int(branch), int(k))
-        return motion
 
     def move_to(self, value: float, branch: int | None = None) -> NDArray[np.float64]:
         """Move the arm to the sample of ``branch`` (0-based; default: the one shown) whose free-joint
@@ -232,7 +227,8 @@ class SelfMotionGhosts:
     # ------------------------------------------------------------------ the panel's controls
     def _require_motion(self) -> SelfMotion:
         if self.motion is None:
-            raise InputError("no self-motion shown: sample the target's self-motion first")
+            raise InputError("no self-motion shown: sample one first (Viewer.show_self_motion, or the "
+                             "panel's 'sample the target's self-motion')")
         return self.motion
 
     def _sample(self) -> None:

@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import ArmkitError, InputError
 from armkit.ik.self_motion import SelfMotion
+from armkit.ik.self_motion import self_motion as sample_self_motion
 from armkit.ik.solve import IKSolutions
 from armkit.ik.structure import analyze_structure
 from armkit.robot import Robot
@@ -144,6 +145,7 @@ class Viewer:
 
     def _build(self, package_paths: Sequence[str | Path]) -> None:
         """The scene and the panel, part by part, in the panel's order."""
+        self._server.gui.configure_theme(control_width="large", show_share_button=False)
         add_floor(self._server, self._size)
         found = link_visuals(self.robot, package_paths)
         visual_note = "" if found is None else found.summary(self.robot.name)
@@ -293,14 +295,14 @@ class Viewer:
         ((9, 7), True)
         >>> viewer.close()
         """
-        if self._self_motion is None:
-            raise InputError(f"self-motion: needs a 7-joint arm (one joint free, six solved in closed form); "
-                             f"{self.robot.name} has {self.robot.n}")
+        part = self._self_motion_part()
         with self._lock:
             T = self._ik.target if T_base_tool is None else check_transform(T_base_tool, "target pose")
+            motion = sample_self_motion(self.robot, T, free_joint=free_joint, samples=samples)
             self._ik.move_handle(T)
             self._ik.clear()
-            return self._self_motion.show(free_joint, T, samples)
+            part.show(motion, T)
+            return motion
 
     def move_along_self_motion(self, value: float, branch: int | None = None) -> NDArray[np.float64]:
         """Move the arm along the self-motion shown to the sample whose free-joint value is nearest
@@ -313,10 +315,15 @@ class Viewer:
         InputError
             If no self-motion is shown, or the branch has no solution at that value.
         """
+        part = self._self_motion_part()
         with self._lock:
-            if self._self_motion is None or self._self_motion.motion is None:
-                raise InputError("no self-motion shown: call show_self_motion first")
-            return self._self_motion.move_to(float(value), None if branch is None else branch - 1)
+            return part.move_to(float(value), None if branch is None else branch - 1)
+
+    def _self_motion_part(self) -> SelfMotionGhosts:
+        if self._self_motion is None:
+            raise InputError(f"self-motion: needs a 7-joint arm (one joint free, six solved in closed form); "
+                             f"{self.robot.name} has {self.robot.n}")
+        return self._self_motion
 
     def teach(self) -> int:
         """Append the current configuration to the waypoints; returns their number.
