@@ -142,6 +142,36 @@ def test_an_unreachable_target_says_how_far_the_closest_pose_is(probot):
     assert mm == pytest.approx(solver.value.position_error * 1000, abs=0.05)
     assert mm > 1000 * (2.0 - arm_size(probot.robot))              # at least the gap to the arm's reach
 
+def test_switching_the_angle_unit_rewrites_the_sliders_the_solution_list_and_the_waypoints():
+    with Viewer("probot-anno", port=0) as viewer:
+        q = np.array([0.9, -0.9, -0.35, 0.96, 2.97, -0.24])
+        viewer.q = q
+        viewer.teach()
+        found = viewer.show_solutions(viewer.robot.fk(q), follow=False)
+        joints = viewer._joints
+        assert [s.label[-5:] for s in joints.sliders] == ["[deg]"] * 6
+        joints.units.value = "rad"                        # the panel's "angles" list
+        assert [s.label[-5:] for s in joints.sliders] == ["[rad]"] * 6
+        np.testing.assert_allclose([s.value for s in joints.sliders], q, atol=5e-4)   # 3 decimals
+        first_row = found.q[0]
+        assert " ".join(f"{v:.3f}" for v in first_row) in viewer._ik.status.content
+        assert " ".join(f"{v:.3f}" for v in q) in viewer._teach._list.content
+        np.testing.assert_array_equal(viewer.q, q)        # the arm stays
+        joints.units.value = "deg"
+        assert " ".join(f"{np.degrees(v):.1f}°" for v in first_row) in viewer._ik.status.content
+
+
+def test_a_bad_self_motion_request_leaves_the_target_and_the_ik_ghosts_as_they_were():
+    with Viewer("panda", port=0) as viewer:
+        T = viewer.robot.fk(viewer.robot.home + 0.1)
+        viewer.show_solutions(T, follow=False)
+        for free_joint, samples, message in (("elbow", 8, "free_joint 'elbow'"), (2, 1, "samples: expected")):
+            with pytest.raises(InputError, match=message):
+                viewer.show_self_motion(free_joint, viewer.robot.fk(viewer.robot.home), samples=samples)
+            np.testing.assert_array_equal(viewer.target, T)
+            assert viewer.solutions is not None and viewer._ik.ghosts[0].visible
+
+
 def test_numeric_ik_arms_show_the_solution_nearest_the_arm():
     with Viewer("panda", port=0) as viewer:
         q_goal = viewer.robot.home + 0.2
