@@ -366,6 +366,7 @@ def test_a_7_joint_arms_self_motion_ghosts_are_drawn_and_the_pages_slider_moves_
         box.blur()
         wait_until(lambda: np.array_equal(viewer.q, motion.q[part.branch, existing[0]]),
                    "the arm at the branch's first sample")
+        assert box.input_value() == f"{np.degrees(motion.values[existing[0]]):.1f}"   # 0.1 deg shown
         np.testing.assert_allclose(_wait_for_matrix(page, viewer.robot.fk(viewer.q)), T, atol=1.5e-6)
         shot = ARTIFACTS / "view_self_motion.png"
         notice = page.locator("#webgl-software-rendering button")

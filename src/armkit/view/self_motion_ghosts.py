@@ -106,7 +106,7 @@ class SelfMotionGhosts:
             scale = 10.0 ** self._decimals
             self.slider.min = float(np.floor(values[0] * scale) / scale)
             self.slider.max = float(np.ceil(values[-1] * scale) / scale)
-            self.slider.step = 1 / scale
+            self.slider.step, self.slider.precision = 1 / scale, self._decimals
             self.slider.disabled = False
         finally:
             self._syncing = False
