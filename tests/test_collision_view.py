@@ -35,10 +35,55 @@ def test_the_floor_and_each_obstacle_are_drawn(viewer):
 
 
 def test_links_in_contact_are_coloured_and_the_others_not(viewer):
-    colours = np.asarray(viewer._arm.handle.batched_colors)
+    colours = np.asarray(viewer._arm_panel.arm.handle.batched_colors)
     assert not (colours == COLLIDING).all(axis=1).any()  # a free configuration: nothing coloured
     viewer.q = UR5.home  # the wrist (links 5 and 6) in the floor
-    colours = np.asarray(viewer._arm.handle.batched_colors)
+    colours = np.asarray(viewer._arm_panel.arm.handle.batched_colors)
     joints = colours[-UR5.n:]
     assert (joints[4:] == COLLIDING).all() and (joints[:4] == Colours.JOINT).all()
     assert (colours[:-UR5.n] == COLLIDING).all(axis=1).any()
+
+
+BUMPER_URDF = """<robot name="bumper">
+  <link name="base"><visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual></link>
+  <link name="upper"><visual><origin xyz="0 0 0.15"/>
+    <geometry><cylinder radius="0.03" length="0.3"/></geometry></visual>
+    <collision><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.03" length="0.3"/></geometry></collision>
+  </link>
+  <link name="fore"><visual><origin xyz="0 0 0.3"/><geometry><box size="0.04 0.04 0.6"/></geometry></visual>
+    <collision><origin xyz="0 0 0.3"/><geometry><box size="0.04 0.04 0.6"/></geometry></collision></link>
+  <link name="tip"/>
+  <joint name="pan" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.05"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" velocity="1" effort="1"/></joint>
+  <joint name="lift" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 1 0"/><limit lower="-2.6" upper="2.6" velocity="1" effort="1"/></joint>
+  <joint name="tip" type="fixed"><parent link="fore"/><child link="tip"/><origin xyz="0 0 0.6"/></joint>
+</robot>"""
+
+
+def test_a_urdf_arm_drawn_with_its_meshes_shows_its_links_in_contact_in_the_contact_colour(tmp_path):
+    pytest.importorskip("trimesh")
+    path = tmp_path / "bumper.urdf"
+    path.write_text(BUMPER_URDF)
+    robot = armkit.load(path)
+    scene = armkit.Scene(robot, floor=0.0)
+    down = [0.0, 2.3]                      # the forearm points down past the floor, 0.45 m from the base
+    assert ("fore", "floor") in scene.contacts(down) and not scene.contacts([0.0, 0.0])
+    with Viewer(robot, port=0, scene=scene, q=[0.0, 0.0]) as viewer:
+        meshes = viewer._arm_panel.meshes
+        assert meshes is not None and len(meshes.highlights) == len(meshes.meshes) == 3
+        fore = meshes.frames == scene.parts.index("fore")
+        assert fore.sum() == 1
+
+        def drawn():
+            own = np.array([m.visible for m in meshes.meshes])
+            highlighted = np.array([h.visible for h in meshes.highlights])
+            assert (own != highlighted).all()  # each visual drawn once: in its own colours or the contact one
+            return highlighted
+
+        assert not drawn().any()
+        viewer.q = down
+        np.testing.assert_array_equal(drawn(), fore)
+        assert all(tuple(h.color) == COLLIDING for h in meshes.highlights)
+        viewer.q = [0.0, 0.0]
+        assert not drawn().any()

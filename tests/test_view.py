@@ -26,7 +26,7 @@ from armkit.view.scene import Colours
 viser = pytest.importorskip("viser")
 
 from armkit.view import Viewer  # noqa: E402  (after the importorskip)
-from armkit.view.viewer import LABEL_SPACING  # noqa: E402
+from armkit.view.ik_ghosts import LABEL_SPACING  # noqa: E402
 
 ROBOTS = ["probot-anno", "puma560", "ur5", "stanford", "panda", "grb400-scara"]
 
@@ -118,8 +118,8 @@ def test_report_000s_first_target_has_four_solutions_in_the_limits_and_four_outs
     probot.q = probot.robot.home
     found = probot.show_solutions(T, follow=False)
     assert (len(found.q), int(found.within_limits.sum())) == (8, 4)
-    assert [g.visible for g in probot._ghosts] == [True] * 8 + [False] * (len(probot._ghosts) - 8)
-    labels = np.array([label.position for label in probot._ghost_labels[:8]])
+    assert [g.visible for g in probot._ik.ghosts] == [True] * 8 + [False] * (len(probot._ik.ghosts) - 8)
+    labels = np.array([label.position for label in probot._ik.labels[:8]])
     apart = np.linalg.norm(labels[:, None] - labels[None], axis=-1)[np.triu_indices(8, 1)]
     assert apart.min() >= LABEL_SPACING * probot._radius - 1e-12  # no two labels on one spot
     np.testing.assert_array_equal(probot.q, probot.robot.home)              # follow=False: stays
@@ -134,13 +134,43 @@ def test_an_unreachable_target_says_how_far_the_closest_pose_is(probot):
     T = transform_from(np.eye(3), [2.0, 0.0, 0.3])                         # 2 m out, the arm reaches ~0.6 m
     found = probot.show_solutions(T)
     assert len(found.q) == 0
-    assert not any(g.visible for g in probot._ghosts)
-    text = probot._ik_status.content
+    assert not any(g.visible for g in probot._ik.ghosts)
+    text = probot._ik.status.content
     mm = float(text.split("closest pose found is ")[1].split(" mm")[0])
     with pytest.raises(UnreachableError) as solver:
         probot.robot.ik(T, near=probot.q, within_limits=False)
     assert mm == pytest.approx(solver.value.position_error * 1000, abs=0.05)
     assert mm > 1000 * (2.0 - arm_size(probot.robot))              # at least the gap to the arm's reach
+
+def test_switching_the_angle_unit_rewrites_the_sliders_the_solution_list_and_the_waypoints():
+    with Viewer("probot-anno", port=0) as viewer:
+        q = np.array([0.9, -0.9, -0.35, 0.96, 2.97, -0.24])
+        viewer.q = q
+        viewer.teach()
+        found = viewer.show_solutions(viewer.robot.fk(q), follow=False)
+        joints = viewer._joints
+        assert [s.label[-5:] for s in joints.sliders] == ["[deg]"] * 6
+        joints.units.value = "rad"                        # the panel's "angles" list
+        assert [s.label[-5:] for s in joints.sliders] == ["[rad]"] * 6
+        np.testing.assert_allclose([s.value for s in joints.sliders], q, atol=5e-4)   # 3 decimals
+        first_row = found.q[0]
+        assert " ".join(f"{v:.3f}" for v in first_row) in viewer._ik.status.content
+        assert " ".join(f"{v:.3f}" for v in q) in viewer._teach._list.content
+        np.testing.assert_array_equal(viewer.q, q)        # the arm stays
+        joints.units.value = "deg"
+        assert " ".join(f"{np.degrees(v):.1f}°" for v in first_row) in viewer._ik.status.content
+
+
+def test_a_bad_self_motion_request_leaves_the_target_and_the_ik_ghosts_as_they_were():
+    with Viewer("panda", port=0) as viewer:
+        T = viewer.robot.fk(viewer.robot.home + 0.1)
+        viewer.show_solutions(T, follow=False)
+        for free_joint, samples, message in (("elbow", 8, "free_joint 'elbow'"), (2, 1, "samples: expected")):
+            with pytest.raises(InputError, match=message):
+                viewer.show_self_motion(free_joint, viewer.robot.fk(viewer.robot.home), samples=samples)
+            np.testing.assert_array_equal(viewer.target, T)
+            assert viewer.solutions is not None and viewer._ik.ghosts[0].visible
+
 
 def test_numeric_ik_arms_show_the_solution_nearest_the_arm():
     with Viewer("panda", port=0) as viewer:
@@ -186,32 +216,55 @@ def test_a_trajectory_file_from_armkit_traj_plays_on_the_timeline(probot, tmp_pa
     probot.play()
     wait_until(lambda: probot.time > 0.2, "the timeline to move")
     probot.pause()
-    probot._player.join(WAIT_S)           # the player thread ends at the pause: the time stays put
+    probot._timeline.player.join(WAIT_S)           # the player thread ends at the pause: the time stays put
     paused = probot.time
-    assert 0.2 < paused < trajectory.duration and not probot._player.is_alive()
+    assert 0.2 < paused < trajectory.duration and not probot._timeline.player.is_alive()
     assert probot.time == paused
     with pytest.raises(InputError, match="joint columns"):
         Playback.from_file(trajectory.to_csv(tmp_path / "t.csv"), armkit.load("grb400-scara"))
 
 
-def test_cli_view_serves_the_page_and_ctrl_c_ends_it_with_one_line(tmp_path):
+def _serve_and_interrupt(args: list[str], cwd, while_serving=None) -> tuple[str, int, str, str]:
+    """Run ``armkit view ARGS --port 0 --no-browser``, call ``while_serving(url)`` once it prints its
+    address, then Ctrl-C it; its first line, exit code, the rest of stdout, and stderr."""
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", "probot-anno", "--port", "0",
+    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", *args, "--port", "0",
                                 "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env=env, cwd=tmp_path, preexec_fn=interruptible)
+                               env=env, cwd=cwd, preexec_fn=interruptible)
     try:
         line = process.stdout.readline()
-        assert line.startswith("armkit view: PROBOT Anno at http://127.0.0.1:")
-        url = line.split(" at ")[1].split()[0]
-        with urllib.request.urlopen(url, timeout=WAIT_S) as response:
-            assert b"<html" in response.read(2000).lower()
+        if while_serving is not None:
+            while_serving(line.split(" at ")[1].split()[0])
+            assert process.poll() is None
         process.send_signal(signal.SIGINT)
         out, err = process.communicate(timeout=WAIT_S)
     finally:
         process.kill()
-    assert process.returncode == 130
+    return line, process.returncode, out, err
+
+
+def _page_is_served(url: str) -> None:
+    with urllib.request.urlopen(url, timeout=WAIT_S) as response:
+        assert b"<html" in response.read(2000).lower()
+
+
+def test_cli_view_serves_the_page_and_ctrl_c_ends_it_with_one_line(tmp_path):
+    line, code, out, err = _serve_and_interrupt(["probot-anno"], tmp_path, _page_is_served)
+    assert line.startswith("armkit view: PROBOT Anno at http://127.0.0.1:")
+    assert code == 130
     assert err.strip() == "armkit view: stopped"
     assert out.strip() == ""
+
+
+def test_cli_view_free_joint_serves_a_7_joint_arms_self_motion_and_a_6_joint_arm_is_one_error_line(tmp_path):
+    line, code, _, err = _serve_and_interrupt(["panda", "--free-joint", "3"], tmp_path, _page_is_served)
+    assert line.startswith("armkit view: Panda at http://127.0.0.1:")
+    assert (code, err.strip()) == (130, "armkit view: stopped")
+    result = subprocess.run([sys.executable, "-m", "armkit.cli.main", "view", "ur5", "--free-joint", "3",
+                             "--port", "0", "--no-browser"], capture_output=True, text=True, timeout=WAIT_S)
+    assert result.returncode == 1
+    assert result.stderr.strip().splitlines() == [
+        "error: self-motion: needs a 7-joint arm (one joint free, six solved in closed form); UR5 has 6"]
 
 
 def test_cli_view_of_an_unknown_robot_is_one_error_line():
@@ -229,8 +282,8 @@ def test_a_wrist_singular_target_flags_its_families():
         found = viewer.show_solutions(robot.fk(q), follow=False)
         assert found.family.any()
         family = int(np.flatnonzero(found.family & found.within_limits)[0])
-        assert viewer._ghosts[family].handle.batched_colors[0].tolist() == list(Colours.GHOST_FAMILY)
-        assert "singular family" in viewer._ik_status.content
+        assert viewer._ik.ghosts[family].handle.batched_colors[0].tolist() == list(Colours.GHOST_FAMILY)
+        assert "singular family" in viewer._ik.status.content
         np.testing.assert_allclose(robot.fk(found.q[family]), robot.fk(q), atol=1e-12)
 
 
@@ -269,28 +322,40 @@ def test_a_zero_quaternion_on_the_ik_handle_is_a_status_line_not_a_traceback(cap
 def test_junk_websocket_frames_are_one_line_each_and_the_server_stays_up(tmp_path):
     import msgspec
 
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", "probot-anno", "--port", "0",
-                                "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env=env, cwd=tmp_path, preexec_fn=interruptible)
     frames = [b"\x00\x01junk", "a text frame", b"\x81\xa3", msgspec.msgpack.encode({"type": "NoSuchMessage"}),
               msgspec.msgpack.encode([1, 2, 3]),
               msgspec.msgpack.encode({"type": "TransformControlsUpdateMessage", "name": "/target",
                                       "wxyz": "abc", "position": [0.2, 0.1, 0.3]})]
-    try:
-        url = process.stdout.readline().split(" at ")[1].split()[0]
+
+    def send_junk(url: str) -> None:
         _send_messages(url, frames)
-        with urllib.request.urlopen(url, timeout=WAIT_S) as response:  # still serving
-            assert b"<html" in response.read(2000).lower()
-        assert process.poll() is None
-        process.send_signal(signal.SIGINT)
-        _, err = process.communicate(timeout=WAIT_S)
-    finally:
-        process.kill()
+        _page_is_served(url)                                 # still serving
+
+    _, _, _, err = _serve_and_interrupt(["probot-anno"], tmp_path, send_junk)
     lines = err.strip().splitlines()
     assert "Traceback" not in err and lines[-1] == "armkit view: stopped", err
     assert len(lines) == len(frames) + 1, err
     assert all(line.startswith("armkit view: ignored a message it cannot read (") for line in lines[:-1]), err
+
+
+def test_a_probe_of_the_port_logs_nothing_and_a_bad_message_still_one_line(caplog):
+    import socket
+
+    import msgspec
+
+    with Viewer("probot-anno", port=0) as viewer:
+        port = int(viewer.url.rsplit(":", 1)[1])
+        with socket.create_connection(("127.0.0.1", port), timeout=WAIT_S):
+            pass                                     # a port check (nc -z), a browser's unused pre-connection
+        with socket.create_connection(("127.0.0.1", port), timeout=WAIT_S) as probe:
+            probe.sendall(b"\x16\x03\x01\x00\xa5\x01\x00\x00\xa1\x03\x03\r\n\r\n")  # TLS hello, no HTTP
+            probe.recv(100)                            # the server answers or closes: it has read it
+        _send_messages(viewer.url, [msgspec.msgpack.encode({"type": "NoSuchMessage"})])
+        wait_until(lambda: any("ignored a message" in r.getMessage() for r in caplog.records),
+                   "the bad message's line")
+    server = [r.getMessage() for r in caplog.records if r.name in ("websockets.server", "asyncio")]
+    assert len(server) == 1, server
+    assert server[0].startswith("armkit view: ignored a message it cannot read ("), server
 
 
 # ------------------------------------------------------------------ a URDF arm's own look, the panel
@@ -331,15 +396,16 @@ def test_a_urdf_arm_is_drawn_with_its_meshes_and_shapes_each_in_its_chain_frame(
         ("hand", "sphere", (0.04,))]
     viewer = Viewer(robot, port=0)
     try:
-        assert viewer._meshes is not None and not viewer._arm.visible and len(viewer._meshes.meshes) == 4
+        panel = viewer._arm_panel
+        assert panel.meshes is not None and not panel.arm.visible and len(panel.meshes.meshes) == 4
         viewer.q = [0.7, -1.1]
         frames = robot.link_frames(viewer.q)
-        for i, node in viewer._meshes._nodes.items():
+        for i, node in viewer._arm_panel.meshes._nodes.items():
             np.testing.assert_allclose(node.position, frames[i, :3, 3], atol=1e-12)
             np.testing.assert_allclose(armkit.spatial.matrix_from_quaternion_wxyz(node.wxyz),
                                        frames[i, :3, :3], atol=1e-12)
-        viewer._show_meshes.value = False   # the box in the panel: capsules instead
-        assert viewer._arm.visible and not viewer._meshes.visible
+        viewer._arm_panel.show_meshes.value = False   # the box in the panel: capsules instead
+        assert viewer._arm_panel.arm.visible and not viewer._arm_panel.meshes.visible
     finally:
         viewer.close()
 
@@ -350,7 +416,7 @@ def test_a_missing_mesh_draws_capsules_and_says_so_once(tmp_path):
                                          r"hand\.stl of link hand not found") as caught:
         viewer = Viewer(robot, port=0)
     try:
-        assert len(caught) == 1 and viewer._meshes is None and viewer._arm.visible
+        assert len(caught) == 1 and viewer._arm_panel.meshes is None and viewer._arm_panel.arm.visible
         viewer.q = [0.1, 0.2]  # moving warns no more
     finally:
         viewer.close()
@@ -376,13 +442,13 @@ def test_long_joint_names_get_a_row_of_their_own_and_number_boxes_show_every_dig
     robot = _shapes_arm(tmp_path, with_mesh=True)
     viewer = Viewer(robot, port=0)
     try:
-        names = [row.content for row in viewer._name_rows]
+        names = [row.content for row in viewer._joints.name_rows]
         assert len(names) == 2 and "shoulder_pan_joint_of_the_arm [deg]" in names[0]
-        assert [slider.label for slider in viewer._sliders] == ["q1 [deg]", "q2 [deg]"]
+        assert [slider.label for slider in viewer._joints.sliders] == ["q1 [deg]", "q2 [deg]"]
         viewer.q = [1.234567, -3.0]
-        for slider in viewer._sliders:
+        for slider in viewer._joints.sliders:
             assert len(f"{slider.value:.{round(-np.log10(slider.step))}f}") <= BOX_CHARS
-        assert viewer._sliders[0].value == round(np.degrees(1.234567), 1)
+        assert viewer._joints.sliders[0].value == round(np.degrees(1.234567), 1)
     finally:
         viewer.close()
     assert (box_decimals(-360.0, 360.0, 1), box_decimals(-0.5, 0.5, 4), box_decimals(0, 2000, 1)) == (1, 3, 1)
@@ -414,12 +480,13 @@ def test_a_general_6r_arms_ten_solutions_are_all_drawn_as_ghosts_with_labels_apa
     with Viewer(robot, port=0) as viewer:
         found = viewer.show_solutions(T, follow=False)
         count = len(found.q)
-        assert count > 8 and len(viewer._ghosts) >= count  # more than the 8 ghosts the viewer used to keep
-        assert [g.visible for g in viewer._ghosts] == [True] * count + [False] * (len(viewer._ghosts) - count)
-        for ghost, q in zip(viewer._ghosts, found.q, strict=False):  # each ghost its solution, at the target
+        assert count > 8 and len(viewer._ik.ghosts) >= count  # more than the 8 ghosts the viewer used to keep
+        ghosts = viewer._ik.ghosts
+        assert [g.visible for g in ghosts] == [True] * count + [False] * (len(ghosts) - count)
+        for ghost, q in zip(ghosts, found.q, strict=False):  # each ghost its solution, at the target
             np.testing.assert_allclose(ghost.placement.link_frames[-1], T, atol=1e-9)
             np.testing.assert_allclose(ghost.placement.link_frames, robot.link_frames(q), atol=1e-12)
-        labels = np.array([label.position for label in viewer._ghost_labels[:count]])
+        labels = np.array([label.position for label in viewer._ik.labels[:count]])
         apart = np.linalg.norm(labels[:, None] - labels[None], axis=-1)[np.triu_indices(count, 1)]
         assert apart.min() >= LABEL_SPACING * viewer._radius - 1e-12
 
@@ -429,15 +496,7 @@ def test_cli_view_of_a_urdf_with_a_missing_mesh_says_so_in_one_warning_line(tmp_
     path.write_text('<robot name="m"><link name="a"><visual><geometry><mesh filename="package://nopkg/a.stl"/>'
                     '</geometry></visual></link><link name="b"/><joint name="j" type="continuous">'
                     '<parent link="a"/><child link="b"/><origin xyz="0 0 0.3"/></joint></robot>')
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    process = subprocess.Popen([sys.executable, "-m", "armkit.cli.main", "view", str(path), "--port", "0",
-                                "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env=env, cwd=tmp_path, preexec_fn=interruptible)
-    try:
-        assert process.stdout.readline().startswith("armkit view: m at http://127.0.0.1:")
-        process.send_signal(signal.SIGINT)
-        _, err = process.communicate(timeout=WAIT_S)
-    finally:
-        process.kill()
+    line, _, _, err = _serve_and_interrupt([str(path)], tmp_path)
+    assert line.startswith("armkit view: m at http://127.0.0.1:")
     assert err.strip().splitlines() == ["warning: m: drawn as capsules: mesh package://nopkg/a.stl of link a "
                                         "not found", "armkit view: stopped"]

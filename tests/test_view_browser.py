@@ -92,7 +92,7 @@ def _slider_number_input(page, handle):
 
 def _type_joint(page, viewer, j: int, degrees: float) -> None:
     """Type a joint value [deg] into the box beside its slider; wait until the viewer has it."""
-    box = _slider_number_input(page, viewer._sliders[j])
+    box = _slider_number_input(page, viewer._joints.sliders[j])
     box.fill(str(degrees))
     box.press("Enter")
     box.blur()
@@ -121,7 +121,7 @@ def test_the_page_loads_and_shows_the_fk_of_the_home_configuration(session):
 
 def test_typing_a_joint_value_in_the_page_moves_the_arm_to_its_fk(session):
     viewer, page, _ = session
-    box = _slider_number_input(page, viewer._sliders[0])
+    box = _slider_number_input(page, viewer._joints.sliders[0])
     box.fill("30")
     box.press("Enter")
     expected_q = viewer.robot.home.copy()
@@ -133,7 +133,7 @@ def test_typing_a_joint_value_in_the_page_moves_the_arm_to_its_fk(session):
 
 def test_the_slider_thumb_moved_by_keyboard_changes_the_pose_to_the_fk(session):
     viewer, page, _ = session
-    thumb = page.locator(f'[id="{viewer._sliders[2]._impl.uuid}"] [role=slider]')
+    thumb = page.locator(f'[id="{viewer._joints.sliders[2]._impl.uuid}"] [role=slider]')
     thumb.focus()
     for _ in range(5):
         thumb.press("ArrowRight")            # 5 steps of 0.1 deg
@@ -147,7 +147,7 @@ def test_setting_q_from_python_updates_the_page(session):
     q = np.array([0.5, -0.4, 0.3, 0.2, 1.0, -0.6])
     viewer.q = q
     np.testing.assert_allclose(_wait_for_matrix(page, viewer.robot.fk(q)), viewer.robot.fk(q), atol=1.5e-6)
-    assert _slider_number_input(page, viewer._sliders[4]).input_value() == f"{np.degrees(1.0):.1f}"
+    assert _slider_number_input(page, viewer._joints.sliders[4]).input_value() == f"{np.degrees(1.0):.1f}"
 
 
 def _pixel(page, client, point: np.ndarray) -> np.ndarray:
@@ -174,7 +174,7 @@ def _drag_handle(page, viewer, client, T0: np.ndarray) -> None:
     heading = page.get_by_text(f"{viewer.robot.name}: {viewer.robot.n} joints").first
     panel_left = heading.bounding_box()["x"] - 20                     # [px], the panel's padding off
     centre = _pixel(page, client, T0[:3, 3])
-    tips = [_pixel(page, client, T0[:3, 3] + 0.9 * viewer._handle.scale * T0[:3, a]) for a in range(3)]
+    tips = [_pixel(page, client, T0[:3, 3] + 0.9 * viewer._ik.handle.scale * T0[:3, a]) for a in range(3)]
     free = [tip for tip in tips if 0 < tip[0] < panel_left and 0 < tip[1] < page.viewport_size["height"]]
     grip = max(free, key=lambda px: np.linalg.norm(px - centre))
     direction = (centre - grip) / np.linalg.norm(centre - grip)
@@ -220,7 +220,7 @@ def test_report_000s_first_target_shows_four_in_limit_and_four_out_of_limit_ghos
     found = viewer.show_solutions(T)
     rows = "document.querySelectorAll('[data-armkit=solution][data-within={}]').length"
     page.wait_for_function(f"{rows.format('true')} == 4 && {rows.format('false')} == 4")
-    assert sum(g.visible for g in viewer._ghosts) == 8
+    assert sum(g.visible for g in viewer._ik.ghosts) == 8
     # the report's four in-range solutions are the four in-limit ghosts
     inside = found.q[found.within_limits]
     for q_report in published.PROBOT_IK[0][1]:
@@ -239,7 +239,7 @@ def test_picking_a_solution_in_the_page_moves_the_arm_to_it(session):
     viewer, page, _ = session
     found = viewer.solutions
     k = int(np.flatnonzero(found.within_limits)[2])      # the third in-limit solution
-    page.locator(f'[id="{viewer._solution_pick._impl.uuid}"]').click()
+    page.locator(f'[id="{viewer._ik.pick._impl.uuid}"]').click()
     page.get_by_role("option", name=f"{k + 1}: in limits").click()
     wait_until(lambda: np.abs(viewer.q - found.q[k]).max() <= 1e-12, f"the arm at solution {k + 1}")
     page.wait_for_selector(f"[data-armkit=solution]:nth-child({k + 1}) >> text=◀ arm")
@@ -247,25 +247,25 @@ def test_picking_a_solution_in_the_page_moves_the_arm_to_it(session):
 
 def test_teach_plan_play_and_save_through_the_page(session):
     viewer, page, folder = session
-    _button(page, viewer._teach_button).click()      # W1: the picked solution of the target
+    _button(page, viewer._teach.teach_button).click()      # W1: the picked solution of the target
     taught_deg = [[20, -10, 30, 0, 45, 0], [-25, 15, 40, 30, 70, 20], [0, 0, 0, 0, 0, 0]]
     for q_deg in taught_deg:                          # W2..W4: typed into the joint boxes
         for j, value in enumerate(q_deg):
             _type_joint(page, viewer, j, value)
-        _button(page, viewer._teach_button).click()
+        _button(page, viewer._teach.teach_button).click()
     page.wait_for_function("document.querySelectorAll('[data-armkit=waypoint]').length == 4")
     np.testing.assert_allclose(viewer.waypoints[1:], np.radians(taught_deg), atol=1e-12)
-    _button(page, viewer._plan_button).click()
+    _button(page, viewer._teach.plan_button).click()
     wait_until(lambda: viewer.playback is not None, "the planned trajectory on the timeline")
     playback = viewer.playback
     assert np.all(np.abs(playback.qd).max(axis=0) <= viewer.robot.max_velocity * (1 + 1e-6))
     assert np.all(np.abs(playback.qdd).max(axis=0) <= viewer.robot.max_acceleration * (1 + 1e-3))
-    _button(page, viewer._play_button).click()
+    _button(page, viewer._timeline.play_button).click()
     page.wait_for_function("Number(document.querySelector('[data-armkit=time]').innerText) > 0.5")
-    _button(page, viewer._play_button).click()       # pause
+    _button(page, viewer._timeline.play_button).click()       # pause
     # the click reaches the viewer when it does: until then the player moves the time on, so the
     # time is set only once the viewer has paused (a busy machine delays the click by seconds)
-    wait_until(lambda: viewer._play_button.label == "play", "the viewer to pause")
+    wait_until(lambda: viewer._timeline.play_button.label == "play", "the viewer to pause")
     assert viewer.time < playback.duration, "the trajectory ended before the pause click arrived"
     # an auto-timed trajectory runs some joint at a limit: at that moment the page names the joint
     ratios = {"velocity": np.abs(playback.qd) / viewer.robot.max_velocity,
@@ -280,10 +280,10 @@ def test_teach_plan_play_and_save_through_the_page(session):
     page.screenshot(path=shot, timeout=WAIT_MS)
     assert _distinct_colours(shot) > 200
     target = folder / "taught.csv"
-    file_box = page.locator(f"input[value='{viewer._waypoint_file.value}']").element_handle()
+    file_box = page.locator(f"input[value='{viewer._saving.file.value}']").element_handle()
     file_box.fill(str(target))
     file_box.press("Enter")
-    _button(page, viewer._save_button).click()
+    _button(page, viewer._saving.button).click()
     page.wait_for_selector("[data-armkit=saved] >> text=saved 4 waypoints")
     np.testing.assert_allclose(read_waypoints(target, 6), viewer.waypoints, atol=0)
     # saving again asks before replacing the file
@@ -293,7 +293,7 @@ def test_teach_plan_play_and_save_through_the_page(session):
     viewer.teach()
     viewer.q = [0.2] * 6
     viewer.teach()
-    _button(page, viewer._save_button).click()
+    _button(page, viewer._saving.button).click()
     page.get_by_text("Replace the file?").wait_for()
     assert target.read_text() == before
     page.get_by_role("button", name="replace").click()
@@ -334,11 +334,44 @@ def test_a_urdf_arm_shows_its_shapes_long_joint_names_whole_and_every_digit_in_i
                          "q2: elbow_joint_of_the_left_arm [deg]"]
         viewer.q = [np.radians(-123.456789), np.radians(-170.14)]
         for j, shown in enumerate(("-123.5", "-170.1")):
-            box = _slider_number_input(page, viewer._sliders[j])
+            box = _slider_number_input(page, viewer._joints.sliders[j])
             wait_until(lambda box=box, shown=shown: box.input_value() == shown,
                        f"box {j + 1} to show {shown}")
             assert box.evaluate("input => input.scrollWidth <= input.clientWidth"), f"box {j + 1} cuts digits"
         shot = ARTIFACTS / "view_urdf_shapes.png"
+        page.screenshot(path=shot, timeout=WAIT_MS)
+        assert _distinct_colours(shot) > 200
+    finally:
+        page.close()
+        viewer.close()
+
+
+def test_a_7_joint_arms_self_motion_ghosts_are_drawn_and_the_pages_slider_moves_the_arm_along_them(browser):
+    from armkit.view import Viewer
+
+    viewer = Viewer("panda", port=0, q=[0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
+    page = browser.new_page(viewport={"width": 1100, "height": 700})
+    page.set_default_timeout(WAIT_MS)
+    try:
+        T = viewer.target
+        motion = viewer.show_self_motion(2, samples=17)
+        part = viewer._self_motion
+        existing = np.flatnonzero(np.isfinite(motion.q[part.branch]).all(axis=-1))
+        viewer.move_along_self_motion(motion.values[existing[-1]])
+        page.goto(viewer.url)
+        page.wait_for_selector(f"[data-armkit=self-motion][data-branches='{len(motion.q)}']")
+        box = _slider_number_input(page, part.slider)
+        box.fill(f"{np.degrees(motion.values[existing[0]]):.4f}")
+        box.press("Enter")
+        box.blur()
+        wait_until(lambda: np.array_equal(viewer.q, motion.q[part.branch, existing[0]]),
+                   "the arm at the branch's first sample")
+        assert box.input_value() == f"{np.degrees(motion.values[existing[0]]):.1f}"   # 0.1 deg shown
+        np.testing.assert_allclose(_wait_for_matrix(page, viewer.robot.fk(viewer.q)), T, atol=1.5e-6)
+        shot = ARTIFACTS / "view_self_motion.png"
+        notice = page.locator("#webgl-software-rendering button")
+        if notice.count() and notice.first.is_visible():
+            notice.first.click()
         page.screenshot(path=shot, timeout=WAIT_MS)
         assert _distinct_colours(shot) > 200
     finally:

@@ -37,6 +37,10 @@ def view_command(
                                            "open the page.")] = "127.0.0.1",
     trajectory: Annotated[Path | None, typer.Option(
         help="A trajectory file 'armkit traj' wrote, put on the timeline.", show_default=False)] = None,
+    free_joint: Annotated[str | None, typer.Option(
+        "--free-joint", metavar="JOINT", help="A 7-joint arm: show the self-motion of its start pose along "
+        "this joint (name or number 1..n): ghosts along the arm's branch, a slider moving the arm along it.",
+        show_default=False)] = None,
     no_browser: Annotated[bool, typer.Option("--no-browser", help="Do not open a browser.")] = False,
     base: BaseOpt = None,
     tip: TipOpt = None,
@@ -46,8 +50,9 @@ def view_command(
 ) -> None:
     """Interactive 3-D teach panel in the browser: joint sliders, every IK solution, trajectories.
 
-    Example: armkit view probot-anno
+    Examples: armkit view probot-anno; armkit view panda --free-joint 3
     """
+    from armkit.cli.ik import _joint_index  # the --free-joint of armkit ik: a name or 1..n
     from armkit.view import Viewer
 
     arm = load_robot(robot, base, tip, lock)
@@ -60,6 +65,8 @@ def view_command(
     try:
         if trajectory is not None:
             viewer.load(trajectory)
+        if free_joint is not None:
+            viewer.show_self_motion(_joint_index(arm, free_joint))
     except BaseException:
         viewer.close()
         raise

@@ -13,7 +13,7 @@ from armkit.view.geometry import _SHORTEST_SEGMENT, _path
 
 if TYPE_CHECKING:
     from armkit.collision.scene import Scene
-    from armkit.view.scene import ArmDrawing
+    from armkit.view.scene import ArmDrawing, MeshDrawing
 
 __all__ = ["COLLIDING", "OBSTACLE", "colour_contacts", "draw_obstacles"]
 
@@ -47,19 +47,23 @@ def draw_obstacles(server_scene: Any, scene: Scene, size: float) -> list[Any]:
     return handles
 
 
-def colour_contacts(arm: ArmDrawing, scene: Scene, q: NDArray[np.float64],
+def colour_contacts(arm: ArmDrawing, meshes: MeshDrawing | None, scene: Scene, q: NDArray[np.float64],
                     link: tuple[int, int, int], joint: tuple[int, int, int]) -> list[tuple[str, str]]:
-    """Colour the drawn links and joints of the arm parts in contact at ``q`` in :data:`COLLIDING`
-    (the others ``link`` and ``joint``); the contacts."""
+    """Colour the arm parts in contact at ``q`` in :data:`COLLIDING`: their drawn links and joints
+    (the others ``link`` and ``joint``) and, if the arm is drawn with its meshes, their visuals
+    (``meshes`` built with ``highlight=COLLIDING``); the contacts."""
     contacts = scene.contacts(q)
     touching = {part for pair in contacts for part in pair}
-    colliding = np.array([part in touching for part in scene.parts[:scene.robot.n + 1]])  # base, links
+    n = scene.robot.n
+    colliding = np.array([part in touching for part in scene.parts[:n + 1]])  # base, links
     T_joints, T_tool = kinematics.joint_frames(scene.robot, q)
     path = _path(T_joints, T_tool)
     keep = np.linalg.norm(path[1:] - path[:-1], axis=-1) > _SHORTEST_SEGMENT
-    owner = np.repeat(np.arange(scene.robot.n + 1), 2)[keep]  # frame k to k + 1 belongs to part k
-    colours = np.array([link] * int(keep.sum()) + [joint] * scene.robot.n, dtype=np.uint8)
+    owner = np.repeat(np.arange(n + 1), 2)[keep]  # frame k to k + 1 belongs to part k
+    colours = np.array([link] * int(keep.sum()) + [joint] * n, dtype=np.uint8)
     colours[:int(keep.sum())][colliding[owner]] = COLLIDING
     colours[int(keep.sum()):][colliding[1:]] = COLLIDING  # joint i's cylinder moves with link i
     arm.handle.batched_colors = colours
+    if meshes is not None:  # a visual in chain frame i is part i's (the tool frame n + 1 is link n's)
+        meshes.highlight(colliding[np.minimum(meshes.frames, n)])
     return contacts

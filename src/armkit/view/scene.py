@@ -94,17 +94,26 @@ class MeshDrawing:
     """A URDF arm drawn with its own visuals (:func:`armkit.view.meshes.link_visuals`).
 
     Each chain frame that carries a visual is a scene frame (``{name}/{frame}``) whose pose
-    :meth:`update` sets; the visuals sit in it at their fixed ``T_frame_visual``.
+    :meth:`update` sets; the visuals sit in it at their fixed ``T_frame_visual``. With a
+    ``highlight`` colour, each visual also gets a hidden copy in that colour, which
+    :meth:`highlight` shows in its place (a mesh's own colours and textures cannot be changed).
     """
 
     def __init__(self, scene: Any, name: str, visuals: tuple[LinkVisual, ...],
-                 link_frames: NDArray[np.float64]) -> None:
+                 link_frames: NDArray[np.float64], highlight: tuple[int, int, int] | None = None) -> None:
         self._nodes = {i: scene.add_frame(f"{name}/{i}", show_axes=False)
                        for i in sorted({v.frame for v in visuals})}
-        self.meshes = [scene.add_mesh_trimesh(f"{name}/{v.frame}/{k}", v.mesh,
-                                              position=v.T_frame_visual[:3, 3],
-                                              wxyz=quaternion_wxyz_from_matrix(v.T_frame_visual[:3, :3]))
-                       for k, v in enumerate(visuals)]
+        self.frames = np.array([v.frame for v in visuals], dtype=int)
+        poses = [{"position": v.T_frame_visual[:3, 3],
+                  "wxyz": quaternion_wxyz_from_matrix(v.T_frame_visual[:3, :3])} for v in visuals]
+        self.meshes = [scene.add_mesh_trimesh(f"{name}/{v.frame}/{k}", v.mesh, **pose)
+                       for k, (v, pose) in enumerate(zip(visuals, poses, strict=True))]
+        self.highlights = ([] if highlight is None else
+                           [scene.add_mesh_simple(f"{name}/{v.frame}/{k}_highlight",
+                                                  np.asarray(v.mesh.vertices), np.asarray(v.mesh.faces),
+                                                  color=highlight, visible=False, **pose)
+                            for k, (v, pose) in enumerate(zip(visuals, poses, strict=True))])
+        self._highlighted = np.zeros(len(visuals), dtype=bool)
         self.update(link_frames)
 
     def update(self, link_frames: NDArray[np.float64]) -> None:
@@ -112,6 +121,14 @@ class MeshDrawing:
         for i, node in self._nodes.items():
             node.position = link_frames[i, :3, 3]
             node.wxyz = quaternion_wxyz_from_matrix(link_frames[i, :3, :3])
+
+    def highlight(self, flagged: NDArray[np.bool_]) -> None:
+        """Draw the visuals flagged ``(len(meshes),)`` in the highlight colour, the others in their own."""
+        flagged = np.asarray(flagged, dtype=bool)
+        for k in np.flatnonzero(flagged != self._highlighted):  # only the changed ones: one message each
+            self.meshes[k].visible = not flagged[k]
+            self.highlights[k].visible = bool(flagged[k])
+        self._highlighted = flagged.copy()
 
     @property
     def visible(self) -> bool:

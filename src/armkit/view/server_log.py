@@ -11,6 +11,11 @@ connection. :class:`OneLineMessageErrors`, attached to those two loggers while a
 :class:`~armkit.view.Viewer` runs, keeps such a record (so logging configured by the user
 still sees it) but makes it one line naming the error; records whose traceback does not pass
 through viser or websockets are left alone.
+
+A connection that never sends an HTTP request (a browser's speculative pre-connection closed
+unused, a tool checking that the port is open, a TLS hello sent to the plain-HTTP port) fails
+the opening handshake with ``InvalidMessage`` before it is a websocket or a page at all; the
+filter drops that record: nothing was asked, nothing failed.
 """
 
 from __future__ import annotations
@@ -35,11 +40,16 @@ def _from_the_server(tb: TracebackType | None) -> bool:
 
 
 class OneLineMessageErrors(logging.Filter):
-    """Turn a server record with a traceback into ``armkit view: ignored a message it cannot read (...)``."""
+    """Turn a server record with a traceback into ``armkit view: ignored a message it cannot read (...)``;
+    drop a probe's (a connection without an HTTP request)."""
 
     def filter(self, record: logging.LogRecord) -> bool:
         if record.exc_info and record.exc_info[1] is not None and _from_the_server(record.exc_info[2]):
+            from websockets.exceptions import InvalidMessage
+
             exc = record.exc_info[1]
+            if isinstance(exc, InvalidMessage):  # no HTTP request came: a probe of the port
+                return False
             reason = f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
             record.msg = f"armkit view: ignored a message it cannot read ({reason}); the server keeps running"
             record.args, record.exc_info, record.exc_text = (), None, None
