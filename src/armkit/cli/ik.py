@@ -76,7 +76,7 @@ def _contact_text(contacts: list[tuple[str, str]]) -> str:
     return pair_text(contacts, "free")
 
 
-def _joint_index(robot: Robot, word: str) -> int:
+def free_joint_option(robot: Robot, word: str) -> int:
     """The 0-based index of a joint named on the command line (its name, or its number 1..n)."""
     if word in robot.joint_names:
         return robot.joint_names.index(word)
@@ -203,7 +203,7 @@ def ik_command(
         if free_joint is not None:
             if position is not None:
                 raise InputError("--free-joint takes a full pose (--pose or --matrix), not --position")
-            held = _joint_index(arm, free_joint)
+            held = free_joint_option(arm, free_joint)
             value = None
             if free_value is not None:
                 value = np.radians(free_value) if deg and not arm.chain.prismatic[held] else float(free_value)
@@ -292,7 +292,7 @@ def ik_command(
     if self_motion_plot is not None:
         from armkit.ik.self_motion import self_motion
 
-        motion = self_motion(arm, T, free_joint=_joint_index(arm, free_joint), samples=64)
+        motion = self_motion(arm, T, free_joint=free_joint_option(arm, free_joint), samples=64)
         motion.plot(self_motion_plot, joint_names=arm.joint_names, overwrite=force)
         console.print(escape(f"Self-motion: {len(motion.q)} branches along "
                              f"{arm.joint_names[motion.free_joint]}, written to {self_motion_plot}"))

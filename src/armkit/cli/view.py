@@ -52,7 +52,7 @@ def view_command(
 
     Examples: armkit view probot-anno; armkit view panda --free-joint 3
     """
-    from armkit.cli.ik import _joint_index  # the --free-joint of armkit ik: a name or 1..n
+    from armkit.cli.ik import free_joint_option  # as armkit ik --free-joint: a name or 1..n
     from armkit.view import Viewer
 
     arm = load_robot(robot, base, tip, lock)
@@ -66,7 +66,7 @@ def view_command(
         if trajectory is not None:
             viewer.load(trajectory)
         if free_joint is not None:
-            viewer.show_self_motion(_joint_index(arm, free_joint))
+            viewer.show_self_motion(free_joint_option(arm, free_joint))
     except BaseException:
         viewer.close()
         raise
