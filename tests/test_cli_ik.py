@@ -215,4 +215,6 @@ def test_free_joint_errors_are_one_line(capsys):
     code, _, err = run(capsys, "ik", "panda", *PANDA_POSE, "--self-motion", "x.png")
     assert code == 1 and "--self-motion: name the joint it sweeps with --free-joint" in err
     code, _, err = run(capsys, "ik", "panda", *PANDA_POSE, "--free-joint", "9")
-    assert code == 1 and "--free-joint '9': expected a joint name" in err
+    assert code == 1 and "--free-joint '9': joint number 9; expected 1 to 7" in err
+    code, _, err = run(capsys, "ik", "panda", *PANDA_POSE, "--free-joint", "\u00b3")  # a digit to isdigit()
+    assert code == 1 and "--free-joint '\u00b3': no joint '\u00b3'; expected a joint number 1 to 7" in err

@@ -84,22 +84,25 @@ def load_robot(name_or_path: str, base: str | None = None, tip: str | None = Non
 
 
 def _lock_word(robot: Robot, word: str) -> tuple[int, float]:
-    """The 0-based joint and the value of one ``--lock JOINT=VALUE`` word (a name, or a number
-    from 1 as ``armkit show`` counts)."""
+    """The 0-based joint and the value of one ``--lock JOINT=VALUE`` word."""
     key, sep, value = word.partition("=")
-    key = key.strip()
-    if not sep or not key:
+    if not sep or not key.strip():
         raise InputError(f"--lock {word!r}: expected JOINT=VALUE, e.g. --lock {robot.joint_names[-1]}=0.3")
+    return joint_option(robot, key, f"--lock {word!r}"), parse_floats([value], f"--lock {word!r}")[0]
+
+
+def joint_option(robot: Robot, word: str, option: str) -> int:
+    """The 0-based index of a joint named on the command line: its name, or its number from 1
+    as ``armkit show`` counts (``option`` names where it was typed in an error)."""
+    key = word.strip()
     if key in robot.joint_names:
-        index = robot.joint_names.index(key)
-    elif re.fullmatch(r"[+-]?[0-9]+", key):
+        return robot.joint_names.index(key)
+    if re.fullmatch(r"[+-]?[0-9]+", key):  # ASCII digits only: "³" is not a joint number
         if not 1 <= int(key) <= robot.n:
-            raise InputError(f"--lock {word!r}: joint number {key}; expected 1 to {robot.n}")
-        index = int(key) - 1
-    else:
-        raise InputError(f"--lock {word!r}: no joint {key!r}; expected a joint number 1 to {robot.n} "
-                         f"or a name ({', '.join(robot.joint_names)})")
-    return index, parse_floats([value], f"--lock {word!r}")[0]
+            raise InputError(f"{option}: joint number {key}; expected 1 to {robot.n}")
+        return int(key) - 1
+    raise InputError(f"{option}: no joint {key!r}; expected a joint number 1 to {robot.n} "
+                     f"or a name ({', '.join(robot.joint_names)})")
 
 
 def to_si(robot: Robot, q: Sequence[float | str], degrees: bool, name: str = "joint values") -> np.ndarray:

@@ -24,6 +24,7 @@ from armkit.cli.app import (
     app,
     console,
     fmt_number,
+    joint_option,
     load_robot,
     option_values,
     print_json,
@@ -74,16 +75,6 @@ SAME_SOLUTION = 1e-9
 def _contact_text(contacts: list[tuple[str, str]]) -> str:
     """A table cell: ``free``, or the pairs in contact (``link3-floor``)."""
     return pair_text(contacts, "free")
-
-
-def free_joint_option(robot: Robot, word: str) -> int:
-    """The 0-based index of a joint named on the command line (its name, or its number 1..n)."""
-    if word in robot.joint_names:
-        return robot.joint_names.index(word)
-    if word.strip().isdigit() and 1 <= int(word) <= robot.n:
-        return int(word) - 1
-    raise InputError(f"--free-joint {word!r}: expected a joint name ({', '.join(robot.joint_names)}) or a "
-                     f"number 1 to {robot.n}")
 
 
 def _numbered(robot: Robot, T: np.ndarray, q: np.ndarray, near: np.ndarray,
@@ -203,7 +194,7 @@ def ik_command(
         if free_joint is not None:
             if position is not None:
                 raise InputError("--free-joint takes a full pose (--pose or --matrix), not --position")
-            held = free_joint_option(arm, free_joint)
+            held = joint_option(arm, free_joint, f"--free-joint {free_joint!r}")
             value = None
             if free_value is not None:
                 value = np.radians(free_value) if deg and not arm.chain.prismatic[held] else float(free_value)
@@ -292,7 +283,8 @@ def ik_command(
     if self_motion_plot is not None:
         from armkit.ik.self_motion import self_motion
 
-        motion = self_motion(arm, T, free_joint=free_joint_option(arm, free_joint), samples=64)
+        motion = self_motion(arm, T, free_joint=joint_option(arm, free_joint, f"--free-joint {free_joint!r}"),
+                             samples=64)
         motion.plot(self_motion_plot, joint_names=arm.joint_names, overwrite=force)
         console.print(escape(f"Self-motion: {len(motion.q)} branches along "
                              f"{arm.joint_names[motion.free_joint]}, written to {self_motion_plot}"))

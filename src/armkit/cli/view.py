@@ -9,7 +9,18 @@ from typing import Annotated
 
 import typer
 
-from armkit.cli.app import BaseOpt, LockOpt, RobotArg, TipOpt, app, console, err_console, load_robot, warn
+from armkit.cli.app import (
+    BaseOpt,
+    LockOpt,
+    RobotArg,
+    TipOpt,
+    app,
+    console,
+    err_console,
+    joint_option,
+    load_robot,
+    warn,
+)
 from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
 
 #: Exit code after Ctrl-C (128 + SIGINT), as shells report it.
@@ -52,7 +63,6 @@ def view_command(
 
     Examples: armkit view probot-anno; armkit view panda --free-joint 3
     """
-    from armkit.cli.ik import free_joint_option  # as armkit ik --free-joint: a name or 1..n
     from armkit.view import Viewer
 
     arm = load_robot(robot, base, tip, lock)
@@ -66,7 +76,7 @@ def view_command(
         if trajectory is not None:
             viewer.load(trajectory)
         if free_joint is not None:
-            viewer.show_self_motion(free_joint_option(arm, free_joint))
+            viewer.show_self_motion(joint_option(arm, free_joint, f"--free-joint {free_joint!r}"))
     except BaseException:
         viewer.close()
         raise
