@@ -122,3 +122,10 @@ def test_a_huge_joint_value_is_named_as_it_is_not_as_inf():
     chain = armkit.load("ur5").chain
     message = chain.limit_violations(np.array([1e300, 0, 0, 0, 0, -1e-14]))[0]
     assert message.startswith("joint q1 = 1e+300 rad"), message
+
+
+@pytest.mark.filterwarnings("error")
+def test_a_joint_value_too_large_for_degrees_is_named_in_radians():
+    chain = armkit.load("ur5").chain
+    message = chain.limit_violations(np.array([1e307, 0, 0, 0, 0, 0]), degrees=True)[0]
+    assert message.startswith("joint q1 = 1e+307 rad is outside its limits [-6.28319, 6.28319] rad"), message

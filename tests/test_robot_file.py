@@ -151,6 +151,15 @@ def test_empty_and_non_xml_files_are_named_for_what_they_are(tmp_path, name, tex
         armkit.load(path)
 
 
+@pytest.mark.parametrize("name", ["arm.urdf", "arm.xml"])
+def test_a_utf16_xml_file_is_asked_for_as_utf8(tmp_path, name):
+    path = tmp_path / name
+    path.write_text('<robot name="r"><link name="a"/></robot>', encoding="utf-16")
+    with pytest.raises(RobotDefinitionError, match=r"not UTF-8 text \(byte 0\); save the URDF as UTF-8"):
+        armkit.load(path)
+
+
+
 def test_a_robot_file_with_more_joints_than_armkit_handles_is_refused_at_load_in_one_line(tmp_path, capsys):
     from armkit.chain import MAX_JOINTS
     from armkit.cli.main import main

@@ -15,6 +15,7 @@ never ask which convention it came from.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -269,9 +270,11 @@ class Chain:
             revolute = joint.kind == "revolute"
             scale, unit = ((180 / np.pi, " deg") if degrees and revolute
                            else (1.0, " rad" if revolute else " m"))
+            if not math.isfinite(max(abs(float(q[j])), abs(float(high[j]))) * scale):
+                scale, unit = 1.0, " rad"  # beyond 1e306 rad: in degrees it would overflow to inf
             # below 1e-9 shown as 0: no -1e-14 from a root finder beside values of 6 digits
-            low_shown, high_shown = (0.0 if abs(x) < 1e-9 else float(x)
-                                     for x in (q[j] * scale, high[j] * scale))
+            low_shown, high_shown = (0.0 if abs(x) < 1e-9 else x
+                                     for x in (float(q[j]) * scale, float(high[j]) * scale))
             value = f"{low_shown:.6g}" if q_max is None else f"{low_shown:.6g} .. {high_shown:.6g}"
             messages.append(f"joint {joint.name} = {value}{unit}{where} is outside its limits "
                             f"[{joint.lower * scale:.6g}, {joint.upper * scale:.6g}]{unit}")

@@ -151,17 +151,26 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
     if not data.strip(b"\xef\xbb\xbf \t\r\n"):
         raise RobotDefinitionError(f"{path}: the file is empty; expected a robot file (TOML), "
                                    f"a URDF or an MJCF file")
-    if path.suffix.lower() in _XML_SUFFIXES and _xml_root(data) is None:
+    xml_file = path.suffix.lower() in _XML_SUFFIXES
+    if xml_file and _xml_root(data) is None and _is_utf8(data):  # not UTF-8: the URDF reader says so
         raise RobotDefinitionError(f"{path}: not XML (a {path.suffix} file should hold a URDF <robot> "
                                    f"or an MJCF <mujoco> element)")
     if path.suffix.lower() != ".urdf" and _xml_root(data) == b"mujoco":
         from armkit.mjcf import load_mjcf
 
         return load_mjcf(path, base=base, tip=tip)
-    if path.suffix.lower() == ".urdf" or data.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<"):
+    if xml_file or data.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<"):
         return robot_from_urdf(data, str(path), base=base, tip=tip)
     _no_links(base, tip, str(path))
     return _load_text(data, str(path))
+
+
+def _is_utf8(data: bytes) -> bool:
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError:
+        return False
+    return True
 
 
 #: File suffixes that promise XML (a URDF or an MJCF file).
