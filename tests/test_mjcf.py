@@ -279,6 +279,16 @@ def test_velocity_acceleration_and_torque_limits_survive_an_mjcf_round_trip(tmp_
             (written.max_velocity, written.max_acceleration, written.max_torque)
 
 
+@pytest.mark.parametrize("data", ["1 2", "-1", "0", "nan"])
+def test_a_bad_limit_numeric_is_one_error_naming_it(data):
+    text = (f'<mujoco><worldbody><body name="l1"><joint name="j1" axis="0 1 0"/><geom size="0.05"/>'
+            f'<body name="f" pos="0 0 .5"/></body></worldbody>'
+            f'<custom><numeric name="armkit:j1:max_velocity" data="{data}"/></custom></mujoco>')
+    message = "MJCF text, custom numeric 'armkit:j1:max_velocity': expected one finite number > 0 .the max_v"
+    with pytest.raises(RobotDefinitionError, match=message):
+        robot_from_mjcf(text)
+
+
 def test_every_command_taking_robot_reads_an_mjcf_file(ur5e_file):
     from armkit.cli.main import app
 

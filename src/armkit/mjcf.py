@@ -152,11 +152,12 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
     if not kinds:
         raise RobotDefinitionError(f"{source}: no joint between bodies {bodies[base_id]!r} and {tip_name!r}")
     torque = [float(np.abs(model.jnt_actfrcrange[j]).max()) if model.jnt_actfrclimited[j]
-              else _limit_numeric(mujoco, model, name, "max_torque")
+              else _limit_numeric(mujoco, model, name, "max_torque", source)
               for j, name in zip(ids, names, strict=True)]
     chain = chain_from_frames(kinds, before, after, limits=limits, T_tool=pending @ T_body_tip, names=names,
-                              max_velocity=[_limit_numeric(mujoco, model, n, "max_velocity") for n in names],
-                              max_acceleration=[_limit_numeric(mujoco, model, n, "max_acceleration")
+                              max_velocity=[_limit_numeric(mujoco, model, n, "max_velocity", source)
+                                            for n in names],
+                              max_acceleration=[_limit_numeric(mujoco, model, n, "max_acceleration", source)
                                                 for n in names],
                               max_torque=torque, inertials=_inertials(model, path, frame_of, len(kinds)))
     name = _model_name(model) or Path(source).stem
@@ -164,12 +165,20 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
                  description=f"MJCF {Path(source).name}, {bodies[base_id]} to {tip_name}")
 
 
-def _limit_numeric(mujoco: Any, model: Any, joint: str, limit: str) -> float | None:
+def _limit_numeric(mujoco: Any, model: Any, joint: str, limit: str, source: str) -> float | None:
     """Joint ``joint``'s ``limit`` from its custom numeric (see :data:`armkit.export.mjcf.LIMIT_NUMERIC`)."""
     from armkit.export.mjcf import LIMIT_NUMERIC
 
-    i = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, LIMIT_NUMERIC.format(joint=joint, limit=limit))
-    return None if i < 0 or model.numeric_size[i] < 1 else float(model.numeric_data[model.numeric_adr[i]])
+    name = LIMIT_NUMERIC.format(joint=joint, limit=limit)
+    i = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, name)
+    if i < 0:
+        return None
+    data = model.numeric_data[model.numeric_adr[i]:model.numeric_adr[i] + model.numeric_size[i]]
+    if data.shape != (1,) or not (np.isfinite(data[0]) and data[0] > 0):
+        shown = " ".join(f"{v:g}" for v in data)
+        raise RobotDefinitionError(f"{source}, custom numeric {name!r}: expected one finite number > 0 (the "
+                                   f"{limit} of joint {joint!r}), got data {shown}")
+    return float(data[0])
 
 
 def _one_line(exc: Exception) -> str:
