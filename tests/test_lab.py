@@ -332,13 +332,23 @@ def test_the_planned_motion_goes_around_a_box_the_straight_motion_hits(tmp_path)
 
     ctx = LabContext(armkit.load("puma560"), tmp_path, quick=True, seeds=False)
     q, *_ = motion.experiment_waypoints(ctx)
-    goal, (scene, grown) = next((goal, found) for goal in planning._goals(ctx, q[0], q[-1])
+    goal, (scene, grown) = next((goal, found) for goal, _ in planning._goals(ctx, q[0], q[-1])
                                 if (found := planning._obstacle(ctx, q[0], goal)) is not None)
     assert scene.path_collides(q[0], goal) and not grown.collides(np.array([q[0], goal])).any()
     assert np.allclose(np.array(grown.obstacles[0].size) - scene.obstacles[0].size, 2 * planning.MARGIN)
     section = planning.planned_motion(ctx)
     assert section.status == "ok", section.notes
     assert "free of collisions" in section.tables[1].note and section.headline.startswith("around a ")
+
+
+def test_a_panda_whose_tool_stays_near_axis_1_gets_a_far_goal_with_a_blocking_box(tmp_path):
+    from armkit.lab import planning
+
+    ctx = LabContext(armkit.load("panda"), tmp_path, quick=True, seeds=False)
+    q, *_ = motion.experiment_waypoints(ctx)
+    found = [(what, scenes) for goal, what in planning._goals(ctx, q[0], q[-1])
+             if (scenes := planning._obstacle(ctx, q[0], goal)) is not None]
+    assert found and found[0][0].startswith("of 64 random configurations"), [what for what, _ in found]
 
 
 def test_without_ompl_the_planned_motion_is_not_applicable_and_says_what_to_install(tmp_path, monkeypatch):

@@ -2,9 +2,11 @@
 
 With no robot the lab reproduces report 000 on the PROBOT Anno (FK check, IK with every
 in-limit solution, straight line by velocity control, minimum-jerk trajectory, fixed-point
-rotation), compares the trajectory's joint torques with MuJoCo's inverse dynamics, and adds
-the FK tables of the ZJU-I (report 003) and the GRB400 SCARA (report 004). With a robot
-file it runs experiments 1-6 on that arm, choosing reachable targets itself.
+rotation), compares the trajectory's joint torques with MuJoCo's inverse dynamics, plans a
+motion around a box (armkit's own experiment 7), adds the FK tables of the ZJU-I (report 003)
+and the GRB400 SCARA (report 004), and checks every simulated motion against a floor and the
+arm itself. With a robot file it runs experiments 1-7 and the check on that arm, choosing
+reachable targets itself.
 """
 
 from __future__ import annotations
