@@ -72,9 +72,8 @@ class SelfMotion:
         Returns the matplotlib figure.
         """
         import matplotlib
-        from matplotlib.figure import Figure
 
-        from armkit.plots import save_figure
+        from armkit.plots import Figure, save_figure
 
         n = self.q.shape[-1]
         names = joint_names or [f"q{j + 1}" for j in range(n)]
