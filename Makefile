@@ -20,8 +20,9 @@ $(VENV)/.installed-demo: pyproject.toml $(CORE) | $(BIN)/activate
 	@echo "==> installed"
 	touch $@
 
-# the test install binds the core's test-only internals too (CMake's ARMKIT_TEST_BINDINGS, see CMakeLists.txt)
-$(VENV)/.installed-test: pyproject.toml $(CORE) | $(BIN)/activate
+# the test install binds the core's test-only internals too (CMake's ARMKIT_TEST_BINDINGS, see CMakeLists.txt);
+# it depends on this Makefile too, so that a checkout installed before that option was added builds it
+$(VENV)/.installed-test: pyproject.toml Makefile $(CORE) | $(BIN)/activate
 	@echo "==> installing armkit with the test extras (quietly; the C++ core compiles: 2-4 minutes)"
 	$(BIN)/python -m pip install --quiet -e ".[test]" -Ccmake.define.ARMKIT_TEST_BINDINGS=ON
 	touch $@

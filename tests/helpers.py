@@ -1,6 +1,8 @@
 """Helpers several test modules share (random arms, joint distances, the EAIK cross-check): import
 them as ``from helpers import random_arm``. Fixtures and the transform assertion live in conftest."""
 
+from functools import cache
+
 import numpy as np
 import pytest
 
@@ -183,3 +185,40 @@ def assert_same_as_eaik(chain, q):
         else:
             missed_by_eaik += 1
     assert missed_by_eaik <= 1, f"EAIK missed the generating q of {missed_by_eaik} of {len(T)} poses"
+
+
+# ------------------------------------------------------------------- toppra
+@cache
+def _toppra_path_type():
+    """The class below, made on first use: toppra (a test-only dependency) takes 2 s to import."""
+    import toppra
+
+    class ToppraPath(toppra.interpolator.AbstractGeometricPath):
+        """armkit's geometric path (a JointTrajectory in its own time s) as toppra sees a path."""
+
+        def __init__(self, path):
+            self.path = path
+
+        def __call__(self, s, order=0):
+            s = np.asarray(s, dtype=float)
+            values = self.path.at_time(np.atleast_1d(s))[order]
+            return values if s.ndim else values[0]
+
+        @property
+        def dof(self):
+            return self.path.n
+
+        @property
+        def path_interval(self):
+            return np.array([0.0, self.path.duration])
+
+        @property
+        def waypoints(self):
+            return self.path.waypoint_times, self.path.waypoints
+
+    return ToppraPath
+
+
+def toppra_path(path):
+    """``path`` (armkit's geometric path) as a toppra geometric path."""
+    return _toppra_path_type()(path)

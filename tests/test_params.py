@@ -8,6 +8,7 @@ import contextlib
 import io
 import json
 import math
+import os
 import re
 import warnings
 
@@ -112,7 +113,11 @@ LOCK_VALUE = st.one_of(st.sampled_from(["0.1", "-0.2", "1e300", "-1e300", "nan",
                        st.floats(allow_nan=True, allow_infinity=True).map(repr))
 
 
-@settings(deadline=None)
+#: hypothesis's default 100 CLI runs, fewer in `make test-fast` (ARMKIT_FUZZ_EXAMPLES=30): 18 s there before.
+LOCK_FUZZ_EXAMPLES = min(100, int(os.environ.get("ARMKIT_FUZZ_EXAMPLES", "100")))
+
+
+@settings(deadline=None, max_examples=LOCK_FUZZ_EXAMPLES)
 @given(locks=st.lists(st.tuples(LOCK_KEY, LOCK_VALUE), min_size=1, max_size=3))
 def test_fuzz_cli_lock_values_lock_the_arm_or_are_one_line(locks):
     from armkit.cli.main import main

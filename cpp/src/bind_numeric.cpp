@@ -40,7 +40,7 @@ NumericSolver make_solver(const Chain& chain, const std::vector<int>& rows, doub
     s.max_iterations = max_iterations;
     s.max_restarts = max_restarts;
     s.time_budget = time_budget;
-    s.respect_limits = within_limits;
+    s.within_limits = within_limits;
     return NumericSolver(chain, s);
 }
 
