@@ -316,8 +316,9 @@ def test_threads_means_the_same_everywhere(name):
     for threads in (1, 2, 1024):
         np.testing.assert_array_equal(call(threads), every_core)
     for bad in (0, -1, -3, 1025, 2**31, 1.5, 2.0, True, "2"):
-        with pytest.raises(InputError, match=THREADS_REFUSED + re.escape(repr(bad))):
+        with pytest.raises(InputError, match=THREADS_REFUSED + re.escape(repr(bad))) as caught:
             call(bad)
+        assert caught.value.parameter == "threads" and caught.value.value is bad
 
 
 def test_a_workspace_engine_counts_threads_as_everything_else():
@@ -451,3 +452,20 @@ def test_ik_position_pairs_with_ik_position_solutions_as_ik_with_ik_solutions():
                       match=rf"position_solutions\(\) {OLD}: use ik_position_solutions\(\)"):
         old = armkit.position_solutions(robot, p)
     np.testing.assert_array_equal(old.q, found.q)
+
+
+# ------------------------------------------------------------------ core dependencies: a lean import
+def test_import_armkit_fk_and_ik_load_neither_the_cli_nor_plots():
+    """typer and rich are core dependencies (the `armkit` command must work after `pip install
+    armkit`), matplotlib and Pillow the extra "plot"; none of them is loaded by `import armkit`, FK
+    or IK of a built-in arm (tests/test_plots.py checks that without the extra only figures fail)."""
+    import subprocess
+    import sys
+
+    code = ("import sys, armkit\n"
+            "robot = armkit.load('ur5')\n"
+            "robot.ik(robot.fk([0.1] * 6), near=[0.1] * 6)\n"
+            "print(sorted({m.split('.')[0] for m in sys.modules} & {'typer', 'rich', 'click', 'matplotlib', "
+            "'PIL', 'mpl_toolkits'}))\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == "[]"

@@ -48,7 +48,8 @@ def positive_float(value: object, name: str, *, maximum: float = math.inf) -> fl
     number = _real(value)
     if number is None or not 0.0 < number <= maximum or not math.isfinite(number):
         bound = "> 0" if maximum == math.inf else f"in (0, {maximum:g}]"
-        raise InputError(f"{name}: expected a finite number {bound}, got {value!r}")
+        raise InputError(f"{name}: expected a finite number {bound}, got {value!r}", parameter=name,
+                         value=value)
     return number
 
 
@@ -64,7 +65,7 @@ def non_negative_float(value: object, name: str, *, infinite: bool = False) -> f
     number = _real(value)
     if number is None or not number >= 0.0 or (number == math.inf and not infinite):
         kind = "a number >= 0 (inf: no bound)" if infinite else "a finite number >= 0"
-        raise InputError(f"{name}: expected {kind}, got {value!r}")
+        raise InputError(f"{name}: expected {kind}, got {value!r}", parameter=name, value=value)
     return number
 
 
@@ -76,7 +77,8 @@ def whole_number(value: object, name: str, *, minimum: int, maximum: int = MAX_C
     armkit.errors.InputError: max_iterations: expected a whole number from 1 to 2147483647, got 1000000000000
     """
     if isinstance(value, bool) or not isinstance(value, Integral) or not minimum <= value <= maximum:
-        raise InputError(f"{name}: expected a whole number from {minimum} to {maximum}, got {value!r}")
+        raise InputError(f"{name}: expected a whole number from {minimum} to {maximum}, got {value!r}",
+                         parameter=name, value=value)
     return int(value)
 
 
@@ -95,7 +97,7 @@ def thread_count(value: object, name: str = "threads") -> int:
         return 0
     if isinstance(value, bool) or not isinstance(value, Integral) or not 1 <= value <= MAX_THREADS:
         raise InputError(f"{name}: expected None (every core) or a whole number of threads from 1 to "
-                         f"{MAX_THREADS}, got {value!r}")
+                         f"{MAX_THREADS}, got {value!r}", parameter=name, value=value)
     return int(value)
 
 
@@ -114,7 +116,8 @@ def float_array(value: object, label: str, expected: str) -> NDArray[np.float64]
     try:
         return np.ascontiguousarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise InputError(f"{label}: expected {expected}, got {value!r}") from exc
+        raise InputError(f"{label}: expected {expected}, got {value!r}", parameter=label,
+                         value=value) from exc
 
 
 def core_ready(value: object, shape: tuple[int, ...] = (), *, exact: bool = False) -> bool:

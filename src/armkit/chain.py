@@ -267,9 +267,8 @@ class Chain:
         """
         return ~np.any(self.outside_limits(q), axis=-1)
 
-    def limit_fields(self, q: NDArray[np.float64], *, q_max: NDArray[np.float64] | None = None
-                     ) -> dict[str, object]:
-        """The first joint of ``q`` ``(n,)`` (the range ``q .. q_max``) outside its limits, as the
+    def limit_fields(self, q: NDArray[np.float64]) -> dict[str, object]:
+        """The first joint of ``q`` ``(n,)`` outside its limits (:meth:`outside_limits`), as the
         keyword arguments of :class:`~armkit.errors.JointLimitError`: ``joint`` (its name),
         ``value`` [rad or m] and ``limits``; empty if every joint is inside.
 
@@ -279,14 +278,11 @@ class Chain:
         >>> chain.limit_fields(np.array([0.5, 1.5]))
         {'joint': 'q2', 'value': 1.5, 'limits': (-1.0, 1.0)}
         """
-        high = q if q_max is None else q_max
-        outside = np.flatnonzero(self.outside_limits(q) | self.outside_limits(high))
+        outside = np.flatnonzero(self.outside_limits(q))
         if not len(outside):
             return {}
-        j = int(outside[0])
-        joint = self.joints[j]
-        value = q[j] if q[j] < joint.lower - LIMIT_TOLERANCE or q_max is None else high[j]
-        return {"joint": joint.name, "value": float(value), "limits": (joint.lower, joint.upper)}
+        joint = self.joints[outside[0]]
+        return {"joint": joint.name, "value": float(q[outside[0]]), "limits": (joint.lower, joint.upper)}
 
     def limit_violations(self, q: NDArray[np.float64], degrees: bool = False, *,
                          q_max: NDArray[np.float64] | None = None, where: str = "") -> list[str]:

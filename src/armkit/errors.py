@@ -29,7 +29,30 @@ class ArmkitError(Exception):
 
 
 class InputError(ArmkitError, ValueError):
-    """An argument has the wrong shape, type or value (NaN, non-rigid matrix, ...)."""
+    """An argument has the wrong shape, type or value (NaN, non-rigid matrix, ...).
+
+    Attributes
+    ----------
+    parameter : str or None
+        The argument's name, where the check that raised knows it (every check of
+        :mod:`armkit._params` does: ``"threads"``, ``"position_tolerance"``, ...).
+    value : object
+        The value it refused (None where not given).
+
+    Examples
+    --------
+    >>> import armkit
+    >>> try:
+    ...     armkit.load("ur5").fk([0.0] * 6, threads=0)
+    ... except InputError as exc:
+    ...     exc.parameter, exc.value
+    ('threads', 0)
+    """
+
+    def __init__(self, message: str, *, parameter: str | None = None, value: object = None) -> None:
+        super().__init__(message)
+        self.parameter = parameter
+        self.value = value
 
 
 class RobotDefinitionError(ArmkitError, ValueError):
@@ -50,7 +73,7 @@ class JointLimitError(ArmkitError, ValueError):
     joint : str or None
         The name of the (first) joint outside its limits, where one is known.
     value : float or None
-        That joint's value [rad or m] (the end of its range that leaves the limits, for a range).
+        That joint's value [rad or m].
     limits : tuple of (float, float) or None
         That joint's ``(lower, upper)`` limits [rad or m].
 
