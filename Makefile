@@ -16,16 +16,18 @@ CORE := CMakeLists.txt $(wildcard cpp/src/*.cpp cpp/src/*.hpp cpp/include/armkit
 # pip's own progress (downloads, then "Building editable for armkit": the C++ core, 1-3 minutes)
 $(VENV)/.installed-demo: pyproject.toml $(CORE) | $(BIN)/activate
 	@echo "==> installing armkit with MuJoCo and the viewer; the C++ core compiles at 'Building editable'"
-	$(BIN)/python -m pip install --progress-bar on -e ".[sim,view]"
+	$(BIN)/python -m pip install --progress-bar on -e ".[sim,view,plot]"
 	@# the [plan] extra's OMPL (wheels for Linux x86_64 and recent macOS arm64 only): without it the
 	@# lab's experiment 7 says "not applicable"
 	$(BIN)/python -m pip install --progress-bar on "ompl>=2.0" || echo "==> no OMPL wheel for this platform: the lab's experiment 7 (a planned motion) will say 'not applicable'"
 	@echo "==> installed"
 	touch $@
 
-$(VENV)/.installed-test: pyproject.toml $(CORE) | $(BIN)/activate
+# the test install binds the core's test-only internals too (CMake's ARMKIT_TEST_BINDINGS, see CMakeLists.txt);
+# it depends on this Makefile too, so that a checkout installed before that option was added builds it
+$(VENV)/.installed-test: pyproject.toml Makefile $(CORE) | $(BIN)/activate
 	@echo "==> installing armkit with the test extras (quietly; the C++ core compiles: 2-4 minutes)"
-	$(BIN)/python -m pip install --quiet -e ".[test]"
+	$(BIN)/python -m pip install --quiet -e ".[test]" -Ccmake.define.ARMKIT_TEST_BINDINGS=ON
 	touch $@
 
 demo: $(VENV)/.installed-demo

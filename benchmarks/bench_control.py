@@ -79,7 +79,7 @@ def main() -> None:
     T_target_se3 = SE3(T_target, check=False)
 
     def armkit_closed_loop():
-        T, J = control.kernel.pose_jacobian(q)
+        T, J = control.kernel.fk_jacobian(q)
         return control._solve(J, twist + 20.0 * pose_error(T_target, T)).qd
 
     def rtb_closed_loop():

@@ -19,8 +19,8 @@ table = compare_poses(robot.fk(q), Simulation(robot, gravity=False).tool_pose(q)
 print("columns:", table.columns)
 print("armkit :", table.computed[0].round(6))
 print("MuJoCo :", table.simulated[0].round(6))
-position_error, rotation_error = table.max_errors()
-print(f"largest errors: {position_error:.1e} m, {rotation_error:.1e} rad")
+position_error, orientation_error = table.max_errors()
+print(f"largest errors: {position_error:.1e} m, {orientation_error:.1e} rad")
 
 # The report's joint waypoints, 10 s per segment, sampled at the 1 kHz physics rate.
 waypoints = [[0, 0, 0, 0, 0, 0],

@@ -57,6 +57,20 @@ def python_handles_sigint():
     signal.signal(signal.SIGINT, previous)
 
 
+def core_internals():
+    """``armkit._core`` with the internals only the tests call (``rank``, ``verify_candidates``,
+    ``project``, ``damped_step``, ``quartic_roots``): bound when the core is built with CMake's
+    ``ARMKIT_TEST_BINDINGS``, as ``make test`` / ``make test-fast`` (and so CI) build it. A core built
+    without them fails the test saying so, rather than skipping what it cannot check."""
+    from armkit import _core
+
+    if not _core.TEST_BINDINGS:
+        pytest.fail("armkit's core was built without its test bindings: rebuild it with `make "
+                    ".venv/.installed-test`, or pip install -e '.[test]' "
+                    "-Ccmake.define.ARMKIT_TEST_BINDINGS=ON")
+    return _core
+
+
 def assert_transform_close(T_actual, T_expected, position_tol: float = 1e-10,
                            angle_tol: float = 1e-10) -> None:
     """Assert two (batches of) 4x4 transforms agree: position [m] and rotation angle [rad]."""

@@ -7,7 +7,7 @@ and the count::
     python tests/sweep_ik_property.py 10000 14000             # degenerate arms
     python tests/sweep_ik_property.py 0 4000 --generic        # generic arms, with the EAIK comparison
 
-A failing arm is re-run alone by ``_check_six_joint_arm(kind, case, seed, degenerate)``.
+A failing arm is re-run alone by ``check_six_joint_arm(kind, case, seed, degenerate)``.
 """
 
 import argparse
@@ -18,14 +18,14 @@ from multiprocessing import Pool
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from test_ik_property import SIX_JOINT_CLASSES, _check_six_joint_arm  # noqa: E402
+from test_ik_property import SIX_JOINT_CLASSES, check_six_joint_arm  # noqa: E402
 
 
 def _run(job: tuple) -> tuple | None:
     kind, case, seed, degenerate = job
     warnings.filterwarnings("ignore")
     try:
-        _check_six_joint_arm(kind, case, seed, degenerate=degenerate)
+        check_six_joint_arm(kind, case, seed, degenerate=degenerate, drawn=True)
     except AssertionError as error:
         return kind, case, seed, str(error).splitlines()[0][:200] if str(error) else "assertion failed"
     return None

@@ -23,6 +23,8 @@ from armkit.ik import (
     wrap_into_limits,
 )
 
+#: What every deprecation warning says (armkit/_deprecation.py: the version story).
+OLD = r"is deprecated since armkit 0\.1\.0 \(removed in 0\.2\.0\)"
 Q_UR5 = np.array([0.3, -0.8, 1.1, -0.4, 0.6, 0.2])
 Q_PANDA = np.array([0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5])
 
@@ -71,7 +73,7 @@ def test_kinematics_functions_take_a_robot():
     assert kinematics.manipulability(robot, Q_PANDA) == robot.manipulability(Q_PANDA)
     np.testing.assert_array_equal(kinematics.analytic_jacobian(robot, Q_PANDA),
                                   robot.analytic_jacobian(Q_PANDA))
-    np.testing.assert_array_equal(kinematics.ChainKernel(robot).pose(Q_PANDA), robot.fk(Q_PANDA))
+    np.testing.assert_array_equal(kinematics.ChainKernel(robot).fk(Q_PANDA), robot.fk(Q_PANDA))
 
 
 # ------------------------------------------------------------------ "it worked": success
@@ -97,7 +99,7 @@ def test_every_result_says_it_worked_with_success():
 def test_completed_is_a_deprecated_alias_of_success():
     robot = armkit.load("probot-anno")
     motion = armkit.move_linear(robot, np.zeros(6), [0.05, 0, -0.05], duration=1.0)
-    with pytest.warns(DeprecationWarning, match=r"MotionResult.completed is deprecated in armkit 0.2: "
+    with pytest.warns(DeprecationWarning, match=rf"MotionResult.completed {OLD}: "
                                                 r"use .success instead"):
         assert motion.completed is motion.success is True
 
@@ -108,7 +110,7 @@ def test_cartesian_line_samples_at_rate_hz_and_rate_is_a_deprecated_alias():
     T_goal = robot.fk([0.3, -0.5, 0.4, 0.2, 1.2, -0.3])
     line = armkit.cartesian_line(robot, np.zeros(6), T_goal, 2.0, rate_hz=10)
     np.testing.assert_allclose(line.t, np.linspace(0, 2, 21))
-    with pytest.warns(DeprecationWarning, match=r"cartesian_line\(rate=...\) is deprecated in armkit 0.2: "
+    with pytest.warns(DeprecationWarning, match=rf"cartesian_line\(rate=...\) {OLD}: "
                                                 r"use rate_hz=... instead"):
         old = armkit.cartesian_line(robot, np.zeros(6), T_goal, 2.0, rate=10)
     np.testing.assert_array_equal(old.q, line.q)
@@ -120,8 +122,8 @@ def test_rotation_takes_angular_velocity_in_rad_per_s_and_rate_is_a_deprecated_a
     robot = armkit.load("probot-anno")
     turn = armkit.rotate_about_tool_point(robot, np.zeros(6), [1, 0, 0], angular_velocity=-0.2, duration=1.0)
     assert turn.t[-1] == pytest.approx(1.0) and turn.success
-    with pytest.warns(DeprecationWarning, match=r"rotate_about_tool_point\(rate=...\) is deprecated in "
-                                                r"armkit 0.2: use angular_velocity=... instead"):
+    with pytest.warns(DeprecationWarning, match=rf"rotate_about_tool_point\(rate=...\) {OLD}: "
+                                                r"use angular_velocity=... instead"):
         old = armkit.rotate_about_tool_point(robot, np.zeros(6), [1, 0, 0], rate=-0.2, duration=1.0)
     np.testing.assert_array_equal(old.q, turn.q)
     with pytest.raises(InputError, match="give two of angle, angular_velocity and duration"):
@@ -137,13 +139,13 @@ def test_segments_answer_at_time_and_their_sample_of_times_is_deprecated():
         q, qd, qdd, qddd = segment.at_time([0.0, 1.0, 2.0])
         np.testing.assert_allclose(q[[0, 2]], [[0.0, 1.0], [1.0, -1.0]], atol=1e-14)
         np.testing.assert_allclose(q[1], [0.5, 0.0], atol=1e-14)
-        with pytest.warns(DeprecationWarning, match=rf"{name}.sample\(t\) is deprecated in armkit 0.2: "
+        with pytest.warns(DeprecationWarning, match=rf"{name}.sample\(t\) {OLD}: "
                                                     r"use .at_time\(t\) instead"):
             old = segment.sample([0.0, 1.0, 2.0])
         for a, b in zip(old, (q, qd, qdd, qddd), strict=True):
             np.testing.assert_array_equal(a, b)
         assert segment.n == 2
-        with pytest.warns(DeprecationWarning, match=rf"{name}.dof is deprecated in armkit 0.2: use .n"):
+        with pytest.warns(DeprecationWarning, match=rf"{name}.dof {OLD}: use .n"):
             assert segment.dof == 2
 
 
@@ -151,7 +153,7 @@ def test_joint_trajectory_has_n_and_dof_is_a_deprecated_alias():
     traj = armkit.min_jerk([[0.0, 0.0, 0.0], [1.0, -1.0, 0.5]], [2.0])
     assert traj.n == 3 and traj.sample(10.0).q.shape == (21, 3) and traj.at_time(1.0)[0].shape == (3,)
     assert armkit.load("ur5").n == traj.n + 3
-    with pytest.warns(DeprecationWarning, match=r"JointTrajectory.dof is deprecated in armkit 0.2: use .n"):
+    with pytest.warns(DeprecationWarning, match=rf"JointTrajectory.dof {OLD}: use .n"):
         assert traj.dof == 3
 
 
@@ -162,7 +164,7 @@ def test_ik_all_solutions_and_the_deprecated_all():
     every = robot.ik(T, all_solutions=True, within_limits=False)
     assert every.shape == (8, 6)
     np.testing.assert_array_equal(ik(robot, T, all_solutions=True, within_limits=False), every)
-    with pytest.warns(DeprecationWarning, match=r"Robot.ik\(all=...\) is deprecated in armkit 0.2: "
+    with pytest.warns(DeprecationWarning, match=rf"Robot.ik\(all=...\) {OLD}: "
                                                 r"use all_solutions=... instead") as caught:
         old = robot.ik(T, all=True, within_limits=False)
     assert caught[0].filename == __file__  # the warning points at the caller's line
@@ -190,14 +192,17 @@ def test_the_two_ik_tolerances_have_two_names_and_the_old_one_warns():
     assert found.position_error.max() <= results.SOLUTION_TOLERANCE
     # a closed-form candidate is kept if its FK matrix matches to CANDIDATE_TOLERANCE * (1 + size)
     assert closed_form.CANDIDATE_TOLERANCE == 1e-8
-    for module, new in ((closed_form, "CANDIDATE_TOLERANCE"), (results, "SOLUTION_TOLERANCE"),
-                        (solve, "SOLUTION_TOLERANCE")):
-        with pytest.warns(DeprecationWarning, match=rf"{module.__name__}.VERIFY_TOLERANCE is deprecated in "
-                                                    rf"armkit 0.2: use {module.__name__}.{new} instead"):
-            assert module.VERIFY_TOLERANCE == getattr(module, new)
+    # the old name answers in one module, results (where SOLUTION_TOLERANCE lives), and warns
+    with pytest.warns(DeprecationWarning, match=rf"armkit.ik.results.VERIFY_TOLERANCE {OLD}: "
+                                                rf"use armkit.ik.results.SOLUTION_TOLERANCE instead"):
+        assert results.VERIFY_TOLERANCE == results.SOLUTION_TOLERANCE
+    for module in (closed_form, results, solve):
         assert "VERIFY_TOLERANCE" not in module.__all__
         with pytest.raises(AttributeError):
             module.NO_SUCH_TOLERANCE  # noqa: B018
+    for module in (closed_form, solve):
+        with pytest.raises(AttributeError):
+            module.VERIFY_TOLERANCE  # noqa: B018
 
 
 # ------------------------------------------------------------ the joint-limit test, once, on the chain
@@ -237,8 +242,8 @@ def test_numeric_ik_says_within_limits_as_robot_ik_does():
     panda = armkit.load("panda")
     T = panda.fk(Q_PANDA)
     new = numeric_ik(panda, T, q0=Q_PANDA + 1e-3, within_limits=False, max_restarts=0)
-    with pytest.warns(DeprecationWarning, match=r"numeric_ik\(respect_limits=...\) is deprecated in armkit "
-                                                r"0.2: use within_limits=... instead"):
+    with pytest.warns(DeprecationWarning, match=rf"numeric_ik\(respect_limits=...\) {OLD}: "
+                                                r"use within_limits=... instead"):
         old = numeric_ik(panda, T, q0=Q_PANDA + 1e-3, respect_limits=False, max_restarts=0)
     np.testing.assert_array_equal(old.q, new.q)
     solver = NumericIK(panda, within_limits=False)
@@ -269,3 +274,198 @@ def test_subpackages_work_after_a_plain_import_armkit_which_imports_none_of_them
                              "armkit.workspace.maps.compute", "armkit.ik.structure.analyze_structure"]
     assert not {"armkit.trajectory", "armkit.export", "armkit.workspace", "armkit.ik"} & set(before.split())
     assert missing == "module 'armkit' has no attribute 'no_such_module'"
+
+
+# ------------------------------------------------------------------ threads=: one meaning, one check
+THREADS_REFUSED = r"threads: expected None \(every core\) or a whole number of threads from 1 to 1024, got "
+
+
+def _threaded_calls():
+    """Every public call that takes ``threads=``, each as ``call(threads) -> result``."""
+    from armkit.dynamics import inverse_dynamics, mass_matrix
+
+    ur5, panda = armkit.load("ur5"), armkit.load("panda")
+    q = ur5.random_q(5, rng=3)
+    T = ur5.fk(q)
+    T_panda = panda.fk(panda.random_q(3, rng=4))
+    dynamic = ur5.with_estimated_inertia(density=2700.0)
+    return {
+        "kinematics.fk": lambda threads: kinematics.fk(ur5, q, threads=threads),
+        "kinematics.joint_frames": lambda threads: kinematics.joint_frames(ur5, q, threads=threads)[0],
+        "kinematics.geometric_jacobian": lambda threads: kinematics.geometric_jacobian(ur5, q,
+                                                                                       threads=threads),
+        "Robot.fk": lambda threads: ur5.fk(q, threads=threads),
+        "Robot.jacobian": lambda threads: ur5.jacobian(q, threads=threads),
+        "Robot.ik": lambda threads: ur5.ik(T, near=q, threads=threads),
+        "ik_solutions": lambda threads: ik_solutions(ur5, T, near=q, threads=threads).q,
+        "ik": lambda threads: ik(ur5, T, near=q, threads=threads),
+        "NumericIK.solve_batch": lambda threads: NumericIK(panda).solve_batch(T_panda, rng=0,
+                                                                              threads=threads).q,
+        "mass_matrix": lambda threads: mass_matrix(dynamic, q, threads=threads),
+        "inverse_dynamics": lambda threads: inverse_dynamics(dynamic, q, q, q, threads=threads),
+    }
+
+
+@pytest.mark.parametrize("name", list(_threaded_calls()))
+def test_threads_means_the_same_everywhere(name):
+    """None is every core, a whole number from 1 to 1024 that many threads (the answer does not
+    depend on it), anything else an InputError naming the value: 0 too (it meant every core).
+    (Moved here from test_params.py, and extended, in issue 25.)"""
+    call = _threaded_calls()[name]
+    every_core = call(None)
+    for threads in (1, 2, 1024):
+        np.testing.assert_array_equal(call(threads), every_core)
+    for bad in (0, -1, -3, 1025, 2**31, 1.5, 2.0, True, "2"):
+        with pytest.raises(InputError, match=THREADS_REFUSED + re.escape(repr(bad))) as caught:
+            call(bad)
+        assert caught.value.parameter == "threads" and caught.value.value is bad
+
+
+def test_a_workspace_engine_counts_threads_as_everything_else():
+    from armkit.workspace.engine import engine_threads
+
+    assert engine_threads(3) == 3 and engine_threads(None) >= 1
+    for bad in (0, -3):
+        with pytest.raises(InputError, match=r"engine: expected None \(every core\) or a whole number of "
+                                             rf"threads from 1 to 1024, got {bad}"):
+            engine_threads(bad)
+
+
+def test_public_ik_functions_default_threads_to_none():
+    import inspect
+
+    for function in (ik, ik_solutions, NumericIK.solve_batch, kinematics.fk, kinematics.geometric_jacobian,
+                     armkit.Robot.fk, armkit.Robot.jacobian):
+        assert inspect.signature(function).parameters["threads"].default is None, function.__qualname__
+
+
+# ------------------------------------------------------------------ a 4x4 is fk's, a pose is a 6-vector
+def test_fk_gives_the_4x4_and_pose_the_6_vector():
+    robot = armkit.load("panda")
+    kernel = kinematics.ChainKernel(robot)
+    T = robot.fk(Q_PANDA)
+    assert T.shape == (4, 4) and kernel.fk(Q_PANDA).shape == (4, 4)
+    np.testing.assert_array_equal(kernel.fk(Q_PANDA), T)
+    T_kernel, J_kernel = kernel.fk_jacobian(Q_PANDA)
+    np.testing.assert_array_equal(T_kernel, T)
+    np.testing.assert_array_equal(J_kernel, robot.jacobian(Q_PANDA))
+    pose = robot.pose(Q_PANDA)
+    assert pose.shape == (6,)
+    np.testing.assert_array_equal(pose[:3], T[:3, 3])
+    np.testing.assert_allclose(armkit.spatial.transform_from_pose(pose), T, atol=1e-15)
+    with pytest.warns(DeprecationWarning, match=rf"ChainKernel.pose\(\) {OLD}: use .fk\(\) instead"):
+        np.testing.assert_array_equal(kernel.pose(Q_PANDA), T)
+    with pytest.warns(DeprecationWarning,
+                      match=rf"ChainKernel.pose_jacobian\(\) {OLD}: use .fk_jacobian\(\)"):
+        np.testing.assert_array_equal(kernel.pose_jacobian(Q_PANDA)[1], J_kernel)
+
+
+# ------------------------------------------------------------------ within_limits: one meaning
+def test_within_limits_is_one_test_whether_method_mask_or_request():
+    """The method tests a configuration, the mask records that test of each solution, the request
+    keeps only answers that pass it: the same test (Chain.outside_limits) everywhere."""
+    robot = armkit.load("probot-anno")
+    T = robot.fk([0.927, -0.687, -0.396, 0.0, 1.083, 0.927])
+    found = ik_solutions(robot, T)
+    assert found.within_limits.any() and not found.within_limits.all()  # this pose has both kinds
+    np.testing.assert_array_equal(found.within_limits, robot.within_limits(found.q))
+    np.testing.assert_array_equal(found.within_limits, robot.chain.within_limits(found.q))
+    inside = robot.ik(T, all_solutions=True, within_limits=True)
+    assert robot.within_limits(inside).all() and len(inside) == found.within_limits.sum()
+    everything = robot.ik(T, all_solutions=True, within_limits=False)
+    assert len(everything) == len(found.q) and not robot.within_limits(everything).all()
+    panda = armkit.load("panda")
+    result = NumericIK(panda, within_limits=True).solve(panda.fk(Q_PANDA), rng=0)
+    assert result.success and panda.within_limits(result.q)
+
+
+def test_a_joint_limit_error_carries_its_fields():
+    from armkit.errors import JointLimitError
+
+    robot = armkit.load("probot-anno")          # q2 within +-115 deg (2.00713 rad)
+    q = np.array([0.0, 2.5, 0.0, 0.0, 0.0, 0.0])
+    with pytest.raises(JointLimitError) as caught:
+        robot.check_limits(q, degrees=True)  # q in rad; the message in degrees
+    error = caught.value
+    assert (error.joint, error.value) == ("q2", 2.5)
+    assert error.limits == (robot.chain.lower[1], robot.chain.upper[1])
+    np.testing.assert_array_equal(error.q, q)
+    assert "joint q2 = 143.239 deg is outside its limits" in str(error)
+    assert robot.chain.limit_fields(q) == {"joint": "q2", "value": 2.5, "limits": tuple(robot.limits[1])}
+    assert robot.chain.limit_fields(np.zeros(6)) == {}
+    # IK's error for a pose reachable only outside the limits names a joint of the solution it gives
+    narrow = armkit.Robot.from_dh(robot.dh.rows, robot.dh.convention,
+                                  limits=[(-0.1, 0.1)] + [tuple(lim) for lim in robot.limits[1:]])
+    with pytest.raises(JointLimitError) as caught:
+        narrow.ik(narrow.fk([0.5, 0.2, -0.3, 0.1, 0.6, 0.2]))
+    error = caught.value
+    assert error.joint == "q1" and error.limits == (-0.1, 0.1) and not -0.1 <= error.value <= 0.1
+    assert error.value == error.q[0] and "joint q1 = " in str(error)
+    # a limit stop of a motion says which joint, where and its limits
+    with pytest.raises(JointLimitError) as caught:
+        armkit.rotate_about_tool_point(robot, np.zeros(6), [1, 0, 0], -np.radians(200), angular_velocity=0.5,
+                                       stop_at_limits=False)
+    error = caught.value
+    index = robot.joint_names.index(error.joint)
+    assert error.value in error.limits and error.limits == tuple(robot.limits[index])
+
+
+# ------------------------------------------------------------------ result names
+def test_errors_between_poses_are_position_and_orientation_errors():
+    from armkit.errors import UnreachableError
+    from armkit.sim.verify import PoseComparison, compare_poses
+
+    robot = armkit.load("ur5")
+    T = robot.fk(Q_UR5)
+    for result in (ik_solutions(robot, T), numeric_ik(robot, T, rng=0),
+                   NumericIK(robot).solve_batch(T[None], rng=0)):
+        assert np.all(result.position_error <= 1e-9) and np.all(result.orientation_error <= 1e-9)
+    tilted = T.copy()
+    tilted[:3, :3] = T[:3, :3] @ armkit.spatial.matrix_from_axis_angle(np.array([0.0, 0.0, 0.2]))
+    table = compare_poses(T[None], tilted[None])
+    assert isinstance(table, PoseComparison) and "orientation_error" in PoseComparison.__dataclass_fields__
+    assert "rotation_error" not in PoseComparison.__dataclass_fields__
+    np.testing.assert_allclose(table.orientation_error, [0.2], rtol=1e-12)
+    with pytest.warns(DeprecationWarning,
+                      match=rf"PoseComparison.rotation_error {OLD}: use .orientation_error"):
+        np.testing.assert_array_equal(table.rotation_error, table.orientation_error)
+    far = np.eye(4)
+    far[:3, 3] = [5.0, 0.0, 0.0]
+    with pytest.raises(UnreachableError) as caught:
+        robot.ik(far)
+    assert caught.value.position_error > 3.0 and np.isfinite(caught.value.orientation_error)
+
+
+def test_the_batch_ik_result_is_exported_beside_the_single_one():
+    robot = armkit.load("ur5")
+    batch = ik_solutions(robot, robot.fk(np.stack([Q_UR5, Q_UR5 + 0.1])))
+    assert isinstance(batch, armkit.IKSolutionsBatch) and isinstance(batch[0], armkit.IKSolutions)
+    assert "IKSolutionsBatch" in armkit.__all__ and armkit.IKSolutionsBatch is armkit.ik.IKSolutionsBatch
+
+
+def test_ik_position_pairs_with_ik_position_solutions_as_ik_with_ik_solutions():
+    robot = armkit.load("examples/data/my_arm.toml")
+    p = [0.3, 0.1, 0.3]
+    found = armkit.ik_position_solutions(robot, p)
+    np.testing.assert_array_equal(robot.ik_position(p, all_solutions=True), found.q[found.within_limits])
+    with pytest.warns(DeprecationWarning,
+                      match=rf"position_solutions\(\) {OLD}: use ik_position_solutions\(\)"):
+        old = armkit.position_solutions(robot, p)
+    np.testing.assert_array_equal(old.q, found.q)
+
+
+# ------------------------------------------------------------------ core dependencies: a lean import
+def test_import_armkit_fk_and_ik_load_neither_the_cli_nor_plots():
+    """typer and rich are core dependencies (the `armkit` command must work after `pip install
+    armkit`), matplotlib and Pillow the extra "plot"; none of them is loaded by `import armkit`, FK
+    or IK of a built-in arm (tests/test_plots.py checks that without the extra only figures fail)."""
+    import subprocess
+    import sys
+
+    code = ("import sys, armkit\n"
+            "robot = armkit.load('ur5')\n"
+            "robot.ik(robot.fk([0.1] * 6), near=[0.1] * 6)\n"
+            "print(sorted({m.split('.')[0] for m in sys.modules} & {'typer', 'rich', 'click', 'matplotlib', "
+            "'PIL', 'mpl_toolkits'}))\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == "[]"

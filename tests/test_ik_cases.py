@@ -8,10 +8,11 @@ The quartic's root finder is checked against NumPy's companion-matrix roots.
 
 import numpy as np
 import pytest
+from conftest import core_internals
+from helpers import CLOSED_FORM_ROBOTS, random_arm, random_transform
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
-from test_ik_closed_form import CLOSED_FORM_ROBOTS, _random_transform, random_arm
 
 import armkit
 from armkit import _core
@@ -40,7 +41,7 @@ def _motion(poe, q):
     return G, J
 
 
-def _joint_distance(poe, a, b):
+def joint_distance(poe, a, b):
     d = np.asarray(a - b, dtype=float)
     rev = ~poe.prismatic
     d[..., rev] = (d[..., rev] + np.pi) % (2 * np.pi) - np.pi
@@ -69,7 +70,7 @@ def _assert_candidates(chain, q_user, tol):
         # the joints are fixed to about residual / sigma_min (see test_ik_closed_form)
         sigma = np.linalg.svd(J, compute_uv=False)[min(6, poe.n) - 1]
         q_tol = np.clip(10 * (residual[solution].max() + 1e-16) / sigma, 1e-9, 1e-6)
-        found = _joint_distance(poe, qs, q_int) < q_tol
+        found = joint_distance(poe, qs, q_int) < q_tol
         assert (found & solution).any() or (family & solution).any(), f"missed q = {q.tolist()}"
 
 
@@ -100,7 +101,7 @@ def test_candidates_of_random_scara_and_planar_arms(seed):
                 for k in kinds]
         limits = [(-np.pi, np.pi) if k == R else (-0.2, 0.2) for k in kinds]
         chain = chain_from_dh(rows, ["standard", "modified"][seed % 2], limits=limits,
-                              T_base=_random_transform(rng), T_tool=_random_transform(rng))
+                              T_base=random_transform(rng), T_tool=random_transform(rng))
         _assert_candidates(chain, rng.uniform(chain.lower, chain.upper, (20, chain.n)), 1e-9)
 
 
@@ -165,6 +166,11 @@ def _matched_distance(found, roots):
     return max(d.min(axis=0).max(), d.min(axis=1).max())
 
 
+def quartic_roots(c):
+    """The core's quartic solver (a test binding, see conftest.core_internals)."""
+    return core_internals().quartic_roots(c)
+
+
 @settings(max_examples=50, deadline=None)
 @given(seeds)
 def test_quartic_roots_match_companion_matrix(seed):
@@ -172,7 +178,7 @@ def test_quartic_roots_match_companion_matrix(seed):
     for _ in range(20):
         c = _self_inversive(rng)
         roots = np.roots(c)
-        assert _matched_distance(_core.quartic_roots(c), roots) <= 1e-12 * max(1.0, np.abs(roots).max())
+        assert _matched_distance(quartic_roots(c), roots) <= 1e-12 * max(1.0, np.abs(roots).max())
 
 
 @pytest.mark.parametrize("gap", [1e-2, 1e-4, 1e-6, 1e-8, 0.0])
@@ -185,7 +191,7 @@ def test_quartic_near_double_roots_as_accurate_as_companion_matrix(gap):
         roots = np.exp(1j * np.array([t, t + gap, s, -s]))
         roots[3] *= 1.3 if trial % 2 else 1.0  # a root off the unit circle in half the cases
         c = np.poly(roots) * rng.normal()
-        ours.append(_matched_distance(_core.quartic_roots(c), roots))
+        ours.append(_matched_distance(quartic_roots(c), roots))
         theirs.append(_matched_distance(np.roots(c), roots))
     ours, theirs = np.array(ours), np.array(theirs)
     assert np.median(ours) <= np.median(theirs) and ours.max() <= 2 * theirs.max()

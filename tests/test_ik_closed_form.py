@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from helpers import CLOSED_FORM_ROBOTS, assert_same_as_eaik, joint_distance, random_arm, random_transform
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -9,82 +10,19 @@ import armkit
 from armkit import _core
 from armkit.chain import DHRow, chain_from_dh
 from armkit.errors import InputError, NoClosedFormError
-from armkit.ik import ik_solutions, numeric_ik
+from armkit.ik import ik_solutions
 from armkit.ik.closed_form import closed_form_ik, closed_form_solver
 from armkit.ik.structure import analyze_structure, poe_from_chain
 from armkit.ik.subproblems import sp1, sp4
-from armkit.kinematics import fk, geometric_jacobian, pose_error, singular_values
+from armkit.kinematics import fk, singular_values
 from armkit.spatial.rotations import matrix_from_axis_angle, matrix_from_euler
 
-CLOSED_FORM_ROBOTS = ["probot-anno", "puma560", "stanford", "ur5", "zju-i", "grb400-scara"]
 seeds = st.integers(0, 2**32 - 1)
-
-
-# ----------------------------------------------------------------- random arms
-def _random_transform(rng):
-    T = np.eye(4)
-    T[:3, :3] = matrix_from_axis_angle(_unit(rng) * rng.uniform(-np.pi, np.pi))
-    T[:3, 3] = rng.uniform(-0.3, 0.3, 3)
-    return T
-
-
-def _unit(rng):
-    v = rng.normal(size=3)
-    return v / np.linalg.norm(v)
-
-
-def random_arm(rng, kind, convention, prismatic3=False):
-    """A random 6-joint DH arm of a Pieper kind, with random offsets, base and tool.
-
-    Link ``i`` (between axes ``i`` and ``i + 1``) has length ``a[i]`` and twist ``alpha[i]``:
-    ``a = 0`` makes the axes meet, ``alpha = 0`` parallel, in either convention.
-    """
-    a = rng.uniform(-0.4, 0.4, 7)
-    alpha = rng.choice([-1, 1], 7) * rng.uniform(0.3, np.pi - 0.3, 7)
-    d = rng.uniform(-0.4, 0.4, 7)
-    theta = rng.uniform(-np.pi, np.pi, 7)
-    if kind in ("spherical-wrist", "spherical-base"):
-        first, last = (4, 5) if kind == "spherical-wrist" else (1, 2)
-        a[first] = a[last] = 0.0  # axes first..last+1 meet ...
-        d[last] = 0.0  # ... at one point
-        side = [1, 2] if kind == "spherical-wrist" else [4, 5]
-        case = rng.integers(5) if not prismatic3 else 0  # 4: axes 1-3 (4-6) general
-        if case == 0:
-            a[side[0]] = 0.0  # axes 1, 2 (or 5, 6) meet
-        elif case == 1:
-            alpha[side[1]] = 0.0  # axes 2, 3 (or 4, 5) parallel
-        elif case == 2:
-            a[side[1]] = 0.0  # axes 2, 3 (or 4, 5) meet
-        elif case == 3:
-            alpha[side[0]] = 0.0  # axes 1, 2 (or 5, 6) parallel
-    elif kind == "three-parallel":
-        block = rng.choice([1, 2, 3, 4])  # axes 1-3, 2-4, 3-5 or 4-6
-        alpha[block] = alpha[block + 1] = 0.0
-        if rng.random() < 0.5:  # the next two axes after (or before) the block meet
-            a[{1: 4, 2: 5, 3: 1, 4: 2}[block]] = 0.0
-    kinds = ["revolute"] * 6
-    if prismatic3:
-        kinds[2] = "prismatic"
-    if convention == "standard":  # row i: theta_i, d_i, a_i, alpha_i
-        rows = [DHRow(alpha[i], a[i], d[i], theta[i], kinds[i - 1]) for i in range(1, 7)]
-    else:  # row i: alpha_{i-1}, a_{i-1}, theta_i, d_i
-        rows = [DHRow(alpha[i - 1], a[i - 1], d[i], theta[i], kinds[i - 1]) for i in range(1, 7)]
-    limits = [(-np.pi, np.pi) if k == "revolute" else (0.1, 0.6) for k in kinds]
-    return chain_from_dh(rows, convention, limits=limits, T_base=_random_transform(rng),
-                         T_tool=_random_transform(rng))
 
 
 # ------------------------------------------------------------------- helpers
 def _random_q(rng, chain, n):
     return rng.uniform(chain.lower, chain.upper, (n, chain.n))
-
-
-def _joint_distance(chain, q_a, q_b, joints=slice(None)):
-    """Largest joint difference (revolute ones modulo 2 pi) over ``joints``."""
-    d = (q_a - q_b)[..., joints]
-    rev = ~chain.prismatic[joints]
-    d[..., rev] = (d[..., rev] + np.pi) % (2 * np.pi) - np.pi
-    return np.abs(d).max(axis=-1)
 
 
 def _assert_round_trip(chain, q, tol=1e-9):
@@ -102,7 +40,7 @@ def _assert_round_trip(chain, q, tol=1e-9):
     assert residual[sol.valid].max() < tol
     r = np.where(sol.valid, residual, 0.0).max(axis=-1) + 1e-16
     q_tol = np.clip(10 * r / singular_values(chain, q)[:, -1], 1e-9, 1e-6)
-    found = (_joint_distance(chain, sol.q, q[:, None, :]) < q_tol[:, None]) & sol.valid
+    found = (joint_distance(chain, sol.q, q[:, None, :]) < q_tol[:, None]) & sol.valid
     assert found.any(axis=-1).all(), f"missed q = {q[~found.any(axis=-1)][0].tolist()}"
     return sol
 
@@ -144,8 +82,8 @@ def test_round_trip_random_scara_and_planar():
             rows = [DHRow(0.0, rng.uniform(0.1, 0.4), rng.uniform(-0.2, 0.2),
                           rng.uniform(-np.pi, np.pi), k) for k in kinds]
             limits = [(-np.pi, np.pi) if k == "revolute" else (-0.2, 0.2) for k in kinds]
-            chain = chain_from_dh(rows, convention, limits=limits, T_base=_random_transform(rng),
-                                  T_tool=_random_transform(rng))
+            chain = chain_from_dh(rows, convention, limits=limits, T_base=random_transform(rng),
+                                  T_tool=random_transform(rng))
             assert analyze_structure(chain).closed_form
             _assert_round_trip(chain, _random_q(rng, chain, 50))
 
@@ -163,7 +101,7 @@ def test_seed_probot_ik_case():
                        [0.943488, -0.924743, -0.347274, 0.964865, 2.96795, -0.244375],
                        [-2.1981, 0.924743, 3.48887, 0.964865, 0.173647, 2.89722],
                        [-2.1981, 0.924743, 3.48887, -2.17673, 2.96795, -0.244375]])
-    distance = _joint_distance(chain, sol.q[None], listed[:, None])
+    distance = joint_distance(chain, sol.q[None], listed[:, None])
     assert (distance.min(axis=1) < 1e-4).all()
 
 
@@ -221,7 +159,7 @@ def test_wrist_singularity_returns_family(name):
     assert np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))[sol.valid].max() < 1e-12
     # q lies in a family whose representative has the same q1, q2, q3, q5 and q4 = 0
     kept = [0, 1, 2, 4]
-    same = _joint_distance(chain, sol.q, q[:, None], kept) < 1e-9
+    same = joint_distance(chain, sol.q, q[:, None], kept) < 1e-9
     assert (same & sol.family & sol.valid).any(axis=-1).all()
     assert np.all(sol.q[sol.family][:, 3] == 0.0)
 
@@ -278,121 +216,16 @@ def test_three_parallel_wrist_singularity_returns_family():
     T = fk(chain, q)
     sol = closed_form_ik(chain, T)
     assert np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))[sol.valid].max() < 1e-12
-    same = _joint_distance(chain, sol.q, q[:, None], [0, 4]) < 1e-9
+    same = joint_distance(chain, sol.q, q[:, None], [0, 4]) < 1e-9
     assert (same & sol.family & sol.valid).any(axis=-1).all()
 
 
-# ---------------------------------------------------------- EAIK cross-check
-def _eaik_exact_solutions(chain, T):
-    """EAIK's solutions (robot from our axes at q = 0) that reproduce ``T`` by our FK.
-
-    None if EAIK has no decomposition for the arm (it does not cover every Pieper arm).
-    """
-    eaik_hp = pytest.importorskip("eaik.IK_HP")  # test-only dependency
-    poe = poe_from_chain(chain)
-    P = np.vstack([poe.points[0], np.diff(poe.points, axis=0), poe.M[:3, 3] - poe.points[-1]])
-    robot = eaik_hp.HPRobot(poe.axes, P)
-    if not robot.hasKnownDecomposition():  # e.g. axes 1-3 parallel: EAIK has no solver
-        return None
-    result = []
-    for pose in T:
-        target = pose.copy()
-        target[:3, :3] = pose[:3, :3] @ poe.M[:3, :3].T  # EAIK's tool has no rotation
-        Q = np.array(robot.IK(target).Q).reshape(-1, chain.n)
-        Q = Q[np.abs(fk(chain, Q) - pose).max(axis=(-1, -2)) < 1e-6] if len(Q) else Q
-        # Near a double root EAIK may answer with a least-squares point between two exact
-        # solutions (seen: residual 9e-7, 0.008 rad from both): Newton steps take each answer
-        # to the exact solution it stands for, so such a point merges with its neighbour.
-        Q = np.array([_newton_refined(chain, pose, q) for q in Q]).reshape(-1, chain.n)
-        # An answer Newton cannot take to the pose is no exact solution (seen: residual 3.9e-7
-        # at a configuration with a zero singular value, where a 2R is just out of reach; the
-        # same bar, 1e-9, as every solution of ours).
-        Q = Q[np.abs(fk(chain, Q) - pose).max(axis=(-1, -2)) < 1e-9] if len(Q) else Q
-        unique = [i for i in range(len(Q))
-                  if not (_joint_distance(chain, Q[:i], Q[i]) < 1e-4).any()]
-        result.append(Q[unique])
-    return result
-
-
-def _newton_refined(chain, T, q):
-    """``q`` moved onto the exact solution next to it (at most 1e-3 rad or m away), else ``q``."""
-    result = numeric_ik(chain, T, q0=q, within_limits=False, max_restarts=0, max_iterations=20,
-                        position_tolerance=1e-12, orientation_tolerance=1e-12)
-    return result.q if result.success and np.abs(result.q - q).max() < 1e-3 else q
-
-
-def _polished(chain, T, q, steps=12):
-    """``q`` after Gauss-Newton steps towards ``T`` (each halved until it lowers the FK
-    residual: near a fold the full step overshoots), with that residual: an exact
-    solution's to rounding."""
-    best, worst = q, np.abs(fk(chain, q) - T).max()
-    for _ in range(steps):
-        step = np.linalg.lstsq(geometric_jacobian(chain, best), pose_error(T, fk(chain, best)), rcond=None)[0]
-        for _ in range(30):
-            residual = np.abs(fk(chain, best + step) - T).max()
-            if residual < worst:
-                break
-            step = step / 2
-        else:
-            break
-        best, worst = best + step, residual
-    return best, worst
-
-
-def _two_roots(chain, T, a, b):
-    """Whether ``a`` and ``b`` (close) are two distinct solutions of ``T``, not one listed
-    twice: polished, each reproduces ``T`` to 1e-12 (times the arm's size), and the point
-    between them misses it by more than ten times their residuals (a barrier: near a fold
-    1e-13 to 1e-10 between twin roots of a pose just inside it)."""
-    (a, at_a), (b, at_b) = _polished(chain, T, a), _polished(chain, T, b)
-    step = np.where(chain.prismatic, b - a, (b - a + np.pi) % (2 * np.pi) - np.pi)
-    worst = max(at_a, at_b)
-    between = np.abs(fk(chain, a + step / 2) - T).max()
-    size = 1 + np.abs(fk(chain, np.zeros(chain.n))[:3, 3]).max()
-    return worst <= 1e-12 * size and between > 10 * max(worst, 1e-16)
-
-
-def _assert_same_as_eaik(chain, q):
-    T = fk(chain, q)
-    sol = closed_form_ik(chain, T)
-    eaik_solutions = _eaik_exact_solutions(chain, T)
-    if eaik_solutions is None:
-        return
-    missed_by_eaik = 0
-    for i, theirs in enumerate(eaik_solutions):
-        ours = sol.q[i][sol.valid[i]]
-        assert len(ours), f"pose {i}: no solution found"
-        assert np.abs(fk(chain, ours) - T[i]).max() < 1e-9
-        generating = (_joint_distance(chain, ours, q[i]) < 1e-4).any() or sol.family[i][sol.valid[i]].any()
-        assert generating, f"pose {i}: the configuration that made the pose is not among the solutions"
-        # EAIK's answers are refined exact solutions, so branches are matched to 1e-4 rad
-        distance = _joint_distance(chain, ours[:, None], theirs[None])
-        assert (distance.min(axis=0, initial=np.inf) < 1e-4).all(), f"pose {i}: EAIK found one we miss"
-        # EAIK rarely misses solutions itself (seen: a well-conditioned pose of a random
-        # three-parallel arm where none of its answers reproduced the pose to 1e-6). Where it
-        # found the configuration that made the pose, it must find every one of ours too.
-        if (_joint_distance(chain, theirs, q[i]) < 1e-4).any():
-            assert (distance.min(axis=1) < 1e-4).all()
-            if len(ours) != len(theirs):
-                # near a fold (smallest singular value ~1e-7 to 1e-6, seen at uniform random
-                # poses) two distinct exact solutions lie ~1e-5 apart, and EAIK gives one of
-                # them: each extra one of ours must be such a twin of an earlier one
-                apart = _joint_distance(chain, ours[:, None], ours[None])
-                extra = np.array([(apart[k, :k] < 1e-4).any() for k in range(len(ours))])
-                assert len(ours) > len(theirs) and len(ours) - extra.sum() == len(theirs), \
-                    f"pose {i}: {len(ours)} solutions, EAIK {len(theirs)}"
-                for k in np.flatnonzero(extra):
-                    twin = ours[np.flatnonzero(apart[k, :k] < 1e-4)[0]]
-                    assert _two_roots(chain, T[i], ours[k], twin), f"pose {i}: a solution listed twice"
-        else:
-            missed_by_eaik += 1
-    assert missed_by_eaik <= 1, f"EAIK missed the generating q of {missed_by_eaik} of {len(T)} poses"
 
 
 @pytest.mark.parametrize("name", ["probot-anno", "puma560", "ur5", "zju-i"])
 def test_agrees_with_eaik_on_builtins(name):
     chain = armkit.load(name).chain
-    _assert_same_as_eaik(chain, np.random.default_rng(9).uniform(-np.pi, np.pi, (100, 6)))
+    assert_same_as_eaik(chain, np.random.default_rng(9).uniform(-np.pi, np.pi, (100, 6)))
 
 
 @pytest.mark.parametrize("kind", ["spherical-wrist", "spherical-base", "three-parallel"])
@@ -401,7 +234,7 @@ def test_agrees_with_eaik_on_builtins(name):
 def test_agrees_with_eaik_on_random_arms(kind, seed):
     rng = np.random.default_rng(seed)
     chain = random_arm(rng, kind, ["standard", "modified"][seed % 2])
-    _assert_same_as_eaik(chain, rng.uniform(-np.pi, np.pi, (20, 6)))
+    assert_same_as_eaik(chain, rng.uniform(-np.pi, np.pi, (20, 6)))
 
 
 @pytest.mark.parametrize("offset", [0.0, 1e-12, 1e-9, 1e-6, -1e-6])
@@ -411,7 +244,7 @@ def test_ur5_near_q1_half_pi_loses_no_branch(offset):
     q = np.random.default_rng(8).uniform(-np.pi, np.pi, (40, 6))
     q[:, 0] = np.where(np.arange(40) % 2, np.pi / 2, -np.pi / 2) + offset
     _assert_round_trip(chain, q)
-    _assert_same_as_eaik(chain, q)
+    assert_same_as_eaik(chain, q)
 
 
 def test_duplicates_are_merged_modulo_two_pi():
@@ -444,7 +277,7 @@ def test_every_joint_at_a_multiple_of_half_pi(name):
     T = fk(chain, q)
     sol = closed_form_ik(chain, T)
     assert np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))[sol.valid].max() < 1e-12
-    found = ((_joint_distance(chain, sol.q, q[:, None]) < 1e-6) & sol.valid).any(axis=-1)
+    found = ((joint_distance(chain, sol.q, q[:, None]) < 1e-6) & sol.valid).any(axis=-1)
     assert (found | (sol.family & sol.valid).any(axis=-1)).all()
     assert sol.valid.any(axis=-1).all()
 
@@ -468,7 +301,7 @@ def test_skew_wrist_three_parallel_arm_aligned_wrist_family():
     T = fk(chain, q)
     sol = closed_form_ik(chain, T)
     assert np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))[sol.valid].max() < 1e-12
-    same = _joint_distance(chain, sol.q, q[:, None], [0, 4]) < 1e-9
+    same = joint_distance(chain, sol.q, q[:, None], [0, 4]) < 1e-9
     assert (same & sol.family & sol.valid).any(axis=-1).all()
 
 
@@ -492,7 +325,7 @@ def test_near_wrist_singularity_keeps_every_branch(name, offset):
     sol = closed_form_ik(chain, T)
     assert np.abs(fk(chain, sol.q) - T[:, None]).max(axis=(-1, -2))[sol.valid].max() < 1e-11
     fixed = [0, 4] if three_parallel else [0, 1, 2, 4]
-    found = (_joint_distance(chain, sol.q, q[:, None], fixed) < 1e-6) & sol.valid
+    found = (joint_distance(chain, sol.q, q[:, None], fixed) < 1e-6) & sol.valid
     assert found.any(axis=-1).all()
 
 
@@ -524,4 +357,4 @@ def test_a_rejected_twin_of_a_valid_candidate_is_not_listed_twice():
     ours = sol.q[sol.valid]
     assert len(ours) == 2 and np.abs(fk(chain, ours) - T).max() < 1e-12
     assert len(ik_solutions(chain, T).q) == 2
-    _assert_same_as_eaik(chain, q)
+    assert_same_as_eaik(chain, q)

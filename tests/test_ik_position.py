@@ -21,7 +21,7 @@ import armkit
 from armkit.chain import DHRow, chain_from_dh
 from armkit.cli.main import main
 from armkit.errors import InputError, NoClosedFormError, UnreachableError
-from armkit.ik import ik_position, numeric_ik, position_solutions
+from armkit.ik import ik_position, ik_position_solutions, numeric_ik
 from armkit.ik.position import position_case
 from armkit.kinematics import fk, geometric_jacobian
 from armkit.spatial import transform_from
@@ -71,7 +71,7 @@ def _root_width(chain, listed, result) -> float:
 def check_arm(chain, q_all, seeds):
     for q in q_all:
         p = fk(chain, q)[:3, 3]
-        found = position_solutions(chain, p, near=q)
+        found = ik_position_solutions(chain, p, near=q)
         assert len(found.q), f"q = {q.tolist()}: a reachable position has no solution"
         reached = fk(chain, found.q)[:, :3, 3]
         assert np.linalg.norm(reached - p, axis=1).max() <= 1e-9
@@ -149,7 +149,7 @@ def test_a_family_is_flagged_on_axis_1():
     """The tool point on axis 1 of an elbow arm: q1 is free, the member found is flagged."""
     rows = [DHRow(pi / 2, 0, 0.2, 0), DHRow(0, 0.3, 0, 0), DHRow(0, 0.25, 0, 0)]
     chain = chain_from_dh(rows, "standard", limits=[(-pi, pi)] * 3)
-    found = position_solutions(chain, [0.0, 0.0, 0.45])
+    found = ik_position_solutions(chain, [0.0, 0.0, 0.45])
     assert found.family.all() and len(found.q)
     assert np.linalg.norm(fk(chain, found.q)[:, :3, 3] - [0, 0, 0.45], axis=1).max() < 1e-12
 
@@ -174,7 +174,7 @@ def test_a_held_value_outside_its_limits_leaves_every_solution_outside():
     near[3] = 4.0  # q4's limits are narrower than that
     assert stanford.chain.upper[3] < 4.0
     p = stanford.fk(near)[:3, 3]
-    found = position_solutions(stanford, p, near=near)
+    found = ik_position_solutions(stanford, p, near=near)
     assert len(found.q) and not found.within_limits.any() and (found.q[:, 3] == 4.0).all()
 
 
@@ -235,7 +235,7 @@ def test_every_position_on_the_grid_of_a_poe_elbow_arm_is_found(tool):
         p = robot.fk(q)[:3, 3]
         nearest = robot.ik_position(p, near=q, within_limits=False)
         assert np.linalg.norm(robot.fk(nearest)[:3, 3] - p) <= 1e-9
-        found = position_solutions(robot, p, near=q)
+        found = ik_position_solutions(robot, p, near=q)
         rows = zip(found.q, found.family, strict=True)
         assert any(_covered(robot.chain, row, fam, q) for row, fam in rows), \
             f"q = {q.tolist()}: listed {found.q[:, :3].tolist()}, family {found.family.tolist()}"

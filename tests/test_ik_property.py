@@ -16,14 +16,14 @@ import os
 
 import numpy as np
 import pytest
+from helpers import assert_same_as_eaik, joint_distance, random_arm, random_transform
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_ik_closed_form import _assert_same_as_eaik, _joint_distance, _random_transform, random_arm
 
 from armkit.chain import DHRow, chain_from_dh
 from armkit.ik import ik, ik_solutions
-from armkit.ik.messages import Labels, answer_or_raise
-from armkit.ik.pipeline import Found
+from armkit.ik.messages import Labels
+from armkit.ik.pipeline import Found, numeric_fallback
 from armkit.ik.structure import analyze_structure
 from armkit.kinematics import fk, singular_values
 from armkit.spatial.rotations import matrix_from_axis_angle
@@ -53,7 +53,7 @@ def _grid_transform(rng):
         T[:3, :3] = np.round(matrix_from_axis_angle(axis * rng.choice(GRID)))
         T[:3, 3] = np.where(rng.random(3) < 0.5, 0.0, rng.uniform(-0.3, 0.3, 3))
     elif choice == 2:
-        T = _random_transform(rng)
+        T = random_transform(rng)
     return T
 
 
@@ -101,7 +101,7 @@ def planar_arm(rng, kinds, convention, degenerate):
         rows.append(DHRow(0.0, rng.uniform(0.1, 0.4), d, theta, k))
     limits = [(-pi, pi) if k == "revolute" else (-0.2, 0.2) for k in kinds]
     T_base, T_tool = (_grid_transform(rng), _grid_transform(rng)) if degenerate else \
-        (_random_transform(rng), _random_transform(rng))
+        (random_transform(rng), random_transform(rng))
     return chain_from_dh(rows, convention, limits=limits, T_base=T_base, T_tool=T_tool)
 
 
@@ -134,12 +134,12 @@ def _assert_ik_properties(chain, q_all):
         assert 1 <= len(found.q) <= structure.max_solutions or found.family.any()
         F = fk(chain, found.q)
         assert np.abs(F - T).max() <= REPRODUCED * size, f"q = {q.tolist()}: a solution misses T"
-        apart = _joint_distance(chain, found.q[:, None], found.q[None])
+        apart = joint_distance(chain, found.q[:, None], found.q[None])
         assert (apart[~np.eye(len(found.q), dtype=bool)] > 1e-9).all(), f"q = {q.tolist()}: a solution twice"
         near = ik(chain, T, near=q, within_limits=False)
         assert np.abs(fk(chain, near) - T).max() <= REPRODUCED * size
-        listed = (_joint_distance(chain, found.q, q) <= FOUND).any()
-        nearest = _joint_distance(chain, near, q) <= FOUND
+        listed = (joint_distance(chain, found.q, q) <= FOUND).any()
+        nearest = joint_distance(chain, near, q) <= FOUND
         if listed and nearest:
             continue
         # A family of two or more parameters (a prismatic joint 3 placing the wrist centre on
@@ -154,17 +154,21 @@ def _assert_ik_properties(chain, q_all):
 @settings(**EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 2**32 - 1))
 def test_six_joint_arms(kind, case, seed):
-    _check_six_joint_arm(kind, case, seed, degenerate=False)
+    check_six_joint_arm(kind, case, seed, degenerate=False, drawn=True)
 
 
 @pytest.mark.parametrize(("kind", "case"), SIX_JOINT_CLASSES)
 @settings(**EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 2**32 - 1))
 def test_degenerate_six_joint_arms(kind, case, seed):
-    _check_six_joint_arm(kind, case, seed, degenerate=True)
+    check_six_joint_arm(kind, case, seed, degenerate=True, drawn=True)
 
 
-def _check_six_joint_arm(kind, case, seed, degenerate):
+def check_six_joint_arm(kind, case, seed, degenerate, *, drawn=False):
+    """The IK properties (and, for a generic revolute arm, the EAIK cross-check) of the six-joint
+    arm of ``kind`` and ``case`` made from ``seed``. A degenerate arm may have no closed form; one
+    ``drawn`` at random (hypothesis, the sweep) is then passed over, returning False; a pinned seed
+    that no longer gives a closed-form arm fails, so that it cannot pass having checked nothing."""
     rng = np.random.default_rng(seed)
     convention = ["standard", "modified"][seed % 2]
     if degenerate:
@@ -174,11 +178,13 @@ def _check_six_joint_arm(kind, case, seed, degenerate):
     else:
         chain = random_arm(rng, kind, convention, prismatic3=case == "prismatic3")
     if not analyze_structure(chain).closed_form:  # a degenerate arm may lose its closed form
-        assert degenerate
-        return
+        assert degenerate and drawn, (f"the {kind} arm (case {case}, seed {seed}, degenerate={degenerate}) "
+                                      f"has no closed form: nothing would be checked")
+        return False
     _assert_ik_properties(chain, _poses(rng, chain, 6, degenerate))
     if not degenerate and not chain.prismatic.any():  # EAIK's arms are revolute
-        _assert_same_as_eaik(chain, _poses(rng, chain, 6, False))
+        assert_same_as_eaik(chain, _poses(rng, chain, 6, False))
+    return True
 
 
 @pytest.mark.parametrize("kinds", PLANAR_CLASSES, ids=lambda k: "-".join(x[0] for x in k))
@@ -201,8 +207,8 @@ def test_stanford_like_arm_at_an_aligned_wrist_on_the_grid():
     q = np.array([pi, pi, -0.3, pi, 0.0, pi])
     T = fk(chain, q)
     found = ik_solutions(chain, T, near=q)
-    assert found.family.any() and (_joint_distance(chain, found.q, q) <= FOUND).any()
-    assert _joint_distance(chain, ik(chain, T, near=q, within_limits=False), q) <= FOUND
+    assert found.family.any() and (joint_distance(chain, found.q, q) <= FOUND).any()
+    assert joint_distance(chain, ik(chain, T, near=q, within_limits=False), q) <= FOUND
 
 
 @pytest.mark.parametrize(("kind", "case", "seed"), [("spherical-wrist", 2, 3236), ("spherical-wrist", 0, 56)])
@@ -212,14 +218,14 @@ def test_families_that_cross(kind, case, seed):
     the walk stopped where the distance to q, taken after the 2 pi wrap, has a saddle (seed
     3236, a CI failure), or moved along the second pair with the axes of the first position
     (seed 56)."""
-    _check_six_joint_arm(kind, case, seed, degenerate=True)
+    check_six_joint_arm(kind, case, seed, degenerate=True)
 
 
 def test_curved_family_is_traced():
     """A family that is a curve in joint space (three parallel axes 3-5 on the grid, seed 9):
     the null vector turns along it, so neither its tangent line nor local steps from the
     closed form's member reach q; tracing the curve does."""
-    _check_six_joint_arm("three-parallel", 2, 9, degenerate=True)
+    check_six_joint_arm("three-parallel", 2, 9, degenerate=True)
 
 
 @pytest.mark.parametrize("seed", [21, 45, 40])
@@ -229,7 +235,7 @@ def test_families_of_the_parallel_base(seed):
     1-3 (seed 40: four parallel axes, q5 free). Before, the family's representative was
     q6 = 0 or q5 = 0, where the planar 2R cannot reach: every candidate invalid and a
     reachable pose called out of reach. Now the member the 2R reaches best stands for it."""
-    _check_six_joint_arm("three-parallel", 1, seed, degenerate=True)
+    check_six_joint_arm("three-parallel", 1, seed, degenerate=True)
 
 
 @pytest.mark.parametrize(("kind", "case", "seed"), [("spherical-wrist", 4, 28), ("spherical-base", None, 0)])
@@ -237,7 +243,7 @@ def test_multiple_roots_of_the_quartic(kind, case, seed):
     """A double (or higher) root of the quartic path, which Newton steps reach only to
     ~1e-5 here: put exactly on the root of F's derivative, so the aligned wrist's family is
     recognised (before: q lost, and a reachable pose called out of reach)."""
-    _check_six_joint_arm(kind, case, seed, degenerate=True)
+    check_six_joint_arm(kind, case, seed, degenerate=True)
 
 
 @pytest.mark.parametrize(("kind", "case", "seed"), [("spherical-wrist", 0, 63), ("spherical-wrist", 4, 99)])
@@ -245,7 +251,7 @@ def test_unflagged_families(kind, case, seed):
     """Families the case solver did not flag: two exact solutions 1e-5 apart at a singular
     configuration (seed 63), and a wrist aligned to ~1e-12 behind the arm joints' rounding
     (seed 99). Both are now flagged and walked to q."""
-    _check_six_joint_arm(kind, case, seed, degenerate=True)
+    check_six_joint_arm(kind, case, seed, degenerate=True)
 
 
 def test_reachable_pose_of_issue_10_item_1_is_not_called_out_of_reach():
@@ -261,11 +267,11 @@ def test_reachable_pose_of_issue_10_item_1_is_not_called_out_of_reach():
     q = np.array([-pi, -pi / 2, pi / 2, -pi, pi / 2, -pi / 2])
     assert singular_values(chain, q)[-1] < 1e-15
     T = fk(chain, q)
-    assert _joint_distance(chain, ik(chain, T, near=q, within_limits=False), q) <= FOUND
+    assert joint_distance(chain, ik(chain, T, near=q, within_limits=False), q) <= FOUND
     found = ik_solutions(chain, T, near=q)
     assert found.family.all() and len(found.q) > 0
     assert max(found.position_error.max(), found.orientation_error.max()) <= REPRODUCED
-    assert _joint_distance(chain, found.q[0], q) <= FOUND
+    assert joint_distance(chain, found.q[0], q) <= FOUND
 
 
 def test_both_loops_of_a_family_with_a_fourth_parallel_axis():
@@ -274,7 +280,7 @@ def test_both_loops_of_a_family_with_a_fourth_parallel_axis():
     it, each a loop of the family. Before, one member stood for both loops, and the
     generating q, on the other loop, was never reached (the family walk cannot leave its
     loop)."""
-    _check_six_joint_arm("three-parallel", 1, 69, degenerate=True)
+    check_six_joint_arm("three-parallel", 1, 69, degenerate=True)
 
 
 def test_exact_candidates_the_existence_tests_rejected_are_kept():
@@ -282,7 +288,7 @@ def test_exact_candidates_the_existence_tests_rejected_are_kept():
     every candidate failed the case's existence test (a multiple root) while several
     reproduce the pose exactly. Before, ``ik_solutions`` listed none and ``ik`` called the
     pose out of reach, "0 m away"; now FK decides."""
-    _check_six_joint_arm("three-parallel", 2, 42, degenerate=True)
+    check_six_joint_arm("three-parallel", 2, 42, degenerate=True)
 
 
 @pytest.mark.parametrize(("block", "seed"), [(1, 29), (4, 1106)])
@@ -293,7 +299,7 @@ def test_a_family_that_touches_the_reach_of_the_planar_2r(block, seed):
     Before, the member nearest among 64 samples (0.0087 rad off) stood for it: every
     candidate missed the pose by 0.16 m and the listing was empty (the xfail of issue 10
     item 3). Now the least distance to the 2R's middle reach is searched between samples."""
-    _check_six_joint_arm("three-parallel", block, seed, degenerate=True)
+    check_six_joint_arm("three-parallel", block, seed, degenerate=True)
 
 
 def test_a_member_placed_beside_the_crossing_of_two_families():
@@ -302,7 +308,7 @@ def test_a_member_placed_beside_the_crossing_of_two_families():
     crosses it, so axes 4 and 6 are one line only to 1.6e-7 and neither the line move nor
     the trace (no null space at 1e-8) reached q. Axes one line within 1e-6 are now moved
     along it and projected back onto the solutions."""
-    _check_six_joint_arm("spherical-wrist", 0, seed=1072, degenerate=True)
+    check_six_joint_arm("spherical-wrist", 0, seed=1072, degenerate=True)
 
 
 def test_a_rough_family_member_at_a_doubly_singular_pose_is_refined():
@@ -311,7 +317,7 @@ def test_a_rough_family_member_at_a_doubly_singular_pose_is_refined():
     an exact point, and refinement, limited to 1e-6 to stay on a branch, gave up: an empty
     listing. A family's representative may move up to 1e-3 (its exact neighbours are
     members of the family)."""
-    _check_six_joint_arm("spherical-wrist", "prismatic3", 1006, degenerate=True)
+    check_six_joint_arm("spherical-wrist", "prismatic3", 1006, degenerate=True)
 
 
 def test_exact_candidates_rejected_beside_valid_ones_are_kept():
@@ -319,7 +325,7 @@ def test_exact_candidates_rejected_beside_valid_ones_are_kept():
     2381, pose 5): two candidates passed the case's existence tests and six exact ones (FK
     residual 2e-15) failed them; FK decided only where none passed, so the six were lost and
     with them the family holding q."""
-    _check_six_joint_arm("three-parallel", 2, 2381, degenerate=True)
+    check_six_joint_arm("three-parallel", 2, 2381, degenerate=True)
 
 
 def test_a_rough_family_member_is_refined_before_its_walk():
@@ -328,8 +334,8 @@ def test_a_rough_family_member_is_refined_before_its_walk():
     layer refined them after the core had walked its families, so they stayed where the
     closed form put them, 1.7 rad from q along the line q4 - q6. The core now refines a
     rough candidate when it verifies it, before the walk."""
-    _check_six_joint_arm("spherical-wrist", 0, 2292, degenerate=True)
-    _check_six_joint_arm("spherical-wrist", 4, 2292, degenerate=True)
+    check_six_joint_arm("spherical-wrist", 0, 2292, degenerate=True)
+    check_six_joint_arm("spherical-wrist", 4, 2292, degenerate=True)
 
 
 @pytest.mark.parametrize(("kind", "case", "seed"),
@@ -341,13 +347,13 @@ def test_rejected_candidates_near_a_fold_are_no_extra_solutions(kind, case, seed
     Newton steps and was listed; a rejected root 1e-6 from its accepted twin (seed 168, pose
     0) was listed beside it. A rejected candidate must now reproduce the pose to rounding and
     lie 1e-3 or more from every accepted one."""
-    _check_six_joint_arm(kind, case, seed, degenerate=False)
+    check_six_joint_arm(kind, case, seed, degenerate=False)
 
 
 def test_a_pose_the_listing_misses_is_answered_by_numeric_ik():
     """When the closed form lists no usable candidate for a pose numeric IK reaches exactly
     (no known pose does since the cases above were fixed; the listing is emptied here by
-    hand, at the doubly singular pose of seed 29), ``answer_or_raise`` does not call it out
+    hand, at the doubly singular pose of seed 29), ``numeric_fallback`` does not call it out
     of reach: it puts the numeric solution first, flagged as a family member (the Jacobian
     there is singular), within the limits when asked."""
     rng = np.random.default_rng(29)
@@ -357,7 +363,7 @@ def test_a_pose_the_listing_misses_is_answered_by_numeric_ik():
     for within_limits in (True, False):
         empty = Found(np.zeros((1, 8, 6)), np.full((1, 8, 2), np.nan), np.zeros((1, 8, 4), dtype=bool),
                       np.zeros(1, dtype=np.int64))
-        answer_or_raise(chain, empty, T, (q + 0.01)[None], Labels(0), within_limits)
+        numeric_fallback(chain, empty, T, (q + 0.01)[None], Labels(0), within_limits)
         assert empty.count[0] == 1 and empty.keep[0, 0] and empty.family[0, 0]
         assert np.abs(fk(chain, empty.q[0, 0]) - T[0]).max() <= REPRODUCED
         assert chain.within_limits(empty.q[0, 0]) or not within_limits
@@ -371,7 +377,7 @@ def test_a_loop_between_the_samples_of_the_family():
     the family (on the first loop: a crossing of the middle reach found beside the least
     sample), and q was missed. Now every sampled extremum of the reach is refined and each
     loop gets its member."""
-    _check_six_joint_arm("three-parallel", 1, 287711068, degenerate=True)
+    check_six_joint_arm("three-parallel", 1, 287711068, degenerate=True)
 
 
 @pytest.mark.parametrize(("kind", "case", "seed"),
@@ -380,7 +386,7 @@ def test_fold_twins_beside_other_solutions(kind, case, seed):
     """Generic arms at a pose near a fold (``make fuzz``): one pair of twin solutions ~1e-5
     apart beside solutions without a twin. The EAIK comparison asked every one of ours to
     have a twin when the counts differ, not only the extra ones; it now counts the extras."""
-    _check_six_joint_arm(kind, case, seed, degenerate=False)
+    check_six_joint_arm(kind, case, seed, degenerate=False)
 
 
 def test_an_inexact_eaik_answer_is_not_a_solution_we_miss():
@@ -388,7 +394,7 @@ def test_an_inexact_eaik_answer_is_not_a_solution_we_miss():
     reproduces the pose to 3.9e-7 only, and Newton steps cannot improve it (a zero singular
     value there, a 2R just out of reach); the comparison took it for a solution of ours
     missing. It now holds EAIK's answers to our own 1e-9."""
-    _check_six_joint_arm("three-parallel", 3, 303, degenerate=False)
+    check_six_joint_arm("three-parallel", 3, 303, degenerate=False)
 
 
 def test_fold_twins_with_a_singular_value_above_1e_6():
@@ -396,7 +402,7 @@ def test_fold_twins_with_a_singular_value_above_1e_6():
     solutions 5e-5 apart where EAIK gives one; the smallest singular value there is 1.9e-6,
     above the 1e-6 the comparison took for a fold. They are two roots (each exact to
     3e-16, the point between them 9e-11 off): the comparison now checks that directly."""
-    _check_six_joint_arm("spherical-wrist", 1, 4087371, degenerate=False)
+    check_six_joint_arm("spherical-wrist", 1, 4087371, degenerate=False)
 
 
 def test_roots_split_on_either_side_of_a_family():
@@ -405,7 +411,7 @@ def test_roots_split_on_either_side_of_a_family():
     double root came out as two roots at q2 = +-2.2e-7, 1.2e-3 apart along the family, where
     the Jacobian is not singular to 1e-8: no family flag, and q missed. The point between
     two such roots, put onto the solution set, is singular: it now stands for the family."""
-    _check_six_joint_arm("spherical-base", None, 1895, degenerate=True)
+    check_six_joint_arm("spherical-base", None, 1895, degenerate=True)
 
 
 def test_a_joint_on_its_pi_limit_at_an_ill_conditioned_pose():
@@ -415,14 +421,14 @@ def test_a_joint_on_its_pi_limit_at_an_ill_conditioned_pose():
     wrapped to near's pi (1e-9 beyond the limit): ``ik(near=q)`` answered a solution pi away.
     Candidates above 1e-13 are now refined, wrapped towards near, and the nearest-only
     search measures a joint at a +-pi limit from near's side."""
-    _check_six_joint_arm("spherical-wrist", 2, 11988646, degenerate=True)
+    check_six_joint_arm("spherical-wrist", 2, 11988646, degenerate=True)
 
 
 def test_split_roots_of_a_prismatic_arm_on_a_family():
     """Spherical wrist with a prismatic joint 3, q = [pi, -pi/2, 0, -pi/2, 0, pi] (seed
     13622, a sweep of 44,000 degenerate arms): the same kind of split double root as seed
     1895, 3.3e-4 apart; the singular point between them now stands for the family."""
-    _check_six_joint_arm("spherical-wrist", "prismatic3", 13622, degenerate=True)
+    check_six_joint_arm("spherical-wrist", "prismatic3", 13622, degenerate=True)
 
 
 @pytest.mark.parametrize(("case", "seed"), [(3, 10005), (2, 10910), (3, 11812), (2, 11878), (2, 12691)])
@@ -431,7 +437,7 @@ def test_families_of_three_parallel_middle_axes(case, seed):
     its reverse) where the two equations in (q1, q5) are one (a sweep of 44,000 degenerate
     arms): every candidate took q1 = 0, where the 2R cannot reach, and none was valid: no
     solution at a reachable pose. The family's loops now get members as for axes 1-3."""
-    _check_six_joint_arm("three-parallel", case, seed, degenerate=True)
+    check_six_joint_arm("three-parallel", case, seed, degenerate=True)
 
 
 def test_a_vanishing_quartic_amplified_by_an_ill_conditioned_system():
@@ -439,7 +445,7 @@ def test_a_vanishing_quartic_amplified_by_an_ill_conditioned_system():
     entry of 1.3e3) left its coefficients at 1e-12 in sum, just above the bar, so its
     remaining degree-1 part (noise) had no root and the pose had no solution. The bar is
     now scaled by |Q^-1|."""
-    _check_six_joint_arm("three-parallel", 4, 12421, degenerate=True)
+    check_six_joint_arm("three-parallel", 4, 12421, degenerate=True)
 
 
 def test_an_axis_parallel_to_rounding_after_a_near_tangent_root():
@@ -448,7 +454,7 @@ def test_an_axis_parallel_to_rounding_after_a_near_tangent_root():
     axes to 3.9e-12, just above the 1e-12 at which q6 is free: SP1 gave q6 0.008 off and
     the 2R could not reach. Where the 2R cannot follow and axis 6 is within 1e-11, q6 is
     now taken as free (the family's member, refined by FK)."""
-    _check_six_joint_arm("three-parallel", 3, 11590, degenerate=True)
+    check_six_joint_arm("three-parallel", 3, 11590, degenerate=True)
 
 
 def test_a_member_where_the_split_roots_of_two_crossing_families_meet():
@@ -457,7 +463,7 @@ def test_a_member_where_the_split_roots_of_two_crossing_families_meet():
     cross), but the closed form's members, both flagged, lay 1.7e-6 off the crossing, where
     axes 1 and 3 are one line only to 1.7e-6 and the walk drifted. The point between two such
     members, more singular than either, now stands for them."""
-    _check_six_joint_arm("spherical-base", None, 11812, degenerate=True)
+    check_six_joint_arm("spherical-base", None, 11812, degenerate=True)
 
 
 def test_a_free_shoulder_joint_whose_member_has_an_aligned_wrist():
@@ -466,7 +472,7 @@ def test_a_free_shoulder_joint_whose_member_has_an_aligned_wrist():
     closed form's member (q2 = 0) has an aligned wrist, where the Jacobian lacks the family's
     direction: the walk could not follow it to q2 = pi. A second member, where the wrist is
     farthest from aligned, now takes a free slot."""
-    _check_six_joint_arm("spherical-wrist", 2, 10492, degenerate=True)
+    check_six_joint_arm("spherical-wrist", 2, 10492, degenerate=True)
 
 
 def test_members_placed_along_a_family_the_case_did_not_see():
@@ -476,7 +482,7 @@ def test_members_placed_along_a_family_the_case_did_not_see():
     candidates at different points of it, rough (6e-10) and not flagged: none was walked,
     and q was missed. A rough candidate that, refined, lies on a family (a step along its
     null space stays a solution) is now flagged and walked."""
-    _check_six_joint_arm("spherical-base", None, 20875, degenerate=True)
+    check_six_joint_arm("spherical-base", None, 20875, degenerate=True)
 
 
 def test_a_residual_minimum_beside_a_root_is_not_a_second_solution():
@@ -484,7 +490,7 @@ def test_a_residual_minimum_beside_a_root_is_not_a_second_solution():
     the closed form listed a second candidate 1.5e-6 from an exact root, at a residual
     minimum of 5.5e-14 that Newton steps cannot lower, the point between them 1.2e-13 off:
     one solution listed twice. It is now dropped."""
-    _check_six_joint_arm("spherical-wrist", 3, 57992, degenerate=False)
+    check_six_joint_arm("spherical-wrist", 3, 57992, degenerate=False)
 
 
 @pytest.mark.parametrize("case", [0, 4, "prismatic3"])
@@ -493,7 +499,7 @@ def test_twin_roots_beside_a_fold_stay_two(case):
     arms): twin roots 3.6e-6 apart, each exact to 8e-16, the point between them 7.5e-13 off.
     A first rule merged candidates whose midpoint reproduced the pose to 1e-12 and lost the
     generating one; the rule now asks for no barrier above the candidates' own residuals."""
-    _check_six_joint_arm("spherical-wrist", case, 4728, degenerate=False)
+    check_six_joint_arm("spherical-wrist", case, 4728, degenerate=False)
 
 
 def test_a_walk_across_the_crossing_of_two_families():
@@ -505,4 +511,4 @@ def test_a_walk_across_the_crossing_of_two_families():
     from there, along the one null direction, ended 0.02 rad off it. A step that ends
     stuck is now tried once more over the directions whose singular values are below 5 %
     of the largest (the other family's, near the crossing)."""
-    _check_six_joint_arm("three-parallel", 3, 20377, degenerate=True)
+    check_six_joint_arm("three-parallel", 3, 20377, degenerate=True)

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_transform_close
+from conftest import assert_transform_close, core_internals
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import armkit
-from armkit import _core
 from armkit.chain import DHRow
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik import IKSolutionsBatch, closed_form_solver, ik_solutions
@@ -271,7 +270,8 @@ def _residuals(robot, q, T):
 
 def rank(solver, found, poses, near, weights, within_limits):
     """The core's ranking stage on ``found`` (in place)."""
-    _core.rank(solver.core, np.ascontiguousarray(poses, dtype=np.int64), near, weights, within_limits, *found)
+    poses = np.ascontiguousarray(poses, dtype=np.int64)
+    core_internals().rank(solver.core, poses, near, weights, within_limits, *found)
 
 
 def test_rough_candidates_are_refined_on_their_branch():
@@ -284,7 +284,7 @@ def test_rough_candidates_are_refined_on_their_branch():
     position_error, orientation_error = _residuals(robot, found.q, T)
     assert np.all(position_error > 1e-8)
     found.position_error[...], found.orientation_error[...] = position_error, orientation_error
-    _core.verify_candidates(closed_form_solver(robot.chain).core, T, *found)
+    core_internals().verify_candidates(closed_form_solver(robot.chain).core, T, *found)
     assert found.position_error[0, 0] < 1e-12 and found.orientation_error[0, 0] < 1e-12
     np.testing.assert_allclose(robot.fk(found.q[0, 0]), T[0], atol=1e-12)
     assert np.abs(found.q[0, 0] - q_true[0]).max() < 1e-6
@@ -356,7 +356,7 @@ def test_family_flag_survives_refinement():
     solver = closed_form_solver(robot.chain)
     rank(solver, found, np.array([0]), np.zeros(6), np.ones(6), True)
     assert not found.keep[0, 0]  # 1e-7 away: not kept yet
-    _core.verify_candidates(solver.core, T, *found)
+    core_internals().verify_candidates(solver.core, T, *found)
     rank(solver, found, np.array([0]), None, None, True)  # None: zeros and ones
     assert found.keep[0, 0] and found.family[0, 0]
 

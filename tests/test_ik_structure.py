@@ -4,9 +4,9 @@ import json
 
 import numpy as np
 import pytest
+from helpers import random_arm
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_ik_closed_form import random_arm
 
 import armkit
 from armkit import Robot

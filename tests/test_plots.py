@@ -96,3 +96,45 @@ def test_pva_in_degrees_scales_curves_waypoints_and_limits_and_a_joint_at_rest_h
     for axes in (rad, deg):       # a flat line at its true scale, no "1e-16" above the axis
         assert all(axes[row, 3].yaxis.get_offset_text().get_text() == "" for row in range(3))
         assert all(np.ptp(axes[row, 3].get_ylim()) >= 1.0 for row in range(3))
+
+
+@pytest.mark.slow
+def test_without_the_plot_extra_everything_but_figures_works_and_a_figure_says_what_to_install(tmp_path):
+    """matplotlib and Pillow are the extra "plot": with them hidden (an import finder refuses them, as
+    on a machine where `pip install armkit` left them out), `import armkit` and kinematics, IK, a
+    trajectory and the `armkit` command work, and a figure asked for is one armkit error naming
+    the extra, from Python and from the command line."""
+    waypoints = tmp_path / "waypoints.csv"
+    waypoints.write_text("0,0,0,0,0,0\n0.1,-0.5,0.4,0,0.7,0.1\n")
+    code = (
+        "import sys\n"
+        "class NoPlots:\n"
+        "    def find_spec(self, name, path, target=None):\n"
+        "        if name.split('.')[0] in ('matplotlib', 'PIL', 'mpl_toolkits'):\n"
+        "            raise ImportError(f'No module named {name!r}')\n"
+        "sys.meta_path.insert(0, NoPlots())\n"
+        "import armkit\n"
+        "from armkit.errors import ArmkitError\n"
+        "robot = armkit.load('probot-anno')\n"
+        "q = robot.ik(robot.fk([0.1, -0.5, 0.4, 0.0, 0.7, 0.1]), near=[0.1, -0.5, 0.4, 0.0, 0.7, 0.1])\n"
+        "armkit.min_jerk([[0.0] * 6, q.tolist()], [2.0])\n"
+        "print('computed', (q.round(3) + 0.0).tolist())\n"
+        "for figure in (lambda: robot.plot(q), lambda: __import__('armkit.plots')):\n"
+        "    try:\n"
+        "        figure()\n"
+        "    except ArmkitError as exc:\n"
+        "        print('error', exc)\n"
+        "from armkit.cli.main import main\n"
+        "sys.argv = ['armkit', 'fk', 'probot-anno', '0', '0', '0', '0', '0', '0']\n"
+        "fk_code = main()\n"
+        f"sys.argv = ['armkit', 'traj', 'probot-anno', '--waypoints', {str(waypoints)!r},\n"
+        f"            '--durations', '2', '--plot', {str(tmp_path / 'pva.png')!r}]\n"
+        "print('exit codes', fk_code, main())\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=WAIT_S)
+    lines = result.stdout.splitlines()
+    assert result.returncode == 0, result.stderr
+    assert lines[0] == "computed [0.1, -0.5, 0.4, 0.0, 0.7, 0.1]"
+    needs = "plots need matplotlib and Pillow, which are not installed: pip install 'armkit[plot]'"
+    assert lines[1:3] == [f"error {needs}"] * 2
+    assert lines[-1] == "exit codes 0 1" and needs in result.stderr
+    assert "Traceback" not in result.stderr and not (tmp_path / "pva.png").exists()

@@ -85,7 +85,7 @@ def test_sim_random_table(capsys):
                        "--no-gravity", "--json")
     data = json.loads(out)
     assert code == 0 and np.shape(data["q"]) == (2, 6) and data["convention"] == "xyz-euler"
-    assert max(data["servos from home in 1 s, then 0.5 s hold"]["rotation_error_rad"]) < 1e-6
+    assert max(data["servos from home in 1 s, then 0.5 s hold"]["orientation_error_rad"]) < 1e-6
 
 
 def test_without_mujoco_the_cli_still_works_and_names_the_extra(tmp_path):

@@ -28,7 +28,7 @@ def test_per_axis_errors_wrap_and_match_a_known_offset():
     table = compare_poses(transform_from(R, [[0.1, 0.2, 0.3]]), transform_from(R_moved, [[0.1, 0.2, 0.3005]]),
                           degrees=True, length_unit="mm", labels=["a"])
     np.testing.assert_allclose(table.error[0], [0, 0, 0.5, 0.2, 0, 0], atol=1e-9)
-    np.testing.assert_allclose(table.rotation_error, np.radians(0.2), rtol=1e-9)
+    np.testing.assert_allclose(table.orientation_error, np.radians(0.2), rtol=1e-9)
     np.testing.assert_allclose(table.position_error, 5e-4, rtol=1e-9)
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import toppra_path
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
@@ -34,30 +35,6 @@ def robot():
     return armkit.load("probot-anno")
 
 
-class _Path(toppra.interpolator.AbstractGeometricPath):
-    """armkit's geometric path (a JointTrajectory in its own time s) as toppra sees a path."""
-
-    def __init__(self, path):
-        self.path = path
-
-    def __call__(self, s, order=0):
-        s = np.asarray(s, dtype=float)
-        values = self.path.at_time(np.atleast_1d(s))[order]
-        return values if s.ndim else values[0]
-
-    @property
-    def dof(self):
-        return self.path.n
-
-    @property
-    def path_interval(self):
-        return np.array([0.0, self.path.duration])
-
-    @property
-    def waypoints(self):
-        return self.path.waypoint_times, self.path.waypoints
-
-
 def toppra_duration(path, vmax, amax, gridpoints=None):
     """toppra's time-optimal duration along ``path`` (velocity and acceleration limits)."""
     toppra.setup_logging("WARNING")
@@ -65,7 +42,7 @@ def toppra_duration(path, vmax, amax, gridpoints=None):
                    toppra_constraint.JointAccelerationConstraint(
                        np.stack([-amax, amax], axis=1),
                        discretization_scheme=toppra_constraint.DiscretizationType.Interpolation)]
-    instance = toppra_algorithm.TOPPRA(constraints, _Path(path), gridpoints=gridpoints,
+    instance = toppra_algorithm.TOPPRA(constraints, toppra_path(path), gridpoints=gridpoints,
                                        parametrizer="ParametrizeConstAccel")
     trajectory = instance.compute_trajectory()
     assert trajectory is not None

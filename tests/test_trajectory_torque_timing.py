@@ -10,7 +10,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from test_trajectory_topp import _Path
+from helpers import toppra_path
 
 import armkit
 from armkit.chain import Chain
@@ -68,7 +68,7 @@ def test_torque_limited_duration_is_within_five_percent_of_toppra_on_the_same_pa
         toppra_constraint.JointTorqueConstraint(
             lambda q, qd, qdd: robot.inverse_dynamics(q, qd, qdd), np.stack([-TIGHT, TIGHT], axis=1),
             np.zeros(robot.n), discretization_scheme=toppra_constraint.DiscretizationType.Interpolation)]
-    instance = toppra_algorithm.TOPPRA(constraints, _Path(path), parametrizer="ParametrizeConstAccel")
+    instance = toppra_algorithm.TOPPRA(constraints, toppra_path(path), parametrizer="ParametrizeConstAccel")
     theirs = instance.compute_trajectory()
     assert theirs is not None
     assert theirs.duration * 0.99 <= ours.duration <= theirs.duration * 1.05

@@ -186,12 +186,14 @@ void bind_closed_form(nb::module_& m) {
         "(ta pair, tb pair, valid pair, free): all (ta, tb) with R(h, ta) (a + R(h, tb) b) = v in the plane "
         "normal to h.");
 
+#ifdef ARMKIT_TEST_BINDINGS  // the quartic solver, bound for its test only
     m.def("quartic_roots", [](std::array<Complex, 5> c) {
             if (c[0] == 0.0) throw nb::value_error("quartic_roots: the leading coefficient must not be 0");
             std::array<Complex, 4> z;
             quartic_roots(c.data(), z.data());
             return z;
         }, nb::arg("coeffs"), "The 4 roots of coeffs[0] z^4 + ... + coeffs[4] (complex).");
+#endif
 
     nb::list names, candidates, position_cases;
     for (const CaseEntry& entry : kCases) names.append(entry.name), candidates.append(entry.candidates);

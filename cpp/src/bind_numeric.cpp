@@ -21,7 +21,7 @@ using OutIndex = nb::ndarray<std::int64_t, nb::c_contig, nb::device::cpu>;
 
 NumericSolver make_solver(const Chain& chain, const std::vector<int>& rows, double position_tolerance,
                           double orientation_tolerance, double damping_gain, double damping, int max_iterations,
-                          int max_restarts, double time_budget, bool respect_limits) {
+                          int max_restarts, double time_budget, bool within_limits) {
     NumericSettings s;
     if (rows.empty() || rows.size() > 6) throw std::invalid_argument("NumericSolver: expected 1 to 6 task rows");
     s.m = int(rows.size());
@@ -40,7 +40,7 @@ NumericSolver make_solver(const Chain& chain, const std::vector<int>& rows, doub
     s.max_iterations = max_iterations;
     s.max_restarts = max_restarts;
     s.time_budget = time_budget;
-    s.respect_limits = respect_limits;
+    s.within_limits = within_limits;
     return NumericSolver(chain, s);
 }
 
@@ -50,16 +50,22 @@ const double* optional_seeds(const In& q0, std::size_t size, const char* message
     return q0.data();
 }
 
-// The solve of one target into q (n): (success, iterations, restarts, position_error,
-// orientation_error), or None if T or q0 has a non-finite value (the Python layer then
-// names it: checking here spares a NumPy reduction per call).
-nb::object solve_one(const NumericSolver& solver, In T, In q0, std::uint64_t seed, Out q) {
+// What solve_one did: a result code (as ruckig's Result), the reason in the Python layer's words.
+enum NumericStatus : int { kSolved = 0, kTargetNotFinite = 1, kSeedNotFinite = 2 };
+
+// The solve of one target into q (n): (status, success, iterations, restarts, position_error,
+// orientation_error); a status other than kSolved says which input has a non-finite value and
+// nothing was solved (the Python layer names the values: checking here spares a NumPy reduction
+// per call).
+nb::tuple solve_one(const NumericSolver& solver, In T, In q0, std::uint64_t seed, Out q) {
     const std::size_t n = std::size_t(solver.chain.n);
     if (T.size() != 16 || q.size() != n) throw std::invalid_argument("solve: expected T (4, 4) and q (n,)");
     const double* seeds = optional_seeds(q0, n, "solve: expected q0 (n,) or None");
-    if (!all_finite(T.data(), 16) || (seeds && !all_finite(seeds, n))) return nb::none();
+    const auto unsolved = [](NumericStatus status) { return nb::make_tuple(int(status), false, 0, 0, 0.0, 0.0); };
+    if (!all_finite(T.data(), 16)) return unsolved(kTargetNotFinite);
+    if (seeds && !all_finite(seeds, n)) return unsolved(kSeedNotFinite);
     const NumericResult r = solve(solver, pose_from_matrix(T.data()), seeds, item_seed(seed, 0), q.data());
-    return nb::make_tuple(r.success, r.iterations, r.restarts, r.position_error, r.orientation_error);
+    return nb::make_tuple(int(kSolved), r.success, r.iterations, r.restarts, r.position_error, r.orientation_error);
 }
 
 void solve_many(const NumericSolver& solver, In T, In q0, std::uint64_t seed, int threads, Out q,
@@ -74,6 +80,7 @@ void solve_many(const NumericSolver& solver, In T, In q0, std::uint64_t seed, in
                 restarts.data(), position_error.data(), orientation_error.data());
 }
 
+#ifdef ARMKIT_TEST_BINDINGS  // bound for the tests only (CMake's ARMKIT_TEST_BINDINGS)
 void project_into_limits(const NumericSolver& solver, Out q, Out sides) {
     if (q.size() != std::size_t(solver.chain.n) || sides.size() != q.size())
         throw std::invalid_argument("project: expected q and sides (n,)");
@@ -93,6 +100,7 @@ void damped_step_of(In J, In e, InIndex rows, In sides, double damping, Out dq) 
     }
     damped_step(J.data(), int(n), e.data(), r, int(m), sides.data(), damping, dq.data());
 }
+#endif
 
 }  // namespace
 
@@ -102,24 +110,30 @@ void bind_numeric(nb::module_& m) {
         .def(nb::new_(&make_solver), nb::arg("chain"), nb::arg("rows"), nb::arg("position_tolerance"),
              nb::arg("orientation_tolerance"), nb::arg("damping_gain"), nb::arg("damping"),
              nb::arg("max_iterations"), nb::arg("max_restarts"), nb::arg("time_budget"),
-             nb::arg("respect_limits"))
+             nb::arg("within_limits"))
         .def("solve", &solve_one, nb::arg("T"), nb::arg("q0").none(), nb::arg("seed"), nb::arg("q"),
              "Solve fk(q) = T (4, 4) from q0 (n,) or the middle of the limits (None) into q (n,): "
-             "(success, iterations, restarts, position_error, orientation_error), restart seeds from "
-             "`seed`; None if T or q0 is not finite.")
+             "(status, success, iterations, restarts, position_error, orientation_error), restart seeds "
+             "from `seed`; status NUMERIC_SOLVED, or NUMERIC_TARGET_NOT_FINITE / NUMERIC_SEED_NOT_FINITE "
+             "(nothing solved).")
         .def("solve_batch", &solve_many, nb::arg("T"), nb::arg("q0").none(), nb::arg("seed"), nb::arg("threads"),
              nb::arg("q"), nb::arg("success"), nb::arg("iterations"), nb::arg("restarts"),
              nb::arg("position_error"), nb::arg("orientation_error"), nb::call_guard<nb::gil_scoped_release>(),
              "solve() of T (N, 4, 4) from q0 (N, n) or None into the outputs, over threads (0: all); "
              "pose i draws its restart seeds from stream i of `seed` (stream 0 is solve()'s), so the results "
              "do not depend on the thread count unless the time budget cuts a solve short.")
-        .def("project", &project_into_limits, nb::arg("q"), nb::arg("sides"),
-             "Move q (n,) into the limits in place; sides (n,) -1 / +1 at the lower / upper bound, else 0.")
         .def_prop_ro("n", [](const NumericSolver& s) { return s.chain.n; });
+    m.attr("NUMERIC_SOLVED") = int(kSolved);
+    m.attr("NUMERIC_TARGET_NOT_FINITE") = int(kTargetNotFinite);
+    m.attr("NUMERIC_SEED_NOT_FINITE") = int(kSeedNotFinite);
+#ifdef ARMKIT_TEST_BINDINGS
+    m.def("project", &project_into_limits, nb::arg("solver"), nb::arg("q"), nb::arg("sides"),
+          "Move q (n,) into the solver's limits in place; sides (n,) -1 / +1 at the lower / upper bound, else 0.");
     m.def("damped_step", &damped_step_of, nb::arg("J"), nb::arg("e"), nb::arg("rows"), nb::arg("sides"),
           nb::arg("damping"), nb::arg("dq"),
           "The Levenberg-Marquardt step dq (n,) for the task rows of J (6, n) and e (6,); joints held at "
           "a bound (sides -1 / +1) by the gradient are left out.");
+#endif
 }
 
 }  // namespace armkit::bindings

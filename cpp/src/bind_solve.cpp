@@ -133,6 +133,7 @@ nb::object solve_one(const ClosedForm& cf, In T, In near, In weights, bool withi
     return nearest ? owned_array(q, n) : owned_array(q, std::size_t(count), n);
 }
 
+#ifdef ARMKIT_TEST_BINDINGS  // the stages of solve_batch, bound for their tests only (CMake's ARMKIT_TEST_BINDINGS)
 void rank(const ClosedForm& cf, InIndex which, In near, In weights, bool within_limits, Out q, Out errors,
           OutBool flags, OutIndex count) {
     const std::size_t N = count.size();
@@ -161,6 +162,7 @@ void verify_candidates(const ClosedForm& cf, In T, Out q, Out errors, OutBool fl
         }
     }
 }
+#endif
 
 void candidates(const ClosedForm& cf, In T, Out q, OutBool valid, OutBool family, int threads) {
     const std::size_t N = poses(T), k = std::size_t(cf.k), n = std::size_t(cf.chain.n);
@@ -239,6 +241,7 @@ void bind_solve(nb::module_& m) {
           "One pose (4, 4): its usable solutions (count, n) nearest to near first, or with nearest the "
           "nearest one (n,); None if the target is not exactly rigid, near or weights are bad or no candidate "
           "is usable (then solve_batch and the Python layer take over).");
+#ifdef ARMKIT_TEST_BINDINGS
     m.def("rank", &rank, nb::arg("closed_form"), nb::arg("poses"), nb::arg("near").none(),
           nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("q"), nb::arg("errors"), nb::arg("flags"),
           nb::arg("count"), "Flag, count and sort again the candidates of the given poses (in place; the "
@@ -248,6 +251,7 @@ void bind_solve(nb::module_& m) {
           "FK residuals of the valid candidates q (N, k, n) of poses T (N, 4, 4) into errors (N, k, 2), rough "
           "ones (above kRefineAbove, 1e-13) refined on their branch (in place; the verification stage of "
           "solve_batch, bound for its tests).");
+#endif
     m.def("candidates", &candidates, nb::arg("closed_form"), nb::arg("T"), nb::arg("q"), nb::arg("valid"),
           nb::arg("family"), nb::arg("threads"), nb::call_guard<nb::gil_scoped_release>(),
           "Every closed-form candidate of poses T (N, 4, 4) into q (N, k, n), valid and family (N, k).");

@@ -38,33 +38,28 @@ double fk_difference(const Chain& chain, const Pose& T, const double* q) {
     return worst;
 }
 
+// Whether configurations a and b (n joints, prismatic flags) differ by at most gap in every joint
+// (revolute ones modulo 2 pi): the one comparison of two configurations here.
+bool within(const std::uint8_t* prismatic, int n, const double* a, const double* b, double gap) {
+    for (int j = 0; j < n; ++j) {
+        const double d = b[j] - a[j];
+        if (!(std::fabs(prismatic[j] ? d : wrap_angle(d)) <= gap)) return false;
+    }
+    return true;
+}
+
+bool within(const Chain& chain, const double* a, const double* b, double gap) {
+    return within(chain.prismatic.data(), chain.n, a, b, gap);
+}
+
 void mark_duplicates(const double* q, int k, int n, const bool* valid, const std::uint8_t* prismatic,
                      bool* duplicate) {
     for (int a = 0; a < k; ++a) duplicate[a] = false;
     for (int a = 0; a < k; ++a) {
         if (!valid[a]) continue;
-        for (int b = a + 1; b < k; ++b) {
-            bool same = true;
-            for (int j = 0; j < n; ++j) {
-                double diff = std::fabs(q[a * n + j] - q[b * n + j]);
-                if (!prismatic[j]) diff = std::min(diff, kTwoPi - diff);
-                if (!(diff <= kDuplicateTolerance)) {
-                    same = false;
-                    break;
-                }
-            }
-            if (same) duplicate[b] = true;
-        }
+        for (int b = a + 1; b < k; ++b)
+            if (within(prismatic, n, q + a * n, q + b * n, kDuplicateTolerance)) duplicate[b] = true;
     }
-}
-
-// Whether configurations a and b (n) differ by at most gap in every joint (revolute ones modulo 2 pi).
-bool within(const Chain& chain, const double* a, const double* b, double gap) {
-    for (int j = 0; j < chain.n; ++j) {
-        const double d = b[j] - a[j];
-        if (!(std::fabs(chain.prismatic[j] ? d : wrap_angle(d)) <= gap)) return false;
-    }
-    return true;
 }
 
 // The number of singular values of the Jacobian at q (n) within kNullSpace of the largest.

@@ -71,7 +71,7 @@ Attempt attempt(const NumericSolver& solver, const Pose& target, double* q, Best
     const double orientation_tolerance2 = s.orientation_tolerance * s.orientation_tolerance;
     Vec3 axes[kMaxJoints], points[kMaxJoints];
     double J[6 * kMaxJoints], e[6], sides[kMaxJoints] = {}, dq[kMaxJoints];
-    if (s.respect_limits) project(chain, q, sides);
+    if (s.within_limits) project(chain, q, sides);
     double reference = std::numeric_limits<double>::infinity();
     double position = reference, orientation = reference;
     int since = 0, steps = 0;
@@ -107,7 +107,7 @@ Attempt attempt(const NumericSolver& solver, const Pose& target, double* q, Best
         jacobian_from_axes(T, axes, points, chain.prismatic.data(), n, J);
         damped_step(J, n, e, s.rows, s.m, sides, s.damping_gain * cost + s.damping, dq);
         for (int i = 0; i < n; ++i) q[i] += dq[i];
-        if (s.respect_limits) project(chain, q, sides);
+        if (s.within_limits) project(chain, q, sides);
     }
     return {false, steps, std::sqrt(position), std::sqrt(orientation)};
 }

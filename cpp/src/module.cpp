@@ -11,4 +11,9 @@ NB_MODULE(_core, m) {
     armkit::bindings::bind_workspace(m);
     armkit::bindings::bind_topp(m);
     armkit::bindings::bind_dynamics(m);
+#ifdef ARMKIT_TEST_BINDINGS
+    m.attr("TEST_BINDINGS") = true;  // rank, verify_candidates, project, damped_step, quartic_roots
+#else
+    m.attr("TEST_BINDINGS") = false;
+#endif
 }

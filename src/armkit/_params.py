@@ -1,9 +1,10 @@
 """Checks of numeric parameters, one per kind: each returns the value as a Python number or
 raises one :class:`~armkit.errors.InputError` naming the parameter, the value and the valid range.
 
-``threads=`` means the same everywhere (FK, Jacobians, IK, numeric IK batches): ``None`` or
-``0`` is every core, ``1`` to :data:`MAX_THREADS` exactly that many threads, anything else
-is refused.
+``threads=`` means the same everywhere (FK, Jacobians, IK, numeric IK batches, dynamics,
+collision scenes, workspace engines): ``None`` is every core, ``1`` to :data:`MAX_THREADS` exactly
+that many threads, anything else (``0``, a negative number, a float) is refused
+(:func:`thread_count`).
 """
 
 from __future__ import annotations
@@ -12,11 +13,12 @@ import math
 from numbers import Integral, Real
 
 import numpy as np
+from numpy.typing import NDArray
 
 from armkit.errors import InputError
 
-__all__ = ["MAX_COUNT", "MAX_THREADS", "core_ready", "non_negative_float", "positive_float", "thread_count",
-           "whole_number"]
+__all__ = ["MAX_COUNT", "MAX_THREADS", "core_ready", "float_array", "non_negative_float", "positive_float",
+           "thread_count", "whole_number"]
 
 _FLOAT64 = np.dtype(np.float64)  # native byte order
 
@@ -46,7 +48,8 @@ def positive_float(value: object, name: str, *, maximum: float = math.inf) -> fl
     number = _real(value)
     if number is None or not 0.0 < number <= maximum or not math.isfinite(number):
         bound = "> 0" if maximum == math.inf else f"in (0, {maximum:g}]"
-        raise InputError(f"{name}: expected a finite number {bound}, got {value!r}")
+        raise InputError(f"{name}: expected a finite number {bound}, got {value!r}", parameter=name,
+                         value=value)
     return number
 
 
@@ -62,7 +65,7 @@ def non_negative_float(value: object, name: str, *, infinite: bool = False) -> f
     number = _real(value)
     if number is None or not number >= 0.0 or (number == math.inf and not infinite):
         kind = "a number >= 0 (inf: no bound)" if infinite else "a finite number >= 0"
-        raise InputError(f"{name}: expected {kind}, got {value!r}")
+        raise InputError(f"{name}: expected {kind}, got {value!r}", parameter=name, value=value)
     return number
 
 
@@ -74,26 +77,47 @@ def whole_number(value: object, name: str, *, minimum: int, maximum: int = MAX_C
     armkit.errors.InputError: max_iterations: expected a whole number from 1 to 2147483647, got 1000000000000
     """
     if isinstance(value, bool) or not isinstance(value, Integral) or not minimum <= value <= maximum:
-        raise InputError(f"{name}: expected a whole number from {minimum} to {maximum}, got {value!r}")
+        raise InputError(f"{name}: expected a whole number from {minimum} to {maximum}, got {value!r}",
+                         parameter=name, value=value)
     return int(value)
 
 
 def thread_count(value: object, name: str = "threads") -> int:
-    """Threads to split a batch over, for the core: ``0`` for every core (``None`` or ``0``), else
-    ``1`` to :data:`MAX_THREADS`.
+    """``threads=`` as every armkit function takes it, for the core: ``None`` (every core) gives ``0``,
+    a whole number from 1 to :data:`MAX_THREADS` that many threads; anything else (``0``, a negative
+    number, a float, a bool) is refused. The one check of the word ``threads``.
 
     >>> thread_count(None), thread_count(2)
     (0, 2)
-    >>> thread_count(-1)
+    >>> thread_count(0)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
-    armkit.errors.InputError: threads: expected None or 0 (every core) or 1 to 1024 threads, got -1
+    armkit.errors.InputError: threads: expected None (every core) or a whole number of threads from 1 to ...
     """
     if value is None:
         return 0
-    if isinstance(value, bool) or not isinstance(value, Integral) or not 0 <= value <= MAX_THREADS:
-        raise InputError(f"{name}: expected None or 0 (every core) or 1 to {MAX_THREADS} threads, "
-                         f"got {value!r}")
+    if isinstance(value, bool) or not isinstance(value, Integral) or not 1 <= value <= MAX_THREADS:
+        raise InputError(f"{name}: expected None (every core) or a whole number of threads from 1 to "
+                         f"{MAX_THREADS}, got {value!r}", parameter=name, value=value)
     return int(value)
+
+
+def float_array(value: object, label: str, expected: str) -> NDArray[np.float64]:
+    """``value`` as a C-ordered float64 array (itself if it already is one, :func:`core_ready`);
+    its shape and values are the caller's to check.
+
+    >>> float_array([1, 2], "near", "2 joint values").dtype
+    dtype('float64')
+    >>> float_array("x", "near", "2 joint values")
+    Traceback (most recent call last):
+    armkit.errors.InputError: near: expected 2 joint values, got 'x'
+    """
+    if core_ready(value):
+        return value
+    try:
+        return np.ascontiguousarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{label}: expected {expected}, got {value!r}", parameter=label,
+                         value=value) from exc
 
 
 def core_ready(value: object, shape: tuple[int, ...] = (), *, exact: bool = False) -> bool:

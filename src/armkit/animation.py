@@ -15,18 +15,22 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
-from matplotlib.ticker import MaxNLocator
-from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the "3d" projection)
 from numpy.typing import ArrayLike, NDArray
-from PIL import Image
 
 from armkit import kinematics
 from armkit._io import atomic_write
-from armkit.errors import InputError
+from armkit.errors import InputError, missing_extra
 from armkit.export.physical import PhysicalModel, physical_model
 from armkit.robot import Robot
+
+try:  # optional dependencies (the extra "plot")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
+    from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the "3d" projection)
+    from PIL import Image
+except ImportError as exc:
+    raise missing_extra("plot", "plots need matplotlib and Pillow") from exc
 
 if TYPE_CHECKING:  # a scene is MuJoCo's: imported only by whoever builds one
     from armkit.collision.scene import Scene, WorldShape

@@ -148,8 +148,14 @@ class Joint:
 class Chain:
     """A serial chain: base transform, joints in order, tool transform.
 
+    Every field is declared here; those after ``T_tool`` are computed once from the first three
+    (read-only arrays) or filled on first use (``_derived``).
+
     Attributes
     ----------
+    T_between : ndarray (n + 1, 4, 4)
+        The fixed transforms between consecutive joint motions (base to the first, ..., the last
+        to the tool): what FK multiplies.
     lower, upper : ndarray (n,)
         The joints' position limits [rad or m], read-only (computed once).
     """
@@ -157,6 +163,12 @@ class Chain:
     joints: tuple[Joint, ...]
     T_base: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
     T_tool: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
+    T_between: NDArray[np.float64] = field(init=False, repr=False, compare=False)
+    lower: NDArray[np.float64] = field(init=False, repr=False, compare=False)
+    upper: NDArray[np.float64] = field(init=False, repr=False, compare=False)
+    #: What :meth:`derived` made, by the function that made it.
+    _derived: dict[Callable[[Chain], object], object] = field(
+        init=False, repr=False, compare=False, default_factory=dict)
 
     def __post_init__(self) -> None:
         if len(self.joints) == 0:
@@ -192,6 +204,19 @@ class Chain:
         return _core.Chain(np.ascontiguousarray(self.T_between), np.ascontiguousarray(self.prismatic),
                            np.ascontiguousarray(self.lower), np.ascontiguousarray(self.upper))
 
+    @property
+    def link_length(self) -> float:
+        """The arm's length scale [m]: the sum of the distances between consecutive frame origins
+        (base to the first joint, joint to joint, the last joint to the tool, at ``q = 0``), the
+        one definition of "the size of the arm" outside IK's tolerances.
+
+        Examples
+        --------
+        >>> round(chain_from_dh([DHRow(0, 0.5, 0.2, 0)] * 2, "standard").link_length, 6)  # 2 * sqrt(0.29)
+        1.077033
+        """
+        return float(np.linalg.norm(self.T_between[:, :3, 3], axis=-1).sum())
+
     @cached_property
     def spans_turns(self) -> tuple[int, ...]:
         """The revolute joints (0-based) whose finite limits span more than a whole turn:
@@ -199,14 +224,21 @@ class Chain:
         limits, distinct configurations with the same tool pose (IK lists them all)."""
         return tuple(self._core.spans_turns)
 
-    def derived(self, key: str, make: Callable[[], _Derived]) -> _Derived:
-        """``make()``, computed once per chain and kept with it (solvers and the like).
+    def derived(self, make: Callable[[Chain], _Derived]) -> _Derived:
+        """``make(self)``, computed once per chain and kept with it (solvers and the like), keyed
+        by the function ``make`` itself (a module-level function, so one entry per kind).
 
         The value lives as long as the chain does: no global cache keeps chains alive.
+
+        Examples
+        --------
+        >>> chain = chain_from_dh([DHRow(0, 1.0, 0, 0)], "standard")
+        >>> chain.derived(len_of := lambda c: c.n) == 1 and chain.derived(len_of) is chain._derived[len_of]
+        True
         """
-        if key not in self.__dict__:
-            self.__dict__[key] = make()
-        return self.__dict__[key]
+        if make not in self._derived:
+            self._derived[make] = make(self)
+        return self._derived[make]
 
     def outside_limits(self, q: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Per joint, whether the values ``q`` ``(..., n)`` (float, not checked) leave its
@@ -235,6 +267,23 @@ class Chain:
         array([ True, False])
         """
         return ~np.any(self.outside_limits(q), axis=-1)
+
+    def limit_fields(self, q: NDArray[np.float64]) -> dict[str, object]:
+        """The first joint of ``q`` ``(n,)`` outside its limits (:meth:`outside_limits`), as the
+        keyword arguments of :class:`~armkit.errors.JointLimitError`: ``joint`` (its name),
+        ``value`` [rad or m] and ``limits``; empty if every joint is inside.
+
+        Examples
+        --------
+        >>> chain = chain_from_dh([DHRow(0, 1.0, 0, 0)] * 2, "standard", limits=[(-1.0, 1.0)] * 2)
+        >>> chain.limit_fields(np.array([0.5, 1.5]))
+        {'joint': 'q2', 'value': 1.5, 'limits': (-1.0, 1.0)}
+        """
+        outside = np.flatnonzero(self.outside_limits(q))
+        if not len(outside):
+            return {}
+        joint = self.joints[outside[0]]
+        return {"joint": joint.name, "value": float(q[outside[0]]), "limits": (joint.lower, joint.upper)}
 
     def limit_violations(self, q: NDArray[np.float64], degrees: bool = False, *,
                          q_max: NDArray[np.float64] | None = None, where: str = "") -> list[str]:

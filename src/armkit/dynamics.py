@@ -57,9 +57,10 @@ def missing_inertia(chain: Chain) -> str | None:
 
 def _model(chain: Chain) -> _core.Dynamics:
     """The chain's bodies in their joint frames, as the core takes them (made once per chain)."""
-    made = chain.__dict__.get("dynamics")  # where Chain.derived keeps it: the one-state calls' fast path
-    if made is not None:
-        return made
+    return chain.derived(_make_model)
+
+
+def _make_model(chain: Chain) -> _core.Dynamics:
     missing = missing_inertia(chain)
     if missing is not None:
         raise RobotDefinitionError(
@@ -67,15 +68,11 @@ def _model(chain: Chain) -> _core.Dynamics:
             f"computed; give them (robot file keys mass, com, inertia; URDF <inertial>) or ask for an "
             f"estimate: robot.with_estimated_inertia(density=...), --estimate-inertia DENSITY on the "
             f"command line")
-
-    def make() -> _core.Dynamics:
-        bodies = [joint.inertial.moved(joint.T_after) for joint in chain.joints]
-        mass = np.array([b.mass for b in bodies])
-        moment = np.array([b.mass * b.com for b in bodies])
-        inertia = np.array([b.about_origin() for b in bodies])
-        return _core.Dynamics(chain._core, mass, moment, inertia, GRAVITY)  # GRAVITY: for one-state calls
-
-    return chain.derived("dynamics", make)
+    bodies = [joint.inertial.moved(joint.T_after) for joint in chain.joints]
+    mass = np.array([b.mass for b in bodies])
+    moment = np.array([b.mass * b.com for b in bodies])
+    inertia = np.array([b.about_origin() for b in bodies])
+    return _core.Dynamics(chain._core, mass, moment, inertia, GRAVITY)  # GRAVITY: for one-state calls
 
 
 def _gravity(gravity: ArrayLike) -> NDArray[np.float64]:

@@ -29,7 +29,30 @@ class ArmkitError(Exception):
 
 
 class InputError(ArmkitError, ValueError):
-    """An argument has the wrong shape, type or value (NaN, non-rigid matrix, ...)."""
+    """An argument has the wrong shape, type or value (NaN, non-rigid matrix, ...).
+
+    Attributes
+    ----------
+    parameter : str or None
+        The argument's name, where the check that raised knows it (every check of
+        :mod:`armkit._params` does: ``"threads"``, ``"position_tolerance"``, ...).
+    value : object
+        The value it refused (None where not given).
+
+    Examples
+    --------
+    >>> import armkit
+    >>> try:
+    ...     armkit.load("ur5").fk([0.0] * 6, threads=0)
+    ... except InputError as exc:
+    ...     exc.parameter, exc.value
+    ('threads', 0)
+    """
+
+    def __init__(self, message: str, *, parameter: str | None = None, value: object = None) -> None:
+        super().__init__(message)
+        self.parameter = parameter
+        self.value = value
 
 
 class RobotDefinitionError(ArmkitError, ValueError):
@@ -39,16 +62,39 @@ class RobotDefinitionError(ArmkitError, ValueError):
 class JointLimitError(ArmkitError, ValueError):
     """A joint value lies outside the joint's limits.
 
+    The message says it in words; the attributes say it in numbers (SI units, whatever units
+    the message uses), so a caller need not parse the message.
+
     Attributes
     ----------
     q : ndarray or None
         The configuration ``(n,)`` [rad or m] the message is about, where there is one (so
         that a caller can say it again in its own units), else None.
+    joint : str or None
+        The name of the (first) joint outside its limits, where one is known.
+    value : float or None
+        That joint's value [rad or m].
+    limits : tuple of (float, float) or None
+        That joint's ``(lower, upper)`` limits [rad or m].
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("panda")
+    >>> try:
+    ...     robot.check_limits([0, 0, 0, 0.5, 0, 1.0, 0])
+    ... except JointLimitError as exc:
+    ...     exc.joint, exc.value, exc.limits
+    ('q4', 0.5, (-3.0718, -0.0698))
     """
 
-    def __init__(self, message: str, q: object = None) -> None:
+    def __init__(self, message: str, q: object = None, *, joint: str | None = None,
+                 value: float | None = None, limits: tuple[float, float] | None = None) -> None:
         super().__init__(message)
         self.q = q
+        self.joint = joint
+        self.value = value
+        self.limits = limits
 
 
 class UnreachableError(ArmkitError):
@@ -109,6 +155,16 @@ class PlanningError(ArmkitError):
 class SolutionsLeftOffWarning(UserWarning):
     """More solutions exist than are listed (e.g. whole-turn copies of joints whose limits
     span several turns); the nearest ones are listed. Not an error: a warning."""
+
+
+def missing_extra(extra: str, needs: str) -> ArmkitError:
+    """The error for an optional dependency that is not installed: ``needs`` says what needs it
+    (``"plots need matplotlib"``), and the message how to install it (armkit's extra ``extra``).
+
+    >>> str(missing_extra("plot", "plots need matplotlib and Pillow"))
+    "plots need matplotlib and Pillow, which are not installed: pip install 'armkit[plot]'"
+    """
+    return ArmkitError(f"{needs}, which are not installed: pip install 'armkit[{extra}]'")
 
 
 def warn_at_caller(warning: Warning) -> None:

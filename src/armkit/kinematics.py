@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
+from armkit._deprecation import deprecated_method
 from armkit._params import core_ready, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError
@@ -83,7 +84,7 @@ def fk(robot: Robot | Chain, q: ArrayLike, *, threads: int | None = None) -> NDA
     q : array_like, shape (..., n)
         Joint values [rad or m].
     threads : int, optional
-        Threads for a batch: ``None`` or 0 (default) every core, else 1 to 1024; the result
+        Threads for a batch: ``None`` (default) every core, else 1 to 1024; the result
         does not depend on it.
 
     Raises
@@ -154,7 +155,7 @@ def geometric_jacobian(robot: Robot | Chain, q: ArrayLike, frame: str = "base", 
         Frame the twist is expressed in. ``"base"``: ``[v; w]`` of the tool origin in base
         coordinates; ``"tool"``: the same twist in tool coordinates.
     threads : int, optional
-        Threads for a batch: ``None`` or 0 (default) every core, else 1 to 1024; the result
+        Threads for a batch: ``None`` (default) every core, else 1 to 1024; the result
         does not depend on it.
     """
     chain = as_chain(robot)
@@ -246,7 +247,9 @@ class ChainKernel:
 
     The same results as :func:`fk` and :func:`geometric_jacobian`, without their input
     checks: ``q`` must be a float64 array of shape ``(n,)``, finite. Every returned array
-    is new.
+    is new. As everywhere in armkit, ``fk`` gives the 4x4 ``T_base_tool`` and a *pose* is the
+    6-vector of :meth:`armkit.Robot.pose` (``pose`` and ``pose_jacobian`` are this class's
+    deprecated old names of :meth:`fk` and :meth:`fk_jacobian`).
 
     Parameters
     ----------
@@ -258,7 +261,7 @@ class ChainKernel:
     >>> robot = armkit.load("panda")
     >>> kernel = ChainKernel(robot)
     >>> q = np.array([0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5])
-    >>> T, J = kernel.pose_jacobian(q)
+    >>> T, J = kernel.fk_jacobian(q)
     >>> bool(np.allclose(T, fk(robot, q), atol=1e-14))
     True
     >>> J.shape
@@ -270,21 +273,22 @@ class ChainKernel:
         self.n = chain.n
         self._chain = chain._core
 
-    def pose(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Tool pose ``T_base_tool`` ``(4, 4)`` at joint values ``q`` ``(n,)`` [rad or m]."""
+    def fk(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Tool transform ``T_base_tool`` ``(4, 4)`` at joint values ``q`` ``(n,)`` [rad or m]."""
         T = np.empty((4, 4))
         _core.fk(self._chain, q, T, 1)
         return T
 
-    def pose_jacobian(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Tool pose ``(4, 4)`` and base-frame geometric Jacobian ``(6, n)``, rows ``[v; w]``."""
+    def fk_jacobian(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Tool transform ``T_base_tool`` ``(4, 4)`` and base-frame geometric Jacobian ``(6, n)``,
+        rows ``[v; w]``."""
         T, J = np.empty((4, 4)), np.empty((6, self.n))
         _core.jacobian(self._chain, q, J, T, 1)
         return T, J
 
     def jacobian(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Base-frame geometric Jacobian ``(6, n)``, rows ``[v; w]`` [m/s, rad/s per joint rate]."""
-        return self.pose_jacobian(q)[1]
+        return self.fk_jacobian(q)[1]
 
     def joint_axes(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Joint axes ``(n, 3)`` (unit vectors) and points on them ``(n, 3)`` [m], base frame.
@@ -296,3 +300,6 @@ class ChainKernel:
         axes, points = np.empty((self.n, 3)), np.empty((self.n, 3))
         _core.joint_axes(self._chain, q, axes, points)
         return axes, points
+
+    pose = deprecated_method("pose", "fk")
+    pose_jacobian = deprecated_method("pose_jacobian", "fk_jacobian")

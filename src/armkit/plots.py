@@ -17,13 +17,17 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from matplotlib.figure import Figure
-from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the "3d" projection)
 
 from armkit._io import atomic_write, check_output_path
-from armkit.errors import InputError
+from armkit.errors import InputError, missing_extra
 from armkit.robot import Robot
 from armkit.trajectory.joint_trajectory import JointTrajectory
+
+try:  # an optional dependency (the extra "plot")
+    from matplotlib.figure import Figure
+    from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the "3d" projection)
+except ImportError as exc:
+    raise missing_extra("plot", "plots need matplotlib and Pillow") from exc
 
 __all__ = ["plot_pva", "plot_tool_path", "save_figure"]
 

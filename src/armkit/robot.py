@@ -259,7 +259,8 @@ class Robot:
         """Return ``q`` if every value is inside its limits, else raise :class:`JointLimitError`."""
         violations = self.limit_violations(q, degrees)
         if violations:
-            raise JointLimitError("; ".join(violations))
+            q = self.check_q(q)
+            raise JointLimitError("; ".join(violations), q, **self.chain.limit_fields(q))
         return self.check_q(q)
 
     # ----------------------------------------------------------------- kinematics
@@ -596,7 +597,7 @@ class Robot:
         q[list(out)] = list(out.values())
         violations = self.limit_violations(self.check_q(q, "locked joint values"))
         if violations:
-            raise JointLimitError("cannot lock: " + "; ".join(violations))
+            raise JointLimitError("cannot lock: " + "; ".join(violations), q, **self.chain.limit_fields(q))
         return out
 
 

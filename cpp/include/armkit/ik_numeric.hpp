@@ -34,7 +34,7 @@ struct NumericSettings {
     int max_iterations = 30;              // steps per attempt
     int max_restarts = 100;               // random seeds after the first attempt
     double time_budget = 0.5;             // [s] wall clock, checked between attempts
-    bool respect_limits = true;
+    bool within_limits = true;            // every step projected into the joint limits
 };
 
 struct NumericResult {

@@ -34,7 +34,7 @@ from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, pair_text
 from armkit.ik.messages import outside_limits
 from armkit.ik.pipeline import count_turn_copies
-from armkit.ik.position import position_case, position_solutions
+from armkit.ik.position import ik_position_solutions, position_case
 from armkit.ik.solve import ik_solutions
 from armkit.ik.structure import analyze_structure
 from armkit.robot import Robot
@@ -114,7 +114,7 @@ def _position_ik(arm: Robot, p: np.ndarray, all_solutions: bool, near: np.ndarra
         return q, np.ones(1, dtype=int), np.zeros(1, dtype=bool), False, "numeric (Levenberg-Marquardt)"
     q = np.atleast_2d(arm.ik_position(p, all_solutions=all_solutions, near=near, within_limits=not outside,
                                       turn_copies=turn_copies))
-    found = position_solutions(arm, p, near=near, turn_copies=turn_copies)
+    found = ik_position_solutions(arm, p, near=near, turn_copies=turn_copies)
     order = np.argsort(~found.within_limits, kind="stable")
     distance = np.abs(q[:, None, :] - found.q[order][None]).max(axis=-1)
     index = np.argmin(distance, axis=1)

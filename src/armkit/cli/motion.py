@@ -51,7 +51,7 @@ def _start(robot: Robot, first: str | None, rest: list[str] | None, degrees: boo
     words = option_values(first, rest, "--from", "start joint values")
     q = np.zeros(robot.n) if words is None else to_si(robot, words, degrees)
     if violations := robot.limit_violations(q, degrees):  # said in the units typed
-        raise JointLimitError("--from: " + "; ".join(violations), q)
+        raise JointLimitError("--from: " + "; ".join(violations), q, **robot.chain.limit_fields(q))
     return q
 
 

@@ -144,7 +144,8 @@ def plan_command(
     joints = _joint_lists(arm, list(ctx.params), {"--from": start, "--to": goal}, values or [], deg)
     for option in ("--from", "--to"):  # said in the units typed, naming the option
         if joints[option] is not None and (outside := arm.limit_violations(joints[option], deg)):
-            raise JointLimitError(f"{option}: {'; '.join(outside)}")
+            raise JointLimitError(f"{option}: {'; '.join(outside)}", joints[option],
+                                  **arm.chain.limit_fields(joints[option]))
     q_start = arm.home if joints["--from"] is None else joints["--from"]
     target = joints["--to"] if to_pose is None else _target(to_pose, None, None, parse_convention(euler), deg)
     limits = planning_limits(arm, _limit_option(max_velocity, arm, deg, "--max-velocity"),

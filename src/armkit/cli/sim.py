@@ -94,7 +94,7 @@ def _comparison_table(table: PoseComparison, title: str) -> Table:
         out.add_row(label, "computed", *(fmt_number(v, 6) for v in table.computed[k]), "", "")
         out.add_row("", "simulated", *(fmt_number(v, 6) for v in table.simulated[k]), "", "")
         out.add_row("", "error", *(f"{v:.1e}" for v in table.error[k]), f"{table.position_error[k]:.1e}",
-                    f"{table.rotation_error[k]:.1e}", end_section=True)
+                    f"{table.orientation_error[k]:.1e}", end_section=True)
     return out
 
 
@@ -105,7 +105,7 @@ def _tracking_summary(robot: Robot, result: SimResult) -> dict:
             "max_joint_error": np.abs(result.joint_error).max(axis=0),
             "max_tool_position_error_m": float(np.linalg.norm(
                 result.T_tool[:, :3, 3] - T_command[:, :3, 3], axis=-1).max()),
-            "max_tool_rotation_error_rad": float(rotation_angle_between(result.T_tool, T_command).max())}
+            "max_tool_orientation_error_rad": float(rotation_angle_between(result.T_tool, T_command).max())}
 
 
 def _tracking_lines(robot: Robot, summary: dict) -> list[str]:
@@ -119,7 +119,7 @@ def _tracking_lines(robot: Robot, summary: dict) -> list[str]:
             f"largest |q_MuJoCo - q_command|: {joint_errors}",
             f"largest tool error (MuJoCo vs FK of the command): position "
             f"{summary['max_tool_position_error_m']:.2e} m, "
-            f"rotation {summary['max_tool_rotation_error_rad']:.2e} rad"]
+            f"rotation {summary['max_tool_orientation_error_rad']:.2e} rad"]
 
 
 @app.command("sim", context_settings=ALLOW_NEGATIVE)
@@ -199,7 +199,7 @@ def sim_command(
                 for name, simulated in zip(rows, (sim.tool_pose(configurations), settled), strict=True)}
         print_json({"robot": arm.name, "q": configurations, "convention": euler, **{
             name: {"computed": c.computed, "simulated": c.simulated, "error": c.error,
-                   "position_error_m": c.position_error, "rotation_error_rad": c.rotation_error}
+                   "position_error_m": c.position_error, "orientation_error_rad": c.orientation_error}
             for name, c in rows.items()}},
                    {"q": JOINT_UNITS, "computed": "x y z in m, three angles in rad",
                     "simulated": "as computed", "error": "as computed"})

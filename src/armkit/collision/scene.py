@@ -106,7 +106,7 @@ class Scene:
         Random configurations that find the always/never-touching pairs (0: no sampling; at most
         :data:`MAX_SAMPLES`).
     threads : int, optional
-        Threads for batches (``None`` or 0: every core).
+        Threads for batches (``None``: every core; see :func:`armkit._params.thread_count`).
     relative_to : path, optional
         Folder that relative obstacle mesh paths start from (a scene file's folder).
 

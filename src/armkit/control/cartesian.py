@@ -143,7 +143,8 @@ def _by_ik(robot: Robot, q0: NDArray[np.float64], poses: NDArray[np.float64],
                                    exc.position_error, exc.orientation_error) from exc
         except JointLimitError as exc:
             raise JointLimitError(f"Cartesian line: {_point(poses, t, k)} needs joints outside "
-                                  f"their limits: {exc}") from exc
+                                  f"their limits: {exc}", exc.q, joint=exc.joint, value=exc.value,
+                                  limits=exc.limits) from exc
         jump = np.abs(q[k] - q[k - 1])
         if jump.max() > max_joint_step:
             j = int(np.argmax(jump))

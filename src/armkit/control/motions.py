@@ -251,7 +251,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     lower, upper = robot.limits.T
     message, last = "", N - 1
     for k in range(N - 1):
-        T, J = control.kernel.pose_jacobian(q)
+        T, J = control.kernel.fk_jacobian(q)
         poses[k] = T
         dt = t[k + 1] - t[k]
         feedforward = pose_error(reference[k + 1], reference[k]) / dt
@@ -266,12 +266,13 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
             message = (f"joint {robot.joint_names[joint]} reached its {side} limit {q[joint]:.6g} at "
                        f"t = {t[k] + fraction * dt:.4g} s of {t[-1]:.4g} s; the motion stopped there")
             if not stop_at_limits:
-                raise JointLimitError(message)
+                raise JointLimitError(message, q.copy(), joint=robot.joint_names[joint],
+                                      value=float(q[joint]), limits=(lower[joint], upper[joint]))
             last = k + 1
         qs[k + 1] = q
         if message:
             break
-    T, J = control.kernel.pose_jacobian(q)
+    T, J = control.kernel.fk_jacobian(q)
     poses[last] = T
     sigma[last] = control._solve(J, np.zeros(6)).sigma_min
     sl = slice(0, last + 1)

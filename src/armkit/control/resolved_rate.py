@@ -233,7 +233,7 @@ class ResolvedRate:
         if q.ndim != 1:
             raise InputError(f"q: expected one configuration of {self._n} values, got shape {q.shape}")
         twist = check_twist(twist)
-        T, J = self.kernel.pose_jacobian(q)
+        T, J = self.kernel.fk_jacobian(q)
         if frame == "tool":
             twist = np.concatenate((T[:3, :3] @ twist[:3], T[:3, :3] @ twist[3:]))
         elif frame != "base":

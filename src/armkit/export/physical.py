@@ -242,7 +242,7 @@ def physical_model(robot: Robot) -> PhysicalModel:
     chain = robot.chain
     between = chain.T_between
     radius, base, bodies = capsule_bodies(robot)
-    reach = float(np.linalg.norm(between[:, :3, 3], axis=-1).sum())  # the total link length [m]
+    reach = chain.link_length  # the total link length [m]
     if missing_inertia(chain) is None:  # the robot's own masses, in the joint frames
         bodies = tuple(_with_inertial(body, joint.inertial.moved(joint.T_after))
                        for body, joint in zip(bodies, chain.joints, strict=True))

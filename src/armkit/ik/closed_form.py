@@ -28,12 +28,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit._deprecation import deprecated_constants
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik.cases import POSITION_CASES, CaseGeometry, solve_pose
 from armkit.ik.structure import ArmStructure, SolverPlan, plan_closed_form
 from armkit.ik.subproblems import sp4, trig_coeffs
+from armkit.spatial.lines import closest_points
 from armkit.spatial.transforms import check_transform
 
 if TYPE_CHECKING:
@@ -45,8 +45,7 @@ __all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_
 #: A candidate counts only if its FK matches the target to this, times ``1 + arm size``
 #: (entries of the 4x4 matrix, metres / dimensionless). It only rejects non-solutions:
 #: the solutions themselves reproduce reachable poses to about 1e-13, and what IK returns
-#: is checked again, to :data:`armkit.ik.results.SOLUTION_TOLERANCE`. (Its old name
-#: ``VERIFY_TOLERANCE`` was also the old name of that one; it still works, with a warning.)
+#: is checked again, to :data:`armkit.ik.results.SOLUTION_TOLERANCE`.
 CANDIDATE_TOLERANCE = 1e-8
 #: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution
 #: (the core's, ``cpp/include/armkit/tolerances.hpp``).
@@ -99,12 +98,6 @@ def _unit_normal(h: Array) -> Array:
     return u / np.linalg.norm(u)
 
 
-def _closest_points(p_a: Array, h_a: Array, p_b: Array, h_b: Array) -> tuple[Array, Array]:
-    """The points of lines ``(p_a, h_a)`` and ``(p_b, h_b)`` closest to each other."""
-    s, t = np.linalg.lstsq(np.stack([h_a, -h_b], axis=1), p_b - p_a, rcond=None)[0]
-    return p_a + s * h_a, p_b + t * h_b
-
-
 def _vector(v: ArrayLike | None) -> tuple[float, float, float]:
     return (0.0, 0.0, 0.0) if v is None else tuple(float(x) for x in np.asarray(v, dtype=float))
 
@@ -146,7 +139,7 @@ def _general_position(poe, c: Array) -> tuple[_core.TwoAngleSystem, tuple, tuple
     ``|y - o2|^2 = |x - o2|^2``, each first order in its angle.
     """
     h, p = poe.axes, poe.points
-    o2, o3 = _closest_points(p[1], h[1], p[2], h[2])
+    o2, o3 = closest_points(p[1], h[1], p[2], h[2])
     height = trig_coeffs(_vector(h[1]), _vector(h[2]), _vector(c - o3))
     distance = trig_coeffs(_vector(2.0 * (o3 - o2)), _vector(h[2]), _vector(c - o3))
     Q = np.array([[height[1], height[2]], [distance[1], distance[2]]])
@@ -229,7 +222,7 @@ class ClosedFormSolver:
         points of axes 5 and 6."""
         h_all, p = poe.axes, poe.points
         h = h_all[1]
-        p5, p6 = _closest_points(p[4], h_all[4], p[5], h_all[5])
+        p5, p6 = closest_points(p[4], h_all[4], p[5], h_all[5])
         # right-hand sides h . R(h5, q5) v = const + c cos q5 + d sin q5, for v = h6, p6 - p5
         rows = [trig_coeffs(_vector(h), _vector(h_all[4]), _vector(v)) for v in (h_all[5], p6 - p5)]
         Q = np.array([[r[1], r[2]] for r in rows])
@@ -253,8 +246,8 @@ class ClosedFormSolver:
         of axes 4-6 (``o4, o5`` closest to each other)."""
         h_all, p = poe.axes, poe.points
         h = h_all[0]
-        o4, o5 = _closest_points(p[3], h_all[3], p[4], h_all[4])
-        o6 = _closest_points(p[4], h_all[4], p[5], h_all[5])[1]
+        o4, o5 = closest_points(p[3], h_all[3], p[4], h_all[4])
+        o6 = closest_points(p[4], h_all[4], p[5], h_all[5])[1]
         rows = [trig_coeffs(_vector(h), _vector(h_all[3]), _vector(v)) for v in (h_all[4], o5 - o4)]
         Q = np.array([[r[1], r[2]] for r in rows])
         f = (rows[0][0], rows[1][0] + float(h @ o4))
@@ -337,7 +330,7 @@ def closed_form_solver(robot: Robot | Chain) -> ClosedFormSolver:
 def solver_or_reason(robot: Robot | Chain) -> ClosedFormSolver | NoClosedFormError:
     """The chain's closed-form solver, or the error saying why it has none (made once)."""
     chain = as_chain(robot)
-    return chain.derived("closed_form_solver", lambda: _make_solver(chain))
+    return chain.derived(_make_solver)
 
 
 def _make_solver(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
@@ -381,7 +374,3 @@ def closed_form_ik(robot: Robot | Chain, T_base_tool: ArrayLike) -> ClosedFormSo
     ((8, 6), 8)
     """
     return closed_form_solver(robot).solve(T_base_tool)
-
-
-__getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "CANDIDATE_TOLERANCE"},
-                                   {"CANDIDATE_TOLERANCE": CANDIDATE_TOLERANCE})

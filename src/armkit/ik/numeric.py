@@ -46,14 +46,20 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
 from armkit._deprecation import deprecated_property, renamed_argument
-from armkit._params import core_ready, non_negative_float, positive_float, thread_count, whole_number
+from armkit._params import (
+    float_array,
+    non_negative_float,
+    positive_float,
+    thread_count,
+    whole_number,
+)
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError
 
@@ -138,25 +144,15 @@ def _task_rows(mask: ArrayLike | None) -> list[int]:
     return np.flatnonzero(m).tolist()
 
 
-def _float_array(value: Any, label: str, expected: str) -> NDArray[np.float64]:
-    """``value`` as a C-ordered float64 array (itself if it already is one)."""
-    if core_ready(value):
-        return value
-    try:
-        return np.ascontiguousarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{label}: expected {expected}, got {value!r}") from exc
-
-
 def _check_target(T_base_tool: ArrayLike) -> NDArray[np.float64]:
-    T = _float_array(T_base_tool, "T_base_tool", "a 4x4 transform")
+    T = float_array(T_base_tool, "T_base_tool", "a 4x4 transform")
     if T.shape != (4, 4) or not math.isfinite(T.sum()):
         raise InputError(f"T_base_tool: expected a finite 4x4 transform, got {T.tolist()}")
     return T
 
 
 def _check_seed(q0: ArrayLike, n: int) -> NDArray[np.float64]:
-    q = _float_array(q0, "q0", f"{n} finite joint values")
+    q = float_array(q0, "q0", f"{n} finite joint values")
     if q.shape != (n,) or not math.isfinite(q.sum()):
         raise InputError(f"q0: expected {n} finite joint values, got {q.tolist()}")
     return q
@@ -272,16 +268,17 @@ class NumericIK:
             ``rng`` not a seed, Generator or None.
         """
         n = self.chain.n
-        T = _float_array(T_base_tool, "T_base_tool", "a 4x4 transform")
-        seed_q = None if q0 is None else _float_array(q0, "q0", f"{n} finite joint values")
+        T = float_array(T_base_tool, "T_base_tool", "a 4x4 transform")
+        seed_q = None if q0 is None else float_array(q0, "q0", f"{n} finite joint values")
         if T.shape != (4, 4):
             _check_target(T)
         if seed_q is not None and seed_q.shape != (n,):
             _check_seed(seed_q, n)
         q = np.empty(n)
-        found = self._solver.solve(T, seed_q, _seed(rng), q)  # None if T or q0 is not finite
-        if found is None:
-            _check_target(T)
+        status, *found = self._solver.solve(T, seed_q, _seed(rng), q)
+        if status == _core.NUMERIC_TARGET_NOT_FINITE:
+            _check_target(T)  # raises, naming the values
+        elif status == _core.NUMERIC_SEED_NOT_FINITE:
             _check_seed(seed_q, n)
         return IKResult(q, *found)
 
@@ -301,7 +298,7 @@ class NumericIK:
             ``i`` of it (target 0 from the stream :meth:`solve` uses with the same ``rng``);
             default :data:`DEFAULT_SEED`, ``None`` for fresh entropy.
         threads : int, optional
-            Threads to spread the targets over: ``None`` or 0 (default) all cores, else 1 to
+            Threads to spread the targets over: ``None`` (default) all cores, else 1 to
             :data:`armkit._params.MAX_THREADS`.
 
         Returns
@@ -328,14 +325,14 @@ class NumericIK:
         (True, (20, 7))
         """
         n = self.chain.n
-        T = _float_array(T_base_tool, "T_base_tool", "transforms (N, 4, 4)")
+        T = float_array(T_base_tool, "T_base_tool", "transforms (N, 4, 4)")
         if T.ndim != 3 or T.shape[1:] != (4, 4) or not math.isfinite(T.sum()):
             raise InputError("T_base_tool: expected finite transforms (N, 4, 4), got "
                              + _shape_or_values(T, T.ndim == 3 and T.shape[1:] == (4, 4)))
         N = T.shape[0]
         seeds = None
         if q0 is not None:
-            seeds = _float_array(q0, "q0", f"joint values (N, {n})")
+            seeds = float_array(q0, "q0", f"joint values (N, {n})")
             if seeds.shape == (n,):
                 seeds = np.ascontiguousarray(np.broadcast_to(seeds, (N, n)))
             if seeds.shape != (N, n) or not math.isfinite(seeds.sum()):
@@ -348,16 +345,6 @@ class NumericIK:
         self._solver.solve_batch(T, seeds, _seed(rng), threads, q, success, iterations, restarts,
                                  position, orientation)
         return IKResultBatch(q, success, iterations, restarts, position, orientation)
-
-    def _project(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], list[tuple[int, float]]]:
-        """``q`` moved into the limits (a copy, the core's ``project``) and the joints at a
-        bound as ``(index, -1.0 at the lower / +1.0 at the upper)``: the projection of every
-        step, callable from Python."""
-        if not self.within_limits:
-            return q, []
-        q, sides = np.array(q, dtype=np.float64), np.zeros(self.chain.n)
-        self._solver.project(q, sides)
-        return q, [(i, float(sides[i])) for i in np.flatnonzero(sides).tolist()]
 
 
 def numeric_ik(robot: Robot | Chain, T_base_tool: NDArray[np.float64], *, q0: ArrayLike | None = None,

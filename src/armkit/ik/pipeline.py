@@ -46,13 +46,21 @@ from armkit import _core
 from armkit.chain import Chain
 from armkit.errors import SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver
+from armkit.ik.messages import Labels, out_of_reach, outside_limits
+from armkit.ik.numeric import IKResult, numeric_ik, wrap_into_limits
+from armkit.kinematics import singular_values
 
-__all__ = ["MAX_SOLUTIONS", "Found", "count_turn_copies", "verified_solutions", "with_turn_copies"]
+__all__ = ["MAX_SOLUTIONS", "Found", "count_turn_copies", "numeric_fallback", "verified_solutions",
+           "with_turn_copies"]
 
 #: At most this many solutions of one pose are listed (whole-turn copies multiply: joints
 #: spanning two turns each give 2^n per solution); beyond it, the nearest to ``near``, with a
 #: :class:`~armkit.errors.SolutionsLeftOffWarning`.
 MAX_SOLUTIONS = 4096
+#: Budget of the search for the closest pose when no candidate of a pose is usable.
+CLOSEST_POSE_RESTARTS = 20
+#: Smallest singular value below this fraction of the largest: a singular configuration.
+SINGULAR = 1e-8
 
 class Found(NamedTuple):
     """Per pose ``(N, k)`` candidates, ranked by the core: ``q`` ``(N, k, n)``, ``errors``
@@ -171,3 +179,39 @@ def with_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64
             f"{total:.0f} solutions inside the limits (whole-turn copies of joints {copied}): "
             f"the {len(source)} nearest to near are listed"))
     return source, copies, errors
+
+
+def numeric_fallback(chain: Chain, c: Found, T: NDArray[np.float64], near: NDArray[np.float64],
+                     labels: Labels, within_limits: bool = True) -> None:
+    """The poses of ``c`` without a usable candidate (``count == 0``): raise the error that says
+    why (:mod:`armkit.ik.messages`), or, where the closed form's candidates all miss the pose
+    (degenerate geometry at a doubly singular pose, where a root of the closed form's equations
+    is multiple) but numeric IK from ``near`` ``(N, n)`` reaches it exactly, put that solution
+    first in ``c`` (in place) and count it, so a reachable pose is never called out of reach."""
+    for i in np.flatnonzero(c.count == 0):
+        if c.keep[i].any():
+            first = np.flatnonzero(c.keep[i])[0]
+            raise outside_limits(chain, c.q[i, first], labels[i])
+        closest = numeric_ik(chain, T[i], q0=near[i], within_limits=False,
+                             max_restarts=CLOSEST_POSE_RESTARTS, rng=0)
+        if not closest.success:
+            raise out_of_reach(closest, labels[i])
+        if within_limits and not chain.within_limits(wrap_into_limits(chain, closest.q, near[i])):
+            inside = numeric_ik(chain, T[i], q0=near[i], max_restarts=CLOSEST_POSE_RESTARTS, rng=0)
+            if not inside.success:
+                raise outside_limits(chain, wrap_into_limits(chain, closest.q, near[i]), labels[i])
+            closest = inside
+        _take_numeric_solution(chain, c, i, closest, near[i])
+        c.count[i] = 1
+
+
+def _take_numeric_solution(chain: Chain, c: Found, i: int, result: IKResult,
+                           near: NDArray[np.float64]) -> None:
+    """Put numeric IK's solution of pose ``i`` first among its (all unusable) candidates:
+    wrapped towards ``near``, flagged ``family`` if the Jacobian there is singular (the
+    degenerate poses where closed-form candidates fail lie on families)."""
+    q = wrap_into_limits(chain, result.q, near)
+    S = singular_values(chain, q)
+    c.q[i, 0] = q
+    c.errors[i, 0] = result.position_error, result.orientation_error
+    c.flags[i, 0] = True, True, bool(chain.within_limits(q)), bool(S[-1] <= SINGULAR * S[0] or len(S) < 6)

@@ -18,8 +18,10 @@ from armkit._deprecation import deprecated_constants
 __all__ = ["SOLUTION_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "residuals"]
 
 #: Position [m] and angle [rad] within which every returned solution reproduces the target
-#: (the compiled core's ``kSolutionTolerance``; ``VERIFY_TOLERANCE`` is its deprecated old
-#: name, which :mod:`armkit.ik.closed_form` used for its candidate test too).
+#: (the compiled core's ``kSolutionTolerance``). ``armkit.ik.results.VERIFY_TOLERANCE`` is its
+#: deprecated old name, the one place that name still answers (``armkit.ik.solve`` and
+#: ``armkit.ik.closed_form`` no longer do: the closed form's meant the candidate test,
+#: :data:`armkit.ik.closed_form.CANDIDATE_TOLERANCE`).
 SOLUTION_TOLERANCE: float = _core.SOLUTION_TOLERANCE
 __getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "SOLUTION_TOLERANCE"},
                                    {"SOLUTION_TOLERANCE": SOLUTION_TOLERANCE})

@@ -71,17 +71,16 @@ class SelfMotion:
 
         Returns the matplotlib figure.
         """
-        import matplotlib
-        from matplotlib.figure import Figure
-
-        from armkit.plots import save_figure
+        from armkit.plots import Figure, save_figure  # first: without matplotlib, armkit's one-line error
 
         n = self.q.shape[-1]
         names = joint_names or [f"q{j + 1}" for j in range(n)]
         shown = [j for j in range(n) if j != self.free_joint]
         figure = Figure(figsize=(7, 1.4 * len(shown) + 0.8), layout="constrained")
         axes = figure.subplots(len(shown), 1, sharex=True, squeeze=False)[:, 0]
-        colours = matplotlib.colormaps["tab20"].colors
+        from matplotlib import colormaps  # there: armkit.plots imported it
+
+        colours = colormaps["tab20"].colors
         for b, branch in enumerate(self.q):
             colour = colours[b % len(colours)]
             for j, ax in zip(shown, axes, strict=True):

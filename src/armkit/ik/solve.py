@@ -24,14 +24,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit._deprecation import deprecated_constants, renamed_argument
-from armkit._params import core_ready, thread_count
+from armkit._deprecation import renamed_argument
+from armkit._params import core_ready, float_array, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError, SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
-from armkit.ik.messages import Labels, answer_or_raise, numeric_failure, outside_limits
-from armkit.ik.numeric import _float_array, numeric_ik, wrap_into_limits
-from armkit.ik.pipeline import MAX_SOLUTIONS, Found, verified_solutions, with_turn_copies
+from armkit.ik.messages import Labels, numeric_failure, outside_limits
+from armkit.ik.numeric import numeric_ik, wrap_into_limits
+from armkit.ik.pipeline import MAX_SOLUTIONS, Found, numeric_fallback, verified_solutions, with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions, IKSolutionsBatch
 from armkit.spatial.transforms import RIGID_TOLERANCE, check_transform
 
@@ -39,8 +39,6 @@ if TYPE_CHECKING:
     from armkit.robot import Robot
 
 __all__ = ["MAX_BATCH_ROWS", "SOLUTION_TOLERANCE", "IKSolutions", "IKSolutionsBatch", "ik", "ik_solutions"]
-__getattr__ = deprecated_constants(__name__, {"VERIFY_TOLERANCE": "SOLUTION_TOLERANCE"},
-                                   {"SOLUTION_TOLERANCE": SOLUTION_TOLERANCE})
 
 #: Most solution rows a batch of poses lists with whole-turn copies (poses x the most rows of any
 #: pose, as :class:`IKSolutionsBatch` pads them): 1e7 rows of a 6-joint arm are about 0.7 GB. A
@@ -99,7 +97,7 @@ class _Targets:
         self.T = T.reshape(-1, 4, 4)
         n = chain.n
         if near is not None:
-            near = _float_array(near, "near", f"{n} finite joint values (shape (..., {n}))")
+            near = float_array(near, "near", f"{n} finite joint values (shape (..., {n}))")
             if near.ndim == 0 or near.shape[-1] != n or not np.isfinite(near).all():
                 raise InputError(f"near: expected {n} finite joint values (shape (..., {n})), "
                                  f"got {near.tolist()}")
@@ -112,7 +110,7 @@ class _Targets:
             near = np.ascontiguousarray(near)
         self.near = near
         if weights is not None:
-            weights = _float_array(weights, "weights", f"{n} positive numbers")
+            weights = float_array(weights, "weights", f"{n} positive numbers")
             if weights.shape != (n,) or not np.all(np.isfinite(weights) & (weights > 0)):
                 raise InputError(f"weights: expected {n} positive numbers, got {weights.tolist()}")
             weights = np.ascontiguousarray(weights)
@@ -179,7 +177,7 @@ def _listed_batch(chain: Chain, targets: _Targets, found: Found, turn_copies: bo
 
 def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
                  weights: ArrayLike | None = None, turn_copies: bool = False,
-                 threads: int = 0) -> IKSolutions | IKSolutionsBatch:
+                 threads: int | None = None) -> IKSolutions | IKSolutionsBatch:
     """Every closed-form solution of a target pose, inside the limits or not, with flags.
 
     Each solution is listed once (by default), the whole-turn copy nearest to ``near``; with
@@ -203,8 +201,8 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
     turn_copies : bool
         ``False`` (default): each solution once, the copy nearest to ``near``. ``True``: also
         list its whole-turn copies inside the limits (distinct configurations, same pose).
-    threads : int
-        Threads a batch of poses is split over: 0 (default) or ``None`` all cores, else 1 to
+    threads : int, optional
+        Threads a batch of poses is split over: ``None`` (default) all cores, else 1 to
         1024 (:func:`armkit._params.thread_count`); the answers do not depend on it.
 
     Returns
@@ -263,7 +261,7 @@ def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64]
 
 def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = False,
        near: ArrayLike | None = None, within_limits: bool = True,
-       weights: ArrayLike | None = None, turn_copies: bool = False, threads: int = 0,
+       weights: ArrayLike | None = None, turn_copies: bool = False, threads: int | None = None,
        **numeric_options) -> NDArray[np.float64] | list[NDArray[np.float64]]:
     """Inverse kinematics: every solution, or the one closest to ``near``.
 
@@ -288,8 +286,8 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
         With ``all_solutions``: also list the whole-turn copies inside the limits of joints
         whose limits span more than a whole turn; default ``False``, each solution once. The
         one nearest solution (``all_solutions=False``) is chosen among all copies either way.
-    threads : int
-        Threads a batch of poses is split over: 0 (default) or ``None`` all cores, else 1 to
+    threads : int, optional
+        Threads a batch of poses is split over: ``None`` (default) all cores, else 1 to
         1024 (:func:`armkit._params.thread_count`); the answers do not depend on it.
     **numeric_options
         Passed to :func:`armkit.ik.numeric.numeric_ik` (``position_tolerance``, ``mask``,
@@ -363,7 +361,7 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
         return q.reshape(*batch, chain.n)
     c, empty = targets.solve(solver, within_limits, nearest=not all_solutions, threads=threads)
     if empty:
-        answer_or_raise(chain, c, targets.T, targets.near_rows(chain.n), labels, within_limits)
+        numeric_fallback(chain, c, targets.T, targets.near_rows(chain.n), labels, within_limits)
     if not all_solutions:
         return c.q[0, 0] if not batch else c.q[:, 0].reshape(*batch, chain.n)
     listed = [solutions.q for solutions in _listed_batch(chain, targets, c, turn_copies)]

@@ -38,12 +38,13 @@ from numpy.typing import NDArray
 
 from armkit.chain import Chain, as_chain
 from armkit.kinematics import geometric_jacobian, joint_frames
+from armkit.spatial.lines import closest_points
 
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
 __all__ = ["ArmStructure", "PoeChain", "SolverPlan", "analyze_structure", "generic_rank", "plan_closed_form",
-           "poe_from_chain"]
+           "poe_from_chain", "position_joints_case"]
 
 
 @dataclass(frozen=True)
@@ -154,10 +155,7 @@ class _Geometry:
         """The point where revolute axes ``i`` and ``j`` meet, or None."""
         if self.poe.prismatic[i] or self.poe.prismatic[j] or self.parallel(i, j):
             return None
-        hi, hj = self.poe.axes[i], self.poe.axes[j]
-        A = np.stack([hi, -hj], axis=1)
-        s, t = np.linalg.lstsq(A, self.poe.points[j] - self.poe.points[i], rcond=None)[0]
-        a, b = self.poe.points[i] + s * hi, self.poe.points[j] + t * hj
+        a, b = closest_points(self.poe.points[i], self.poe.axes[i], self.poe.points[j], self.poe.axes[j])
         return 0.5 * (a + b) if np.linalg.norm(a - b) <= self.tol else None
 
     def meet(self, i: int, j: int, k: int) -> NDArray[np.float64] | None:
@@ -376,3 +374,12 @@ def analyze_structure(robot: Robot | Chain, tol: float = 1e-9) -> ArmStructure:
     False
     """
     return plan_closed_form(as_chain(robot), tol).structure
+
+
+def position_joints_case(poe: PoeChain, tol: float = 1e-9
+                         ) -> tuple[str, NDArray[np.float64] | None, str] | None:
+    """How joints 1-3 of ``poe`` carry a point (a wrist centre, or the tool point of position IK):
+    the case name (``"parallel-23"``, ``"intersect-12-revolute"``, ...), the point where two of
+    the axes meet (None for the parallel and general cases) and a clause for messages; None if
+    joints 1-3 have no closed form. ``tol`` as in :func:`plan_closed_form`."""
+    return _position_case(_Geometry(poe, tol))

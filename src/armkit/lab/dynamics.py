@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
-from matplotlib.figure import Figure
 
 from armkit._format import fmt_significant
 from armkit.dynamics import _with_inertials, missing_inertia
@@ -13,6 +12,7 @@ from armkit.inertial import Inertial
 from armkit.lab.context import LabContext, fmt, fmt_error
 from armkit.lab.motion import experiment_waypoints, save_figure
 from armkit.lab.report import Section, Table
+from armkit.plots import Figure
 from armkit.robot import Robot
 from armkit.trajectory import plan_trajectory
 

@@ -73,16 +73,18 @@ def fk_check(ctx: LabContext) -> Section:
              else "Tool pose: computed by armkit, simulated in MuJoCo")
     section.tables.append(Table(title, columns, rows,
                                 note=f"Largest MuJoCo - armkit distance {table.position_error.max():.1e} m, "
-                                     f"rotation {table.rotation_error.max():.1e} rad (servoed, gravity on). "
-                                     f"Kinematic check (qpos set, mj_kinematics): "
-                                     f"{kin.position_error.max():.1e} m, {kin.rotation_error.max():.1e} rad. "
+                                     f"rotation {table.orientation_error.max():.1e} rad (servoed, gravity "
+                                     f"on). Kinematic check (qpos set, mj_kinematics): "
+                                     f"{kin.position_error.max():.1e} m, "
+                                     f"{kin.orientation_error.max():.1e} rad. "
                                      f"Without gravity compensation the stiff servos alone sag by up to "
-                                     f"{sag.position_error.max():.1e} m, {sag.rotation_error.max():.1e} rad."
+                                     f"{sag.position_error.max():.1e} m, "
+                                     f"{sag.orientation_error.max():.1e} rad."
                                      + (" The report prints 6 decimals and 1.5708 for pi/2." if ctx.seeds
                                         else ""),
                                 groups=groups))
     section.headline = (f"max |MuJoCo - armkit| {table.position_error.max():.1e} m, "
-                        f"{table.rotation_error.max():.1e} rad")
+                        f"{table.orientation_error.max():.1e} rad")
     picture = ctx.path("fk_configuration.png")
     animation.plot_configuration(robot, q[1], picture, dpi=80 if ctx.quick else 110,
                                  title=f"{robot.name}: base, DH link and tool frames")
@@ -158,7 +160,7 @@ def ik_check(ctx: LabContext) -> Section:
         table = compare_poses(np.broadcast_to(T, reached.shape), reached)
         counts.append(len(solutions))
         worst_position = max(worst_position, table.position_error.max())
-        worst_rotation = max(worst_rotation, table.rotation_error.max())
+        worst_rotation = max(worst_rotation, table.orientation_error.max())
         rows = []
         for k, q_k in enumerate(solutions):
             match = ""
@@ -169,7 +171,7 @@ def ik_check(ctx: LabContext) -> Section:
             rows.append([str(k + 1), fmt_q(q_k), match, fmt_error(fk_residual),
                          " ".join(fmt_error(e) for e in table.error[k, :3]),
                          " ".join(fmt_error(e) for e in table.error[k, 3:]),
-                         fmt_error(table.rotation_error[k])])
+                         fmt_error(table.orientation_error[k])])
         note = f"{len(solutions)} solution(s), {method}."
         if listed is not None:
             stated = published.PROBOT_IK_STATED_COUNTS[index - 1]

@@ -8,7 +8,6 @@ Each function returns a :class:`~armkit.lab.report.Section`.
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
 from armkit import animation
@@ -16,7 +15,7 @@ from armkit.control import move_linear, rotate_about_tool_point
 from armkit.lab import published
 from armkit.lab.context import LabContext, fmt, fmt_error, fmt_q
 from armkit.lab.report import Section, Table
-from armkit.plots import plot_pva
+from armkit.plots import Figure, plot_pva
 from armkit.robot import Robot
 from armkit.sim.runner import SimResult
 from armkit.spatial.rotations import rotation_angle_between

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armkit._deprecation import deprecated_property
 from armkit.errors import InputError
 from armkit.spatial.rotations import parse_convention, rotation_angle_between
 from armkit.spatial.transforms import check_transform, pose_from_transform
@@ -37,8 +38,9 @@ class PoseComparison:
         (degrees if ``degrees``); ``error = simulated - computed``.
     position_error : ndarray (N,)
         Distance between the positions [m].
-    rotation_error : ndarray (N,)
-        Angle of the rotation between the orientations [rad].
+    orientation_error : ndarray (N,)
+        Angle of the rotation between the orientations [rad] (as IK's ``orientation_error``;
+        ``rotation_error`` is its deprecated old name).
     convention : str
     degrees : bool
     length_unit : {"m", "mm"}
@@ -49,10 +51,12 @@ class PoseComparison:
     simulated: NDArray[np.float64]
     error: NDArray[np.float64]
     position_error: NDArray[np.float64]
-    rotation_error: NDArray[np.float64]
+    orientation_error: NDArray[np.float64]
     convention: str
     degrees: bool
     length_unit: str
+
+    rotation_error = deprecated_property("rotation_error", "orientation_error")
 
     @property
     def columns(self) -> list[str]:
@@ -63,8 +67,8 @@ class PoseComparison:
         return positions + [f"a{i + 1} ({a}) [{angle}]" for i, a in enumerate(axes)]
 
     def max_errors(self) -> tuple[float, float]:
-        """Largest position error [m] and rotation error [rad] over all rows."""
-        return float(self.position_error.max()), float(self.rotation_error.max())
+        """Largest position error [m] and orientation error [rad] over all rows."""
+        return float(self.position_error.max()), float(self.orientation_error.max())
 
 
 def compare_poses(T_computed: ArrayLike, T_simulated: ArrayLike, *, convention: str = "xyz-fixed",
@@ -105,6 +109,6 @@ def compare_poses(T_computed: ArrayLike, T_simulated: ArrayLike, *, convention: 
         raise InputError(f"labels: expected {len(T_c)}, got {len(labels)}")
     return PoseComparison(labels=labels, computed=computed, simulated=simulated, error=error,
                           position_error=np.linalg.norm(T_s[:, :3, 3] - T_c[:, :3, 3], axis=-1),
-                          rotation_error=rotation_angle_between(T_s, T_c),
+                          orientation_error=rotation_angle_between(T_s, T_c),
                           convention=parse_convention(convention).name, degrees=degrees,
                           length_unit=length_unit)

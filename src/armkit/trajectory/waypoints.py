@@ -89,7 +89,8 @@ def joint_waypoints(robot: Robot, waypoints: ArrayLike, degrees: bool = False) -
     for k, q in enumerate(waypoints, start=1):
         violations = robot.limit_violations(q, degrees)
         if violations:
-            raise JointLimitError(f"waypoint {k}: {'; '.join(violations)}", q=q.copy())
+            raise JointLimitError(f"waypoint {k}: {'; '.join(violations)}", q.copy(),
+                                  **robot.chain.limit_fields(q))
     return waypoints
 
 

@@ -43,14 +43,14 @@ class ArmPlacement(NamedTuple):
 
 
 def arm_size(robot: Robot) -> float:
-    """A length scale of the arm [m]: the sum of the distances between consecutive frame origins.
+    """A length scale of the arm [m]: the chain's :attr:`~armkit.chain.Chain.link_length` and the
+    base's offset (at least 0.1 m, so that an arm of zero size still draws).
 
     >>> import armkit
     >>> round(arm_size(armkit.load("probot-anno")), 4)
     0.7929
     """
-    offsets = np.linalg.norm(robot.chain.T_between[:, :3, 3], axis=-1)
-    return float(max(offsets.sum() + np.linalg.norm(robot.chain.T_base[:3, 3]), 0.1))
+    return float(max(robot.chain.link_length + np.linalg.norm(robot.chain.T_base[:3, 3]), 0.1))
 
 
 def rotations_z_to(directions: NDArray[np.float64]) -> NDArray[np.float64]:

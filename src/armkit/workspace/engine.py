@@ -30,8 +30,10 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from contextlib import contextmanager
 from functools import partial
+from numbers import Integral
 from typing import Any
 
+from armkit._params import thread_count
 from armkit.errors import ArmkitError, InputError
 
 __all__ = ["InterruptedRun", "connect", "engine_threads", "run_chunks"]
@@ -60,10 +62,8 @@ def engine_threads(engine: Any) -> int:
     """Worker threads of ``engine``: ``None`` (all local cores), an int (that many threads) or a Client."""
     if engine is None:
         return os.cpu_count() or 1
-    if isinstance(engine, int) and not isinstance(engine, bool):
-        if engine < 1:
-            raise InputError(f"engine: expected a number of threads >= 1, got {engine}")
-        return engine
+    if isinstance(engine, Integral) and not isinstance(engine, bool):
+        return thread_count(engine, "engine")
     if hasattr(engine, "nthreads") and hasattr(engine, "submit"):
         return max(1, sum(engine.nthreads().values()))
     raise InputError(f"engine: expected None, a number of threads or a dask.distributed.Client, "

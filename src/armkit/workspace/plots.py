@@ -8,12 +8,17 @@ name the quantity. Hit counts are shown on a log scale (they span orders of magn
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.colors import LogNorm
-from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
+from armkit.errors import missing_extra
 from armkit.workspace.grid import Grid
 from armkit.workspace.maps import Workspace
+
+try:  # an optional dependency (the extra "plot")
+    from matplotlib.colors import LogNorm
+    from matplotlib.figure import Figure
+except ImportError as exc:
+    raise missing_extra("plot", "plots need matplotlib and Pillow") from exc
 
 __all__ = ["plot_cloud", "plot_histograms", "plot_horizontal_slices", "plot_sweep", "plot_vertical_slice"]
 
