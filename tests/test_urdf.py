@@ -288,7 +288,7 @@ def test_files_non_utf8_empty_and_suffix(tmp_path):
     with pytest.raises(RobotDefinitionError, match=r"arm.urdf: no <link> elements; nothing to load"):
         armkit.load(path)
     path.write_text("")
-    with pytest.raises(RobotDefinitionError, match=r"arm.urdf: not valid XML: no element found"):
+    with pytest.raises(RobotDefinitionError, match=r"arm.urdf: the file is empty; expected a robot file"):
         armkit.load(path)
     with pytest.raises(RobotDefinitionError, match="base and tip links choose a chain in a URDF file"):
         armkit.load("ur5", tip="tool")
