@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 
+#include "armkit/random.hpp"
 #include "armkit/tolerances.hpp"
 
 namespace armkit {
@@ -285,6 +286,90 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
 
 void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
     general_six_r(*g.arm, R, t, q, valid, family);
+}
+
+// ------------------------------------------------------------------------ detection
+
+namespace {
+
+//: Configurations on which detect_general compares the loops.
+constexpr int kLoopSamples = 12;
+
+// The tool pose of lines `arm` at q (user's joints = internal here: arm not reversed):
+// exp(xi_1 q_1) ... exp(xi_n q_n) M.
+Pose lines_pose(const ArmLines& arm, const double* q) {
+    Pose T = arm.M;
+    for (int j = arm.n - 1; j >= 0; --j) {
+        Pose next;
+        for (int c = 0; c < 4; ++c) {
+            const Vec3 v = T.column(c);
+            Vec3 moved;
+            if (c < 3) moved = arm.prismatic[j] ? v : rotate(arm.h[j], q[j], v);
+            else moved = arm.prismatic[j] ? v + q[j] * arm.h[j] : turn_point(arm.h[j], arm.p[j], q[j], v);
+            next(0, c) = moved.x, next(1, c) = moved.y, next(2, c) = moved.z;
+        }
+        T = next;
+    }
+    return T;
+}
+
+GeneralGeometry general_geometry(const ArmLines& lines, int shift) {
+    GeneralGeometry g;
+    static_cast<CaseChain&>(g) = lines;
+    auto arm = std::make_shared<GeneralSixR>();
+    prepare_general(lines.h, lines.p, shift, *arm);
+    g.arm = std::move(arm);
+    return g;
+}
+
+}  // namespace
+
+Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
+    if (arm.n != 6) return CaseReason{CaseFit::Joints, "the general solver takes 6 joints, not " + std::to_string(arm.n)};
+    for (int j = 0; j < 6; ++j)
+        if (arm.prismatic[j])
+            return CaseReason{CaseFit::Prismatic, "joint " + std::to_string(arm.index[j] + 1) +
+                                                      " is prismatic: the general solver takes revolute joints only"};
+    Random random(0);
+    double q[kLoopSamples][6];
+    Pose T[kLoopSamples];
+    for (int s = 0; s < kLoopSamples; ++s) {
+        for (double& v : q[s]) v = random.uniform(-kPi, kPi);
+        T[s] = lines_pose(arm, q[s]);
+    }
+    const ArmLines loops[2] = {arm, reversed(arm)};
+    double best_worst = 0.0, best_mean = 0.0;
+    int best = -1;
+    for (int l = 0; l < 12; ++l) {
+        const ArmLines& lines = loops[l / 6];
+        const GeneralGeometry g = general_geometry(lines, l % 6);
+        const Pose M_inv = inverse(lines.M);
+        double worst = 0.0, mean = 0.0;
+        for (int s = 0; s < kLoopSamples; ++s) {
+            const Pose G = compose(lines.inverted ? inverse(T[s]) : T[s], M_inv);
+            double found[kGeneralRoots * 6];
+            bool valid[kGeneralRoots], family[kGeneralRoots];
+            solve_case(g, G.rotation(), G.position(), found, valid, family);
+            double closest = kPi;
+            for (int c = 0; c < kGeneralRoots; ++c) {
+                if (!valid[c]) continue;
+                double gap = 0.0;
+                for (int j = 0; j < 6; ++j)
+                    gap = std::max(gap, std::fabs(wrap_angle(found[6 * c + j] - lines.sign[j] * q[s][lines.index[j]])));
+                closest = std::min(closest, gap);
+            }
+            worst = std::max(worst, closest);
+            mean += closest / kLoopSamples;
+        }
+        if (best < 0 || worst < best_worst || (worst == best_worst && mean < best_mean))
+            best = l, best_worst = worst, best_mean = mean;
+        if (worst <= kGoodLoop) break;
+    }
+    return CaseMatch<GeneralGeometry>{general_geometry(loops[best / 6], best % 6), loops[best / 6], "general-6r",
+                                      "general 6R arm: no three consecutive axes meet at one point or are parallel; "
+                                      "every solution by Raghavan-Roth elimination (a 24 x 24 eigenproblem), up to 16 "
+                                      "solutions",
+                                      true};
 }
 
 }  // namespace armkit

@@ -30,6 +30,7 @@
 #include <memory>
 
 #include "armkit/case_chain.hpp"
+#include "armkit/ik_detect.hpp"
 #include "armkit/vec.hpp"
 
 namespace armkit {
@@ -68,5 +69,14 @@ struct GeneralGeometry : CaseChain {
 
 // general_six_r on g.arm: 16 candidates.
 void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
+
+// Any 6R arm, on the loop on which the elimination is best conditioned for it: the chain or
+// its reverse, and the loop's first joint (shift). The loops are run, once per arm, on the
+// poses of kLoopSamples seeded random configurations; the first whose raw candidates come
+// within kGoodLoop of every generating configuration is taken (a generic arm's first), else
+// the one that comes closest (worst sample, then mean), ties to the first tried. An arm with
+// parallel or meeting axes degenerates in some loops and not in others, and an arm near a
+// Pieper class loses digits in one order and far fewer in another.
+Detection<GeneralGeometry> detect_general(const ArmLines& arm);
 
 }  // namespace armkit

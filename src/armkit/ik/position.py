@@ -29,11 +29,9 @@ from armkit import _core
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik.cases import PointGeometry, solve_pose
-from armkit.ik.closed_form import point_geometry
 from armkit.ik.numeric import _float_array, wrap_into_limits
 from armkit.ik.pipeline import with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions
-from armkit.ik.structure import PoeChain, _Geometry, _position_case, poe_from_chain
 from armkit.kinematics import _fk, _geometric_jacobian
 
 if TYPE_CHECKING:
@@ -54,47 +52,34 @@ def position_case(robot: Robot | Chain) -> str:
     NoClosedFormError
         If the chain has fewer than 3 joints, or joints 1-3 have no closed form here.
     """
-    return _plan(as_chain(robot))[2]
+    return _plan(as_chain(robot))
 
 
-def _plan(chain: Chain) -> tuple[PoeChain, tuple, str]:
-    """Joints 1-3 as a POE chain (aligned for the parallel cases), their case and its clause;
-    computed once per chain (a refusal too)."""
+def _plan(chain: Chain) -> str:
+    """How joints 1-3 carry the tool point (the core's point case, its clause); decided once
+    per chain (a refusal too)."""
     plan = chain.derived("position_plan", lambda: _make_plan(chain))
     if isinstance(plan, NoClosedFormError):
         raise NoClosedFormError(str(plan))
     return plan
 
 
-def _make_plan(chain: Chain) -> tuple[PoeChain, tuple, str] | NoClosedFormError:
-    try:
-        return _analyse(chain)
-    except NoClosedFormError as exc:
-        return exc
+_NO_POSITION_CASE = ("joints 1-3 have no closed-form position solution here (two prismatic joints, or "
+                     "parallel axes that leave the position problem degenerate); use numeric IK with "
+                     "mask=[1, 1, 1, 0, 0, 0]")
 
 
-def _analyse(chain: Chain) -> tuple[PoeChain, tuple, str]:
+def _make_plan(chain: Chain) -> str | NoClosedFormError:
     if chain.n < 3:
-        raise NoClosedFormError(f"position IK in closed form needs 3 joints; this arm has {chain.n}")
-    poe = poe_from_chain(chain)
-    three = PoeChain(poe.axes[:3], poe.points[:3], poe.prismatic[:3], poe.M, np.arange(3), np.ones(3))
-    geometry = _Geometry(three, 1e-9)
+        return NoClosedFormError(f"position IK in closed form needs 3 joints; this arm has {chain.n}")
     rank = _position_rank(chain)
     if rank < 3:
-        raise NoClosedFormError(f"joints 1-3 move the tool point in only {rank} independent directions at "
-                                f"every configuration tried (e.g. axes 1-3 meet at one point, or two are "
-                                f"one line): its positions form a surface, not a volume, so there is no "
-                                f"closed form here; use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
-    found = _position_case(geometry)
-    if found is None:
-        raise NoClosedFormError("joints 1-3 have no closed-form position solution here (two prismatic "
-                                "joints, or parallel axes that leave the position problem degenerate); "
-                                "use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
-    case, point, clause = found
-    if case.startswith("parallel"):
-        pair = [1, 2] if case == "parallel-23" else [0, 1]
-        three = three.aligned(pair, three.axes[pair[0]])
-    return three, (case, point), clause
+        return NoClosedFormError(f"joints 1-3 move the tool point in only {rank} independent directions at "
+                                 f"every configuration tried (e.g. axes 1-3 meet at one point, or two are "
+                                 f"one line): its positions form a surface, not a volume, so there is no "
+                                 f"closed form here; use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
+    geometry, _, clause = _core.detect_point(chain._core, (0.0, 0.0, 0.0))  # the case is the lines'
+    return NoClosedFormError(_NO_POSITION_CASE) if geometry is None else clause
 
 
 def _position_rank(chain: Chain, tries: int = 4) -> int:
@@ -105,15 +90,18 @@ def _position_rank(chain: Chain, tries: int = 4) -> int:
     q[:, :3] = rng.uniform(-np.pi, np.pi, (tries, 3))
     J = _geometric_jacobian(chain, q)[:, :3, :3]
     S = np.linalg.svd(J, compute_uv=False)
-    return int((S > 1e-9 * (1.0 + np.abs(_fk(chain, q)[:, :3, 3]).max())).sum(axis=1).max())
+    return int((S > _core.RANK_TOLERANCE * (1.0 + np.abs(_fk(chain, q)[:, :3, 3]).max())).sum(axis=1).max())
 
 
 def _geometry(chain: Chain, tail: NDArray[np.float64]) -> tuple[PointGeometry, NDArray[np.float64]]:
     """The point case for joints 1-3 with joints 4..n at ``tail`` (its tool point at q1-3 = 0),
     and the signs of joints 1-3."""
-    three, (case, point), _ = _plan(chain)
+    _plan(chain)
     c = _fk(chain, np.concatenate([np.zeros(3), tail])[None])[0, :3, 3]
-    return point_geometry(three, case, c, point, wrist=False), three.sign
+    geometry, lines, _ = _core.detect_point(chain._core, tuple(float(x) for x in c))
+    if geometry is None:
+        raise NoClosedFormError(_NO_POSITION_CASE)
+    return geometry, lines["sign"]
 
 
 def _polish(chain: Chain, q: NDArray[np.float64], p: NDArray[np.float64]) -> NDArray[np.float64]:
