@@ -339,30 +339,47 @@ Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
     }
     const ArmLines loops[2] = {arm, reversed(arm)};
     double best_worst = 0.0, best_mean = 0.0;
-    int best = -1;
+    int best = -1, best_near = 0;
     for (int l = 0; l < 12; ++l) {
         const ArmLines& lines = loops[l / 6];
         const GeneralGeometry g = general_geometry(lines, l % 6);
         const Pose M_inv = inverse(lines.M);
         double worst = 0.0, mean = 0.0;
+        int near = 0;  // distinct raw candidates near a solution, over the samples
         for (int s = 0; s < kLoopSamples; ++s) {
             const Pose G = compose(lines.inverted ? inverse(T[s]) : T[s], M_inv);
             double found[kGeneralRoots * 6];
             bool valid[kGeneralRoots], family[kGeneralRoots];
             solve_case(g, G.rotation(), G.position(), found, valid, family);
-            double closest = kPi;
+            double closest = kPi, kept[kGeneralRoots * 6];
+            int count = 0;
             for (int c = 0; c < kGeneralRoots; ++c) {
                 if (!valid[c]) continue;
-                double gap = 0.0;
-                for (int j = 0; j < 6; ++j)
-                    gap = std::max(gap, std::fabs(wrap_angle(found[6 * c + j] - lines.sign[j] * q[s][lines.index[j]])));
+                const double* row = found + 6 * c;
+                double gap = 0.0, user[6];
+                for (int j = 0; j < 6; ++j) {
+                    gap = std::max(gap, std::fabs(wrap_angle(row[j] - lines.sign[j] * q[s][lines.index[j]])));
+                    user[lines.index[j]] = lines.sign[j] * row[j];
+                }
                 closest = std::min(closest, gap);
+                const Pose F = lines_pose(arm, user);
+                double residual = 0.0;
+                for (int a = 0; a < 12; ++a) residual = std::max(residual, std::fabs(F.m[a] - T[s].m[a]));
+                bool twin = false;
+                for (int k = 0; k < count && !twin; ++k) {
+                    double apart = 0.0;
+                    for (int j = 0; j < 6; ++j) apart = std::max(apart, std::fabs(wrap_angle(kept[6 * k + j] - row[j])));
+                    twin = apart <= kLoopNear;
+                }
+                if (residual <= kLoopNear * arm.scale && !twin) std::copy(row, row + 6, kept + 6 * count++);
             }
+            near += count;
             worst = std::max(worst, closest);
             mean += closest / kLoopSamples;
         }
-        if (best < 0 || worst < best_worst || (worst == best_worst && mean < best_mean))
-            best = l, best_worst = worst, best_mean = mean;
+        if (best < 0 || near > best_near || (near == best_near && (worst < best_worst ||
+                                                                   (worst == best_worst && mean < best_mean))))
+            best = l, best_near = near, best_worst = worst, best_mean = mean;
         if (worst <= kGoodLoop) break;
     }
     return CaseMatch<GeneralGeometry>{general_geometry(loops[best / 6], best % 6), loops[best / 6], "general-6r",

@@ -74,9 +74,12 @@ void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool
 // its reverse, and the loop's first joint (shift). The loops are run, once per arm, on the
 // poses of kLoopSamples seeded random configurations; the first whose raw candidates come
 // within kGoodLoop of every generating configuration is taken (a generic arm's first), else
-// the one that comes closest (worst sample, then mean), ties to the first tried. An arm with
-// parallel or meeting axes degenerates in some loops and not in others, and an arm near a
-// Pieper class loses digits in one order and far fewer in another.
+// the one with the most distinct raw candidates near a solution of their pose (kLoopNear:
+// a loop that loses roots has fewer, its other candidates far off), then the one that comes
+// closest to the generating configurations (worst sample, then mean), ties to the first
+// tried. An arm with parallel or meeting axes degenerates in some loops and not in others,
+// and an arm near a Pieper class loses digits in one order and far fewer in another (a
+// PROBOT with one wrist axis moved by 1e-9: one loop of the twelve lists every solution).
 Detection<GeneralGeometry> detect_general(const ArmLines& arm);
 
 }  // namespace armkit

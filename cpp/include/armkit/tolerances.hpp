@@ -49,6 +49,11 @@ constexpr double kCandidateTolerance = 1e-8;
 //: generating configuration is taken without trying the others (detect_general): Newton
 //: finishes such candidates in two steps.
 constexpr double kGoodLoop = 1e-8;
+//: A raw candidate of a loop counts as near a solution where its FK is within this of the
+//: pose (times the arm's size), and as another one where it is farther than this [rad] from
+//: the loop's others (detect_general): near a class raw roots are ~1e-4 off, and Newton takes
+//: them to rounding; a loop that loses a root puts its candidate ~0.1 .. 1 off.
+constexpr double kLoopNear = 1e-3;
 
 // ------------------------------------------------------------------------ subproblems
 

@@ -181,8 +181,8 @@ def show_command(
     console.print(_dynamics_line(arm), markup=False)
     home = arm.fk(np.zeros(arm.n))
     console.print(f"tool at q = 0: position {fmt_numbers(home[:3, 3], 6)} m", markup=False)
-    console.print(f"kind: {structure.description}", markup=False)
     console.print(f"IK case: {_case_line(structure)}", markup=False)
+    console.print(f"kind: {structure.description}", markup=False)
     if why_not:
         for case, fit, reason in structure.why_not:
             if fit != "applies":
