@@ -60,7 +60,7 @@ ArmCase classify(const Chain& chain) {
     out.lines = arm;
     for (int i = 0; i + 1 < n; ++i)
         if (!arm.prismatic[i] && !arm.prismatic[i + 1] && parallel(arm, i, i + 1) &&
-            distance_to_line(arm, arm.p[i + 1], i) <= kClassTolerance * arm.scale) {
+            distance_to_line(arm, arm.p[i + 1], i) <= arm.tolerance * arm.scale) {
             no_case(out, "none", "axes " + std::to_string(i + 1) + " and " + std::to_string(i + 2) +
                                      " are the same line: the arm has fewer degrees of freedom than joints, no closed "
                                      "form; use numeric IK");

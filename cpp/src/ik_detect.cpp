@@ -81,7 +81,7 @@ ArmLines aligned(const ArmLines& arm, std::initializer_list<int> joints, Vec3 h)
     return out;
 }
 
-bool parallel(const ArmLines& arm, int i, int j) { return norm(cross(arm.h[i], arm.h[j])) <= kClassTolerance; }
+bool parallel(const ArmLines& arm, int i, int j) { return norm(cross(arm.h[i], arm.h[j])) <= arm.tolerance; }
 
 double distance_to_line(const ArmLines& arm, Vec3 x, int i) {
     const Vec3 d = x - arm.p[i];
@@ -104,12 +104,12 @@ bool intersection(const ArmLines& arm, int i, int j, Vec3& point) {
     Vec3 a, b;
     closest_points(arm.p[i], arm.h[i], arm.p[j], arm.h[j], a, b);
     point = 0.5 * (a + b);
-    return norm(a - b) <= kClassTolerance * arm.scale;
+    return norm(a - b) <= arm.tolerance * arm.scale;
 }
 
 bool meet(const ArmLines& arm, int i, int j, int k, Vec3& point) {
     if (!intersection(arm, i, j, point) || parallel(arm, j, k)) return false;
-    return distance_to_line(arm, point, k) <= kClassTolerance * arm.scale;
+    return distance_to_line(arm, point, k) <= arm.tolerance * arm.scale;
 }
 
 Vec3 unit_normal(Vec3 h) {
@@ -189,6 +189,47 @@ std::variant<PositionPlan, CaseReason> position_plan(const ArmLines& arm) {
     return CaseReason{CaseFit::Position, "joints " + axes_text(arm, {0, 1, 2}) +
                                              " are not solved in closed form here (a prismatic joint, or "
                                              "degenerate axes)"};
+}
+
+bool snap_to_class(const ArmLines& arm, const char* kind, ArmLines& out) {
+    out = arm;
+    out.tolerance = kClassTolerance;
+    const std::string which = kind;
+    if (which == "three-parallel" || which == "parallel-base") {
+        const int first = which == "three-parallel" ? 1 : 0;
+        bool any = false;
+        for (const ArmLines& lines : {arm, reversed(arm)}) {
+            bool block = parallel(lines, first, first + 1) && parallel(lines, first, first + 2);
+            if (!block) continue;
+            out = lines;
+            for (int j = first + 1; j <= first + 2; ++j)
+                out.h[j] = dot(lines.h[j], lines.h[first]) < 0 ? -lines.h[first] : lines.h[first];
+            any = true;
+            break;
+        }
+        out.tolerance = kClassTolerance;
+        return any;
+    }
+    for (const ArmLines& lines : {arm, reversed(arm)}) {
+        Vec3 centre;
+        if (lines.prismatic[3] || lines.prismatic[4] || lines.prismatic[5] || !meet(lines, 3, 4, 5, centre)) continue;
+        auto plan = position_plan(lines);
+        if (!std::holds_alternative<PositionPlan>(plan)) continue;
+        const PositionPlan& p = std::get<PositionPlan>(plan);
+        out = lines;
+        for (int j = 3; j < 6; ++j) out.p[j] = centre;
+        switch (PositionCase(p.position_case)) {
+            case PositionCase::Parallel23: out.h[2] = dot(lines.h[2], lines.h[1]) < 0 ? -lines.h[1] : lines.h[1]; break;
+            case PositionCase::Parallel12: out.h[1] = dot(lines.h[1], lines.h[0]) < 0 ? -lines.h[0] : lines.h[0]; break;
+            case PositionCase::Intersect12Revolute:
+            case PositionCase::Intersect12Prismatic: out.p[0] = out.p[1] = p.o; break;
+            case PositionCase::Intersect23: out.p[1] = out.p[2] = p.o; break;
+            case PositionCase::General123: break;
+        }
+        out.tolerance = kClassTolerance;
+        return true;
+    }
+    return false;
 }
 
 }  // namespace armkit

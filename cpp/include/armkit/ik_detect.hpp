@@ -18,6 +18,7 @@
 
 #include "armkit/case_chain.hpp"
 #include "armkit/chain.hpp"
+#include "armkit/tolerances.hpp"
 #include "armkit/two_angle.hpp"
 #include "armkit/vec.hpp"
 
@@ -32,6 +33,7 @@ struct ArmLines : CaseChain {
     double sign[kMaxCaseJoints] = {};
     bool inverted = false;
     double scale = 1.0;  // 1 + the largest |coordinate| of the points and of M's position [m]
+    double tolerance = kClassTolerance;  // the tests' bar (kNearClass: is the arm near a class?)
 };
 
 // The lines of a chain of at most kMaxCaseJoints joints (user's order, base frame).
@@ -44,7 +46,7 @@ ArmLines reversed(const ArmLines& arm);
 // The axes of `joints` that point against h flipped (their variable negated).
 ArmLines aligned(const ArmLines& arm, std::initializer_list<int> joints, Vec3 h);
 
-// Tests on the lines to kClassTolerance (angles [rad]; distances times arm.scale [m]).
+// Tests on the lines to arm.tolerance (angles [rad]; distances times arm.scale [m]).
 bool parallel(const ArmLines& arm, int i, int j);
 double distance_to_line(const ArmLines& arm, Vec3 x, int i);
 // The point where revolute axes i and j meet (false: they do not, or are parallel).
@@ -103,5 +105,12 @@ struct PositionPlan {
     std::string clause;
 };
 std::variant<PositionPlan, CaseReason> position_plan(const ArmLines& arm);
+
+// The lines of a 6-joint arm near a class (its tests passing to arm.tolerance) moved onto
+// the class exactly, kind: "spherical" (axes 4-6 through their meeting point, and joints 1-3
+// onto their position case), "three-parallel" (axes 2-4 along axis 2) or "parallel-base"
+// (axes 1-3 along axis 1); each line moves by at most arm.tolerance (times the size).
+// The result's tolerance is kClassTolerance. False where the lines are not near that class.
+bool snap_to_class(const ArmLines& arm, const char* kind, ArmLines& out);
 
 }  // namespace armkit

@@ -61,13 +61,22 @@ void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g);
 // families). Returns the number of valid candidates.
 int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
 
+// A class the arm is near (within kNearClass), solved on the arm moved onto it exactly: its
+// candidates seed the general solver's (ik_general.cpp).
+struct ClassSeed;
+
 // The general case of the registry (ik_cases.hpp), the last: any 6R arm, the elimination's
-// constants made once and shared by copies (3 KB: not carried by any other case).
+// constants made once and shared by copies (3 KB: not carried by any other case); for an arm
+// near a class, that class's seed.
 struct GeneralGeometry : CaseChain {
     std::shared_ptr<const GeneralSixR> arm;
+    std::shared_ptr<const ClassSeed> seed;
 };
 
-// general_six_r on g.arm: 16 candidates.
+// general_six_r on g.arm: 16 candidates. With a seed, the class's candidates (mapped to this
+// loop's joints) come first, then the elimination's that are not within kLoopNear of one:
+// Newton then takes each onto the real arm and FK decides (closed_form.cpp), so a root the
+// elimination loses near a class is still listed.
 void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
 
 // Any 6R arm, on the loop on which the elimination is best conditioned for it: the chain or

@@ -49,6 +49,13 @@ constexpr double kCandidateTolerance = 1e-8;
 //: generating configuration is taken without trying the others (detect_general): Newton
 //: finishes such candidates in two steps.
 constexpr double kGoodLoop = 1e-8;
+//: An arm within this of a class (its axes as kClassTolerance measures them; a calibrated
+//: arm) is solved by the general solver and, besides, by its class on the arm moved onto it
+//: exactly, whose candidates Newton then takes onto the real arm (see GeneralGeometry::seed):
+//: a class solution is ~deviation / conditioning off the real one, well within Newton's reach
+//: at 1e-6, and the general solver's elimination may lose a root near a class (1 pose in
+//: ~1000 at 1e-11 .. 1e-7 measured, tests/test_ik_general.py).
+constexpr double kNearClass = 1e-6;
 //: A raw candidate of a loop counts as near a solution where its FK is within this of the
 //: pose (times the arm's size), and as another one where it is farther than this [rad] from
 //: the loop's others (detect_general): near a class raw roots are ~1e-4 off, and Newton takes
