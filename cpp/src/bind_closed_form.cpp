@@ -339,7 +339,8 @@ void bind_closed_form(nb::module_& m) {
     m.attr("RANK_TOLERANCE") = kRankTolerance;
     m.attr("CANDIDATE_TOLERANCE") = kCandidateTolerance;
     nb::class_<ArmCase>(m, "ArmCase",
-                        "The case chosen for a chain by the registry's detect functions, and why the others do not apply.")
+                        "The case chosen for a chain by the registry's detect functions, and why the others do "
+                        "not apply.")
         .def_ro("chosen", &ArmCase::chosen, "Index of the chosen case in CASE_NAMES, -1 for none.")
         .def_prop_ro("case", [](const ArmCase& a) -> nb::object {
                 if (a.chosen < 0) return nb::none();

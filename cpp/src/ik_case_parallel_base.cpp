@@ -72,9 +72,8 @@ void solve_case(const ParallelBaseGeometry& g, const Mat3& R, Vec3 t, double* q,
 // ------------------------------------------------------------------------ detection
 
 Detection<ParallelBaseGeometry> detect_parallel_base(const ArmLines& arm) {
-    if (arm.n != 6) return CaseReason{CaseFit::Joints, "three parallel axes need 6 joints, not " + std::to_string(arm.n)};
-    for (int j = 0; j < 6; ++j)
-        if (arm.prismatic[j]) return CaseReason{CaseFit::Prismatic, "joint " + std::to_string(arm.index[j] + 1) + " is prismatic"};
+    CaseReason why;
+    if (!six_revolute(arm, "the parallel-base case", why)) return why;
     for (const ArmLines& lines : {arm, reversed(arm)}) {
         if (!three_parallel_block(lines, 0)) continue;
         const ArmLines a = aligned(lines, {0, 1, 2}, lines.h[0]);
@@ -92,9 +91,10 @@ Detection<ParallelBaseGeometry> detect_parallel_base(const ArmLines& arm) {
         g.hp = hp;
         g.u = unit_normal(hp);
         const bool polish = !g.rank1;
-        return CaseMatch<ParallelBaseGeometry>{g, a, "three-parallel", "three parallel axes: axes " +
-                                               axes_text(a, {0, 1, 2}) + " are parallel: closed-form IK, up to 8 solutions",
-                                               polish};
+        const std::string axes = axes_text(a, {0, 1, 2});
+        return CaseMatch<ParallelBaseGeometry>{
+            g, a, "three-parallel", "three parallel axes: axes " + axes + " are parallel: closed-form IK, up to 8 solutions",
+            polish};
     }
     return CaseReason{CaseFit::Axes, "neither axes 1, 2, 3 nor 4, 5, 6 are parallel (with the axes next to them not)"};
 }

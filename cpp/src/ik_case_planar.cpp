@@ -40,7 +40,8 @@ Detection<PlanarGeometry> detect_planar(const ArmLines& arm) {
         else ++g.revolute_count;
     }
     if (g.revolute_count < 2 || g.revolute_count > 3 || prismatic_count > 1)
-        return CaseReason{CaseFit::Prismatic, "a SCARA or planar arm has 2 or 3 revolute joints and at most one prismatic"};
+        return CaseReason{CaseFit::Prismatic,
+                          "a SCARA or planar arm has 2 or 3 revolute joints and at most one prismatic"};
     for (int j = 0; j < arm.n; ++j)
         if (!parallel(arm, g.revolute[0], j))
             return CaseReason{CaseFit::Axes, "axes " + axes_text(arm, {g.revolute[0], j}) + " are not parallel"};

@@ -187,17 +187,17 @@ bool three_parallel_block(const ArmLines& arm, int first) {
 }
 
 Detection<ThreeParallelGeometry> detect_three_parallel(const ArmLines& arm) {
-    if (arm.n != 6) return CaseReason{CaseFit::Joints, "three parallel axes need 6 joints, not " + std::to_string(arm.n)};
-    for (int j = 0; j < 6; ++j)
-        if (arm.prismatic[j]) return CaseReason{CaseFit::Prismatic, "joint " + std::to_string(arm.index[j] + 1) + " is prismatic"};
+    CaseReason why;
+    if (!six_revolute(arm, "the three-parallel case", why)) return why;
     for (const ArmLines& lines : {arm, reversed(arm)}) {
         if (!three_parallel_block(lines, 1)) continue;
         const ArmLines a = aligned(lines, {1, 2, 3}, lines.h[1]);
         ThreeParallelGeometry g = three_parallel_geometry(a);
         const bool polish = !g.rank1;
-        return CaseMatch<ThreeParallelGeometry>{g, a, "three-parallel", "three parallel axes: axes " +
-                                                axes_text(a, {1, 2, 3}) + " are parallel: closed-form IK, up to 8 solutions",
-                                                polish};
+        const std::string axes = axes_text(a, {1, 2, 3});
+        return CaseMatch<ThreeParallelGeometry>{
+            g, a, "three-parallel", "three parallel axes: axes " + axes + " are parallel: closed-form IK, up to 8 solutions",
+            polish};
     }
     return CaseReason{CaseFit::Axes, "neither axes 2, 3, 4 nor 3, 4, 5 are parallel (with the axes next to them not)"};
 }

@@ -114,7 +114,8 @@ ArmCase classify(const Chain& chain) {
         out.description = spherical.text + "; use numeric IK";
     else if (n == 6)
         out.description = "6 joints with a prismatic one, and no three consecutive axes meet at one point or are "
-                          "parallel (Pieper's conditions): the general solver takes revolute joints only; use numeric IK";
+                          "parallel (Pieper's conditions): the general solver takes revolute joints only; use "
+                          "numeric IK";
     else
         out.description = std::to_string(n) + " joints that are not a planar 2R/3R arm or a SCARA (parallel revolute "
                                                "axes, prismatic along them): no closed form; use numeric IK";

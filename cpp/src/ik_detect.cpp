@@ -191,6 +191,21 @@ std::variant<PositionPlan, CaseReason> position_plan(const ArmLines& arm) {
                                              "degenerate axes)"};
 }
 
+bool six_revolute(const ArmLines& arm, const std::string& what, CaseReason& why) {
+    if (arm.n != 6) {
+        why = CaseReason{CaseFit::Joints, what + " needs 6 joints, not " + std::to_string(arm.n)};
+        return false;
+    }
+    for (int j = 0; j < 6; ++j)
+        if (arm.prismatic[j]) {
+            const std::string joint = std::to_string(arm.index[j] + 1);
+            why = CaseReason{CaseFit::Prismatic,
+                             "joint " + joint + " is prismatic: " + what + " takes revolute joints only"};
+            return false;
+        }
+    return true;
+}
+
 bool snap_to_class(const ArmLines& arm, const char* kind, ArmLines& out) {
     out = arm;
     out.tolerance = kClassTolerance;

@@ -401,11 +401,8 @@ GeneralGeometry general_geometry(const ArmLines& lines, int shift) {
 }  // namespace
 
 Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
-    if (arm.n != 6) return CaseReason{CaseFit::Joints, "the general solver takes 6 joints, not " + std::to_string(arm.n)};
-    for (int j = 0; j < 6; ++j)
-        if (arm.prismatic[j])
-            return CaseReason{CaseFit::Prismatic, "joint " + std::to_string(arm.index[j] + 1) +
-                                                      " is prismatic: the general solver takes revolute joints only"};
+    CaseReason why;
+    if (!six_revolute(arm, "the general solver", why)) return why;
     Random random(0);
     double q[kLoopSamples][6];
     Pose T[kLoopSamples];
@@ -444,7 +441,8 @@ Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
                 bool twin = false;
                 for (int k = 0; k < count && !twin; ++k) {
                     double apart = 0.0;
-                    for (int j = 0; j < 6; ++j) apart = std::max(apart, std::fabs(wrap_angle(kept[6 * k + j] - row[j])));
+                    for (int j = 0; j < 6; ++j)
+                        apart = std::max(apart, std::fabs(wrap_angle(kept[6 * k + j] - row[j])));
                     twin = apart <= kLoopNear;
                 }
                 if (residual <= kLoopNear * arm.scale && !twin) std::copy(row, row + 6, kept + 6 * count++);

@@ -106,6 +106,10 @@ struct PositionPlan {
 };
 std::variant<PositionPlan, CaseReason> position_plan(const ArmLines& arm);
 
+// Whether arm has 6 revolute joints, as the three-parallel cases and the general solver need;
+// if not, why (what: the case, e.g. "the general solver").
+bool six_revolute(const ArmLines& arm, const std::string& what, CaseReason& why);
+
 // The lines of a 6-joint arm near a class (its tests passing to arm.tolerance) moved onto
 // the class exactly, kind: "spherical" (axes 4-6 through their meeting point, and joints 1-3
 // onto their position case), "three-parallel" (axes 2-4 along axis 2) or "parallel-base"
