@@ -130,3 +130,40 @@ def test_an_arm_whose_jacobian_has_rank_5_everywhere_is_rank_deficient_not_close
 @pytest.mark.parametrize("name", ["probot-anno", "puma560", "stanford", "ur5", "zju-i", "panda"])
 def test_six_joint_and_redundant_builtins_have_full_generic_rank(name):
     assert generic_rank(armkit.load(name).chain) == 6
+
+
+def test_every_case_says_why_it_does_not_apply():
+    from armkit.ik.cases import CASE_NAMES
+
+    structure = analyze_structure(armkit.load("ur5"))
+    assert structure.case == "three-parallel"
+    assert [case for case, _, _ in structure.why_not] == list(CASE_NAMES)
+    why = {case: (fit, text) for case, fit, text in structure.why_not}
+    assert why["three-parallel"] == ("applies", "")
+    assert why["spherical"][0] == "axes" and "do not meet at one point" in why["spherical"][1]
+    assert why["planar"][0] == "joints" and "not 6" in why["planar"][1]
+    assert why["point"][0] == "position-only"
+    assert why["general"] == ("earlier", "not needed: the three-parallel case applies")
+    rows = [DHRow(np.pi / 2, 0.1 * j + 0.05, 0.2, 0.3 * j) for j in range(6)]
+    offset = armkit.Robot.from_dh(rows, "standard")
+    general = analyze_structure(offset)
+    assert general.case == "general" and general.kind == "general-6r"
+    assert all(fit != "applies" for case, fit, _ in general.why_not if case != "general")
+    panda = analyze_structure(armkit.load("panda"))
+    assert panda.case is None and {fit for _, fit, _ in panda.why_not} == {"degenerate"}
+
+
+def test_show_names_the_case_and_says_why_not_when_asked(capsys):
+    from armkit.cli.main import main
+
+    assert main(["show", "ur5"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "IK case: three-parallel (closed form, up to 8 solutions)" in out and "not spherical" not in out
+    assert main(["show", "ur5", "--why-not"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "not spherical (axes): axes 4, 5, 6 do not meet at one point" in out
+    assert "not general (earlier)" in out
+    assert main(["show", "ur5", "--json"]) == 0
+    structure = json.loads(capsys.readouterr().out)["structure"]
+    assert structure["case"] == "three-parallel"
+    assert ["general", "earlier", "not needed: the three-parallel case applies"] in structure["why_not"]

@@ -20,6 +20,7 @@
 #include <nanobind/stl/vector.h>
 
 #include "armkit/ik_cases.hpp"
+#include "armkit/ik_classify.hpp"
 #include "armkit/quartic.hpp"
 #include "armkit/subproblems.hpp"
 #include "bindings.hpp"
@@ -129,6 +130,42 @@ nb::tuple solve_one(const CaseGeometry& g, In R, In t) {
     return nb::make_tuple(q, valid, family);
 }
 
+// ------------------------------------------------------------------- detection
+
+// The lines a case works on, as a dict of arrays (axes, points (n, 3), prismatic, index, sign
+// (n,), M (4, 4), inverted): armkit.ik.structure.PoeChain's fields.
+nb::dict lines_dict(const ArmLines& a) {
+    double axes[3 * kMaxCaseJoints], points[3 * kMaxCaseJoints], sign[kMaxCaseJoints], M[16];
+    std::int64_t index[kMaxCaseJoints];
+    nb::list prismatic;
+    for (int j = 0; j < a.n; ++j) {
+        const Vec3 h = a.h[j], p = a.p[j];
+        axes[3 * j] = h.x, axes[3 * j + 1] = h.y, axes[3 * j + 2] = h.z;
+        points[3 * j] = p.x, points[3 * j + 1] = p.y, points[3 * j + 2] = p.z;
+        sign[j] = a.sign[j];
+        index[j] = a.index[j];
+        prismatic.append(bool(a.prismatic[j]));
+    }
+    pose_to_matrix(a.M, M);
+    nb::dict d;
+    d["axes"] = owned_array(axes, std::size_t(a.n), 3);
+    d["points"] = owned_array(points, std::size_t(a.n), 3);
+    d["prismatic"] = prismatic;
+    d["index"] = owned_array(index, std::size_t(a.n));
+    d["sign"] = owned_array(sign, std::size_t(a.n));
+    d["M"] = owned_array(M, 4, 4);
+    d["inverted"] = a.inverted;
+    return d;
+}
+
+// Why each registered case does not apply: (case name, fit name, text) per case.
+nb::list reasons(const CaseReason* why) {
+    nb::list out;
+    for (int c = 0; c < kCaseCount; ++c)
+        out.append(nb::make_tuple(kCases[c].name, kCaseFitNames[int(why[c].fit)], why[c].text));
+    return out;
+}
+
 // ------------------------------------------------------------------- subproblems
 
 std::pair<Pair, Flags> angles(const Angles2& s) { return {{s.t[0], s.t[1]}, {s.ok[0], s.ok[1]}}; }
@@ -232,6 +269,8 @@ void bind_closed_form(nb::module_& m) {
               }, nb::arg("chain"), nb::arg("system"), nb::arg("position_case"), nb::arg("c"), nb::arg("o"),
               nb::arg("o2"), nb::arg("o3"));
     case_properties(point);
+    point.def_prop_ro("c", [](const PointGeometry& g) { return tuple3(g.c); },
+                      "The point joints 1-3 carry (a spherical wrist's centre) [m], at q = 0.");
     nb::class_<SphericalGeometry, PointGeometry> spherical(
         m, "SphericalGeometry", "A spherical wrist at c: joints 1-3 place it, then the wrist (u: a normal of h6).");
     spherical.def("__init__", [](SphericalGeometry* g, const CaseChain& chain, const TwoAngleSystem& system,
@@ -298,6 +337,53 @@ void bind_closed_form(nb::module_& m) {
                     g->arm = std::move(arm);
                 }, nb::arg("chain"), nb::arg("shift") = 0);
     case_properties(general);
+    m.attr("CLASS_TOLERANCE") = kClassTolerance;
+    m.attr("RANK_TOLERANCE") = kRankTolerance;
+    m.attr("CANDIDATE_TOLERANCE") = kCandidateTolerance;
+    nb::class_<ArmCase>(m, "ArmCase",
+                        "The case chosen for a chain by the registry's detect functions, and why the others do "
+                        "not apply.")
+        .def_ro("chosen", &ArmCase::chosen, "Index of the chosen case in CASE_NAMES, -1 for none.")
+        .def_prop_ro("case", [](const ArmCase& a) -> nb::object {
+                if (a.chosen < 0) return nb::none();
+                return nb::str(kCases[a.chosen].name);
+            }, "The chosen case's registry name, or None.")
+        .def_ro("kind", &ArmCase::kind)
+        .def_ro("description", &ArmCase::description)
+        .def_ro("max_solutions", &ArmCase::max_solutions)
+        .def_ro("polish", &ArmCase::polish)
+        .def_prop_ro("geometry", [](const ArmCase& a) -> nb::object {
+                if (a.chosen < 0) return nb::none();
+                return nb::cast(a.geometry);
+            }, "The chosen case's geometry (None for none).")
+        .def_prop_ro("lines", [](const ArmCase& a) { return lines_dict(a.lines); },
+                     "The lines the case works on (possibly reversed, axes flipped), as a dict.")
+        .def_prop_ro("why_not", [](const ArmCase& a) { return reasons(a.why_not); },
+                     "(case, fit, text) for every registered case: fit 'applies' for the chosen one.");
+    m.attr("CASE_FITS") = nb::make_tuple(kCaseFitNames[0], kCaseFitNames[1], kCaseFitNames[2], kCaseFitNames[3],
+                                         kCaseFitNames[4], kCaseFitNames[5], kCaseFitNames[6], kCaseFitNames[7]);
+    m.def("classify", &classify, nb::arg("chain"),
+          "The case that solves the chain (the registry's detect functions in order), and why the others do not.");
+    m.def("generic_rank", &generic_rank, nb::arg("chain"), nb::arg("tol") = kRankTolerance,
+          "The largest rank of the chain's Jacobian over a few seeded random configurations inside its limits.");
+    m.def("closed_form_of", [](const Chain& chain, const ArmCase& arm) {
+            if (arm.chosen < 0) throw nb::value_error(("closed_form_of: no case applies: " + arm.description).c_str());
+            return closed_form_of(chain, arm);
+        }, nb::arg("chain"), nb::arg("arm"), "The per-pose loop's constants for the chosen case.");
+    m.def("detect_point", [](const Chain& chain, V3 c) -> nb::tuple {
+            if (chain.n < 3) throw nb::value_error("detect_point: needs a chain of at least 3 joints");
+            Chain three = chain;  // joints 1-3 alone (their lines do not depend on the rest)
+            three.n = 3;
+            three.between.resize(4);
+            const ArmLines lines = first_lines(arm_lines(three), 3, vec(c));
+            Detection<PointGeometry> found = detect_point(lines);
+            if (auto* why = std::get_if<CaseReason>(&found))
+                return nb::make_tuple(nb::none(), kCaseFitNames[int(why->fit)], why->text);
+            const CaseMatch<PointGeometry>& m = std::get<CaseMatch<PointGeometry>>(found);
+            return nb::make_tuple(nb::cast(m.geometry), lines_dict(m.lines), m.description);
+        }, nb::arg("chain"), nb::arg("c"),
+        "Joints 1-3 carrying the point c (base frame at q = 0): (PointGeometry, lines, clause), or (None, fit, "
+        "reason).");
     m.def("solve_pose", &solve_one, nb::arg("geometry"), nb::arg("R"), nb::arg("t"),
           "Every candidate (q (k, n), valid (k,), family (k,)) of a case geometry for the joint motion G = (R, t).");
 }

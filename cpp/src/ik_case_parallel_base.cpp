@@ -69,4 +69,34 @@ void solve_case(const ParallelBaseGeometry& g, const Mat3& R, Vec3 t, double* q,
     }
 }
 
+// ------------------------------------------------------------------------ detection
+
+Detection<ParallelBaseGeometry> detect_parallel_base(const ArmLines& arm) {
+    CaseReason why;
+    if (!six_revolute(arm, "the parallel-base case", why)) return why;
+    for (const ArmLines& lines : {arm, reversed(arm)}) {
+        if (!three_parallel_block(lines, 0)) continue;
+        const ArmLines a = aligned(lines, {0, 1, 2}, lines.h[0]);
+        // two equations in q6, q4; o4, o5, o6 points of axes 4-6 (o4, o5 closest to each other)
+        ParallelBaseGeometry g;
+        static_cast<CaseChain&>(g) = a;
+        const Vec3* h = a.h;
+        const Vec3 hp = h[0];
+        Vec3 o5b;
+        closest_points(a.p[3], h[3], a.p[4], h[4], g.o4, g.o5);
+        closest_points(a.p[4], h[4], a.p[5], h[5], o5b, g.o6);
+        const TrigCoeffs r0 = trig_coeffs(hp, h[3], h[4]), r1 = trig_coeffs(hp, h[3], g.o5 - g.o4);
+        const double Q[2][2] = {{r0.cos_coeff, r0.sin_coeff}, {r1.cos_coeff, r1.sin_coeff}};
+        static_cast<TwoAngleSystem&>(g) = two_angle_constants(Q, r0.constant, r1.constant + dot(hp, g.o4), true);
+        g.hp = hp;
+        g.u = unit_normal(hp);
+        const bool polish = !g.rank1;
+        const std::string axes = axes_text(a, {0, 1, 2});
+        return CaseMatch<ParallelBaseGeometry>{
+            g, a, "three-parallel", "three parallel axes: axes " + axes + " are parallel: closed-form IK, up to 8 solutions",
+            polish};
+    }
+    return CaseReason{CaseFit::Axes, "neither axes 1, 2, 3 nor 4, 5, 6 are parallel (with the axes next to them not)"};
+}
+
 }  // namespace armkit

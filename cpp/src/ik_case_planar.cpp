@@ -27,4 +27,44 @@ void solve_case(const PlanarGeometry& g, const Mat3& R, Vec3 t, double* q, bool*
     }
 }
 
+// ------------------------------------------------------------------------ detection
+
+Detection<PlanarGeometry> detect_planar(const ArmLines& arm) {
+    if (arm.n < 2 || arm.n > 4)
+        return CaseReason{CaseFit::Joints, "a SCARA or planar arm has 2 to 4 joints, not " + std::to_string(arm.n)};
+    PlanarGeometry g;
+    int prismatic[kMaxCaseJoints], prismatic_count = 0;
+    for (int j = 0; j < arm.n; ++j) {
+        if (!arm.prismatic[j] && g.revolute_count < 3) g.revolute[g.revolute_count] = j;
+        if (arm.prismatic[j]) prismatic[prismatic_count++] = j;
+        else ++g.revolute_count;
+    }
+    if (g.revolute_count < 2 || g.revolute_count > 3 || prismatic_count > 1)
+        return CaseReason{CaseFit::Prismatic,
+                          "a SCARA or planar arm has 2 or 3 revolute joints and at most one prismatic"};
+    for (int j = 0; j < arm.n; ++j)
+        if (!parallel(arm, g.revolute[0], j))
+            return CaseReason{CaseFit::Axes, "axes " + axes_text(arm, {g.revolute[0], j}) + " are not parallel"};
+    ArmLines a = arm;
+    for (int j = 0; j < arm.n; ++j)
+        if (dot(arm.h[j], arm.h[g.revolute[0]]) < 0) a.h[j] = -arm.h[j], a.sign[j] = -arm.sign[j];
+    static_cast<CaseChain&>(g) = a;
+    g.hp = a.h[g.revolute[0]];
+    g.u = unit_normal(g.hp);
+    g.y = g.revolute_count == 3 ? a.p[g.revolute[2]] : a.p[g.revolute[1]] + g.u;
+    g.prismatic_joint = prismatic_count ? prismatic[0] : -1;
+    std::string axes;
+    for (int r = 0; r < g.revolute_count; ++r) axes += (r ? ", " : "") + std::to_string(a.index[g.revolute[r]] + 1);
+    std::string kind, what;
+    if (prismatic_count) {
+        kind = "scara";
+        what = "SCARA: revolute axes " + axes + " are parallel and prismatic joint " +
+               std::to_string(a.index[prismatic[0]] + 1) + " moves along them";
+    } else {
+        kind = "planar-" + std::to_string(g.revolute_count) + "r";
+        what = "planar " + std::to_string(g.revolute_count) + "R arm: axes " + axes + " are parallel";
+    }
+    return CaseMatch<PlanarGeometry>{g, a, kind, what + ": closed-form IK, up to 2 solutions", false};
+}
+
 }  // namespace armkit

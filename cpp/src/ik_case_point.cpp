@@ -126,4 +126,35 @@ void solve_case(const PointGeometry& g, const Mat3&, Vec3 w, double* q, bool* va
     }
 }
 
+// ------------------------------------------------------------------------ detection
+
+PointGeometry point_geometry(const PositionPlan& plan, Vec3 c) {
+    PointGeometry g;
+    static_cast<CaseChain&>(g) = plan.lines;
+    g.position_case = PositionCase(plan.position_case);
+    g.c = c;
+    g.o = plan.o;
+    if (g.position_case == PositionCase::General123) {
+        // with y = e1^-1 G c (q1) and x = e3 c (q3), e2 x = y keeps the height along axis 2
+        // and the distance to a point o2 of it, each first order in its angle
+        const Vec3* h = plan.lines.h;
+        const Vec3* p = plan.lines.p;
+        closest_points(p[1], h[1], p[2], h[2], g.o2, g.o3);
+        const Vec3 d = g.o3 - g.o2, v = c - g.o3;
+        const TrigCoeffs height = trig_coeffs(h[1], h[2], v), distance = trig_coeffs(2.0 * d, h[2], v);
+        const double Q[2][2] = {{height.cos_coeff, height.sin_coeff}, {distance.cos_coeff, distance.sin_coeff}};
+        static_cast<TwoAngleSystem&>(g) =
+            two_angle_constants(Q, height.constant + dot(h[1], d), distance.constant + dot(d, d) + dot(v, v), true);
+    }
+    return g;
+}
+
+Detection<PointGeometry> detect_point(const ArmLines& arm) {
+    if (arm.n != 3) return CaseReason{CaseFit::Joints, "position IK of joints 1-3 takes a chain of 3 joints"};
+    auto plan = position_plan(arm);
+    if (auto* why = std::get_if<CaseReason>(&plan)) return *why;
+    const PositionPlan& p = std::get<PositionPlan>(plan);
+    return CaseMatch<PointGeometry>{point_geometry(p, arm.M.position()), p.lines, "point", p.clause, false};
+}
+
 }  // namespace armkit

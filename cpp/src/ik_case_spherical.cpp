@@ -100,4 +100,43 @@ void solve_case(const SphericalGeometry& g, const Mat3& R, Vec3 t, double* q, bo
     }
 }
 
+// ------------------------------------------------------------------------ detection
+
+namespace {
+
+// The spherical wrist of `arm` (base: arm is a reversed chain, its wrist the user's base).
+Detection<SphericalGeometry> spherical_on(const ArmLines& arm, bool base) {
+    const std::string where = base ? "base" : "wrist";
+    if (arm.prismatic[3] || arm.prismatic[4] || arm.prismatic[5])
+        return CaseReason{CaseFit::Prismatic, "a joint of axes " + axes_text(arm, {3, 4, 5}) + " is prismatic"};
+    Vec3 centre;
+    if (!meet(arm, 3, 4, 5, centre))
+        return CaseReason{CaseFit::Axes, "axes " + axes_text(arm, {3, 4, 5}) + " do not meet at one point"};
+    const std::string meets = "spherical " + where + ": axes " + axes_text(arm, {3, 4, 5}) + " meet at one point";
+    auto plan = position_plan(arm);
+    if (auto* why = std::get_if<CaseReason>(&plan)) return CaseReason{why->fit, meets + ", but " + why->text};
+    const PositionPlan& p = std::get<PositionPlan>(plan);
+    SphericalGeometry g;
+    static_cast<PointGeometry&>(g) = point_geometry(p, centre);
+    g.u = unit_normal(p.lines.h[5]);
+    return CaseMatch<SphericalGeometry>{g, p.lines, base ? "spherical-base" : "spherical-wrist",
+                                        meets + " and " + p.clause + ": closed-form IK, up to 8 solutions",
+                                        p.position_case == int(PositionCase::General123)};
+}
+
+}  // namespace
+
+Detection<SphericalGeometry> detect_spherical(const ArmLines& arm) {
+    if (arm.n != 6)
+        return CaseReason{CaseFit::Joints, "a spherical wrist or base needs 6 joints, not " + std::to_string(arm.n)};
+    Detection<SphericalGeometry> wrist = spherical_on(arm, false);
+    if (std::holds_alternative<CaseMatch<SphericalGeometry>>(wrist)) return wrist;
+    Detection<SphericalGeometry> base = spherical_on(reversed(arm), true);
+    if (std::holds_alternative<CaseMatch<SphericalGeometry>>(base)) return base;
+    const CaseReason &w = std::get<CaseReason>(wrist), &b = std::get<CaseReason>(base);
+    if (w.fit == CaseFit::Position) return w;  // the more specific reason
+    if (b.fit == CaseFit::Position) return b;
+    return CaseReason{w.fit, w.text + ", nor do axes " + axes_text(arm, {0, 1, 2})};
+}
+
 }  // namespace armkit

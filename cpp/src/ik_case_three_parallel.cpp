@@ -148,4 +148,58 @@ void solve_case(const ThreeParallelGeometry& g, const Mat3& R, Vec3 t, double* q
     }
 }
 
+// ------------------------------------------------------------------------ detection
+
+namespace {
+
+// Axes 2-4 of `arm` parallel to h: two equations in q1, q5; p5, p6 the closest points of
+// axes 5 and 6, and the values of q5 that turn axis 6 parallel to h.
+ThreeParallelGeometry three_parallel_geometry(const ArmLines& arm) {
+    ThreeParallelGeometry g;
+    static_cast<CaseChain&>(g) = arm;
+    const Vec3* h = arm.h;
+    const Vec3 hp = h[1];
+    closest_points(arm.p[4], h[4], arm.p[5], h[5], g.p5, g.p6);
+    // right-hand sides hp . R(h5, q5) v = const + c cos q5 + d sin q5, for v = h6, p6 - p5
+    const TrigCoeffs a = trig_coeffs(hp, h[4], h[5]), b = trig_coeffs(hp, h[4], g.p6 - g.p5);
+    const double Q[2][2] = {{a.cos_coeff, a.sin_coeff}, {b.cos_coeff, b.sin_coeff}};
+    // q5 near an aligned wrist is refined from sines, so its cosine equation must not snap
+    static_cast<TwoAngleSystem&>(g) = two_angle_constants(Q, a.constant, b.constant + dot(hp, g.p5 - arm.p[0]), false);
+    g.hp = hp;
+    g.u = unit_normal(hp);
+    for (double side : {1.0, -1.0}) {
+        const Angles2 s = sp4(hp, h[5], h[4], side);
+        for (int i = 0; i < 2; ++i)
+            if (s.ok[i] && g.aligned < 4) g.q5_aligned[g.aligned++] = s.t[i];
+    }
+    g.b_aligned = norm(cross(h[4], hp)) * norm(cross(h[4], h[5]));
+    return g;
+}
+
+}  // namespace
+
+bool three_parallel_block(const ArmLines& arm, int first) {
+    if (!(parallel(arm, first, first + 1) && parallel(arm, first, first + 2))) return false;
+    // the axes next to the block must leave it, and the ones after must not be parallel
+    const int after = first + 3;
+    return !(first == 1 && parallel(arm, 0, first)) && !parallel(arm, after, first) &&
+           !parallel(arm, after, after + 1) && !parallel(arm, 4, 5);
+}
+
+Detection<ThreeParallelGeometry> detect_three_parallel(const ArmLines& arm) {
+    CaseReason why;
+    if (!six_revolute(arm, "the three-parallel case", why)) return why;
+    for (const ArmLines& lines : {arm, reversed(arm)}) {
+        if (!three_parallel_block(lines, 1)) continue;
+        const ArmLines a = aligned(lines, {1, 2, 3}, lines.h[1]);
+        ThreeParallelGeometry g = three_parallel_geometry(a);
+        const bool polish = !g.rank1;
+        const std::string axes = axes_text(a, {1, 2, 3});
+        return CaseMatch<ThreeParallelGeometry>{
+            g, a, "three-parallel", "three parallel axes: axes " + axes + " are parallel: closed-form IK, up to 8 solutions",
+            polish};
+    }
+    return CaseReason{CaseFit::Axes, "neither axes 2, 3, 4 nor 3, 4, 5 are parallel (with the axes next to them not)"};
+}
+
 }  // namespace armkit

@@ -7,6 +7,8 @@
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 
+#include "armkit/ik_cases.hpp"
+#include "armkit/random.hpp"
 #include "armkit/tolerances.hpp"
 
 namespace armkit {
@@ -283,8 +285,184 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
     return found;
 }
 
+// ---------------------------------------------------------------- a class nearby
+
+struct ClassSeed {
+    CaseGeometry geometry;  // the class, on the arm moved onto it
+    ArmLines lines;         // the lines its geometry works on
+    ArmLines general;       // the general loop's lines
+};
+
+namespace {
+
+// Whether rows a and b (6 angles) are within gap of each other in every joint.
+bool close_rows(const double* a, const double* b, double gap) {
+    for (int j = 0; j < 6; ++j)
+        if (!(std::fabs(wrap_angle(a[j] - b[j])) <= gap)) return false;
+    return true;
+}
+
+// The seed's class candidates for the general loop's joint motion (R, t), in the loop's
+// joints, first in q (kGeneralRoots x 6), then the `found` candidates of the elimination
+// that are not within kLoopNear of one, as long as there is room.
+void add_class_candidates(const ClassSeed& s, const Mat3& R, Vec3 t, double* q, bool* valid, int found) {
+    Pose G;
+    for (int r = 0; r < 3; ++r) {
+        G(r, 0) = R.r[r].x, G(r, 1) = R.r[r].y, G(r, 2) = R.r[r].z;
+    }
+    G(0, 3) = t.x, G(1, 3) = t.y, G(2, 3) = t.z;
+    const Pose A = compose(G, s.general.M);  // T, or T^-1 for an inverted loop
+    const Pose T = s.general.inverted ? inverse(A) : A;
+    const Pose Gc = compose(s.lines.inverted ? inverse(T) : T, inverse(s.lines.M));
+    double qc[kMaxCandidates * 6];
+    bool vc[kMaxCandidates], fc[kMaxCandidates];
+    solve_pose(s.geometry, Gc.rotation(), Gc.position(), qc, vc, fc);
+    double rows[kGeneralRoots * 6];
+    int count = 0;
+    for (int c = 0; c < case_entry(s.geometry).candidates && count < kGeneralRoots; ++c) {
+        if (!vc[c]) continue;
+        double user[6], *row = rows + 6 * count;
+        for (int j = 0; j < 6; ++j) user[s.lines.index[j]] = s.lines.sign[j] * qc[6 * c + j];
+        bool finite = true;
+        for (int j = 0; j < 6; ++j) {
+            row[j] = s.general.sign[j] * user[s.general.index[j]];
+            finite = finite && std::isfinite(row[j]);
+        }
+        count += finite;
+    }
+    const int seeded = count;
+    for (int r = 0; r < found && count < kGeneralRoots; ++r) {
+        bool near = false;
+        for (int c = 0; c < seeded && !near; ++c) near = close_rows(q + 6 * r, rows + 6 * c, kLoopNear);
+        if (!near) std::copy(q + 6 * r, q + 6 * r + 6, rows + 6 * count++);
+    }
+    std::copy(rows, rows + 6 * count, q);
+    for (int r = 0; r < kGeneralRoots; ++r) valid[r] = r < count;
+}
+
+// The class within kNearClass of arm (spherical, three-parallel, parallel-base), moved onto it
+// exactly and detected there by its own detect function, for the general loop `general`; or none.
+std::shared_ptr<const ClassSeed> near_class_seed(const ArmLines& arm, const ArmLines& general) {
+    ArmLines loose = arm;
+    loose.tolerance = kNearClass;
+    for (const CaseEntry& entry : kCases) {
+        ArmLines snapped;
+        if (!entry.whole_pose || std::string(entry.name) == "general" || std::string(entry.name) == "planar" ||
+            !snap_to_class(loose, entry.name, snapped))
+            continue;
+        CaseDetection found = entry.detect(snapped);
+        if (auto* f = std::get_if<CaseFound>(&found))
+            return std::make_shared<ClassSeed>(ClassSeed{f->geometry, f->lines, general});
+    }
+    return nullptr;
+}
+
+}  // namespace
+
 void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
-    general_six_r(*g.arm, R, t, q, valid, family);
+    const int found = general_six_r(*g.arm, R, t, q, valid, family);
+    if (g.seed) add_class_candidates(*g.seed, R, t, q, valid, found);
+}
+
+// ------------------------------------------------------------------------ detection
+
+namespace {
+
+//: Configurations on which detect_general compares the loops.
+constexpr int kLoopSamples = 12;
+
+// The tool pose of lines `arm` at q (user's joints = internal here: arm not reversed):
+// exp(xi_1 q_1) ... exp(xi_n q_n) M.
+Pose lines_pose(const ArmLines& arm, const double* q) {
+    Pose T = arm.M;
+    for (int j = arm.n - 1; j >= 0; --j) {
+        Pose next;
+        for (int c = 0; c < 4; ++c) {
+            const Vec3 v = T.column(c);
+            Vec3 moved;
+            if (c < 3) moved = arm.prismatic[j] ? v : rotate(arm.h[j], q[j], v);
+            else moved = arm.prismatic[j] ? v + q[j] * arm.h[j] : turn_point(arm.h[j], arm.p[j], q[j], v);
+            next(0, c) = moved.x, next(1, c) = moved.y, next(2, c) = moved.z;
+        }
+        T = next;
+    }
+    return T;
+}
+
+GeneralGeometry general_geometry(const ArmLines& lines, int shift) {
+    GeneralGeometry g;
+    static_cast<CaseChain&>(g) = lines;
+    auto arm = std::make_shared<GeneralSixR>();
+    prepare_general(lines.h, lines.p, shift, *arm);
+    g.arm = std::move(arm);
+    return g;
+}
+
+}  // namespace
+
+Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
+    CaseReason why;
+    if (!six_revolute(arm, "the general solver", why)) return why;
+    Random random(0);
+    double q[kLoopSamples][6];
+    Pose T[kLoopSamples];
+    for (int s = 0; s < kLoopSamples; ++s) {
+        for (double& v : q[s]) v = random.uniform(-kPi, kPi);
+        T[s] = lines_pose(arm, q[s]);
+    }
+    const ArmLines loops[2] = {arm, reversed(arm)};
+    double best_worst = 0.0, best_mean = 0.0;
+    int best = -1, best_near = 0;
+    for (int l = 0; l < 12; ++l) {
+        const ArmLines& lines = loops[l / 6];
+        const GeneralGeometry g = general_geometry(lines, l % 6);
+        const Pose M_inv = inverse(lines.M);
+        double worst = 0.0, mean = 0.0;
+        int near = 0;  // distinct raw candidates near a solution, over the samples
+        for (int s = 0; s < kLoopSamples; ++s) {
+            const Pose G = compose(lines.inverted ? inverse(T[s]) : T[s], M_inv);
+            double found[kGeneralRoots * 6];
+            bool valid[kGeneralRoots], family[kGeneralRoots];
+            solve_case(g, G.rotation(), G.position(), found, valid, family);
+            double closest = kPi, kept[kGeneralRoots * 6];
+            int count = 0;
+            for (int c = 0; c < kGeneralRoots; ++c) {
+                if (!valid[c]) continue;
+                const double* row = found + 6 * c;
+                double gap = 0.0, user[6];
+                for (int j = 0; j < 6; ++j) {
+                    gap = std::max(gap, std::fabs(wrap_angle(row[j] - lines.sign[j] * q[s][lines.index[j]])));
+                    user[lines.index[j]] = lines.sign[j] * row[j];
+                }
+                closest = std::min(closest, gap);
+                const Pose F = lines_pose(arm, user);
+                double residual = 0.0;
+                for (int a = 0; a < 12; ++a) residual = std::max(residual, std::fabs(F.m[a] - T[s].m[a]));
+                bool twin = false;
+                for (int k = 0; k < count && !twin; ++k) {
+                    double apart = 0.0;
+                    for (int j = 0; j < 6; ++j)
+                        apart = std::max(apart, std::fabs(wrap_angle(kept[6 * k + j] - row[j])));
+                    twin = apart <= kLoopNear;
+                }
+                if (residual <= kLoopNear * arm.scale && !twin) std::copy(row, row + 6, kept + 6 * count++);
+            }
+            near += count;
+            worst = std::max(worst, closest);
+            mean += closest / kLoopSamples;
+        }
+        if (best < 0 || near > best_near || (near == best_near && (worst < best_worst ||
+                                                                   (worst == best_worst && mean < best_mean))))
+            best = l, best_near = near, best_worst = worst, best_mean = mean;
+        if (worst <= kGoodLoop) break;
+    }
+    GeneralGeometry chosen = general_geometry(loops[best / 6], best % 6);
+    chosen.seed = near_class_seed(arm, loops[best / 6]);
+    return CaseMatch<GeneralGeometry>{chosen, loops[best / 6], "general-6r",
+                                      "general 6R arm: no three consecutive axes meet at one point or are parallel; "
+                                      "every solution by Raghavan-Roth elimination (a 24 x 24 eigenproblem), up to 16 "
+                                      "solutions",
+                                      true};
 }
 
 }  // namespace armkit

@@ -3,6 +3,8 @@
 #pragma once
 
 #include "armkit/case_chain.hpp"
+#include "armkit/ik_case_three_parallel.hpp"
+#include "armkit/ik_detect.hpp"
 #include "armkit/two_angle.hpp"
 
 namespace armkit {
@@ -14,5 +16,9 @@ struct ParallelBaseGeometry : CaseChain, TwoAngleSystem {
 };
 
 void solve_case(const ParallelBaseGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
+
+// 6 revolute joints, axes 1-3 parallel (4 leaving them, 5 and 6 not parallel); else axes 4-6
+// (this case on the reversed chain).
+Detection<ParallelBaseGeometry> detect_parallel_base(const ArmLines& arm);
 
 }  // namespace armkit

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "armkit/case_chain.hpp"
+#include "armkit/ik_detect.hpp"
 #include "armkit/vec.hpp"
 
 namespace armkit {
@@ -17,5 +18,8 @@ struct PlanarGeometry : CaseChain {
 };
 
 void solve_case(const PlanarGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
+
+// 2 to 4 joints: 2 or 3 parallel revolute axes, at most one prismatic joint along them.
+Detection<PlanarGeometry> detect_planar(const ArmLines& arm);
 
 }  // namespace armkit

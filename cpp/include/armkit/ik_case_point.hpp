@@ -3,6 +3,7 @@
 #pragma once
 
 #include "armkit/case_chain.hpp"
+#include "armkit/ik_detect.hpp"
 #include "armkit/two_angle.hpp"
 #include "armkit/vec.hpp"
 
@@ -35,5 +36,13 @@ ArmCandidates wrist_centre_joints(const PointGeometry& g, Vec3 w);
 
 // Joints 1-3 carrying g.c to t (G = T, no M^-1; R unused): 4 candidates into q (4 x 3).
 void solve_case(const PointGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
+
+// The point case of joints 1-3 of plan.lines carrying c (general axes: the two-angle system
+// in q1, q3 of their height along axis 2 and distance from it).
+PointGeometry point_geometry(const PositionPlan& plan, Vec3 c);
+
+// Joints 1-3 (arm: 3 joints, see first_lines) carrying the tool point arm.M's position:
+// position IK only, never a whole pose.
+Detection<PointGeometry> detect_point(const ArmLines& arm);
 
 }  // namespace armkit

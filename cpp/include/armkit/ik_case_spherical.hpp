@@ -13,4 +13,8 @@ struct SphericalGeometry : PointGeometry {
 
 void solve_case(const SphericalGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
 
+// 6 joints, revolute axes 4-6 meeting at one point and joints 1-3 of a position case (a
+// spherical wrist); else the same on the reversed chain (a spherical base).
+Detection<SphericalGeometry> detect_spherical(const ArmLines& arm);
+
 }  // namespace armkit

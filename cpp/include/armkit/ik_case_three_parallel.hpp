@@ -3,6 +3,7 @@
 #pragma once
 
 #include "armkit/case_chain.hpp"
+#include "armkit/ik_detect.hpp"
 #include "armkit/two_angle.hpp"
 
 namespace armkit {
@@ -18,5 +19,13 @@ struct ThreeParallelGeometry : CaseChain, TwoAngleSystem {
 };
 
 void solve_case(const ThreeParallelGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
+
+// 6 revolute joints, axes 2-4 parallel (axes 1, 5 and 6 leaving them, 5 and 6 not parallel);
+// else axes 3-5 (this case on the reversed chain).
+Detection<ThreeParallelGeometry> detect_three_parallel(const ArmLines& arm);
+
+// Axes first .. first + 2 of a 6R arm's lines parallel, the axes next to them leaving them
+// and axes 5, 6 not parallel (first 1: this case; first 0: the parallel-base case).
+bool three_parallel_block(const ArmLines& arm, int first);
 
 }  // namespace armkit

@@ -8,17 +8,21 @@
 //
 // The interface: a case is a geometry struct (what its solver needs of the chain, made once
 // per chain; it derives from CaseChain, the joint lines every case starts from, and holds
-// only its own constants) and a solve_case overload over it, declared in the case's header
-// ik_case_<name>.hpp and defined in its source ik_case_<name>.cpp (the general 6R arm:
-// ik_general.hpp / .cpp). CaseGeometry holds one of them (a std::variant), and kCases lists
-// them in the variant's order with their names and candidates per pose: this file is the
-// one place that registers a case. solve_pose dispatches on the variant.
+// only its own constants), a solve_case overload over it and a detect function (the chain's
+// lines to its geometry, or the reason it does not apply: ik_detect.hpp), declared in the
+// case's header ik_case_<name>.hpp and defined in its source ik_case_<name>.cpp (the general
+// 6R arm: ik_general.hpp / .cpp). CaseGeometry holds one of them (a std::variant), and
+// kCases lists them in the variant's order with their names, candidates per pose and detect
+// functions: this file is the one place that registers a case. solve_pose dispatches on the
+// variant; classify (ik_classify.hpp) runs the detect functions in the registry's order.
 //
-// Adding a case: its header/source pair; its alternative in CaseGeometry and its entry in
-// kCases (here); its binding class (cpp/src/bind_closed_form.cpp); its detection and
-// geometry in armkit/ik/structure.py and armkit/ik/closed_form.py; its test.
+// Adding a case: its header/source pair (geometry, solve_case, detect); its alternative in
+// CaseGeometry and its entry in kCases (here); its binding class (cpp/src/bind_closed_form.cpp,
+// for tests that build a geometry by hand); its test.
 #pragma once
 
+#include <string>
+#include <utility>
 #include <variant>
 
 #include "armkit/case_chain.hpp"
@@ -39,16 +43,44 @@ constexpr int kMaxCandidates = kGeneralRoots;
 using CaseGeometry = std::variant<SphericalGeometry, ThreeParallelGeometry, ParallelBaseGeometry, PlanarGeometry,
                                   PointGeometry, GeneralGeometry>;
 
-// One entry of the registry: the case's name (armkit.ik.cases.CASE_NAMES) and candidates per pose.
+// A case that applies to a chain: CaseMatch of any case.
+struct CaseFound {
+    CaseGeometry geometry;
+    ArmLines lines;
+    std::string kind, description;
+    bool polish = false;
+};
+using CaseDetection = std::variant<CaseFound, CaseReason>;
+
+// A case's detect function with its geometry put into the variant.
+template <class G, Detection<G> (*Detect)(const ArmLines&)>
+CaseDetection detect_as(const ArmLines& arm) {
+    Detection<G> found = Detect(arm);
+    if (auto* m = std::get_if<CaseMatch<G>>(&found))
+        return CaseFound{CaseGeometry(std::move(m->geometry)), m->lines, std::move(m->kind), std::move(m->description),
+                         m->polish};
+    return std::get<CaseReason>(found);
+}
+
+// One entry of the registry: the case's name (armkit.ik.cases.CASE_NAMES), candidates per
+// pose, whether it solves a whole pose (not only a position), and its detect function.
 struct CaseEntry {
     const char* name;
     int candidates;
+    bool whole_pose;
+    CaseDetection (*detect)(const ArmLines&);
 };
 
-// The registry, in the order of CaseGeometry's alternatives. Point: joints 1-3 of any chain
-// carry a tool point to a target position (position IK); general: any 6R arm, the last case.
+// The registry, in the order of CaseGeometry's alternatives (classify takes the first that
+// applies). Point: joints 1-3 of any chain carry a tool point to a target position (position
+// IK); general: any 6R arm, the last case.
 constexpr CaseEntry kCases[] = {
-    {"spherical", 8}, {"three-parallel", 8}, {"parallel-base", 8}, {"planar", 2}, {"point", 4}, {"general", kGeneralRoots},
+    {"spherical", 8, true, &detect_as<SphericalGeometry, detect_spherical>},
+    {"three-parallel", 8, true, &detect_as<ThreeParallelGeometry, detect_three_parallel>},
+    {"parallel-base", 8, true, &detect_as<ParallelBaseGeometry, detect_parallel_base>},
+    {"planar", 2, true, &detect_as<PlanarGeometry, detect_planar>},
+    {"point", 4, false, &detect_as<PointGeometry, detect_point>},
+    {"general", kGeneralRoots, true, &detect_as<GeneralGeometry, detect_general>},
 };
 constexpr int kCaseCount = int(sizeof(kCases) / sizeof(kCases[0]));
 static_assert(kCaseCount == int(std::variant_size_v<CaseGeometry>), "one registry entry per case");

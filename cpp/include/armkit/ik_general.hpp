@@ -30,6 +30,7 @@
 #include <memory>
 
 #include "armkit/case_chain.hpp"
+#include "armkit/ik_detect.hpp"
 #include "armkit/vec.hpp"
 
 namespace armkit {
@@ -60,13 +61,34 @@ void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g);
 // families). Returns the number of valid candidates.
 int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
 
+// A class the arm is near (within kNearClass), solved on the arm moved onto it exactly: its
+// candidates seed the general solver's (ik_general.cpp).
+struct ClassSeed;
+
 // The general case of the registry (ik_cases.hpp), the last: any 6R arm, the elimination's
-// constants made once and shared by copies (3 KB: not carried by any other case).
+// constants made once and shared by copies (3 KB: not carried by any other case); for an arm
+// near a class, that class's seed.
 struct GeneralGeometry : CaseChain {
     std::shared_ptr<const GeneralSixR> arm;
+    std::shared_ptr<const ClassSeed> seed;
 };
 
-// general_six_r on g.arm: 16 candidates.
+// general_six_r on g.arm: 16 candidates. With a seed, the class's candidates (mapped to this
+// loop's joints) come first, then the elimination's that are not within kLoopNear of one:
+// Newton then takes each onto the real arm and FK decides (closed_form.cpp), so a root the
+// elimination loses near a class is still listed.
 void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
+
+// Any 6R arm, on the loop on which the elimination is best conditioned for it: the chain or
+// its reverse, and the loop's first joint (shift). The loops are run, once per arm, on the
+// poses of kLoopSamples seeded random configurations; the first whose raw candidates come
+// within kGoodLoop of every generating configuration is taken (a generic arm's first), else
+// the one with the most distinct raw candidates near a solution of their pose (kLoopNear:
+// a loop that loses roots has fewer, its other candidates far off), then the one that comes
+// closest to the generating configurations (worst sample, then mean), ties to the first
+// tried. An arm with parallel or meeting axes degenerates in some loops and not in others,
+// and an arm near a Pieper class loses digits in one order and far fewer in another (a
+// PROBOT with one wrist axis moved by 1e-9: one loop of the twelve lists every solution).
+Detection<GeneralGeometry> detect_general(const ArmLines& arm);
 
 }  // namespace armkit

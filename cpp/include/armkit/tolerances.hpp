@@ -5,7 +5,8 @@
 // largest term), absolute ones carry their unit. Iteration counts, sample counts and
 // capacities are not tolerances and stay with the code that uses them. The Python layer
 // binds the ones it shows to users (armkit.chain.LIMIT_TOLERANCE,
-// armkit.ik.results.SOLUTION_TOLERANCE, armkit.ik.subproblems.*_TOLERANCE).
+// armkit.ik.results.SOLUTION_TOLERANCE, armkit.ik.subproblems.*_TOLERANCE,
+// armkit.ik.closed_form.CANDIDATE_TOLERANCE, armkit.ik.structure.CLASS_TOLERANCE).
 #pragma once
 
 namespace armkit {
@@ -21,6 +22,45 @@ constexpr double kSolutionTolerance = 1e-9;
 //: Candidates closer than this in every joint [rad or m, modulo 2 pi] are one solution
 //: (armkit.ik.closed_form.DUPLICATE_TOLERANCE): distinct roots of a regular pose differ by far more.
 constexpr double kDuplicateTolerance = 1e-9;
+
+// ------------------------------------------------- which case applies (ik_detect, ik_classify)
+
+//: Two axes count as parallel where the sine of their angle is at most this, and as meeting
+//: (or one line) where they pass within this times the arm's size (1 + its largest coordinate
+//: [m]): a class is detected only to the rounding of a robot file's numbers (a Kinova URDF's
+//: meeting wrist axes miss by ~1e-13 relative; DH tables to ~1e-16), never to a calibration's
+//: size. An arm within it is solved as its class, whose solutions are then off by at most
+//: this over the pose's conditioning (polished by refine); beyond, the general 6R solver
+//: lists the real arm's exact solutions. At 1e-9 (the bar before) arms moved by 1e-9 were
+//: taken as their class and 5-12 of 100 poses lost the generating configuration (the class
+//: solver's equations assume exact meeting axes: candidates ~1e-6 off, or none at all),
+//: while the general solver lists every solution from 1e-11 on (tests/test_ik_general.py).
+constexpr double kClassTolerance = 1e-11;
+//: Singular values of the Jacobian below this fraction of the largest count as zero in the
+//: generic rank (armkit.ik.structure.generic_rank): a rank-deficient arm's are ~1e-16 of it,
+//: a generic arm's smallest at a random configuration is rarely below 1e-3.
+constexpr double kRankTolerance = 1e-9;
+//: A candidate counts only where its FK matches the target to this (entries of the top three
+//: rows, times the arm's size; bound as armkit.ik.closed_form.CANDIDATE_TOLERANCE): it only
+//: rejects non-solutions, since solutions reproduce reachable poses to ~1e-13 and what IK
+//: returns is checked again, to kSolutionTolerance.
+constexpr double kCandidateTolerance = 1e-8;
+//: A loop of the general solver whose raw candidates come within this [rad] of every sample's
+//: generating configuration is taken without trying the others (detect_general): Newton
+//: finishes such candidates in two steps.
+constexpr double kGoodLoop = 1e-8;
+//: An arm within this of a class (its axes as kClassTolerance measures them; a calibrated
+//: arm) is solved by the general solver and, besides, by its class on the arm moved onto it
+//: exactly, whose candidates Newton then takes onto the real arm (see GeneralGeometry::seed):
+//: a class solution is ~deviation / conditioning off the real one, well within Newton's reach
+//: at 1e-6, and the general solver's elimination may lose a root near a class (1 pose in
+//: ~1000 at 1e-11 .. 1e-7 measured, tests/test_ik_general.py).
+constexpr double kNearClass = 1e-6;
+//: A raw candidate of a loop counts as near a solution where its FK is within this of the
+//: pose (times the arm's size), and as another one where it is farther than this [rad] from
+//: the loop's others (detect_general): near a class raw roots are ~1e-4 off, and Newton takes
+//: them to rounding; a loop that loses a root puts its candidate ~0.1 .. 1 off.
+constexpr double kLoopNear = 1e-3;
 
 // ------------------------------------------------------------------------ subproblems
 

@@ -23,7 +23,7 @@ from armkit.cli.app import (
     load_robot,
     print_json,
 )
-from armkit.ik.structure import analyze_structure
+from armkit.ik.structure import ArmStructure, analyze_structure
 from armkit.poe import poe_from_chain
 from armkit.robot import LockedRobot, Robot
 from armkit.robot_file import builtin_robots, load
@@ -129,6 +129,14 @@ def _dynamics_line(robot: Robot) -> str:
     return f"link masses: {mass}\ntorque limits: {torque}"
 
 
+def _case_line(structure: ArmStructure) -> str:
+    """The IK engine's case for an arm: ``"spherical (closed form, up to 8 solutions)"``."""
+    if structure.case is None:
+        return "none (numeric IK)"
+    what = "general 6R solver" if structure.case == "general" else "closed form"
+    return f"{structure.case} ({what}, up to {structure.max_solutions} solutions)"
+
+
 @app.command("show")
 def show_command(
     robot: RobotArg,
@@ -136,8 +144,10 @@ def show_command(
     base: BaseOpt = None,
     tip: TipOpt = None,
     lock: LockOpt = None,
+    why_not: Annotated[bool, typer.Option(
+        "--why-not", help="Also say, for every IK case of the engine, why it does not apply.")] = False,
 ) -> None:
-    """Print a robot's DH table (or joint axes), limits and the kind of arm it is."""
+    """Print a robot's DH table (or joint axes), limits, the kind of arm it is and its IK case."""
     arm = load_robot(robot, base, tip, lock)
     structure = analyze_structure(arm)
     if json_output:
@@ -171,4 +181,9 @@ def show_command(
     console.print(_dynamics_line(arm), markup=False)
     home = arm.fk(np.zeros(arm.n))
     console.print(f"tool at q = 0: position {fmt_numbers(home[:3, 3], 6)} m", markup=False)
+    console.print(f"IK case: {_case_line(structure)}", markup=False)
     console.print(f"kind: {structure.description}", markup=False)
+    if why_not:
+        for case, fit, reason in structure.why_not:
+            if fit != "applies":
+                console.print(f"  not {case} ({fit}): {reason}", markup=False)

@@ -29,15 +29,17 @@ verifies the over-determined and quartic paths by forward kinematics.
 
 The cases are registered in one place, the core's registry (``kCases`` in
 ``cpp/include/armkit/ik_cases.hpp``): :data:`CASE_NAMES` and :data:`CASE_CANDIDATES` are read
-from it. Each case has its own geometry, a plain struct bound as a class with a typed keyword
-constructor (``armkit._core``): :class:`SphericalGeometry`, :class:`ThreeParallelGeometry`,
-:class:`ParallelBaseGeometry`, :class:`PlanarGeometry`, :class:`PointGeometry` (joints 1-3 carry
-a tool point: position IK) and :class:`GeneralGeometry` (any 6R arm, the last case), each over a
-:class:`CaseChain` (internal axes and points ``(n, 3)`` [-, m], ``prismatic`` ``(n,)``) and, where
-the case has one, a :class:`TwoAngleSystem`; built once per chain by
-:class:`armkit.ik.closed_form.ClosedFormSolver`. Each has ``n``, ``k`` (candidates per pose) and
-``case`` (its registry name). :func:`solve_pose` ``(geometry, R (3, 3), t (3,)) -> (q (k, n),
-valid (k,), family (k,))`` solves one joint motion.
+from it. Each case has a detect function in the core (the chain's joint lines to its geometry,
+or the reason it does not apply: :func:`armkit.ik.structure.analyze_structure` shows both) and
+its own geometry, a plain struct bound as a class with a typed keyword constructor
+(``armkit._core``, for tests that build one by hand): :class:`SphericalGeometry`,
+:class:`ThreeParallelGeometry`, :class:`ParallelBaseGeometry`, :class:`PlanarGeometry`,
+:class:`PointGeometry` (joints 1-3 carry a tool point: position IK) and
+:class:`GeneralGeometry` (any 6R arm, the last case), each over a :class:`CaseChain`
+(internal axes and points ``(n, 3)`` [-, m], ``prismatic`` ``(n,)``) and, where the case has
+one, a :class:`TwoAngleSystem`; built once per chain by its detect function. Each has ``n``,
+``k`` (candidates per pose) and ``case`` (its registry name). :func:`solve_pose`
+``(geometry, R (3, 3), t (3,)) -> (q (k, n), valid (k,), family (k,))`` solves one joint motion.
 """
 
 from __future__ import annotations

@@ -26,22 +26,19 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit._deprecation import deprecated_function
 from armkit._params import float_array
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
 from armkit.ik.cases import PointGeometry, solve_pose
-from armkit.ik.closed_form import point_geometry
 from armkit.ik.numeric import wrap_into_limits
 from armkit.ik.pipeline import with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions
-from armkit.ik.structure import PoeChain, poe_from_chain, position_joints_case
 from armkit.kinematics import fk, geometric_jacobian
 
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
-__all__ = ["ik_position", "ik_position_solutions", "position_case", "position_solutions"]
+__all__ = ["ik_position", "position_solutions", "position_case"]
 
 #: Newton steps on joints 1-3 for a candidate whose position is off by more than 1e-12 m
 #: (quartic roots).
@@ -56,46 +53,34 @@ def position_case(robot: Robot | Chain) -> str:
     NoClosedFormError
         If the chain has fewer than 3 joints, or joints 1-3 have no closed form here.
     """
-    return _plan(as_chain(robot))[2]
+    return _plan(as_chain(robot))
 
 
-def _plan(chain: Chain) -> tuple[PoeChain, tuple, str]:
-    """Joints 1-3 as a POE chain (aligned for the parallel cases), their case and its clause;
-    computed once per chain (a refusal too)."""
+def _plan(chain: Chain) -> str:
+    """How joints 1-3 carry the tool point (the core's point case, its clause); decided once
+    per chain (a refusal too)."""
     plan = chain.derived(_make_plan)
     if isinstance(plan, NoClosedFormError):
         raise NoClosedFormError(str(plan))
     return plan
 
 
-def _make_plan(chain: Chain) -> tuple[PoeChain, tuple, str] | NoClosedFormError:
-    try:
-        return _analyse(chain)
-    except NoClosedFormError as exc:
-        return exc
+_NO_POSITION_CASE = ("joints 1-3 have no closed-form position solution here (two prismatic joints, or "
+                     "parallel axes that leave the position problem degenerate); use numeric IK with "
+                     "mask=[1, 1, 1, 0, 0, 0]")
 
 
-def _analyse(chain: Chain) -> tuple[PoeChain, tuple, str]:
+def _make_plan(chain: Chain) -> str | NoClosedFormError:
     if chain.n < 3:
-        raise NoClosedFormError(f"position IK in closed form needs 3 joints; this arm has {chain.n}")
-    poe = poe_from_chain(chain)
-    three = PoeChain(poe.axes[:3], poe.points[:3], poe.prismatic[:3], poe.M, np.arange(3), np.ones(3))
+        return NoClosedFormError(f"position IK in closed form needs 3 joints; this arm has {chain.n}")
     rank = _position_rank(chain)
     if rank < 3:
-        raise NoClosedFormError(f"joints 1-3 move the tool point in only {rank} independent directions at "
-                                f"every configuration tried (e.g. axes 1-3 meet at one point, or two are "
-                                f"one line): its positions form a surface, not a volume, so there is no "
-                                f"closed form here; use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
-    found = position_joints_case(three)
-    if found is None:
-        raise NoClosedFormError("joints 1-3 have no closed-form position solution here (two prismatic "
-                                "joints, or parallel axes that leave the position problem degenerate); "
-                                "use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
-    case, point, clause = found
-    if case.startswith("parallel"):
-        pair = [1, 2] if case == "parallel-23" else [0, 1]
-        three = three.aligned(pair, three.axes[pair[0]])
-    return three, (case, point), clause
+        return NoClosedFormError(f"joints 1-3 move the tool point in only {rank} independent directions at "
+                                 f"every configuration tried (e.g. axes 1-3 meet at one point, or two are "
+                                 f"one line): its positions form a surface, not a volume, so there is no "
+                                 f"closed form here; use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
+    geometry, _, clause = _core.detect_point(chain._core, (0.0, 0.0, 0.0))  # the case is the lines'
+    return NoClosedFormError(_NO_POSITION_CASE) if geometry is None else clause
 
 
 def _position_rank(chain: Chain, tries: int = 4) -> int:
@@ -106,15 +91,18 @@ def _position_rank(chain: Chain, tries: int = 4) -> int:
     q[:, :3] = rng.uniform(-np.pi, np.pi, (tries, 3))
     J = geometric_jacobian(chain, q)[:, :3, :3]
     S = np.linalg.svd(J, compute_uv=False)
-    return int((S > 1e-9 * (1.0 + np.abs(fk(chain, q)[:, :3, 3]).max())).sum(axis=1).max())
+    return int((S > _core.RANK_TOLERANCE * (1.0 + np.abs(fk(chain, q)[:, :3, 3]).max())).sum(axis=1).max())
 
 
 def _geometry(chain: Chain, tail: NDArray[np.float64]) -> tuple[PointGeometry, NDArray[np.float64]]:
     """The point case for joints 1-3 with joints 4..n at ``tail`` (its tool point at q1-3 = 0),
     and the signs of joints 1-3."""
-    three, (case, point), _ = _plan(chain)
+    _plan(chain)
     c = fk(chain, np.concatenate([np.zeros(3), tail])[None])[0, :3, 3]
-    return point_geometry(three, case, c, point, wrist=False), three.sign
+    geometry, lines, _ = _core.detect_point(chain._core, tuple(float(x) for x in c))
+    if geometry is None:
+        raise NoClosedFormError(_NO_POSITION_CASE)
+    return geometry, lines["sign"]
 
 
 def _polish(chain: Chain, q: NDArray[np.float64], p: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -129,7 +117,7 @@ def _polish(chain: Chain, q: NDArray[np.float64], p: NDArray[np.float64]) -> NDA
     return q
 
 
-def ik_position_solutions(robot: Robot | Chain, position: ArrayLike, *, near: ArrayLike | None = None,
+def position_solutions(robot: Robot | Chain, position: ArrayLike, *, near: ArrayLike | None = None,
                        turn_copies: bool = False) -> IKSolutions:
     """Every closed-form solution for a tool position, inside the limits or not, with flags.
 
@@ -162,7 +150,7 @@ def _wrap_first_three(chain: Chain, q: NDArray[np.float64], near: NDArray[np.flo
 
 def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copies: bool
            ) -> tuple[IKSolutions, float]:
-    """:func:`ik_position_solutions`, and the distance [m] of the closest candidate (valid or not:
+    """:func:`position_solutions`, and the distance [m] of the closest candidate (valid or not:
     an invalid one is as close as the subproblems get)."""
     p = float_array(position, "position", "3 finite numbers [m]")
     if p.shape != (3,) or not np.isfinite(p).all():
@@ -248,15 +236,9 @@ def ik_position(robot: Robot | Chain, position: ArrayLike, *, all_solutions: boo
             raise JointLimitError(
                 f"tool position {p} m is reachable, but only outside the joint limits (e.g. "
                 f"{', '.join(chain.limit_violations(found.q[0]))}): ask for solutions outside the "
-                f"limits with within_limits=False or 'armkit ik --outside'", found.q[0].copy(),
-                **chain.limit_fields(found.q[0]))
+                f"limits with within_limits=False or 'armkit ik --outside'")
         held = f" with joints 4..{chain.n} held at near's values" if chain.n > 3 else ""
         raise UnreachableError(f"tool position {p} m is out of reach{held}: the closest tool position "
                                f"found is {closest:.3g} m away", closest)
     q = found.q[usable]
     return q if all_solutions else q[0]
-
-
-#: The old name of :func:`ik_position_solutions` (``ik`` pairs with ``ik_solutions``, so
-#: ``ik_position`` with ``ik_position_solutions``).
-position_solutions = deprecated_function("position_solutions", ik_position_solutions)

@@ -18,8 +18,16 @@ scara               3 parallel revolute axes and a prismatic joint along them  2
 planar-2r/3r        2 or 3 parallel revolute axes (optionally one prismatic)   2
 rank-deficient      the Jacobian has rank < min(6, n) everywhere (collinear    0
                     axes, or axes that only ever span 5 directions)
-none                anything else (redundant arms, general 6R, ...)            0
+general-6r          any other 6R arm (the general solver, the registry's last) 16
+none                anything else (redundant arms, a prismatic 6-joint arm...) 0
 ==================  =========================================================  ========
+
+The detection is the compiled core's (``cpp/include/armkit/ik_detect.hpp``): each case of the
+registry (:data:`armkit.ik.cases.CASE_NAMES`) has a detect function that returns its geometry
+or the reason it does not apply, and ``_core.classify`` runs them in the registry's order. Axes
+count as parallel or meeting only to the rounding of a robot file's numbers
+(:data:`CLASS_TOLERANCE`): an arm near a class (a calibrated one) is the general 6R arm it is,
+and its listing holds the real arm's exact solutions, not the idealised class's.
 
 Example
 -------
@@ -30,21 +38,26 @@ Example
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
+from armkit import _core
 from armkit.chain import Chain, as_chain
-from armkit.kinematics import geometric_jacobian, joint_frames
-from armkit.spatial.lines import closest_points
+from armkit.kinematics import joint_frames
 
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
-__all__ = ["ArmStructure", "PoeChain", "SolverPlan", "analyze_structure", "generic_rank", "plan_closed_form",
-           "poe_from_chain", "position_joints_case"]
+__all__ = ["CLASS_TOLERANCE", "ArmStructure", "PoeChain", "SolverPlan", "analyze_structure", "arm_case",
+           "generic_rank", "plan_closed_form", "poe_from_chain"]
+
+#: Axes count as parallel where the sine of their angle is at most this, and as meeting where
+#: they pass within this times ``1 +`` the arm's size [m] (the core's ``kClassTolerance``, with
+#: the reason for its value in ``cpp/include/armkit/tolerances.hpp``).
+CLASS_TOLERANCE: float = _core.CLASS_TOLERANCE
 
 
 @dataclass(frozen=True)
@@ -64,12 +77,21 @@ class ArmStructure:
         Upper bound on the number of isolated solutions (0 without closed form).
     description : str
         One sentence saying which axes meet or are parallel, or why no closed form applies.
+    case : str or None
+        The registry's case that solves it (:data:`armkit.ik.cases.CASE_NAMES`), or None.
+    why_not : tuple of (str, str, str)
+        For every registered case, ``(case, fit, reason)``: ``fit`` is ``"applies"`` for the
+        chosen case, else a code (:data:`armkit._core.CASE_FITS`: ``"joints"``,
+        ``"prismatic"``, ``"axes"``, ``"position"``, ``"position-only"``, ``"degenerate"``,
+        ``"earlier"``) with a short reason.
     """
 
     kind: str
     closed_form: bool
     max_solutions: int
     description: str
+    case: str | None = None
+    why_not: tuple[tuple[str, str, str], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -95,36 +117,25 @@ class PoeChain:
         """Number of joints."""
         return len(self.axes)
 
-    def reversed(self) -> PoeChain:
-        """The chain of ``T^-1``: joints in reverse order, ``M -> M^-1``, angles negated."""
-        R_t = self.M[:3, :3].T
-        M_inv = np.eye(4)
-        M_inv[:3, :3] = R_t
-        M_inv[:3, 3] = -R_t @ self.M[:3, 3]
-        return PoeChain(self.axes[::-1] @ R_t.T, (self.points[::-1] - self.M[:3, 3]) @ R_t.T,
-                        self.prismatic[::-1], M_inv, self.index[::-1], -self.sign[::-1],
-                        not self.inverted)
-
-    def aligned(self, joints: list[int], h: NDArray[np.float64]) -> PoeChain:
-        """Flip the axes of ``joints`` that point against ``h`` (negating their variable)."""
-        flip = np.ones(self.n)
-        flip[joints] = np.where(self.axes[joints] @ h < 0, -1.0, 1.0)
-        return replace(self, axes=self.axes * flip[:, None], sign=self.sign * flip)
+    @classmethod
+    def from_lines(cls, lines: dict) -> PoeChain:
+        """The lines a core case works on (``_core.ArmCase.lines``)."""
+        return cls(lines["axes"], lines["points"], np.array(lines["prismatic"], dtype=bool), lines["M"],
+                   lines["index"], lines["sign"], bool(lines["inverted"]))
 
 
 @dataclass(frozen=True)
 class SolverPlan:
-    """What :mod:`armkit.ik.closed_form` needs: the case, the prepared chain and a point.
+    """The chain as the chosen case sees it: its structure, its lines and its point.
 
-    ``case`` names the sub-case of the position problem (e.g. ``"parallel-23"``),
-    ``point`` is the wrist centre or an intersection point where the case has one.
+    ``case`` names the registry's case (e.g. ``"spherical"``), ``point`` is the wrist centre
+    where the case has one.
     """
 
     structure: ArmStructure
     poe: PoeChain
     case: str = ""
     point: NDArray[np.float64] | None = None
-    point2: NDArray[np.float64] | None = None
 
 
 def poe_from_chain(chain: Chain) -> PoeChain:
@@ -134,252 +145,66 @@ def poe_from_chain(chain: Chain) -> PoeChain:
                     M, np.arange(chain.n), np.ones(chain.n))
 
 
-class _Geometry:
-    """Tests on the joint lines of one (possibly reversed) chain, with a length tolerance."""
-
-    def __init__(self, poe: PoeChain, tol: float) -> None:
-        self.poe = poe
-        scale = 1.0 + max(np.abs(poe.points).max(), np.abs(poe.M[:3, 3]).max())
-        self.tol = tol * scale
-        self.angle_tol = tol
-
-    def parallel(self, i: int, j: int) -> bool:
-        return bool(np.linalg.norm(np.cross(self.poe.axes[i], self.poe.axes[j])) <= self.angle_tol)
-
-    def distance_to_line(self, point: NDArray[np.float64], i: int) -> float:
-        d = point - self.poe.points[i]
-        h = self.poe.axes[i]
-        return float(np.linalg.norm(d - (d @ h) * h))
-
-    def intersection(self, i: int, j: int) -> NDArray[np.float64] | None:
-        """The point where revolute axes ``i`` and ``j`` meet, or None."""
-        if self.poe.prismatic[i] or self.poe.prismatic[j] or self.parallel(i, j):
-            return None
-        a, b = closest_points(self.poe.points[i], self.poe.axes[i], self.poe.points[j], self.poe.axes[j])
-        return 0.5 * (a + b) if np.linalg.norm(a - b) <= self.tol else None
-
-    def meet(self, i: int, j: int, k: int) -> NDArray[np.float64] | None:
-        """The point where revolute axes ``i, j, k`` meet (middle one not parallel), or None."""
-        point = self.intersection(i, j) if not self.parallel(i, j) else None
-        if point is None or self.parallel(j, k):
-            return None
-        return point if self.distance_to_line(point, k) <= self.tol else None
-
-
-def _axes(joints: list[int] | tuple[int, ...], poe: PoeChain) -> str:
-    """User's 1-based numbers of internal joints, e.g. ``"axes 4, 5, 6"``."""
-    numbers = sorted(int(poe.index[j]) + 1 for j in joints)
-    return ", ".join(str(n) for n in numbers)
-
-
-def _position_case(g: _Geometry) -> tuple[str, NDArray[np.float64] | None, str] | None:
-    """How joints 1-3 place the wrist centre: case name, point, human clause."""
-    poe = g.poe
-    revolute = ~poe.prismatic
-    if revolute[:3].all() and g.parallel(1, 2) and not g.parallel(0, 1):
-        return "parallel-23", None, f"axes {_axes([1, 2], poe)} are parallel"
-    if revolute[:2].all():
-        point = g.intersection(0, 1)
-        if point is not None:
-            kind = "prismatic" if poe.prismatic[2] else "revolute"
-            return f"intersect-12-{kind}", point, f"axes {_axes([0, 1], poe)} meet"
-    if revolute[:3].all():
-        point = g.intersection(1, 2)
-        if point is not None:
-            return "intersect-23", point, f"axes {_axes([1, 2], poe)} meet"
-        if g.parallel(0, 1) and not g.parallel(1, 2):
-            return "parallel-12", None, f"axes {_axes([0, 1], poe)} are parallel"
-        if not g.parallel(0, 1) and not g.parallel(1, 2):
-            return "general-123", None, (f"axes {_axes([0, 1, 2], poe)} neither meet nor are "
-                                         f"parallel (a quartic)")
-    return None
-
-
-def _spherical(poe: PoeChain, tol: float, kind: str) -> SolverPlan | None:
-    g = _Geometry(poe, tol)
-    if poe.prismatic[3:].any():
-        return None
-    centre = g.meet(3, 4, 5)
-    if centre is None:
-        return None
-    where = "wrist" if kind == "spherical-wrist" else "base"
-    meet = f"spherical {where}: axes {_axes([3, 4, 5], poe)} meet at one point"
-    position = _position_case(g)
-    if position is None:
-        structure = ArmStructure(kind, False, 0, f"{meet}, but joints {_axes([0, 1, 2], poe)} "
-                                 f"are not solved in closed form here (a prismatic joint, or "
-                                 f"degenerate axes); use numeric IK")
-        return SolverPlan(structure, poe)
-    case, point, clause = position
-    if case.startswith("parallel"):
-        pair = [1, 2] if case == "parallel-23" else [0, 1]
-        poe = poe.aligned(pair, poe.axes[pair[0]])
-    structure = ArmStructure(kind, True, 8, f"{meet} and {clause}: closed-form IK, "
-                                            f"up to 8 solutions")
-    return SolverPlan(structure, poe, case, centre, point)
-
-
-def _three_parallel(poe: PoeChain, tol: float, first: int) -> SolverPlan | None:
-    """Revolute axes ``first .. first + 2`` parallel (internal 0 or 1), the others not."""
-    g = _Geometry(poe, tol)
-    block = [first, first + 1, first + 2]
-    if poe.prismatic.any() or not (g.parallel(block[0], block[1]) and g.parallel(block[0], block[2])):
-        return None
-    # the axes next to the block must leave it, and the ones after must not be parallel
-    before, after = (0, 4) if first == 1 else (None, 3)
-    if (before is not None and g.parallel(before, first)) or g.parallel(after, first) \
-            or g.parallel(after, after + 1) or g.parallel(4, 5):
-        return None
-    poe = poe.aligned(block, poe.axes[first])
-    structure = ArmStructure("three-parallel", True, 8,
-                             f"three parallel axes: axes {_axes(block, poe)} are parallel: "
-                             f"closed-form IK, up to 8 solutions")
-    return SolverPlan(structure, poe, "parallel-234" if first == 1 else "parallel-123")
-
-
-def _planar(poe: PoeChain, tol: float) -> SolverPlan | None:
-    g = _Geometry(poe, tol)
-    revolute = [j for j in range(poe.n) if not poe.prismatic[j]]
-    prismatic = [j for j in range(poe.n) if poe.prismatic[j]]
-    if len(revolute) not in (2, 3) or len(prismatic) > 1:
-        return None
-    if not all(g.parallel(revolute[0], j) for j in revolute[1:] + prismatic):
-        return None
-    poe = poe.aligned(list(range(poe.n)), poe.axes[revolute[0]])
-    axes = _axes(revolute, poe)
-    if prismatic:
-        kind = "scara"
-        what = (f"SCARA: revolute axes {axes} are parallel and prismatic joint "
-                f"{_axes(prismatic, poe)} moves along them")
-    else:
-        kind = f"planar-{len(revolute)}r"
-        what = f"planar {len(revolute)}R arm: axes {axes} are parallel"
-    return SolverPlan(ArmStructure(kind, True, 2, f"{what}: closed-form IK, up to 2 solutions"),
-                      poe, kind)
-
-
-def _general(poe: PoeChain) -> SolverPlan:
-    """Any other 6R arm: the general solver (Raghavan-Roth elimination, up to 16 solutions)."""
-    why = ("general 6R arm: no three consecutive axes meet at one point or are parallel; every "
-           "solution by Raghavan-Roth elimination (a 24 x 24 eigenproblem), up to 16 solutions")
-    return SolverPlan(ArmStructure("general-6r", True, 16, why), poe, "general")
-
-
-def _no_closed_form(chain: Chain, poe: PoeChain, tol: float) -> ArmStructure:
-    n = chain.n
-    if n > 6:
-        why = (f"{n} joints: a redundant arm has infinitely many solutions per pose, so no "
-               f"closed form; use numeric IK")
-    elif n == 6:
-        why = ("6 joints with a prismatic one, and no three consecutive axes meet at one point or "
-               "are parallel (Pieper's conditions): the general solver takes revolute joints only; "
-               "use numeric IK")
-    else:
-        why = (f"{n} joints that are not a planar 2R/3R arm or a SCARA (parallel revolute axes, "
-               f"prismatic along them): no closed form; use numeric IK")
-    return ArmStructure("none", False, 0, why)
-
-
-#: Random configurations at which :func:`generic_rank` evaluates the Jacobian.
-_RANK_SAMPLES = 8
-
-
-def generic_rank(chain: Chain, tol: float = 1e-9) -> int:
+def generic_rank(chain: Chain, tol: float = _core.RANK_TOLERANCE) -> int:
     """The rank of the chain's Jacobian at a generic configuration: the number of
     independent directions [v; w] its joints can move the tool in, at most ``min(6, n)``.
 
     The largest rank over a few seeded random configurations inside the limits (a rank
     reached anywhere is reached almost everywhere); singular values below ``tol`` times
-    the largest count as zero.
+    the largest count as zero (computed in the core).
 
     >>> import armkit
     >>> generic_rank(armkit.load("ur5").chain), generic_rank(armkit.load("grb400-scara").chain)
     (6, 4)
     """
-    rng = np.random.default_rng(0)
-    low = np.where(np.isfinite(chain.lower), chain.lower, -1.0)
-    high = np.where(np.isfinite(chain.upper), chain.upper, 1.0)
-    S = np.linalg.svd(geometric_jacobian(chain, rng.uniform(low, high, (_RANK_SAMPLES, chain.n))),
-                      compute_uv=False)
-    return int((S > tol * S[:, :1]).sum(axis=1).max())
+    return int(_core.generic_rank(chain._core, float(tol)))
 
 
-def plan_closed_form(chain: Chain, tol: float = 1e-9) -> SolverPlan:
-    """Classify ``chain`` and prepare the chain a closed-form solver works on.
-
-    Parameters
-    ----------
-    chain : Chain
-    tol : float
-        Angle tolerance [rad] for parallel axes; times ``1 + size of the arm`` [m] it is
-        the distance below which axes count as meeting.
-    """
-    poe = poe_from_chain(chain)
-    g = _Geometry(poe, tol)
-    for i in range(chain.n - 1):
-        if not poe.prismatic[i] and not poe.prismatic[i + 1] and g.parallel(i, i + 1) \
-                and g.distance_to_line(poe.points[i + 1], i) <= g.tol:
-            why = (f"axes {i + 1} and {i + 2} are the same line: the arm has fewer degrees of "
-                   f"freedom than joints, no closed form; use numeric IK")
-            return SolverPlan(ArmStructure("none", False, 0, why), poe)
-    rank = generic_rank(chain)
-    if rank < min(6, chain.n):
-        why = (f"the Jacobian has rank {rank} at every configuration tried (not {min(6, chain.n)}): "
-               f"the {chain.n} joints move the tool in only {rank} independent directions, so the "
-               f"arm reaches a {rank}-dimensional set of poses and has no closed form here; use "
-               f"numeric IK")
-        return SolverPlan(ArmStructure("rank-deficient", False, 0, why), poe)
-    if chain.n == 6:
-        plan = _spherical(poe, tol, "spherical-wrist")
-        if plan is None or not plan.structure.closed_form:
-            base = _spherical(poe.reversed(), tol, "spherical-base")
-            if base is not None and (plan is None or base.structure.closed_form):
-                plan = base
-        if plan is None:
-            plan = (_three_parallel(poe, tol, 1) or _three_parallel(poe.reversed(), tol, 1)
-                    or _three_parallel(poe, tol, 0) or _three_parallel(poe.reversed(), tol, 0))
-        if plan is not None:
-            return plan
-        if not poe.prismatic.any():
-            return _general(poe)
-    elif chain.n <= 4:
-        plan = _planar(poe, tol)
-        if plan is not None:
-            return plan
-    return SolverPlan(_no_closed_form(chain, poe, tol), poe)
+def arm_case(chain: Chain) -> _core.ArmCase:
+    """The core's classification of ``chain`` (``_core.classify``), made once per chain."""
+    return chain.derived(_classify)
 
 
-def analyze_structure(robot: Robot | Chain, tol: float = 1e-9) -> ArmStructure:
+def _classify(chain: Chain) -> _core.ArmCase:
+    return _core.classify(chain._core)
+
+
+def _structure(arm: _core.ArmCase) -> ArmStructure:
+    return ArmStructure(arm.kind, arm.chosen >= 0, arm.max_solutions, arm.description, arm.case,
+                        tuple(tuple(reason) for reason in arm.why_not))
+
+
+def plan_closed_form(chain: Chain) -> SolverPlan:
+    """The case the core chose for ``chain``, with the lines it works on (possibly reversed,
+    axes flipped) and its point (a spherical wrist's centre)."""
+    arm = arm_case(chain)
+    geometry = arm.geometry
+    point = np.array(geometry.c) if arm.case == "spherical" else None
+    return SolverPlan(_structure(arm), PoeChain.from_lines(arm.lines), arm.case or "", point)
+
+
+def analyze_structure(robot: Robot | Chain) -> ArmStructure:
     """Which closed-form IK case applies to ``robot``, decided from its joint axes.
 
     Parameters
     ----------
     robot : Robot or Chain
         The arm (its :class:`~armkit.chain.Chain` is accepted too).
-    tol : float
-        Angle tolerance [rad] for parallel axes (and, scaled by the arm's size, the
-        distance [m] for meeting axes).
 
     Returns
     -------
     ArmStructure
+        With, for every registered case, why it does not apply (``why_not``).
 
     Examples
     --------
     >>> import armkit
     >>> s = analyze_structure(armkit.load("probot-anno"))
-    >>> s.kind, s.closed_form, s.max_solutions
-    ('spherical-wrist', True, 8)
+    >>> s.kind, s.closed_form, s.max_solutions, s.case
+    ('spherical-wrist', True, 8, 'spherical')
     >>> analyze_structure(armkit.load("panda")).closed_form
     False
+    >>> dict((case, fit) for case, fit, _ in analyze_structure(armkit.load("ur5")).why_not)["spherical"]
+    'axes'
     """
-    return plan_closed_form(as_chain(robot), tol).structure
-
-
-def position_joints_case(poe: PoeChain, tol: float = 1e-9
-                         ) -> tuple[str, NDArray[np.float64] | None, str] | None:
-    """How joints 1-3 of ``poe`` carry a point (a wrist centre, or the tool point of position IK):
-    the case name (``"parallel-23"``, ``"intersect-12-revolute"``, ...), the point where two of
-    the axes meet (None for the parallel and general cases) and a clause for messages; None if
-    joints 1-3 have no closed form. ``tol`` as in :func:`plan_closed_form`."""
-    return _position_case(_Geometry(poe, tol))
+    return _structure(arm_case(as_chain(robot)))
