@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
+from armkit._deprecation import deprecated_function
 from armkit._params import float_array
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
@@ -38,7 +39,7 @@ from armkit.kinematics import fk, geometric_jacobian
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
-__all__ = ["ik_position", "position_solutions", "position_case"]
+__all__ = ["ik_position", "ik_position_solutions", "position_case", "position_solutions"]
 
 #: Newton steps on joints 1-3 for a candidate whose position is off by more than 1e-12 m
 #: (quartic roots).
@@ -117,8 +118,8 @@ def _polish(chain: Chain, q: NDArray[np.float64], p: NDArray[np.float64]) -> NDA
     return q
 
 
-def position_solutions(robot: Robot | Chain, position: ArrayLike, *, near: ArrayLike | None = None,
-                       turn_copies: bool = False) -> IKSolutions:
+def ik_position_solutions(robot: Robot | Chain, position: ArrayLike, *, near: ArrayLike | None = None,
+                          turn_copies: bool = False) -> IKSolutions:
     """Every closed-form solution for a tool position, inside the limits or not, with flags.
 
     Parameters
@@ -150,7 +151,7 @@ def _wrap_first_three(chain: Chain, q: NDArray[np.float64], near: NDArray[np.flo
 
 def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copies: bool
            ) -> tuple[IKSolutions, float]:
-    """:func:`position_solutions`, and the distance [m] of the closest candidate (valid or not:
+    """:func:`ik_position_solutions`, and the distance [m] of the closest candidate (valid or not:
     an invalid one is as close as the subproblems get)."""
     p = float_array(position, "position", "3 finite numbers [m]")
     if p.shape != (3,) or not np.isfinite(p).all():
@@ -236,9 +237,15 @@ def ik_position(robot: Robot | Chain, position: ArrayLike, *, all_solutions: boo
             raise JointLimitError(
                 f"tool position {p} m is reachable, but only outside the joint limits (e.g. "
                 f"{', '.join(chain.limit_violations(found.q[0]))}): ask for solutions outside the "
-                f"limits with within_limits=False or 'armkit ik --outside'")
+                f"limits with within_limits=False or 'armkit ik --outside'", found.q[0].copy(),
+                **chain.limit_fields(found.q[0]))
         held = f" with joints 4..{chain.n} held at near's values" if chain.n > 3 else ""
         raise UnreachableError(f"tool position {p} m is out of reach{held}: the closest tool position "
                                f"found is {closest:.3g} m away", closest)
     q = found.q[usable]
     return q if all_solutions else q[0]
+
+
+#: The old name of :func:`ik_position_solutions` (``ik`` pairs with ``ik_solutions``, so
+#: ``ik_position`` with ``ik_position_solutions``).
+position_solutions = deprecated_function("position_solutions", ik_position_solutions)
