@@ -9,8 +9,9 @@ that knows how to give the full configuration back.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
+from functools import cache
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -22,7 +23,7 @@ from armkit._params import core_ready, thread_count, whole_number
 from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.inertial import Inertial
-from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
+from armkit.spatial.transforms import pose_from_transform, rot_z, trans_z
 
 if TYPE_CHECKING:  # the descriptions' modules import this one; matplotlib only when drawing
     from matplotlib.figure import Figure
@@ -33,6 +34,14 @@ if TYPE_CHECKING:  # the descriptions' modules import this one; matplotlib only 
     from armkit.urdf import UrdfDescription
 
 __all__ = ["DHDescription", "LockedRobot", "Robot"]
+
+
+@cache
+def _solve_ik() -> Callable[..., NDArray[np.float64] | list[NDArray[np.float64]]]:
+    """:func:`armkit.ik.solve.ik`, imported on first use (armkit.ik imports this module)."""
+    from armkit.ik.solve import ik
+
+    return ik
 
 
 @dataclass(frozen=True)
@@ -392,8 +401,6 @@ class Robot:
 
             return ik_free(self, scene, T_base_tool, all_solutions=all_solutions, near=near,
                            within_limits=within_limits, **options)
-        from armkit.ik.solve import ik  # here, not at the top: armkit.ik imports this module
-
         if options and "all" in options:
             all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
                                              all_solutions, False)
@@ -408,22 +415,15 @@ class Robot:
             joint, value = options.pop("free_joint"), options.pop("free_value", None)
             return ik_at_free_joint(self, T_base_tool, joint, value, all_solutions=all_solutions, near=near,
                                     within_limits=within_limits, **options)
-        one_near = near is None or core_ready(near, (self.n,), exact=True)
-        if core_ready(T_base_tool, (4, 4), exact=True) and one_near:
-            # the usual call: the core checks the pose and near itself (errors: ik's messages)
-            return ik(self.chain, T_base_tool, all_solutions=all_solutions, near=near,
-                      within_limits=within_limits, **options)
-        T = check_transform(T_base_tool, "target pose")
-        if near is not None:
+        if near is not None:  # in this robot's words (the targets are checked by ik, with near's shape)
             near = self.check_q(near, "near")
-            if near.ndim > 1 and near.shape[:-1] != T.shape[:-2]:
-                poses = "one target pose" if T.ndim == 2 else f"target poses of shape {T.shape}"
+            shape = np.shape(T_base_tool) if near.ndim > 1 else ()
+            if near.ndim > 1 and near.shape[:-1] != shape[:-2]:
+                poses = "one target pose" if len(shape) == 2 else f"target poses of shape {shape}"
                 raise InputError(f"near: shape {near.shape} for {poses}; expected ({self.n},), one set of "
-                                 f"joint values for every pose, or {(*T.shape[:-2], self.n)}, one per pose")
-        if T.ndim > 2 and T.shape[0] == 0:
-            return [] if all_solutions else np.empty((0, self.n))
-        return ik(self.chain, T, all_solutions=all_solutions, near=near, within_limits=within_limits,
-                  **options)
+                                 f"joint values for every pose, or {(*shape[:-2], self.n)}, one per pose")
+        return _solve_ik()(self.chain, T_base_tool, all_solutions=all_solutions, near=near,
+                           within_limits=within_limits, **options)
 
     def ik_position(self, position: ArrayLike, *, all_solutions: bool = False, near: ArrayLike | None = None,
                     within_limits: bool = True, turn_copies: bool = False) -> NDArray[np.float64]:
