@@ -150,7 +150,8 @@ class _Targets:
                              f"solutions each (pose {i + 1}) would list {rows:,} rows (about "
                              f"{rows * (chain.n + 3) * 8 / 1e9:.3g} GB), more than MAX_BATCH_ROWS = "
                              f"{MAX_BATCH_ROWS:,}; solve at most {MAX_BATCH_ROWS // widest:,} poses at a "
-                             f"time, or pass turn_copies=False (each solution once, its copy nearest to near)")
+                             f"time, or pass turn_copies=False (each solution once, its copy nearest to "
+                             f"near)")
         left_off = total > listed.count
         if not left_off.any():
             return listed
