@@ -90,6 +90,8 @@ def thread_count(value: object, name: str = "threads") -> int:
     """
     if value is None:
         return 0
+    if type(value) is int and 0 <= value <= MAX_THREADS:  # the usual call, without the ABC test below
+        return value
     if isinstance(value, bool) or not isinstance(value, Integral) or not 0 <= value <= MAX_THREADS:
         raise InputError(f"{name}: expected None or 0 (every core) or 1 to {MAX_THREADS} threads, "
                          f"got {value!r}")

@@ -249,6 +249,18 @@ class Robot:
         array ``(..., n)`` (the core checks finiteness in its loop), else :meth:`check_q`."""
         return q if core_ready(q, (self.n,)) else np.ascontiguousarray(self.check_q(q))
 
+    def _refused(self, q: ArrayLike, refused: Exception) -> InputError:
+        """The error for joint values the core refused in :meth:`fk` or :meth:`jacobian`
+        (``_core.RefusedJointValues``: the flat index of the first non-finite value, or -1 for
+        values that are not ``n`` numbers per configuration, which :meth:`check_q` raises for)."""
+        try:
+            values, bad = self.check_q(q), int(str(refused))
+        except InputError as error:  # raised by the caller, without the core's refusal as its context
+            return error
+        if bad < 0:
+            return InputError(f"q: expected {self.n} joint values, got {q!r}")
+        return kinematics.non_finite_error(values, bad=bad)
+
     def within_limits(self, q: ArrayLike) -> NDArray[np.bool_]:
         """Whether each configuration ``(..., n)`` lies inside all position limits, ``(...)``."""
         return self.chain.within_limits(self.check_q(q))
@@ -283,11 +295,11 @@ class Robot:
         >>> armkit.load("probot-anno").fk([0, 0, 0, 0, 0, 0])[:3, 3].round(4) + 0.0
         array([0.2289, 0.    , 0.454 ])
         """
-        if threads is None:  # one configuration as the core takes it: one call (else None)
-            T = _core.fk_one(self.chain._core, q)
-            if T is not None:
-                return T
-        return kinematics._fk(self.chain, self._checked(q), thread_count(threads))
+        threads = 0 if threads is None else thread_count(threads)
+        try:
+            return _core.fk(self.chain._core, q, threads)  # one core call, for any batch shape
+        except _core.RefusedJointValues as refused:
+            raise self._refused(q, refused) from None
 
     def pose(self, q: ArrayLike, convention: str = "xyz-fixed",
              degrees: bool = False) -> NDArray[np.float64]:
@@ -320,12 +332,14 @@ class Robot:
     def jacobian(self, q: ArrayLike, frame: str = "base", *,
                  threads: int | None = None) -> NDArray[np.float64]:
         """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``, in the ``"base"`` or ``"tool"`` frame."""
-        if frame == "base" and threads is None:
-            J = _core.jacobian_one(self.chain._core, q)  # as in fk
-            if J is not None:
-                return J
-        threads = thread_count(threads)
-        return kinematics._geometric_jacobian(self.chain, self._checked(q), frame, threads)
+        tool = frame == "tool"
+        if not tool and frame != "base":
+            raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
+        threads = 0 if threads is None else thread_count(threads)
+        try:
+            return _core.jacobian(self.chain._core, q, tool, threads)  # as fk
+        except _core.RefusedJointValues as refused:
+            raise self._refused(q, refused) from None
 
     def analytic_jacobian(self, q: ArrayLike, convention: str = "xyz-fixed") -> NDArray[np.float64]:
         """Analytic Jacobian ``(..., 6, n)``: position rates over angle rates in ``convention``."""

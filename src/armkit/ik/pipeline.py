@@ -28,7 +28,9 @@ joint whose finite limits span more than a whole turn (a UR5's +-360 degrees) ho
 tool pose (a UR5 solution has ``2^6``). A joint spanning at most a whole turn holds one, and so
 does an unbounded (continuous) one: its copies are endless, and the wrap above picks the nearest
 to ``near``. Solutions outside the limits are listed once; by default each solution is listed
-once, the copy nearest to ``near``.
+once, the copy nearest to ``near``. A copy has its solution's tool pose, so it is listed with
+that solution's FK residuals (not put through FK again), and the copies of a whole batch are
+listed in one core call (``cpp/include/armkit/turn_copies.hpp``).
 
 When only the solution nearest to ``near`` is asked for, the candidates go through FK
 nearest first and the first that reproduces the target (inside the limits, if asked) is
