@@ -96,9 +96,9 @@ class _Targets:
         if not _core.exactly_rigid(T, RIGID_TOLERANCE):
             T = np.ascontiguousarray(check_transform(T, "target pose"))
         self.T = T
-        self.batch = T.shape[:-2]
-        n = chain.n
+        self.batch = T.shape[:-2] if T.ndim > 2 else ()
         if near is not None:
+            n = chain.n
             near = _float_array(near, "near", f"{n} finite joint values (shape (..., {n}))")
             if near.ndim == 0 or near.shape[-1] != n or not np.isfinite(near).all():
                 raise InputError(f"near: expected {n} finite joint values (shape (..., {n})), "
@@ -112,6 +112,7 @@ class _Targets:
             near = np.ascontiguousarray(near)
         self.near = near
         if weights is not None:
+            n = chain.n
             weights = _float_array(weights, "weights", f"{n} positive numbers")
             if weights.shape != (n,) or not np.all(np.isfinite(weights) & (weights > 0)):
                 raise InputError(f"weights: expected {n} positive numbers, got {weights.tolist()}")
