@@ -7,9 +7,10 @@ velocity of the tool origin [m/s] over angular velocity [rad/s].
 The formulas live in armkit's compiled core (``armkit._core``, C++): FK, joint frames,
 the geometric Jacobian and the pose error of one configuration cost about half a microsecond
 from Python (``benchmarks/bench_fk.py``), and batches are split over ``threads`` (default:
-every core) with the same result whatever the thread count. This module checks the inputs
-once (arrays that are already float64 and C-ordered go straight through) and shapes the
-outputs.
+every core) with the same result whatever the thread count. FK and the Jacobian are one
+core call each for any batch shape: the core reads ``q`` (a C-ordered float64 array as it is,
+anything else as :func:`numpy.asarray` would), checks its values in its loop and returns a new
+array; this module only words the errors for joint values the core refuses.
 """
 
 from __future__ import annotations

@@ -287,7 +287,8 @@ class Robot:
     def fk(self, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.float64]:
         """Tool pose ``T_base_tool`` [m], ``(4, 4)`` for ``q`` ``(n,)``, ``(N, 4, 4)`` for ``(N, n)``.
 
-        A batch is split over ``threads`` (default: every core); the result does not depend on it.
+        One core call for any batch shape (see :func:`armkit.kinematics.fk`). A batch is split
+        over ``threads`` (default: every core); the result does not depend on it.
 
         Examples
         --------
