@@ -416,20 +416,21 @@ class Robot:
 
             return ik_free(self, scene, T_base_tool, all_solutions=all_solutions, near=near,
                            within_limits=within_limits, **options)
-        if options and "all" in options:
-            all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
-                                             all_solutions, False)
-        if options and options.get("free_joint") is None and options.get("free_value") is None:
-            options.pop("free_joint", None)
-            options.pop("free_value", None)
-        if options and ("free_joint" in options or "free_value" in options):
-            from armkit.ik.self_motion import ik_at_free_joint
+        if options:
+            if "all" in options:
+                all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
+                                                 all_solutions, False)
+            if options.get("free_joint") is None and options.get("free_value") is None:
+                options.pop("free_joint", None)
+                options.pop("free_value", None)
+            if "free_joint" in options or "free_value" in options:
+                from armkit.ik.self_motion import ik_at_free_joint
 
-            if options.get("free_joint") is None:
-                raise InputError("free_value: given without free_joint; name the joint it holds")
-            joint, value = options.pop("free_joint"), options.pop("free_value", None)
-            return ik_at_free_joint(self, T_base_tool, joint, value, all_solutions=all_solutions, near=near,
-                                    within_limits=within_limits, **options)
+                if options.get("free_joint") is None:
+                    raise InputError("free_value: given without free_joint; name the joint it holds")
+                joint, value = options.pop("free_joint"), options.pop("free_value", None)
+                return ik_at_free_joint(self, T_base_tool, joint, value, all_solutions=all_solutions,
+                                        near=near, within_limits=within_limits, **options)
         if near is not None:  # in this robot's words (the targets are checked by ik, with near's shape)
             near = self.check_q(near, "near")
             shape = np.shape(T_base_tool) if near.ndim > 1 else ()
