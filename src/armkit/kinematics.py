@@ -177,13 +177,23 @@ def geometric_jacobian(robot: Robot | Chain, q: ArrayLike, frame: str = "base", 
     return _geometric_jacobian(as_chain(robot), q, frame, thread_count(threads))
 
 
+#: The frames a Jacobian is expressed in: whether each is the tool frame.
+_IS_TOOL_FRAME = {"base": False, "tool": True}
+
+
+def _frame_error(frame: object) -> InputError:
+    return InputError(f"frame {frame!r}: expected 'base' or 'tool'")
+
+
 def _geometric_jacobian(chain: Chain, q: ArrayLike, frame: str = "base",
                         threads: int = 0) -> NDArray[np.float64]:
     """:func:`geometric_jacobian` of a chain, ``threads`` checked."""
-    if frame not in ("base", "tool"):
-        raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
     try:
-        return _core.jacobian(chain._core, q, frame == "tool", threads)
+        tool = _IS_TOOL_FRAME[frame]
+    except (KeyError, TypeError):
+        raise _frame_error(frame) from None
+    try:
+        return _core.jacobian(chain._core, q, tool, threads)
     except _core.RefusedJointValues as refused:
         raise _refused(chain, q, refused) from None
 

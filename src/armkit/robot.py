@@ -333,9 +333,10 @@ class Robot:
     def jacobian(self, q: ArrayLike, frame: str = "base", *,
                  threads: int | None = None) -> NDArray[np.float64]:
         """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``, in the ``"base"`` or ``"tool"`` frame."""
-        tool = frame == "tool"
-        if not tool and frame != "base":
-            raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
+        try:
+            tool = kinematics._IS_TOOL_FRAME[frame]
+        except (KeyError, TypeError):
+            raise kinematics._frame_error(frame) from None
         threads = 0 if threads is None else thread_count(threads)
         try:
             return _core.jacobian(self.chain._core, q, tool, threads)  # as fk
