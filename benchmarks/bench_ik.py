@@ -3,10 +3,15 @@
 Run: python benchmarks/bench_ik.py [--quick]
 
 (a) All-solutions closed-form IK for the PROBOT Anno and the UR5: median time per pose,
-    one pose at a time and batched (N = 10,000), and the mean number of solutions per
-    pose that reproduce the pose to 1e-6 by armkit's FK. armkit's user-facing paths too:
-    every solution with flags (ik_solutions), every solution as arrays (robot.ik(all_solutions=True)),
-    and the nearest solution only (robot.ik(near=), one verified solution per pose).
+    one pose at a time and batched (N = 20,000, every core; armkit's ik_solutions also on
+    one thread; a batch: the median of 3 calls after a warm-up one, see batch_seconds), and
+    the mean number of solutions per pose that reproduce the pose to 1e-6 by armkit's FK.
+    armkit's user-facing paths too: every solution with flags (ik_solutions), every
+    solution as arrays (robot.ik(all_solutions=True)), and the nearest solution only
+    (robot.ik(near=), one verified solution per pose).
+(a2) The listing with whole-turn copies (turn_copies=True; a UR5's +-360 degree limits give
+    2^6 copies of each solution) against the distinct listing: time per pose and per listed
+    solution, one pose at a time and batched.
 (b) Numeric IK on the Panda with joint limits from the same random seed per pose: success
     rate and median / mean time over random reachable poses (a batch: time per pose of one
     call), success judged by armkit's
@@ -26,6 +31,7 @@ import eaik.pybindings.EAIK as eaik
 import ik_geo
 import numpy as np
 import roboticstoolbox as rtb
+from _timing import median_seconds
 
 import armkit
 from armkit import kinematics
@@ -41,6 +47,14 @@ def timed(function, *args) -> tuple[float, object]:
     start = time.perf_counter()
     out = function(*args)
     return time.perf_counter() - start, out
+
+
+def batch_seconds(function, T_batch: np.ndarray) -> float:
+    """Median time of 3 calls on the batch after one warm-up call: the first call of a size pays
+    for the first touch of fresh memory (on this development machine's VM about 17 ms per MB,
+    some 100x a bare Linux machine's), which later calls reuse."""
+    function(T_batch)
+    return median_seconds(lambda: function(T_batch), 3)
 
 
 def reproduces(robot: armkit.Robot, q: np.ndarray, T: np.ndarray) -> np.ndarray:
@@ -152,13 +166,46 @@ def bench_closed_form(name: str, one: int, batch: int) -> None:
             dt, q = timed(solve_one, T)
             times.append(dt)
             counts.append(int(reproduces(robot, q, T).sum()) if len(q) else 0)
-        batched = timed(solve_batch, T_batch)[0] / batch if solve_batch else np.nan
+        batched = batch_seconds(solve_batch, T_batch) / batch if solve_batch else np.nan
         results[label] = (float(np.median(times)), batched, float(np.mean(counts)))
+        if label == "armkit ik_solutions":  # the same batch on one thread: what the second core adds
+            one_thread = batch_seconds(lambda Ts: ik_solutions(robot, Ts, threads=1), T_batch) / batch
+            results["armkit ik_solutions (batch on 1 thread)"] = (np.nan, one_thread, float(np.mean(counts)))
     ours_one, ours_batch, _ = results["armkit ik_solutions"]
-    rows = [[label, us(t1), ratio(t1, ours_one), "n/a" if np.isnan(tb) else us(tb),
+    rows = [[label, "n/a" if np.isnan(t1) else us(t1), ratio(t1, ours_one), "n/a" if np.isnan(tb) else us(tb),
              ratio(tb, ours_batch), f"{n:.3f}"] for label, (t1, tb, n) in results.items()]
     table(f"(a) all-solutions IK, {robot.name}: {one} poses one at a time, batch of {batch}",
           ["solver", "one [us]", "/armkit", "batched [us/pose]", "/armkit", "verified sol./pose"], rows)
+
+
+# ------------------------------------------------------------------ (a2) whole-turn copies
+def bench_turn_copies(one: int, batch: int) -> None:
+    robot = armkit.load("ur5")
+    rng = np.random.default_rng(1)
+    T_one, T_batch = robot.fk(robot.random_q(one, rng=rng)), robot.fk(robot.random_q(batch, rng=rng))
+    rows, per_solution = [], {}
+    for copies in (False, True):
+        def listing(T, copies=copies):
+            return robot.ik(T, all_solutions=True, turn_copies=copies)
+        for T in T_one[:20]:  # warm-up
+            listing(T)
+        one_time = median_seconds(lambda: [listing(T) for T in T_one], 3) / one
+        listed = np.mean([len(listing(T)) for T in T_one])
+        def listings(Ts, copies=copies):
+            return ik_solutions(robot, Ts, turn_copies=copies)
+        batch_time = batch_seconds(listings, T_batch)
+        batch_listed = float(listings(T_batch).counts.mean())
+        per_solution[copies] = (one_time / listed, batch_time / batch / batch_listed)
+        label = "with whole-turn copies" if copies else "each solution once"
+        rows.append([f"{label}: robot.ik(T, all_solutions=True{', turn_copies=True' if copies else ''})",
+                     us(one_time), f"{listed:.1f}", f"{one_time / listed * 1e9:.0f}",
+                     us(batch_time / batch), f"{batch_time / batch / batch_listed * 1e9:.0f}"])
+    rows.append(["per listed solution: copies / once", "", "",
+                 f"{per_solution[True][0] / per_solution[False][0]:.2f}x", "",
+                 f"{per_solution[True][1] / per_solution[False][1]:.2f}x"])
+    table(f"(a2) whole-turn copies, UR5 at +-360 deg: {one} poses one at a time; ik_solutions on a batch of "
+          f"{batch}", ["listing", "one [us]", "solutions/pose", "one [ns/solution]", "batched [us/pose]",
+                       "batched [ns/solution]"], rows)
 
 
 # ------------------------------------------------------------------ (b) numeric
@@ -248,9 +295,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="a small run (seconds)")
     args = parser.parse_args()
-    one, batch, poses, slow = (100, 1000, 100, 20) if args.quick else (1000, 10_000, 1000, 200)
+    one, batch, poses, slow = (100, 20_000, 100, 20) if args.quick else (1000, 20_000, 1000, 200)
     for name in ("probot-anno", "ur5"):
         bench_closed_form(name, one, batch)
+    bench_turn_copies(one, 2000)
     bench_numeric(poses, slow)
 
 

@@ -253,9 +253,12 @@ def test_bad_near_and_weights():
         ik_solutions(robot.chain, np.stack([T, T]), near=np.zeros((3, 6)))
     with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
         robot.ik(T, weights=[1, 1, 1, 1, 1, -1])
-    # float64 arrays take the one-call path for one pose: the same errors
-    with pytest.raises(InputError, match=r"near: expected 6 finite joint values"):
-        robot.ik(T, near=np.array([0, 0, np.nan, 0, 0, 0]))
+    # a float64 array says the same as a list (robot.ik: in the robot's words)
+    for bad in (np.array([0, 0, np.nan, 0, 0, 0]), [0, 0, np.nan, 0, 0, 0]):
+        with pytest.raises(InputError, match=r"near: expected finite joint values, got nan at index 2"):
+            robot.ik(T, near=bad)
+        with pytest.raises(InputError, match=r"near: expected 6 finite joint values"):
+            ik_solutions(robot, T, near=bad)
     with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
         robot.ik(T, all_solutions=True, weights=np.array([1, 1, 1, 1, 0.0, 1]))
     with pytest.raises(InputError, match="weights: expected 6 positive numbers"):

@@ -214,3 +214,36 @@ def test_a_batch_whose_turn_copies_would_not_fit_is_refused_before_listing_them(
     assert ik_solutions(UR5, T, turn_copies=True).counts.tolist() == [512, 256, 512]  # 3 x 512 rows fit
     once = ik_solutions(UR5, batch, turn_copies=False).counts  # each solution once: 512 = 8 x 2^6
     assert once.tolist() == [8, 4, 8, 8, 4]
+
+
+def test_a_batch_s_copies_are_listed_in_one_call_the_same_on_any_thread_count():
+    """Enough poses for two threads (the core splits batches of 4096 or more): the same listing,
+    bit for bit, and each pose's listing is the one it has alone."""
+    wide = with_limits(UR5, [(-2 * math.pi, 2 * math.pi)] * 2 + [(-math.pi, math.pi)] * 4)
+    T = wide.fk(wide.random_q(4100, rng=7))
+    one, two = (ik_solutions(wide, T, near=Q, turn_copies=True, threads=t) for t in (1, 2))
+    for field in ("q", "counts", "within_limits", "family", "position_error", "orientation_error"):
+        np.testing.assert_array_equal(getattr(one, field), getattr(two, field))
+    assert one.counts.max() == 32  # 8 solutions x 2 x 2 copies
+    for i in (0, 1234, 4099):
+        alone = ik_solutions(wide, T[i], near=Q, turn_copies=True)
+        np.testing.assert_array_equal(alone.q, one[i].q)
+        np.testing.assert_array_equal(alone.position_error, one[i].position_error)
+
+
+def test_each_copy_carries_its_solution_s_residuals_and_flags():
+    """A copy has its solution's tool pose, so it is listed with that solution's FK residuals and
+    flags (not put through FK again); its own FK agrees to rounding."""
+    T = UR5.fk(Q)
+    once = ik_solutions(UR5, T, near=Q)
+    listed = ik_solutions(UR5, T, near=Q, turn_copies=True)
+    turns = (listed.q[:, None, :] - once.q[None, :, :]) / (2 * math.pi)
+    copy_of = np.all(np.abs(turns - np.round(turns)) < 1e-9, axis=-1)  # (512, 8): whole turns apart
+    assert len(listed.q) == 512 and (copy_of.sum(axis=1) == 1).all()
+    source = copy_of.argmax(axis=1)
+    np.testing.assert_array_equal(listed.position_error, once.position_error[source])
+    np.testing.assert_array_equal(listed.orientation_error, once.orientation_error[source])
+    np.testing.assert_array_equal(listed.family, once.family[source])
+    F = UR5.fk(listed.q)
+    np.testing.assert_allclose(np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1), listed.position_error,
+                               rtol=0, atol=1e-14)

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstddef>
 #include <stdexcept>
+#include <string>
 
 #include <nanobind/stl/tuple.h>
 
@@ -67,11 +68,10 @@ std::size_t configurations(const Chain& chain, const In& q) {
     return q.size() / std::size_t(chain.n);
 }
 
-long long fk(const Chain& chain, In q, Out T, int threads) {
-    const std::size_t N = configurations(chain, q), n = std::size_t(chain.n);
-    if (T.size() != 16 * N) throw std::invalid_argument("fk: expected an output of shape (N, 4, 4)");
-    const double* qs = q.data();
-    double* out = T.data();
+// Tool poses of the N configurations qs (N x n) into out (N x 4 x 4); the flat index of the
+// first non-finite value, or -1.
+long long fk_into(const Chain& chain, const double* qs, std::size_t N, double* out, int threads) {
+    const std::size_t n = std::size_t(chain.n);
     if (N < std::size_t(kFkBlock))  // one configuration (or a few): no block
         return for_each_configuration(chain, qs, N, threads, [&](std::size_t i, const double* qi) {
             pose_to_matrix(tool_pose(chain, qi), out + 16 * i);
@@ -102,25 +102,96 @@ long long fk(const Chain& chain, In q, Out T, int threads) {
     return first_bad.load();
 }
 
-// One configuration q (n,), the common case in one call: its tool pose (4, 4), or None if q
-// is not one finite configuration as the core takes it (the caller then checks it and says why).
-nb::object fk_one(const Chain& chain, nb::handle q) {
-    const double* values = one_configuration(q, chain.n);
-    if (!values || !all_finite(values, std::size_t(chain.n))) return nb::none();
-    double T[16];
-    pose_to_matrix(tool_pose(chain, values), T);
-    return owned_array(T, 4, 4);
+// Base-frame (or with tool, tool-frame) geometric Jacobians (N x 6 x n, rows [v; w]) of qs (N x n)
+// into out, and their tool poses into poses (N x 4 x 4) unless nullptr; as fk_into for bad values.
+long long jacobians_into(const Chain& chain, const double* qs, std::size_t N, bool tool, double* out, double* poses,
+                        int threads) {
+    const std::size_t n = std::size_t(chain.n);
+    return for_each_configuration(chain, qs, N, threads, [&](std::size_t i, const double* qi) {
+        Vec3 axes[kMaxJoints], points[kMaxJoints];
+        const Pose T = joint_axes(chain, qi, axes, points);
+        double* J = out + 6 * n * i;
+        jacobian_from_axes(T, axes, points, chain.prismatic.data(), chain.n, J);
+        if (tool)  // the same twist in tool coordinates: R^T v and R^T w
+            for (std::size_t c = 0; c < n; ++c)
+                for (std::size_t half = 0; half < 6; half += 3) {
+                    const Vec3 x{J[(half + 0) * n + c], J[(half + 1) * n + c], J[(half + 2) * n + c]};
+                    for (int r = 0; r < 3; ++r)
+                        J[(half + std::size_t(r)) * n + c] = T(0, r) * x.x + T(1, r) * x.y + T(2, r) * x.z;
+                }
+        if (poses) pose_to_matrix(T, poses + 16 * i);
+    });
 }
 
-// One configuration q (n,): its base-frame geometric Jacobian (6, n), or None as fk_one.
-nb::object jacobian_one(const Chain& chain, nb::handle q) {
-    const double* values = one_configuration(q, chain.n);
-    const std::size_t n = std::size_t(chain.n);
-    if (!values || !all_finite(values, n)) return nb::none();
-    Vec3 axes[kMaxJoints], points[kMaxJoints];
-    double J[6 * kMaxJoints];
-    jacobian_from_axes(joint_axes(chain, values, axes, points), axes, points, chain.prismatic.data(), chain.n, J);
-    return owned_array(J, 6, n);
+// q as the core reads it, with its last axis n joint values: q itself if it already is a
+// float64_array, else converted as numpy.asarray(q, dtype=float) would; an invalid object if it
+// cannot be (the caller's checks then say why).
+nb::object joint_values(nb::handle q, int n) {
+    nb::object values;
+    if (float64_array(q)) {
+        values = nb::borrow(q);
+    } else {
+        PyObject* converted = PyArray_FromAny(q.ptr(), PyArray_DescrFromType(NPY_DOUBLE), 0, 0,
+                                              NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED | NPY_ARRAY_ENSUREARRAY |
+                                                  NPY_ARRAY_FORCECAST,
+                                              nullptr);
+        if (!converted) {
+            PyErr_Clear();
+            return nb::object();
+        }
+        values = nb::steal(converted);
+    }
+    PyArrayObject* a = reinterpret_cast<PyArrayObject*>(values.ptr());
+    if (PyArray_NDIM(a) < 1 || PyArray_DIM(a, PyArray_NDIM(a) - 1) != n) return nb::object();
+    return values;
+}
+
+// Joint values the core cannot take, raised as armkit._core.RefusedJointValues: what() is the flat
+// index of the first non-finite value, or -1 for values that are not (..., n) numbers (the Python
+// layer's checks then say why, in its words).
+struct RefusedJointValues : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// A new array of q's batch shape followed by rows x cols, for the results of q (..., n).
+template <class Fill>
+nb::object per_configuration(const Chain& chain, nb::handle q_in, npy_intp rows, npy_intp cols, Fill&& fill) {
+    const nb::object q = joint_values(q_in, chain.n);
+    PyArrayObject* a = q.is_valid() ? reinterpret_cast<PyArrayObject*>(q.ptr()) : nullptr;
+    const int axes = a ? PyArray_NDIM(a) + 1 : 0;
+    if (!a || axes > NPY_MAXDIMS) throw RefusedJointValues("-1");
+    npy_intp shape[NPY_MAXDIMS];
+    std::copy(PyArray_DIMS(a), PyArray_DIMS(a) + axes - 2, shape);
+    shape[axes - 2] = rows;
+    shape[axes - 1] = cols;
+    double* out;
+    nb::object array = new_array(axes, shape, out);
+    const std::size_t N = std::size_t(PyArray_SIZE(a)) / std::size_t(chain.n);
+    const double* values = static_cast<const double*>(PyArray_DATA(a));
+    long long bad;
+    if (N > 1) {
+        nb::gil_scoped_release release;
+        bad = fill(values, N, out);
+    } else {  // one configuration: releasing the GIL would cost more than the arithmetic
+        bad = fill(values, N, out);
+    }
+    if (bad >= 0) throw RefusedJointValues(std::to_string(bad));
+    return array;
+}
+
+// The one call behind fk and Robot.fk for any batch shape: the tool poses (..., 4, 4) of q
+// (..., n) in a new array (RefusedJointValues for values it cannot take).
+nb::object fk(const Chain& chain, nb::handle q, int threads) {
+    return per_configuration(chain, q, 4, 4, [&](const double* values, std::size_t N, double* T) {
+        return fk_into(chain, values, N, T, threads);
+    });
+}
+
+// As fk, for the geometric Jacobians (..., 6, n), in the base frame or (tool) the tool frame.
+nb::object jacobian(const Chain& chain, nb::handle q, bool tool, int threads) {
+    return per_configuration(chain, q, 6, chain.n, [&](const double* values, std::size_t N, double* J) {
+        return jacobians_into(chain, values, N, tool, J, nullptr, threads);
+    });
 }
 
 long long joint_frames(const Chain& chain, In q, Out frames, Out tool, int threads) {
@@ -140,17 +211,11 @@ long long joint_frames(const Chain& chain, In q, Out frames, Out tool, int threa
     });
 }
 
-long long jacobian(const Chain& chain, In q, Out J, Out tool, int threads) {
+long long pose_jacobian(const Chain& chain, In q, Out J, Out T, int threads) {
     const std::size_t N = configurations(chain, q), n = std::size_t(chain.n);
-    if (J.size() != 6 * n * N || tool.size() != 16 * N)
-        throw std::invalid_argument("jacobian: expected outputs (N, 6, n) and (N, 4, 4)");
-    double *out = J.data(), *P = tool.data();
-    return for_each_configuration(chain, q.data(), N, threads, [&](std::size_t i, const double* qi) {
-        Vec3 axes[kMaxJoints], points[kMaxJoints];
-        const Pose T = joint_axes(chain, qi, axes, points);
-        jacobian_from_axes(T, axes, points, chain.prismatic.data(), chain.n, out + 6 * n * i);
-        pose_to_matrix(T, P + 16 * i);
-    });
+    if (J.size() != 6 * n * N || T.size() != 16 * N)
+        throw std::invalid_argument("pose_jacobian: expected outputs (N, 6, n) and (N, 4, 4)");
+    return jacobians_into(chain, q.data(), N, false, J.data(), T.data(), threads);
 }
 
 void joint_axes_points(const Chain& chain, In q, Out axes, Out points) {
@@ -205,19 +270,21 @@ void bind_kinematics(nb::module_& m) {
     m.attr("LIMIT_TOLERANCE") = kLimitTolerance;
     m.attr("MAX_JOINTS") = kMaxJoints;
     const auto release = nb::call_guard<nb::gil_scoped_release>();
-    m.def("fk", &fk, nb::arg("chain"), nb::arg("q"), nb::arg("T"), nb::arg("threads"), release,
-          "Tool poses of q (N, n) into T (N, 4, 4); the flat index of the first non-finite q, or -1.");
-    m.def("fk_one", &fk_one, nb::arg("chain"), nb::arg("q").none(),
-          "Tool pose (4, 4) of one configuration q, or None unless q is a finite C-ordered float64 "
-          "array (n,).");
-    m.def("jacobian_one", &jacobian_one, nb::arg("chain"), nb::arg("q").none(),
-          "Base-frame geometric Jacobian (6, n) of one configuration q (n,), or None as fk_one.");
+    nb::exception<RefusedJointValues>(m, "RefusedJointValues");
+    m.def("fk", &fk, nb::arg("chain"), nb::arg("q").none(), nb::arg("threads"),
+          "Tool poses (..., 4, 4) of joint values q (..., n) (anything numpy.asarray(q, dtype=float) takes) in "
+          "a new array. Raises RefusedJointValues(index of the first non-finite value, or -1 if q is not "
+          "(..., n) numbers).");
+    m.def("jacobian", &jacobian, nb::arg("chain"), nb::arg("q").none(), nb::arg("tool"), nb::arg("threads"),
+          "Geometric Jacobians (..., 6, n), rows [v; w], of q (..., n), in the base frame or (tool) the tool "
+          "frame, in a new array; RefusedJointValues as fk.");
     m.def("joint_frames", &joint_frames, nb::arg("chain"), nb::arg("q"), nb::arg("frames"), nb::arg("tool"),
           nb::arg("threads"), release,
           "Joint frames after each motion (N, n, 4, 4) and tool poses (N, 4, 4); as fk for bad q.");
-    m.def("jacobian", &jacobian, nb::arg("chain"), nb::arg("q"), nb::arg("J"), nb::arg("tool"),
+    m.def("pose_jacobian", &pose_jacobian, nb::arg("chain"), nb::arg("q"), nb::arg("J"), nb::arg("T"),
           nb::arg("threads"), release,
-          "Base-frame geometric Jacobians (N, 6, n), rows [v; w], and tool poses; as fk for bad q.");
+          "Base-frame geometric Jacobians (N, 6, n), rows [v; w], and tool poses of q (N, n) into J and tool; "
+          "the flat index of the first non-finite q, or -1.");
     m.def("joint_axes", &joint_axes_points, nb::arg("chain"), nb::arg("q"), nb::arg("axes"), nb::arg("points"),
           "Joint axes and points on them (n, 3), base frame, of one configuration.");
     m.def("pose_error", &pose_errors, nb::arg("T_target"), nb::arg("T"), nb::arg("e"), nb::arg("threads"),
@@ -229,6 +296,16 @@ void bind_kinematics(nb::module_& m) {
         return nb::make_tuple(r.finite, r.last_row, r.orthonormal, r.rough);
     }, nb::arg("T"), "For transforms (N, 4, 4): all finite, worst last row, worst |R^T R - I| or |det - 1|, "
                      "how many are off by more than 1e-14.");
+    m.def("exactly_rigid", [](nb::handle T, double tolerance) {
+        PyArrayObject* a = float64_array(T);
+        if (!a || PyArray_NDIM(a) < 2 || PyArray_DIM(a, PyArray_NDIM(a) - 1) != 4 ||
+            PyArray_DIM(a, PyArray_NDIM(a) - 2) != 4)
+            return false;
+        const Rigidity r = rigidity(static_cast<const double*>(PyArray_DATA(a)), std::size_t(PyArray_SIZE(a)) / 16);
+        return r.finite && r.last_row <= tolerance && r.orthonormal <= tolerance && r.rough == 0;
+    }, nb::arg("T"), nb::arg("tolerance"),
+       "Whether T is transforms (..., 4, 4) as the core takes them (C-ordered native float64) that "
+       "check_transform would return unchanged (finite, rigid to tolerance, off by at most 1e-14).");
 }
 
 }  // namespace armkit::bindings

@@ -3,7 +3,9 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
+#include <vector>
 
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/variant.h>
@@ -74,66 +76,63 @@ struct References {
     std::size_t stride = 0;
     const double* weights = ones;
 
-    References(const ClosedForm& cf, std::size_t N, const In& near_in, const In& weights_in) {
-        const std::size_t n = std::size_t(cf.chain.n);
+    // near_in: near_size values (nullptr: none); weights_in: n values (nullptr: none).
+    References(std::size_t n, std::size_t N, const double* near_in, std::size_t near_size, const double* weights_in) {
         for (double& one : ones) one = 1.0;
-        if (near_in.is_valid()) {
-            if (near_in.size() != N * n && near_in.size() != n)
+        if (near_in) {
+            if (near_size != N * n && near_size != n)
                 throw std::invalid_argument("near: expected (N, n) or (n,) joint values");
-            near = near_in.data();
-            stride = near_in.size() == N * n && N > 1 ? n : 0;
+            near = near_in;
+            stride = near_size == N * n && N > 1 ? n : 0;
         }
+        if (weights_in) weights = weights_in;
+    }
+
+    References(const ClosedForm& cf, std::size_t N, const In& near_in, const In& weights_in)
+        : References(std::size_t(cf.chain.n), N, near_in.is_valid() ? near_in.data() : nullptr,
+                     near_in.is_valid() ? near_in.size() : 0, nullptr) {
         if (weights_in.is_valid()) {
-            if (weights_in.size() != n) throw std::invalid_argument("weights: expected (n,) values");
+            if (weights_in.size() != std::size_t(cf.chain.n)) throw std::invalid_argument("weights: expected (n,) values");
             weights = weights_in.data();
         }
     }
 };
 
-long long solve_batch(const ClosedForm& cf, In T, In near, In weights, bool within_limits, bool nearest,
-                      double rigid_tolerance, Out q, Out errors, OutBool flags, OutIndex count, int threads) {
-    const std::size_t N = poses(T);
-    const Found f = found_of(cf, N, q, errors, flags, count);
-    if (f.k != cf.k) throw std::invalid_argument("solve_batch: expected k = closed_form.k candidates per pose");
-    const References ref(cf, N, near, weights);
-    nb::gil_scoped_release release;
-    if (rigid_tolerance >= 0.0) {
-        const Rigidity r = rigidity(T.data(), N);
-        if (!(r.finite && r.last_row <= rigid_tolerance && r.orthonormal <= rigid_tolerance && r.rough == 0))
-            return -1;
-    }
+// Poses T (N, 4, 4) with references near (N, n), (n,) or None and weights (n,) or None, as the
+// Python layer prepared them (exactly rigid, C-ordered float64): every candidate of each wrapped,
+// verified and ranked (solve_poses) into new arrays q (N, k, n), errors (N, k, 2), flags (N, k, 4)
+// and count (N,), and the number of poses without a usable candidate. One call for any N.
+nb::tuple solve(const ClosedForm& cf, nb::handle T, nb::handle near, nb::handle weights, bool within_limits,
+                bool nearest, int threads) {
+    PyArrayObject* targets = float64_array(T);
+    if (!targets || PyArray_SIZE(targets) % 16 != 0) throw std::invalid_argument("solve: expected poses (N, 4, 4)");
+    const std::size_t N = std::size_t(PyArray_SIZE(targets)) / 16, n = std::size_t(cf.chain.n);
+    const std::size_t k = std::size_t(cf.k);
+    const double* poses = static_cast<const double*>(PyArray_DATA(targets));
+    PyArrayObject* near_in = near.is_none() ? nullptr : float64_array(near);
+    if (!near.is_none() && !near_in) throw std::invalid_argument("solve: expected near as C-ordered float64");
+    const References ref(n, N, near_in ? static_cast<const double*>(PyArray_DATA(near_in)) : nullptr,
+                         near_in ? std::size_t(PyArray_SIZE(near_in)) : 0,
+                         prepared(weights, n, "solve: expected weights (n,)"));
+    const npy_intp N_ = npy_intp(N), k_ = npy_intp(k);
+    const npy_intp q_shape[3] = {N_, k_, npy_intp(n)}, errors_shape[3] = {N_, k_, 2}, flags_shape[3] = {N_, k_, kFlags};
+    double *q, *errors;
+    bool* flags;
+    std::int64_t* count;
+    nb::object q_out = new_array(3, q_shape, q), errors_out = new_array(3, errors_shape, errors);
+    nb::object flags_out = new_array(3, flags_shape, flags), count_out = new_array(1, &N_, count);
+    const Found f{int(k), int(n), q, errors, flags, count};
     std::atomic<long long> empty{0};
-    parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
-        empty += solve_poses(cf, T.data(), ref.near, ref.stride, ref.weights, within_limits, nearest, f, begin, end);
-    });
-    return empty;
+    {
+        nb::gil_scoped_release release;
+        parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
+            empty += solve_poses(cf, poses, ref.near, ref.stride, ref.weights, within_limits, nearest, f, begin, end);
+        });
+    }
+    return nb::make_tuple(q_out, errors_out, flags_out, count_out, empty.load());
 }
 
-// One pose, the common case in one call: the usable solutions (count, n), nearest first, or
-// with nearest the nearest one (n,); None where the general path must take over (a target
-// not exactly rigid, near not finite, weights not positive, no usable candidate: the
-// caller's errors and repairs).
-nb::object solve_one(const ClosedForm& cf, In T, In near, In weights, bool within_limits, bool nearest,
-                     double rigid_tolerance) {
-    const std::size_t n = std::size_t(cf.chain.n);
-    if (T.size() != 16) throw std::invalid_argument("solve_one: expected one pose (4, 4)");
-    if ((near.is_valid() && near.size() != n) || (weights.is_valid() && weights.size() != n))
-        throw std::invalid_argument("solve_one: expected near and weights (n,)");
-    const References ref(cf, 1, near, weights);
-    for (std::size_t j = 0; j < n; ++j)
-        if (!std::isfinite(ref.near[j]) || !(std::isfinite(ref.weights[j]) && ref.weights[j] > 0.0)) return nb::none();
-    const Rigidity r = rigidity(T.data(), 1);
-    if (!(r.finite && r.last_row <= rigid_tolerance && r.orthonormal <= rigid_tolerance && r.rough == 0))
-        return nb::none();
-    double q[kMaxCandidates * kMaxJoints], errors[kMaxCandidates * 2];
-    bool flags[kMaxCandidates * kFlags];
-    std::int64_t count = 0;
-    const Found f{cf.k, cf.chain.n, q, errors, flags, &count};
-    if (solve_poses(cf, T.data(), ref.near, 0, ref.weights, within_limits, nearest, f, 0, 1) > 0) return nb::none();
-    return nearest ? owned_array(q, n) : owned_array(q, std::size_t(count), n);
-}
-
-#ifdef ARMKIT_TEST_BINDINGS  // the stages of solve_batch, bound for their tests only (CMake's ARMKIT_TEST_BINDINGS)
+#ifdef ARMKIT_TEST_BINDINGS  // the stages of solve, bound for their tests only (CMake's ARMKIT_TEST_BINDINGS)
 void rank(const ClosedForm& cf, InIndex which, In near, In weights, bool within_limits, Out q, Out errors,
           OutBool flags, OutIndex count) {
     const std::size_t N = count.size();
@@ -197,21 +196,84 @@ void duplicates(In q, InBool valid, InBool prismatic, OutBool duplicate) {
     mark_duplicates(q.data(), int(k), int(n), valid.data(), kinds, duplicate.data());
 }
 
-nb::tuple list_turn_copies(const Chain& chain, In T, In q, InBool expand, InBool free_joints, In near, In weights,
-                           std::size_t limit) {
-    const std::size_t n = std::size_t(chain.n), k = expand.size();
-    if (T.size() != 16 || q.size() != k * n || free_joints.size() != n || near.size() != n || weights.size() != n)
-        throw std::invalid_argument("turn_copies: expected T (4, 4), q (k, n), expand (k,), free_joints, near "
-                                    "and weights (n,)");
-    TurnCopies c;
+// The usable solutions of N poses as solve lists them (q (N, k, n), errors (N, k, 2), flags (N, k, 4),
+// count (N,)) with every whole-turn copy inside the limits of those inside (TurnCopyLister; of the
+// free_joints (n,), None: all), nearest to near ((N, n), (n,) or None: zeros) first by
+// |weights * (q - near)| (None: ones), at most limit per pose, each with its solution's residuals
+// and flags: new arrays q (N, K, n), errors (N, K, 2), flags (N, K, 4) padded with NaN and false,
+// count (N,), and total (N,): how many copies each pose has. If N K (K at least 1) exceeds
+// max_rows, the arrays are None (nothing listed, nothing allocated) and count says how many would be.
+nb::tuple list_turn_copies(const Chain& chain, In q, In errors, InBool flags, InIndex count, In near, In weights,
+                           InBool free_joints, std::size_t limit, double max_rows, int threads) {
+    const std::size_t N = count.size(), n = std::size_t(chain.n);
+    const std::size_t k = N ? q.size() / (N * n) : 0;
+    if (k > std::size_t(kMaxCandidates) || q.size() != N * k * n || errors.size() != N * k * 2 ||
+        flags.size() != N * k * kFlags || (near.is_valid() && near.size() != N * n && near.size() != n) ||
+        (weights.is_valid() && weights.size() != n) || (free_joints.is_valid() && free_joints.size() != n))
+        throw std::invalid_argument("turn_copies: expected q (N, k, n), errors (N, k, 2), flags (N, k, 4), "
+                                    "count (N,), near (N, n) or (n,), weights and free_joints (n,)");
+    const References ref(n, N, near.is_valid() ? near.data() : nullptr, near.is_valid() ? near.size() : 0,
+                         weights.is_valid() ? weights.data() : nullptr);
+    bool all[kMaxJoints];
+    std::fill(all, all + kMaxJoints, true);
+    const bool* free_joint = free_joints.is_valid() ? free_joints.data() : all;
+    const double* q_in = q.data();
+    const double* errors_in = errors.data();
+    const bool* flags_in = flags.data();
+    const std::int64_t* count_in = count.data();
+    const npy_intp N_ = npy_intp(N);
+    std::int64_t* listed;
+    double* total;
+    nb::object listed_out = new_array(1, &N_, listed), total_out = new_array(1, &N_, total);
+    auto expand_of = [&](std::size_t i, bool* expand) {
+        const std::int64_t m = std::min<std::int64_t>(count_in[i], std::int64_t(k));
+        for (std::int64_t r = 0; r < m; ++r) expand[r] = flags_in[(i * k + std::size_t(r)) * kFlags + kInside];
+        return int(std::max<std::int64_t>(m, 0));
+    };
+    std::size_t K = 0;
     {
         nb::gil_scoped_release release;
-        c = turn_copies(chain, pose_from_matrix(T.data()), q.data(), expand.data(), int(k), free_joints.data(),
-                        near.data(), weights.data(), limit);
+        for (std::size_t i = 0; i < N; ++i) {  // counted, not listed: a product per solution
+            bool expand[kMaxCandidates];
+            const int m = expand_of(i, expand);
+            total[i] = count_turn_copies(chain, q_in + i * k * n, expand, m, free_joint);
+            listed[i] = std::int64_t(std::min(total[i], double(limit)));
+            K = std::max(K, std::size_t(listed[i]));
+        }
     }
-    const std::size_t m = c.source.size();
-    return nb::make_tuple(owned_array(c.source.data(), m), owned_array(c.q.data(), m, n),
-                          owned_array(c.errors.data(), m, std::size_t(2)), c.total);
+    if (double(N) * double(std::max<std::size_t>(K, 1)) > max_rows)
+        return nb::make_tuple(nb::none(), nb::none(), nb::none(), listed_out, total_out);
+    const npy_intp K_ = npy_intp(K);
+    const npy_intp q_shape[3] = {N_, K_, npy_intp(n)}, errors_shape[3] = {N_, K_, 2}, flags_shape[3] = {N_, K_, kFlags};
+    double *q_out, *errors_out;
+    bool* flags_out;
+    nb::object q_array = new_array(3, q_shape, q_out), errors_array = new_array(3, errors_shape, errors_out);
+    nb::object flags_array = new_array(3, flags_shape, flags_out);
+    {
+        nb::gil_scoped_release release;
+        constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+        parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
+            TurnCopyLister lister;  // one per thread: its scratch serves every pose of the block
+            std::vector<std::int64_t> source(K);
+            for (std::size_t i = begin; i < end; ++i) {
+                bool expand[kMaxCandidates];
+                const int m = expand_of(i, expand);
+                double* rows = q_out + i * K * n;
+                const std::size_t written = lister.list(chain, q_in + i * k * n, expand, m, free_joint,
+                                                        ref.near + ref.stride * i, ref.weights, std::size_t(listed[i]), rows,
+                                                        source.data());
+                for (std::size_t c = 0; c < written; ++c) {
+                    const std::size_t from = i * k + std::size_t(source[c]), to = i * K + c;
+                    std::copy(errors_in + 2 * from, errors_in + 2 * from + 2, errors_out + 2 * to);
+                    std::copy(flags_in + kFlags * from, flags_in + kFlags * from + kFlags, flags_out + kFlags * to);
+                }
+                std::fill(rows + written * n, rows + K * n, nan);
+                std::fill(errors_out + 2 * (i * K + written), errors_out + 2 * (i + 1) * K, nan);
+                std::fill(flags_out + kFlags * (i * K + written), flags_out + kFlags * (i + 1) * K, false);
+            }
+        });
+    }
+    return nb::make_tuple(q_array, errors_array, flags_array, listed_out, total_out);
 }
 
 }  // namespace
@@ -225,22 +287,15 @@ void bind_solve(nb::module_& m) {
              nb::arg("polish"), nb::arg("verify_tolerance"))
         .def_ro("k", &ClosedForm::k)
         .def_prop_ro("n", [](const ClosedForm& cf) { return cf.chain.n; });
-    m.def("solve_batch", &solve_batch, nb::arg("closed_form"), nb::arg("T"), nb::arg("near").none(),
-          nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("nearest"), nb::arg("rigid_tolerance"),
-          nb::arg("q"), nb::arg("errors"), nb::arg("flags"), nb::arg("count"), nb::arg("threads"),
-          "Candidates of poses T (N, 4, 4) wrapped into the limits (reference near (N, n), (n,) or None: "
-          "zeros), FK-verified, family representatives moved to the member nearest to near, ranked by "
-          "|weights * (q - near)| (None: ones) into q (N, k, n), errors (N, k, 2) [m, rad], flags (N, k, 4) "
-          "(valid, keep, inside, family) and count (N,). nearest: verify nearest first, up to the first kept. "
-          "rigid_tolerance >= 0: first check that every T is exactly rigid (as check_transform would return "
-          "it unchanged); if not, solve nothing and return -1. Rough candidates (FK residual above "
-          "kRefineAbove, 1e-13) are refined by a few Levenberg-Marquardt steps that stay on their branch. "
-          "Returns the number of poses without a usable candidate.");
-    m.def("solve_one", &solve_one, nb::arg("closed_form"), nb::arg("T"), nb::arg("near").none(),
-          nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("nearest"), nb::arg("rigid_tolerance"),
-          "One pose (4, 4): its usable solutions (count, n) nearest to near first, or with nearest the "
-          "nearest one (n,); None if the target is not exactly rigid, near or weights are bad or no candidate "
-          "is usable (then solve_batch and the Python layer take over).");
+    m.def("solve", &solve, nb::arg("closed_form"), nb::arg("T"), nb::arg("near").none(), nb::arg("weights").none(),
+          nb::arg("within_limits"), nb::arg("nearest"), nb::arg("threads"),
+          "Candidates of poses T (N, 4, 4) (exactly rigid C-ordered float64) wrapped into the limits (reference "
+          "near (N, n), (n,) or None: zeros), FK-verified, family representatives moved to the member nearest "
+          "to near, ranked by |weights * (q - near)| (None: ones). Returns new arrays q (N, k, n), errors "
+          "(N, k, 2) [m, rad], flags (N, k, 4) (valid, keep, inside, family), count (N,) (usable ones, first) "
+          "and the number of poses without a usable candidate. nearest: verify nearest first, up to the first "
+          "kept. Rough candidates (FK residual above kRefineAbove, 1e-13) are refined by a few "
+          "Levenberg-Marquardt steps that stay on their branch.");
 #ifdef ARMKIT_TEST_BINDINGS
     m.def("rank", &rank, nb::arg("closed_form"), nb::arg("poses"), nb::arg("near").none(),
           nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("q"), nb::arg("errors"), nb::arg("flags"),
@@ -257,12 +312,14 @@ void bind_solve(nb::module_& m) {
           "Every closed-form candidate of poses T (N, 4, 4) into q (N, k, n), valid and family (N, k).");
     m.def("residuals", &residuals, nb::arg("T_target"), nb::arg("F"), nb::arg("out"),
           "FK residuals (N, 2) of poses F to T_target (N, 4, 4): position [m], rotation angle [rad].");
-    m.def("turn_copies", &list_turn_copies, nb::arg("chain"), nb::arg("T"), nb::arg("q"), nb::arg("expand"),
-          nb::arg("free_joints"), nb::arg("near"), nb::arg("weights"), nb::arg("limit"),
-          "The whole-turn copies of solutions q (k, n) of pose T (4, 4): of rows with expand every copy "
-          "inside the limits of the free_joints (n,) spanning more than a whole turn, of the others the row itself; "
-          "nearest to near (n,) first by |weights * (q - near)|, at most limit. Returns (source (m,): the "
-          "row of each copy, q (m, n), errors (m, 2) FK residuals [m, rad], total: how many exist).");
+    m.def("turn_copies", &list_turn_copies, nb::arg("chain"), nb::arg("q"), nb::arg("errors"), nb::arg("flags"),
+          nb::arg("count"), nb::arg("near").none(), nb::arg("weights").none(), nb::arg("free_joints").none(),
+          nb::arg("limit"), nb::arg("max_rows"), nb::arg("threads"),
+          "The usable solutions of N poses as solve lists them with every whole-turn copy inside the limits of "
+          "those inside (joints spanning more than a whole turn, of free_joints (n,); None: all), nearest to "
+          "near first by |weights * (q - near)|, at most limit per pose, each with its solution's residuals and "
+          "flags. Returns (q (N, K, n), errors (N, K, 2), flags (N, K, 4), padded with NaN and false; count "
+          "(N,); total (N,): how many copies exist); the arrays are None if N K would exceed max_rows.");
     m.def("duplicates", &duplicates, nb::arg("q"), nb::arg("valid"), nb::arg("prismatic"), nb::arg("duplicate"),
           "Mark the candidates of q (k, n) equal (modulo 2 pi, 1e-9) to an earlier valid one.");
 }

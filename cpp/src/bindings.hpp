@@ -6,6 +6,7 @@
 #include <cstddef>
 
 #include <cstdint>
+#include <stdexcept>
 
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
@@ -37,15 +38,26 @@ template <>
 constexpr int numpy_type<double>() { return NPY_DOUBLE; }
 template <>
 constexpr int numpy_type<std::int64_t>() { return NPY_INT64; }
+template <>
+constexpr int numpy_type<bool>() { return NPY_BOOL; }
+
+// A new (uninitialised) numpy array of the given shape; data points at its values.
+template <typename T>
+inline nb::object new_array(int ndim, const npy_intp* shape, T*& data) {
+    PyObject* array = PyArray_SimpleNew(ndim, const_cast<npy_intp*>(shape), numpy_type<T>());
+    if (!array) throw nb::python_error();
+    data = static_cast<T*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(array)));
+    return nb::steal(array);
+}
 
 // A new numpy array of the given shape (1 or 2 axes) holding a copy of values.
 template <typename T>
 inline nb::object owned_array(const T* values, std::size_t rows, std::size_t cols = 0) {
-    npy_intp shape[2] = {npy_intp(rows), npy_intp(cols)};
-    PyObject* array = PyArray_SimpleNew(cols ? 2 : 1, shape, numpy_type<T>());
-    if (!array) throw nb::python_error();
-    std::copy(values, values + (cols ? rows * cols : rows), static_cast<T*>(PyArray_DATA((PyArrayObject*)array)));
-    return nb::steal(array);
+    const npy_intp shape[2] = {npy_intp(rows), npy_intp(cols)};
+    T* data;
+    nb::object array = new_array<T>(cols ? 2 : 1, shape, data);
+    std::copy(values, values + (cols ? rows * cols : rows), data);
+    return array;
 }
 
 // Whether every one of count values is finite (branch-free: the loop vectorises).
@@ -55,16 +67,32 @@ inline bool all_finite(const double* values, std::size_t count) {
     return finite;
 }
 
-// The values of q if it is exactly one configuration as the core takes it: a numpy array (not
-// a subclass) of n native-order float64, C-ordered and aligned; else nullptr (the caller then
-// takes the Python layer's checking path). The fast single-configuration calls start here.
-inline const double* one_configuration(nb::handle q, int n) {
-    if (!PyArray_CheckExact(q.ptr())) return nullptr;
-    PyArrayObject* a = reinterpret_cast<PyArrayObject*>(q.ptr());
-    if (PyArray_TYPE(a) != NPY_DOUBLE || PyArray_NDIM(a) != 1 || PyArray_DIM(a, 0) != n ||
-        !PyArray_IS_C_CONTIGUOUS(a) || !PyArray_ISALIGNED(a) || !PyArray_ISNOTSWAPPED(a))
+// a as the core reads it, if it already is: a numpy array (not a subclass) of native-order
+// float64, C-ordered and aligned; else nullptr. Checked without a conversion or a reference.
+inline PyArrayObject* float64_array(nb::handle a) {
+    if (!PyArray_CheckExact(a.ptr())) return nullptr;
+    PyArrayObject* array = reinterpret_cast<PyArrayObject*>(a.ptr());
+    if (PyArray_TYPE(array) != NPY_DOUBLE || !PyArray_IS_C_CONTIGUOUS(array) || !PyArray_ISALIGNED(array) ||
+        !PyArray_ISNOTSWAPPED(array))
         return nullptr;
+    return array;
+}
+
+// The values of q if it is exactly one configuration as the core takes it (float64_array, n
+// values, one axis); else nullptr (the caller then takes the Python layer's checking path).
+inline const double* one_configuration(nb::handle q, int n) {
+    PyArrayObject* a = float64_array(q);
+    if (!a || PyArray_NDIM(a) != 1 || PyArray_DIM(a, 0) != n) return nullptr;
     return static_cast<const double*>(PyArray_DATA(a));
+}
+
+// The values of an input array the Python layer prepared (float64_array) holding `size` values,
+// or of None (nullptr); anything else is a bug of the caller.
+inline const double* prepared(nb::handle a, std::size_t size, const char* what) {
+    if (a.is_none()) return nullptr;
+    PyArrayObject* array = float64_array(a);
+    if (!array || std::size_t(PyArray_SIZE(array)) != size) throw std::invalid_argument(what);
+    return static_cast<const double*>(PyArray_DATA(array));
 }
 
 void bind_kinematics(nb::module_& m);   // Chain, FK, frames, Jacobians, pose errors, checks

@@ -95,6 +95,8 @@ def thread_count(value: object, name: str = "threads") -> int:
     """
     if value is None:
         return 0
+    if type(value) is int and 1 <= value <= MAX_THREADS:  # the usual call, without the ABC test below
+        return value
     if isinstance(value, bool) or not isinstance(value, Integral) or not 1 <= value <= MAX_THREADS:
         raise InputError(f"{name}: expected None (every core) or a whole number of threads from 1 to "
                          f"{MAX_THREADS}, got {value!r}", parameter=name, value=value)

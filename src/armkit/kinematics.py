@@ -7,9 +7,10 @@ velocity of the tool origin [m/s] over angular velocity [rad/s].
 The formulas live in armkit's compiled core (``armkit._core``, C++): FK, joint frames,
 the geometric Jacobian and the pose error of one configuration cost about half a microsecond
 from Python (``benchmarks/bench_fk.py``), and batches are split over ``threads`` (default:
-every core) with the same result whatever the thread count. This module checks the inputs
-once (arrays that are already float64 and C-ordered go straight through) and shapes the
-outputs.
+every core) with the same result whatever the thread count. FK and the Jacobian are one
+core call each for any batch shape: the core reads ``q`` (a C-ordered float64 array as it is,
+anything else as :func:`numpy.asarray` would), checks its values in its loop and returns a new
+array; this module only words the errors for joint values the core refuses.
 """
 
 from __future__ import annotations
@@ -74,8 +75,25 @@ def _raise_if_bad(q: NDArray[np.float64], bad: int) -> None:
         raise non_finite_error(q, bad=bad)
 
 
+def _refused(chain: Chain, q: ArrayLike, refused: Exception) -> InputError:
+    """The error for joint values the core refused (``_core.RefusedJointValues``: the flat index
+    of the first non-finite value, or -1 for values that are not ``(..., n)`` numbers, which
+    :func:`_joint_values` raises for in its words)."""
+    try:
+        values, bad = _joint_values(chain, q), int(str(refused))
+    except InputError as error:  # raised by the caller, without the core's refusal as its context
+        return error
+    if bad < 0:
+        return InputError(f"q: expected {chain.n} joint values (shape (..., {chain.n})), got {q!r}")
+    return non_finite_error(values, bad=bad)
+
+
 def fk(robot: Robot | Chain, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.float64]:
     """Tool poses ``T_base_tool`` [m], shape ``(..., 4, 4)``, for joint values ``(..., n)``.
+
+    One core call for any batch shape (a single configuration is a batch of one): it reads
+    ``q`` as :func:`numpy.asarray` would, checks its values in its loop and writes the poses
+    into the array it returns.
 
     Parameters
     ----------
@@ -99,16 +117,15 @@ def fk(robot: Robot | Chain, q: ArrayLike, *, threads: int | None = None) -> NDA
     >>> fk(armkit.load("ur5"), np.zeros((1000, 6))).shape
     (1000, 4, 4)
     """
-    chain = as_chain(robot)
-    q = _joint_values(chain, q)
-    return _fk(chain, q, thread_count(threads))
+    return _fk(as_chain(robot), q, thread_count(threads))
 
 
-# The unchecked forms below are for callers that have checked q already (Robot.check_q).
-def _fk(chain: Chain, q: NDArray[np.float64], threads: int = 0) -> NDArray[np.float64]:
-    T = np.empty((*q.shape[:-1], 4, 4))
-    _raise_if_bad(q, _core.fk(chain._core, q, T, threads))
-    return T
+def _fk(chain: Chain, q: ArrayLike, threads: int = 0) -> NDArray[np.float64]:
+    """:func:`fk` of a chain, ``threads`` checked."""
+    try:
+        return _core.fk(chain._core, q, threads)
+    except _core.RefusedJointValues as refused:
+        raise _refused(chain, q, refused) from None
 
 
 def joint_frames(robot: Robot | Chain, q: ArrayLike, *,
@@ -147,7 +164,7 @@ def _link_frames(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def geometric_jacobian(robot: Robot | Chain, q: ArrayLike, frame: str = "base", *,
                        threads: int | None = None) -> NDArray[np.float64]:
-    """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``.
+    """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]`` (one core call, as :func:`fk`).
 
     Parameters
     ----------
@@ -158,27 +175,28 @@ def geometric_jacobian(robot: Robot | Chain, q: ArrayLike, frame: str = "base", 
         Threads for a batch: ``None`` (default) every core, else 1 to 1024; the result
         does not depend on it.
     """
-    chain = as_chain(robot)
-    return _geometric_jacobian(chain, _joint_values(chain, q), frame, thread_count(threads))
+    return _geometric_jacobian(as_chain(robot), q, frame, thread_count(threads))
 
 
-def _pose_jacobian(chain: Chain, q: NDArray[np.float64],
-                   threads: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Tool poses ``(..., 4, 4)`` and base-frame Jacobians ``(..., 6, n)`` of checked ``q``."""
-    T, J = np.empty((*q.shape[:-1], 4, 4)), np.empty((*q.shape[:-1], 6, chain.n))
-    _raise_if_bad(q, _core.jacobian(chain._core, q, J, T, threads))
-    return T, J
+#: The frames a Jacobian is expressed in: whether each is the tool frame.
+_IS_TOOL_FRAME = {"base": False, "tool": True}
 
 
-def _geometric_jacobian(chain: Chain, q: NDArray[np.float64], frame: str = "base",
+def _frame_error(frame: object) -> InputError:
+    return InputError(f"frame {frame!r}: expected 'base' or 'tool'")
+
+
+def _geometric_jacobian(chain: Chain, q: ArrayLike, frame: str = "base",
                         threads: int = 0) -> NDArray[np.float64]:
-    if frame not in ("base", "tool"):
-        raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
-    T_tool, J = _pose_jacobian(chain, q, threads)
-    if frame == "base":
-        return J
-    R_t = np.swapaxes(T_tool[..., :3, :3], -1, -2)
-    return np.concatenate([R_t @ J[..., :3, :], R_t @ J[..., 3:, :]], axis=-2)
+    """:func:`geometric_jacobian` of a chain, ``threads`` checked."""
+    try:
+        tool = _IS_TOOL_FRAME[frame]
+    except (KeyError, TypeError):
+        raise _frame_error(frame) from None
+    try:
+        return _core.jacobian(chain._core, q, tool, threads)
+    except _core.RefusedJointValues as refused:
+        raise _refused(chain, q, refused) from None
 
 
 def analytic_jacobian(robot: Robot | Chain, q: NDArray[np.float64],
@@ -271,19 +289,18 @@ class ChainKernel:
     def __init__(self, robot: Robot | Chain) -> None:
         chain = as_chain(robot)
         self.n = chain.n
+        self._whole = chain
         self._chain = chain._core
 
     def fk(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         """Tool transform ``T_base_tool`` ``(4, 4)`` at joint values ``q`` ``(n,)`` [rad or m]."""
-        T = np.empty((4, 4))
-        _core.fk(self._chain, q, T, 1)
-        return T
+        return _fk(self._whole, q, 1)
 
     def fk_jacobian(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Tool transform ``T_base_tool`` ``(4, 4)`` and base-frame geometric Jacobian ``(6, n)``,
         rows ``[v; w]``."""
         T, J = np.empty((4, 4)), np.empty((6, self.n))
-        _core.jacobian(self._chain, q, J, T, 1)
+        _raise_if_bad(q, _core.pose_jacobian(self._chain, q, J, T, 1))
         return T, J
 
     def jacobian(self, q: NDArray[np.float64]) -> NDArray[np.float64]:

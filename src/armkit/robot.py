@@ -9,8 +9,9 @@ that knows how to give the full configuration back.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
+from functools import cache
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -22,7 +23,7 @@ from armkit._params import core_ready, thread_count, whole_number
 from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.inertial import Inertial
-from armkit.spatial.transforms import check_transform, pose_from_transform, rot_z, trans_z
+from armkit.spatial.transforms import pose_from_transform, rot_z, trans_z
 
 if TYPE_CHECKING:  # the descriptions' modules import this one; matplotlib only when drawing
     from matplotlib.figure import Figure
@@ -33,6 +34,14 @@ if TYPE_CHECKING:  # the descriptions' modules import this one; matplotlib only 
     from armkit.urdf import UrdfDescription
 
 __all__ = ["DHDescription", "LockedRobot", "Robot"]
+
+
+@cache
+def _solve_ik() -> Callable[..., NDArray[np.float64] | list[NDArray[np.float64]]]:
+    """:func:`armkit.ik.solve.ik`, imported on first use (armkit.ik imports this module)."""
+    from armkit.ik.solve import ik
+
+    return ik
 
 
 @dataclass(frozen=True)
@@ -240,6 +249,18 @@ class Robot:
         array ``(..., n)`` (the core checks finiteness in its loop), else :meth:`check_q`."""
         return q if core_ready(q, (self.n,)) else np.ascontiguousarray(self.check_q(q))
 
+    def _refused(self, q: ArrayLike, refused: Exception) -> InputError:
+        """The error for joint values the core refused in :meth:`fk` or :meth:`jacobian`
+        (``_core.RefusedJointValues``: the flat index of the first non-finite value, or -1 for
+        values that are not ``n`` numbers per configuration, which :meth:`check_q` raises for)."""
+        try:
+            values, bad = self.check_q(q), int(str(refused))
+        except InputError as error:  # raised by the caller, without the core's refusal as its context
+            return error
+        if bad < 0:
+            return InputError(f"q: expected {self.n} joint values, got {q!r}")
+        return kinematics.non_finite_error(values, bad=bad)
+
     def within_limits(self, q: ArrayLike) -> NDArray[np.bool_]:
         """Whether each configuration ``(..., n)`` lies inside all position limits, ``(...)``."""
         return self.chain.within_limits(self.check_q(q))
@@ -267,7 +288,8 @@ class Robot:
     def fk(self, q: ArrayLike, *, threads: int | None = None) -> NDArray[np.float64]:
         """Tool pose ``T_base_tool`` [m], ``(4, 4)`` for ``q`` ``(n,)``, ``(N, 4, 4)`` for ``(N, n)``.
 
-        A batch is split over ``threads`` (default: every core); the result does not depend on it.
+        One core call for any batch shape (see :func:`armkit.kinematics.fk`). A batch is split
+        over ``threads`` (default: every core); the result does not depend on it.
 
         Examples
         --------
@@ -275,11 +297,11 @@ class Robot:
         >>> armkit.load("probot-anno").fk([0, 0, 0, 0, 0, 0])[:3, 3].round(4) + 0.0
         array([0.2289, 0.    , 0.454 ])
         """
-        if threads is None:  # one configuration as the core takes it: one call (else None)
-            T = _core.fk_one(self.chain._core, q)
-            if T is not None:
-                return T
-        return kinematics._fk(self.chain, self._checked(q), thread_count(threads))
+        threads = 0 if threads is None else thread_count(threads)
+        try:
+            return _core.fk(self.chain._core, q, threads)  # one core call, for any batch shape
+        except _core.RefusedJointValues as refused:
+            raise self._refused(q, refused) from None
 
     def pose(self, q: ArrayLike, convention: str = "xyz-fixed",
              degrees: bool = False) -> NDArray[np.float64]:
@@ -312,12 +334,15 @@ class Robot:
     def jacobian(self, q: ArrayLike, frame: str = "base", *,
                  threads: int | None = None) -> NDArray[np.float64]:
         """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``, in the ``"base"`` or ``"tool"`` frame."""
-        if frame == "base" and threads is None:
-            J = _core.jacobian_one(self.chain._core, q)  # as in fk
-            if J is not None:
-                return J
-        threads = thread_count(threads)
-        return kinematics._geometric_jacobian(self.chain, self._checked(q), frame, threads)
+        try:
+            tool = kinematics._IS_TOOL_FRAME[frame]
+        except (KeyError, TypeError):
+            raise kinematics._frame_error(frame) from None
+        threads = 0 if threads is None else thread_count(threads)
+        try:
+            return _core.jacobian(self.chain._core, q, tool, threads)  # as fk
+        except _core.RefusedJointValues as refused:
+            raise self._refused(q, refused) from None
 
     def analytic_jacobian(self, q: ArrayLike, convention: str = "xyz-fixed") -> NDArray[np.float64]:
         """Analytic Jacobian ``(..., 6, n)``: position rates over angle rates in ``convention``."""
@@ -393,38 +418,30 @@ class Robot:
 
             return ik_free(self, scene, T_base_tool, all_solutions=all_solutions, near=near,
                            within_limits=within_limits, **options)
-        from armkit.ik.solve import ik  # here, not at the top: armkit.ik imports this module
+        if options:
+            if "all" in options:
+                all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
+                                                 all_solutions, False)
+            if options.get("free_joint") is None and options.get("free_value") is None:
+                options.pop("free_joint", None)
+                options.pop("free_value", None)
+            if "free_joint" in options or "free_value" in options:
+                from armkit.ik.self_motion import ik_at_free_joint
 
-        if options and "all" in options:
-            all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
-                                             all_solutions, False)
-        if options and options.get("free_joint") is None and options.get("free_value") is None:
-            options.pop("free_joint", None)
-            options.pop("free_value", None)
-        if options and ("free_joint" in options or "free_value" in options):
-            from armkit.ik.self_motion import ik_at_free_joint
-
-            if options.get("free_joint") is None:
-                raise InputError("free_value: given without free_joint; name the joint it holds")
-            joint, value = options.pop("free_joint"), options.pop("free_value", None)
-            return ik_at_free_joint(self, T_base_tool, joint, value, all_solutions=all_solutions, near=near,
-                                    within_limits=within_limits, **options)
-        one_near = near is None or core_ready(near, (self.n,), exact=True)
-        if core_ready(T_base_tool, (4, 4), exact=True) and one_near:
-            # the usual call: the core checks the pose and near itself (errors: ik's messages)
-            return ik(self.chain, T_base_tool, all_solutions=all_solutions, near=near,
-                      within_limits=within_limits, **options)
-        T = check_transform(T_base_tool, "target pose")
-        if near is not None:
+                if options.get("free_joint") is None:
+                    raise InputError("free_value: given without free_joint; name the joint it holds")
+                joint, value = options.pop("free_joint"), options.pop("free_value", None)
+                return ik_at_free_joint(self, T_base_tool, joint, value, all_solutions=all_solutions,
+                                        near=near, within_limits=within_limits, **options)
+        if near is not None:  # in this robot's words (the targets are checked by ik, with near's shape)
             near = self.check_q(near, "near")
-            if near.ndim > 1 and near.shape[:-1] != T.shape[:-2]:
-                poses = "one target pose" if T.ndim == 2 else f"target poses of shape {T.shape}"
+            shape = np.shape(T_base_tool) if near.ndim > 1 else ()
+            if near.ndim > 1 and near.shape[:-1] != shape[:-2]:
+                poses = "one target pose" if len(shape) == 2 else f"target poses of shape {shape}"
                 raise InputError(f"near: shape {near.shape} for {poses}; expected ({self.n},), one set of "
-                                 f"joint values for every pose, or {(*T.shape[:-2], self.n)}, one per pose")
-        if T.ndim > 2 and T.shape[0] == 0:
-            return [] if all_solutions else np.empty((0, self.n))
-        return ik(self.chain, T, all_solutions=all_solutions, near=near, within_limits=within_limits,
-                  **options)
+                                 f"joint values for every pose, or {(*shape[:-2], self.n)}, one per pose")
+        return _solve_ik()(self.chain, T_base_tool, all_solutions=all_solutions, near=near,
+                           within_limits=within_limits, **options)
 
     def ik_position(self, position: ArrayLike, *, all_solutions: bool = False, near: ArrayLike | None = None,
                     within_limits: bool = True, turn_copies: bool = False) -> NDArray[np.float64]:

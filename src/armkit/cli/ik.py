@@ -222,7 +222,7 @@ def ik_command(
     order = np.argsort(number, kind="stable")
     q, number, family = q[order], number[order], family[order]
     inside = arm.within_limits(q)
-    copies = (count_turn_copies(arm.chain, T, q[inside], None if position is None else np.arange(arm.n) < 3)
+    copies = (count_turn_copies(arm.chain, q[inside], None if position is None else np.arange(arm.n) < 3)
               if all_solutions and not turn_copies else None)
     contacts = [world.contacts(qi) for qi in q] if world is not None else None
     T_found = arm.fk(q)

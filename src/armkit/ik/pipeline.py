@@ -28,7 +28,9 @@ joint whose finite limits span more than a whole turn (a UR5's +-360 degrees) ho
 tool pose (a UR5 solution has ``2^6``). A joint spanning at most a whole turn holds one, and so
 does an unbounded (continuous) one: its copies are endless, and the wrap above picks the nearest
 to ``near``. Solutions outside the limits are listed once; by default each solution is listed
-once, the copy nearest to ``near``.
+once, the copy nearest to ``near``. A copy has its solution's tool pose, so it is listed with
+that solution's FK residuals (not put through FK again), and the copies of a whole batch are
+listed in one core call (``cpp/include/armkit/turn_copies.hpp``).
 
 When only the solution nearest to ``near`` is asked for, the candidates go through FK
 nearest first and the first that reproduces the target (inside the limits, if asked) is
@@ -37,6 +39,7 @@ the answer.
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -44,14 +47,14 @@ from numpy.typing import NDArray
 
 from armkit import _core
 from armkit.chain import Chain
-from armkit.errors import SolutionsLeftOffWarning, warn_at_caller
+from armkit.errors import SolutionsLeftOffWarning
 from armkit.ik.closed_form import ClosedFormSolver
 from armkit.ik.messages import Labels, out_of_reach, outside_limits
 from armkit.ik.numeric import IKResult, numeric_ik, wrap_into_limits
 from armkit.kinematics import singular_values
 
-__all__ = ["MAX_SOLUTIONS", "Found", "count_turn_copies", "numeric_fallback", "verified_solutions",
-           "with_turn_copies"]
+__all__ = ["MAX_SOLUTIONS", "Found", "count_turn_copies", "left_off_warning", "numeric_fallback",
+           "verified_solutions", "with_turn_copies"]
 
 #: At most this many solutions of one pose are listed (whole-turn copies multiply: joints
 #: spanning two turns each give 2^n per solution); beyond it, the nearest to ``near``, with a
@@ -109,76 +112,71 @@ class Found(NamedTuple):
 
 def verified_solutions(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64] | None,
                        weights: NDArray[np.float64] | None, within_limits: bool = False,
-                       nearest: bool = False, threads: int = 0,
-                       rigid_tolerance: float = -1.0) -> tuple[Found, int] | None:
-    """The verified closed-form solutions of the targets ``T`` ``(N, 4, 4)``, nearest first.
+                       nearest: bool = False, threads: int = 0) -> tuple[Found, int]:
+    """The verified closed-form solutions of the targets ``T`` ``(..., 4, 4)``, nearest first,
+    in one core call for any number of poses.
 
-    ``near`` ``(N, n)`` or ``(n,)`` (None: zeros) and ``weights`` ``(n,)`` (None: ones),
-    C-ordered float64. Per pose, the usable candidates come first, nearest to ``near``
-    first (see :class:`Found`); ``count`` is zero for a pose without any; the second value
-    is the number of such poses. ``nearest``: only the first is wanted. With
-    ``rigid_tolerance >= 0`` the core first checks that every target is exactly rigid (as
-    :func:`armkit.spatial.check_transform` would return it unchanged) and returns None if
-    one is not, having solved nothing.
+    ``T`` exactly rigid (as :func:`armkit.spatial.check_transform` returns it), ``near``
+    ``(N, n)`` or ``(n,)`` (None: zeros) and ``weights`` ``(n,)`` (None: ones), all C-ordered
+    float64. Per pose, the usable candidates come first, nearest to ``near`` first (see
+    :class:`Found`); ``count`` is zero for a pose without any; the second value is the number
+    of such poses. ``nearest``: only the first is wanted.
     """
-    found = Found.empty(len(T), solver.k, solver.chain.n)
-    empty = _core.solve_batch(solver.core, T, near, weights, within_limits, nearest, rigid_tolerance,
-                              *found, threads)
-    return None if empty < 0 else (found, empty)
+    q, errors, flags, count, empty = _core.solve(solver.core, T, near, weights, within_limits, nearest,
+                                                 threads)
+    return Found(q, errors, flags, count), empty
 
 
-def count_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64],
-                      joints: NDArray[np.bool_] | None = None) -> int:
+def with_turn_copies(chain: Chain, found: Found, near: NDArray[np.float64] | None,
+                     weights: NDArray[np.float64] | None, joints: NDArray[np.bool_] | None = None, *,
+                     max_rows: float = math.inf, threads: int = 0) -> tuple[Found, NDArray[np.float64]]:
+    """The usable solutions in ``found`` (each pose's first ``count``) with every whole-turn copy
+    inside the limits of those inside (see the module's docstring), nearest to ``near`` first
+    (``(N, n)``, ``(n,)`` or None: zeros; ``weights`` None: ones), at most :data:`MAX_SOLUTIONS` per
+    pose, in one core call for the whole batch; ``joints`` ``(n,)``: the joints whose copies count
+    (None: all; held joints keep their value).
+
+    Returns the listing, a :class:`Found` padded with NaN (``count``: each pose's listed copies,
+    each with its solution's FK residuals and flags: a copy has its solution's tool pose), and
+    how many copies each pose has ``(N,)`` (more than listed: some were left off, see
+    :func:`left_off_warning`). If ``N`` times the longest listing would exceed ``max_rows``,
+    nothing is listed: the listing's arrays are None and ``count`` says how many would be.
+    """
+    q, errors, flags, count, total = _core.turn_copies(chain._core, *found, near, weights, joints,
+                                                       MAX_SOLUTIONS, max_rows, threads)
+    return Found(q, errors, flags, count), total
+
+
+def left_off_warning(chain: Chain, listed: int, total: float,
+                     joints: NDArray[np.bool_] | None = None) -> SolutionsLeftOffWarning:
+    """The warning for a pose with ``total`` solutions inside the limits (whole-turn copies
+    counted) of which only the ``listed`` nearest are listed (:data:`MAX_SOLUTIONS`)."""
+    copied = ", ".join(f"q{j + 1}" for j in chain.spans_turns if joints is None or joints[j])
+    return SolutionsLeftOffWarning(f"{total:.0f} solutions inside the limits (whole-turn copies of joints "
+                                   f"{copied}): the {listed} nearest to near are listed")
+
+
+def count_turn_copies(chain: Chain, q: NDArray[np.float64], joints: NDArray[np.bool_] | None = None) -> int:
     """How many configurations inside the limits the solutions ``q`` ``(k, n)`` (inside the
-    limits) of pose ``T`` ``(4, 4)`` and their whole-turn copies make, without listing them:
-    ``k`` when no joint's limits span more than a whole turn. ``joints`` ``(n,)``: the joints
-    whose copies count (None: all), as in :func:`with_turn_copies`.
+    limits) of one pose and their whole-turn copies make, without listing them: ``k`` when no
+    joint's limits span more than a whole turn. ``joints`` ``(n,)``: the joints whose copies
+    count (None: all), as in :func:`with_turn_copies`.
 
     Examples
     --------
     >>> import armkit
     >>> ur5 = armkit.load("ur5")                  # every joint within +-360 degrees
     >>> q = ur5.ik(ur5.fk([0.3, -1.0, 1.2, 0.4, 0.7, -0.2]), all_solutions=True)
-    >>> len(q), count_turn_copies(ur5.chain, ur5.fk(q[0]), q)
+    >>> len(q), count_turn_copies(ur5.chain, q)
     (8, 512)
     """
     n = chain.n
-    q = np.ascontiguousarray(q, dtype=np.float64).reshape(-1, n)
-    free = np.ones(n, dtype=bool) if joints is None else np.ascontiguousarray(joints, dtype=bool)
-    return int(_core.turn_copies(chain._core, np.ascontiguousarray(T, dtype=np.float64), q,
-                                 np.ones(len(q), dtype=bool), free, np.zeros(n), np.ones(n), 0)[3])
-
-
-def with_turn_copies(chain: Chain, T: NDArray[np.float64], q: NDArray[np.float64], inside: NDArray[np.bool_],
-                     near: NDArray[np.float64] | None, weights: NDArray[np.float64] | None,
-                     joints: NDArray[np.bool_] | None = None, left_off: list[float] | None = None,
-                     ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
-    """The solutions ``q`` ``(k, n)`` of pose ``T`` ``(4, 4)`` with every whole-turn copy
-    inside the limits of those ``inside`` (see the module's docstring), nearest to ``near``
-    first (None: zeros; ``weights`` None: ones), at most :data:`MAX_SOLUTIONS`. ``joints``
-    ``(n,)``: the joints whose copies count (None: all; held joints keep their value).
-    More than :data:`MAX_SOLUTIONS` copies: a :class:`~armkit.errors.SolutionsLeftOffWarning`,
-    or with ``left_off`` (a list) their number appended to it instead (a batch warns once).
-
-    Returns the row of ``q`` each listed solution is a copy of ``(m,)``, the solutions
-    ``(m, n)`` and their FK residuals ``(m, 2)`` [m, rad] (each copy's own FK, which
-    differs from its original's by rounding only; no copy is dropped for it).
-    """
-    n = chain.n
-    source, copies, errors, total = _core.turn_copies(
-        chain._core, np.ascontiguousarray(T, dtype=np.float64), np.ascontiguousarray(q, dtype=np.float64),
-        np.ascontiguousarray(inside, dtype=bool),
-        np.ones(n, dtype=bool) if joints is None else np.ascontiguousarray(joints, dtype=bool),
-        np.zeros(n) if near is None else near,
-        np.ones(n) if weights is None else weights, MAX_SOLUTIONS)
-    if total > len(source) and left_off is not None:
-        left_off.append(total)
-    elif total > len(source):
-        copied = ", ".join(f"q{j + 1}" for j in chain.spans_turns if joints is None or joints[j])
-        warn_at_caller(SolutionsLeftOffWarning(
-            f"{total:.0f} solutions inside the limits (whole-turn copies of joints {copied}): "
-            f"the {len(source)} nearest to near are listed"))
-    return source, copies, errors
+    q = np.ascontiguousarray(q, dtype=np.float64).reshape(1, -1, n)
+    k = q.shape[1]
+    flags = np.ones((1, k, 4), dtype=bool)
+    joints = None if joints is None else np.ascontiguousarray(joints, dtype=bool)
+    return int(_core.turn_copies(chain._core, q, np.zeros((1, k, 2)), flags, np.array([k]), None, None,
+                                 joints, 0, math.inf, 1)[4][0])
 
 
 def numeric_fallback(chain: Chain, c: Found, T: NDArray[np.float64], near: NDArray[np.float64],

@@ -29,10 +29,10 @@ from armkit import _core
 from armkit._deprecation import deprecated_function
 from armkit._params import float_array
 from armkit.chain import Chain, as_chain
-from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError
+from armkit.errors import InputError, JointLimitError, NoClosedFormError, UnreachableError, warn_at_caller
 from armkit.ik.cases import PointGeometry, solve_pose
 from armkit.ik.numeric import wrap_into_limits
-from armkit.ik.pipeline import with_turn_copies
+from armkit.ik.pipeline import Found, left_off_warning, with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions
 from armkit.kinematics import fk, geometric_jacobian
 
@@ -176,10 +176,18 @@ def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copie
     q, family, error = q[order], family[order], error[order]
     inside = chain.within_limits(q)
     if turn_copies and chain.spans_turns and len(q):
-        T = np.eye(4)
-        T[:3, 3] = p
-        source, q, errors = with_turn_copies(chain, T, q, inside, near, None, np.arange(chain.n) < 3)
-        inside, family, error = inside[source], family[source], errors[:, 0]  # each copy's own FK
+        k = len(q)
+        flags = np.zeros((1, k, 4), dtype=bool)
+        flags[0, :, 2], flags[0, :, 3] = inside, family
+        errors = np.stack([error, np.full(k, np.nan)], axis=-1)[None]
+        joints = np.arange(chain.n) < 3
+        found = Found(np.ascontiguousarray(q[None]), errors, flags, np.array([k]))
+        listed, total = with_turn_copies(chain, found, near, None, joints)
+        m = int(listed.count[0])
+        if total[0] > m:
+            warn_at_caller(left_off_warning(chain, m, float(total[0]), joints))
+        q, inside, family, error = listed.q[0, :m], listed.inside[0, :m], listed.family[0, :m], \
+            listed.position_error[0, :m]  # each copy with its solution's residual
     return IKSolutions(q, inside, family, error, np.full(len(q), np.nan)), closest
 
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import difflib
 import inspect
+import math
 from functools import cache
 from typing import TYPE_CHECKING
 
@@ -25,13 +26,20 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
 from armkit._deprecation import renamed_argument
-from armkit._params import core_ready, float_array, thread_count
+from armkit._params import float_array, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError, SolutionsLeftOffWarning, warn_at_caller
 from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
 from armkit.ik.messages import Labels, numeric_failure, outside_limits
 from armkit.ik.numeric import numeric_ik, wrap_into_limits
-from armkit.ik.pipeline import MAX_SOLUTIONS, Found, numeric_fallback, verified_solutions, with_turn_copies
+from armkit.ik.pipeline import (
+    MAX_SOLUTIONS,
+    Found,
+    left_off_warning,
+    numeric_fallback,
+    verified_solutions,
+    with_turn_copies,
+)
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions, IKSolutionsBatch
 from armkit.spatial.transforms import RIGID_TOLERANCE, check_transform
 
@@ -76,27 +84,26 @@ def _check_keywords(options: dict[str, object]) -> None:
 
 
 class _Targets:
-    """Targets ``(N, 4, 4)``, references ``(N, n)`` / ``(n,)`` or None (zeros) and weights
+    """Targets ``(..., 4, 4)``, references ``(N, n)`` / ``(n,)`` or None (zeros) and weights
     ``(n,)`` or None (ones), C-ordered float64 as the core takes them, and the batch shape.
 
-    ``T_base_tool`` that already is a float64 C-ordered ``(..., 4, 4)`` array is checked by
-    the core itself, in the same call that solves it (``unchecked``); anything else goes
-    through :func:`armkit.spatial.check_transform` first.
+    The one input check of the targets: an array the core takes as it is (C-ordered native
+    float64) that is exactly rigid is used as it is (the core tests that in one pass);
+    anything else goes through :func:`armkit.spatial.check_transform`, which raises for a
+    non-rigid target or replaces a nearly rigid one by the nearest rigid transform.
     """
 
-    __slots__ = ("T", "batch", "near", "weights", "unchecked", "given")
+    __slots__ = ("T", "batch", "near", "weights")
 
     def __init__(self, chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None,
                  weights: ArrayLike | None) -> None:
         T = T_base_tool
-        self.given = T
-        self.unchecked = core_ready(T, (4, 4))
-        if not self.unchecked:
+        if not _core.exactly_rigid(T, RIGID_TOLERANCE):
             T = np.ascontiguousarray(check_transform(T, "target pose"))
-        self.batch = T.shape[:-2]
-        self.T = T.reshape(-1, 4, 4)
-        n = chain.n
+        self.T = T
+        self.batch = T.shape[:-2] if T.ndim > 2 else ()
         if near is not None:
+            n = chain.n
             near = float_array(near, "near", f"{n} finite joint values (shape (..., {n}))")
             if near.ndim == 0 or near.shape[-1] != n or not np.isfinite(near).all():
                 raise InputError(f"near: expected {n} finite joint values (shape (..., {n})), "
@@ -105,74 +112,63 @@ class _Targets:
                 try:
                     near = np.broadcast_to(near, (*self.batch, n)).reshape(-1, n)
                 except ValueError as exc:
-                    raise InputError(f"near: shape {near.shape} does not match {len(self.T)} target poses") \
+                    raise InputError(f"near: shape {near.shape} does not match {self.poses} target poses") \
                         from exc
             near = np.ascontiguousarray(near)
         self.near = near
         if weights is not None:
+            n = chain.n
             weights = float_array(weights, "weights", f"{n} positive numbers")
             if weights.shape != (n,) or not np.all(np.isfinite(weights) & (weights > 0)):
                 raise InputError(f"weights: expected {n} positive numbers, got {weights.tolist()}")
             weights = np.ascontiguousarray(weights)
         self.weights = weights
 
-    def near_of(self, i: int) -> NDArray[np.float64] | None:
-        """Pose ``i``'s reference configuration ``(n,)``, or None (zeros)."""
-        return self.near if self.near is None or self.near.ndim == 1 else self.near[i]
+    @property
+    def poses(self) -> int:
+        """How many target poses (1 for one pose)."""
+        return self.T.size // 16
 
     def near_rows(self, n: int) -> NDArray[np.float64]:
         """The reference configuration of every pose, ``(N, n)`` (a read-only view)."""
-        return np.broadcast_to(np.zeros(n) if self.near is None else self.near, (len(self.T), n))
-
-    def check(self) -> None:
-        """Put the targets through :func:`armkit.spatial.check_transform` if not done yet: it
-        raises for a non-rigid one, or replaces a nearly rigid one by the nearest rigid transform."""
-        if self.unchecked:
-            self.T = np.ascontiguousarray(check_transform(self.given, "target pose")).reshape(-1, 4, 4)
-            self.unchecked = False
+        return np.broadcast_to(np.zeros(n) if self.near is None else self.near, (self.poses, n))
 
     def solve(self, solver: ClosedFormSolver, within_limits: bool = False, nearest: bool = False,
               threads: int = 0) -> tuple[Found, int]:
-        """:func:`~armkit.ik.pipeline.verified_solutions` of these targets."""
-        args = (self.near, self.weights, within_limits, nearest, threads)
-        if self.unchecked:
-            result = verified_solutions(solver, self.T, *args, rigid_tolerance=RIGID_TOLERANCE)
-            if result is not None:
-                return result
-            self.check()  # not exactly rigid
-        return verified_solutions(solver, self.T, *args)
+        """:func:`~armkit.ik.pipeline.verified_solutions` of these targets (one core call)."""
+        return verified_solutions(solver, self.T, self.near, self.weights, within_limits, nearest, threads)
 
-
-def _listed(chain: Chain, targets: _Targets, found: Found, i: int, turn_copies: bool,
-            left_off: list[float] | None = None) -> IKSolutions:
-    """Pose ``i``'s usable solutions in ``found``, each inside the limits with its whole-turn
-    copies there if ``turn_copies`` (:func:`~armkit.ik.pipeline.with_turn_copies`)."""
-    k = int(found.count[i])
-    q, inside, family = found.q[i, :k], found.inside[i, :k], found.family[i, :k]
-    if not (turn_copies and chain.spans_turns and k):
-        return IKSolutions(q, inside, family, found.position_error[i, :k], found.orientation_error[i, :k])
-    source, q, errors = with_turn_copies(chain, targets.T[i], q, inside, targets.near_of(i), targets.weights,
-                                         left_off=left_off)
-    return IKSolutions(q, inside[source], family[source], errors[:, 0], errors[:, 1])
-
-
-def _listed_batch(chain: Chain, targets: _Targets, found: Found, turn_copies: bool,
-                  left_off: list[float] | None = None) -> list[IKSolutions]:
-    """:func:`_listed` for every pose, refused as soon as one pose has so many whole-turn copies
-    that the batch, padded to that pose's count as :class:`IKSolutionsBatch` is, would hold more
-    than :data:`MAX_BATCH_ROWS` rows (before the memory is taken, not after)."""
-    listed, widest, poses = [], 1, len(found.q)
-    for i in range(poses):
-        listed.append(_listed(chain, targets, found, i, turn_copies, left_off))
-        widest = max(widest, len(listed[-1].q))
-        if poses * widest > MAX_BATCH_ROWS:
-            gigabytes = poses * widest * (chain.n + 3) * 8 / 1e9
+    def with_turn_copies(self, chain: Chain, found: Found, threads: int = 0) -> Found:
+        """``found``'s usable solutions with their whole-turn copies inside the limits
+        (:func:`~armkit.ik.pipeline.with_turn_copies`, one core call), refused as soon as a batch
+        padded to its longest listing, as :class:`IKSolutionsBatch` is, would hold more than
+        :data:`MAX_BATCH_ROWS` rows (before the memory is taken, not after); copies left off
+        (more than :data:`~armkit.ik.pipeline.MAX_SOLUTIONS` for a pose) warn once."""
+        poses = self.poses
+        listed, total = with_turn_copies(chain, found, self.near, self.weights,
+                                         max_rows=MAX_BATCH_ROWS if self.batch else math.inf, threads=threads)
+        if listed.q is None:
+            running = np.maximum.accumulate(np.maximum(listed.count, 1))
+            i = int(np.argmax(poses * running > MAX_BATCH_ROWS))
+            widest = int(running[i])
+            rows = poses * widest
             raise InputError(f"T_base_tool: {poses:,} poses whose whole-turn copies give up to {widest} "
-                             f"solutions each (pose {i + 1}) would list {poses * widest:,} rows (about "
-                             f"{gigabytes:.3g} GB), more than MAX_BATCH_ROWS = {MAX_BATCH_ROWS:,}; solve at "
-                             f"most {MAX_BATCH_ROWS // widest:,} poses at a time, or pass turn_copies=False "
-                             f"(each solution once, its copy nearest to near)")
-    return listed
+                             f"solutions each (pose {i + 1}) would list {rows:,} rows (about "
+                             f"{rows * (chain.n + 3) * 8 / 1e9:.3g} GB), more than MAX_BATCH_ROWS = "
+                             f"{MAX_BATCH_ROWS:,}; solve at most {MAX_BATCH_ROWS // widest:,} poses at a "
+                             f"time, or pass turn_copies=False (each solution once, its copy nearest to "
+                             f"near)")
+        left_off = total > listed.count
+        if not left_off.any():
+            return listed
+        if not self.batch:
+            warn_at_caller(left_off_warning(chain, int(listed.count[0]), float(total[0])))
+        else:
+            warn_at_caller(SolutionsLeftOffWarning(
+                f"{int(left_off.sum())} of {poses} poses have more solutions inside the limits than "
+                f"MAX_SOLUTIONS = {MAX_SOLUTIONS} (up to {total.max():.0f}, whole-turn copies): the "
+                f"{MAX_SOLUTIONS} nearest to near are listed for each"))
+        return listed
 
 
 def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLike | None = None,
@@ -233,17 +229,12 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
     if isinstance(solver, NoClosedFormError):
         raise solver
     c, _ = targets.solve(solver, threads=threads)  # outside the limits too: the kept ones are counted
-    if not targets.batch:
-        return _listed(chain, targets, c, 0, turn_copies)
     if turn_copies and chain.spans_turns:
-        left_off: list[float] = []
-        listed = _listed_batch(chain, targets, c, True, left_off)
-        if left_off:
-            warn_at_caller(SolutionsLeftOffWarning(
-                f"{len(left_off)} of {len(c.q)} poses have more solutions inside the limits than "
-                f"MAX_SOLUTIONS = {MAX_SOLUTIONS} (up to {max(left_off):.0f}, whole-turn copies): the "
-                f"{MAX_SOLUTIONS} nearest to near are listed for each"))
-        return IKSolutionsBatch.stack(listed, chain.n)
+        c = targets.with_turn_copies(chain, c, threads)
+    if not targets.batch:
+        k = c.count[0]
+        return IKSolutions(c.q[0, :k], c.inside[0, :k], c.family[0, :k] & c.keep[0, :k],
+                           c.position_error[0, :k], c.orientation_error[0, :k])
     return IKSolutionsBatch(c.q, c.count, c.inside, c.family & c.keep, c.position_error, c.orientation_error)
 
 
@@ -327,20 +318,6 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
             all_solutions = renamed_argument("ik", "all", "all_solutions", numeric_options.pop("all"),
                                              all_solutions, False)
         _check_keywords(numeric_options)
-    T = T_base_tool
-    if (core_ready(T, (4, 4), exact=True) and not numeric_options
-            and (near is None or core_ready(near, (chain.n,), exact=True))
-            and (weights is None or core_ready(weights, (chain.n,), exact=True))):
-        # one pose as float64 arrays: checked and solved in one core call (None: take the general path)
-        solver = solver_or_reason(chain)
-        if type(solver) is ClosedFormSolver:
-            q = _core.solve_one(solver.core, T, near, weights, within_limits, not all_solutions,
-                                RIGID_TOLERANCE)
-            if q is not None:
-                if all_solutions and turn_copies and chain.spans_turns:
-                    inside = np.ones(len(q), dtype=bool) if within_limits else chain.within_limits(q)
-                    return with_turn_copies(chain, T, q, inside, near, weights)[1]
-                return q
     targets = _Targets(chain, T_base_tool, near, weights)
     solver = solver_or_reason(chain)
     closed = "mask" not in numeric_options and not isinstance(solver, NoClosedFormError)
@@ -352,17 +329,20 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
             f"solution per seed: solve once per seed configuration, near=q_seed or "
             f"'armkit ik --near Q...'")
     batch = targets.batch
-    labels = Labels(len(targets.T) if batch else 0)
     if not closed:
-        targets.check()
-        near_rows = targets.near_rows(chain.n)
-        q = np.stack([_numeric_one(chain, targets.T[i], near_rows[i], within_limits, labels[i],
-                                   numeric_options) for i in range(len(targets.T))])
+        T, near_rows = targets.T.reshape(-1, 4, 4), targets.near_rows(chain.n)
+        labels = Labels(targets.poses if batch else 0)
+        q = np.stack([_numeric_one(chain, T[i], near_rows[i], within_limits, labels[i], numeric_options)
+                      for i in range(len(T))])
         return q.reshape(*batch, chain.n)
     c, empty = targets.solve(solver, within_limits, nearest=not all_solutions, threads=threads)
     if empty:
-        numeric_fallback(chain, c, targets.T, targets.near_rows(chain.n), labels, within_limits)
+        numeric_fallback(chain, c, targets.T.reshape(-1, 4, 4), targets.near_rows(chain.n),
+                         Labels(targets.poses if batch else 0), within_limits)
     if not all_solutions:
-        return c.q[0, 0] if not batch else c.q[:, 0].reshape(*batch, chain.n)
-    listed = [solutions.q for solutions in _listed_batch(chain, targets, c, turn_copies)]
-    return listed if batch else listed[0]
+        return c.q[:, 0].reshape(*batch, chain.n)
+    if turn_copies and chain.spans_turns:
+        c = targets.with_turn_copies(chain, c, threads)
+    if not batch:
+        return c.q[0, :c.count[0]]
+    return [q[:k] for q, k in zip(c.q, c.count.tolist(), strict=True)]
