@@ -46,38 +46,141 @@ struct VoxelGrid {
     }
 };
 
-// Joint values q (n) of configuration `index` of the batch seeded `seed`, uniform in
-// [low, high) per joint: 53 random bits scaled, as Random::uniform.
+// Joint values of configuration `index` of the batch seeded `seed`, uniform in [low, high)
+// per joint: 53 random bits scaled, as Random::uniform; joint j's value goes to q[j * stride].
 inline void uniform_configuration(std::uint64_t seed, std::uint64_t index, int n, const double* low,
-                                  const double* high, double* q) {
+                                  const double* high, double* q, int stride = 1) {
     std::uint64_t state = item_seed(seed, index);
     for (int j = 0; j < n; ++j)
-        q[j] = low[j] + (high[j] - low[j]) * (double(splitmix64(state) >> 11) * 0x1.0p-53);
+        q[j * stride] = low[j] + (high[j] - low[j]) * (double(splitmix64(state) >> 11) * 0x1.0p-53);
 }
+
+//: Configurations a counting step handles together, structure-of-arrays (joint j of
+//: configuration b at q[j * kReachBlock + b]): long enough for the vectorised sines and cosines
+//: and loops the compiler vectorises, short enough for the block to stay in L1.
+constexpr int kReachBlock = 64;
+
+// Tool positions (x, y, z) of the kReachBlock configurations of a block, position only:
+// p = B_0 Z_1(q_1) B_1 ... Z_n(q_n) B_n o from the right, a vector through each transform
+// (about 25 operations a joint, a sixth of the pose product's). The sines and cosines are
+// sin_cos's, as every FK path's; p differs from tool_pose's position by rounding only.
+inline void tool_positions_block(const Chain& chain, const double* q, double* x, double* y, double* z) {
+    constexpr int B = kReachBlock;
+    double s[B], c[B];
+    const Pose& tool = chain.between[std::size_t(chain.n)];
+    for (int b = 0; b < B; ++b) {
+        x[b] = tool(0, 3);
+        y[b] = tool(1, 3);
+        z[b] = tool(2, 3);
+    }
+    for (int j = chain.n - 1; j >= 0; --j) {
+        const double* qj = q + j * B;
+        if (chain.prismatic[std::size_t(j)]) {
+            for (int b = 0; b < B; ++b) z[b] += qj[b];
+        } else {
+            sin_cos(qj, s, c, B);
+            for (int b = 0; b < B; ++b) {
+                const double u = x[b], v = y[b];
+                x[b] = c[b] * u - s[b] * v;
+                y[b] = s[b] * u + c[b] * v;
+            }
+        }
+        const Pose& L = chain.between[std::size_t(j)];
+        for (int b = 0; b < B; ++b) {
+            const double u = x[b], v = y[b], w = z[b];
+            x[b] = L(0, 0) * u + L(0, 1) * v + L(0, 2) * w + L(0, 3);
+            y[b] = L(1, 0) * u + L(1, 1) * v + L(1, 2) * w + L(1, 3);
+            z[b] = L(2, 0) * u + L(2, 1) * v + L(2, 2) * w + L(2, 3);
+        }
+    }
+}
+
+// The voxel of a position computed the fast way (tool_positions_block, times the reciprocal of
+// the resolution), and when it lies so near a voxel face that rounding could decide it, the
+// position of tool_pose in VoxelGrid::flat_index (division): so the counts are exactly those
+// of tool_pose's positions put in the grid, at the fast path's cost everywhere else.
+struct FastVoxels {
+    const VoxelGrid& grid;
+    double inverse;         // 1 / resolution
+    double fixed_length;    // sum of the chain's fixed translations [m]
+    double rounding;        // relative rounding bound of a position and of (p - lower) * inverse
+    double far_from_origin; // largest |lower| + extent of the grid [m]
+
+    //: Rounding steps a position or voxel coordinate may be off by, per joint and then some: the
+    //: two FK orders differ by at most a few steps per joint (sines and cosines are shared), and
+    //: the product by the reciprocal by at most two steps from the quotient.
+    static constexpr double kSteps = 64.0;
+
+    FastVoxels(const Chain& chain, const VoxelGrid& g) : grid(g), inverse(1.0 / g.resolution) {
+        fixed_length = 0.0;
+        for (const Pose& L : chain.between) fixed_length += norm(L.position());
+        rounding = kSteps * double(chain.n + 2) * 0x1.0p-52;
+        far_from_origin = 0.0;
+        for (int a = 0; a < 3; ++a)
+            far_from_origin = std::max(far_from_origin, std::abs(g.lower[a]) + double(g.shape[a]) * g.resolution);
+    }
+
+    // The margin [voxels] within which a voxel face is too close to call, for positions no
+    // longer than `length` [m] (the fixed translations plus the prismatic travel).
+    double margin(double length) const { return rounding * (length + far_from_origin) * inverse + rounding; }
+};
 
 // Hits per voxel and samples outside the grid of one thread's share of a batch.
 struct VoxelCounts {
     std::int64_t* hits;  // grid.size() counters
     std::int64_t outside = 0;
 
-    // Counts the tool positions of kFkBlock configurations q (kFkBlock x n, row-major).
-    void add_block(const Chain& chain, const VoxelGrid& grid, const double* q) {
-        double T[16 * kFkBlock];
-        tool_poses_block(chain, q, T);
-        for (int b = 0; b < kFkBlock; ++b) add(grid.flat_index(T[16 * b + 3], T[16 * b + 7], T[16 * b + 11]));
-    }
-
-    // Counts the tool position of one configuration q (n).
-    void add_one(const Chain& chain, const VoxelGrid& grid, const double* q) {
-        const Pose T = tool_pose(chain, q);
-        add(grid.flat_index(T(0, 3), T(1, 3), T(2, 3)));
-    }
-
     void add(std::int64_t flat) {
         if (flat < 0)
             ++outside;
         else
             ++hits[flat];
+    }
+
+    // Counts the tool positions of the first m configurations of a block q (joint j of
+    // configuration b at q[j * kReachBlock + b]; the block's other entries finite).
+    void add_block(const Chain& chain, const FastVoxels& fast, const double* q, int m) {
+        constexpr int B = kReachBlock;
+        const int n = chain.n;
+        double length = fast.fixed_length;
+        for (int j = 0; j < n; ++j)
+            if (chain.prismatic[std::size_t(j)]) {
+                double travel = 0.0;
+                for (int b = 0; b < m; ++b) travel = std::max(travel, std::abs(q[j * B + b]));
+                length += travel;
+            }
+        const double margin = fast.margin(length);
+        double p[3][B];
+        tool_positions_block(chain, q, p[0], p[1], p[2]);
+        std::int64_t flat[B];
+        bool near[B];
+        for (int b = 0; b < B; ++b) {
+            flat[b] = 0;
+            near[b] = false;
+        }
+        bool inside[B];
+        for (int b = 0; b < B; ++b) inside[b] = true;
+        for (int a = 0; a < 3; ++a) {
+            const double lower = fast.grid.lower[a], extent = double(fast.grid.shape[a]);
+            const std::int64_t stride = fast.grid.shape[a];
+            for (int b = 0; b < B; ++b) {
+                const double u = (p[a][b] - lower) * fast.inverse;
+                const double cell = std::floor(u);
+                near[b] |= (u - cell < margin) | (cell + 1.0 - u < margin);
+                inside[b] &= (cell >= 0.0) & (cell < extent);
+                flat[b] = flat[b] * stride + std::int64_t(inside[b] ? cell : 0.0);
+            }
+        }
+        for (int b = 0; b < m; ++b) {
+            if (near[b]) {
+                double row[kMaxJoints];
+                for (int j = 0; j < n; ++j) row[j] = q[j * B + b];
+                const Pose T = tool_pose(chain, row);
+                add(fast.grid.flat_index(T(0, 3), T(1, 3), T(2, 3)));
+            } else {
+                add(inside[b] ? flat[b] : -1);
+            }
+        }
     }
 };
 
@@ -116,16 +219,13 @@ inline std::int64_t count_uniform(const Chain& chain, const double* low, const d
                                   std::uint64_t first, std::size_t N, const VoxelGrid& grid, std::int64_t* hits,
                                   int threads) {
     const int n = chain.n;
+    const FastVoxels fast(chain, grid);
     return count_voxels(N, grid, hits, threads, [&](VoxelCounts& counts, std::size_t begin, std::size_t end) {
-        double q[kFkBlock * kMaxJoints];
-        std::size_t i = begin;
-        for (; i + kFkBlock <= end; i += kFkBlock) {
-            for (int b = 0; b < kFkBlock; ++b) uniform_configuration(seed, first + i + b, n, low, high, q + n * b);
-            counts.add_block(chain, grid, q);
-        }
-        for (; i < end; ++i) {
-            uniform_configuration(seed, first + i, n, low, high, q);
-            counts.add_one(chain, grid, q);
+        double q[kMaxJoints * kReachBlock] = {};
+        for (std::size_t i = begin; i < end; i += kReachBlock) {
+            const int m = int(std::min<std::size_t>(kReachBlock, end - i));
+            for (int b = 0; b < m; ++b) uniform_configuration(seed, first + i + b, n, low, high, q + b, kReachBlock);
+            counts.add_block(chain, fast, q, m);
         }
     });
 }
@@ -134,11 +234,18 @@ inline std::int64_t count_uniform(const Chain& chain, const double* low, const d
 // samples outside the grid.
 inline std::int64_t count_given(const Chain& chain, const double* q, std::size_t N, const VoxelGrid& grid,
                                 std::int64_t* hits, int threads) {
-    const std::size_t n = std::size_t(chain.n);
+    const int n = chain.n;
+    const FastVoxels fast(chain, grid);
     return count_voxels(N, grid, hits, threads, [&](VoxelCounts& counts, std::size_t begin, std::size_t end) {
-        std::size_t i = begin;
-        for (; i + kFkBlock <= end; i += kFkBlock) counts.add_block(chain, grid, q + n * i);
-        for (; i < end; ++i) counts.add_one(chain, grid, q + n * i);
+        double block[kMaxJoints * kReachBlock] = {};
+        for (std::size_t i = begin; i < end; i += kReachBlock) {
+            const int m = int(std::min<std::size_t>(kReachBlock, end - i));
+            for (int b = 0; b < m; ++b)
+                for (int j = 0; j < n; ++j) block[j * kReachBlock + b] = q[std::size_t(n) * (i + b) + std::size_t(j)];
+            for (int b = m; b < kReachBlock; ++b)
+                for (int j = 0; j < n; ++j) block[j * kReachBlock + b] = 0.0;
+            counts.add_block(chain, fast, block, m);
+        }
     });
 }
 
