@@ -6,14 +6,18 @@
 // splitmix64 started at item_seed(seed, i) (a counter-based generator: each configuration's
 // values depend on (seed, i) alone), so the samples, and the counts, are the same whatever
 // the thread split.
+//
+// Speed: configurations go in blocks of kReachBlock, structure-of-arrays, through the
+// vectorised sines and cosines and a position-only FK; voxels come from a product with the
+// reciprocal resolution; each thread counts into its own array. The loops are built for
+// AVX2 as well (reach.cpp). A position within rounding of a voxel face is recomputed the plain
+// way, so the counts are exactly those of tool_pose's positions in VoxelGrid::flat_index.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <mutex>
-#include <utility>
 #include <vector>
 
 #include "armkit/batch.hpp"
@@ -64,7 +68,9 @@ constexpr int kReachBlock = 64;
 // p = B_0 Z_1(q_1) B_1 ... Z_n(q_n) B_n o from the right, a vector through each transform
 // (about 25 operations a joint, a sixth of the pose product's). The sines and cosines are
 // sin_cos's, as every FK path's; p differs from tool_pose's position by rounding only.
-inline void tool_positions_block(const Chain& chain, const double* q, double* x, double* y, double* z) {
+// (Always inlined: reach.cpp's AVX2 build of the loops then computes it with AVX2 too.)
+[[gnu::always_inline]] inline void tool_positions_block(const Chain& chain, const double* q, double* x, double* y,
+                                                      double* z) {
     constexpr int B = kReachBlock;
     double s[B], c[B];
     const Pose& tool = chain.between[std::size_t(chain.n)];
@@ -138,8 +144,9 @@ struct VoxelCounts {
     }
 
     // Counts the tool positions of the first m configurations of a block q (joint j of
-    // configuration b at q[j * kReachBlock + b]; the block's other entries finite).
-    void add_block(const Chain& chain, const FastVoxels& fast, const double* q, int m) {
+    // configuration b at q[j * kReachBlock + b]; the block's other entries finite). Always
+    // inlined, as tool_positions_block.
+    [[gnu::always_inline]] void add_block(const Chain& chain, const FastVoxels& fast, const double* q, int m) {
         constexpr int B = kReachBlock;
         const int n = chain.n;
         double length = fast.fixed_length;
@@ -184,49 +191,49 @@ struct VoxelCounts {
     }
 };
 
-// Runs fill(counts, begin, end) for items [0, N) split over up to `threads` threads (as
-// parallel_for), each thread counting into its own array; the arrays are then added into
-// hits (grid.size()) in the order of their blocks. Returns the samples outside the grid.
+// Runs fill(counts, begin, end) on pieces of items [0, N) in up to `threads` threads (as
+// parallel_pieces), each thread counting into its own array (the first thread straight into
+// hits); the others' arrays are then added into hits (grid.size()), integer sums whose order
+// does not matter. Returns the samples outside the grid.
 template <class Fill>
 std::int64_t count_voxels(std::size_t N, const VoxelGrid& grid, std::int64_t* hits, int threads, Fill&& fill) {
-    std::mutex lock;
-    std::vector<std::pair<std::size_t, std::vector<std::int64_t>>> shares;  // (begin, hits) of other threads
-    std::int64_t outside = 0;
-    parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
-        if (begin == 0) {  // the first block counts straight into hits
-            VoxelCounts counts{hits};
-            fill(counts, begin, end);
-            const std::lock_guard<std::mutex> guard(lock);
-            outside += counts.outside;
-            return;
-        }
-        std::vector<std::int64_t> own(std::size_t(grid.size()), 0);
-        VoxelCounts counts{own.data()};
-        fill(counts, begin, end);
-        const std::lock_guard<std::mutex> guard(lock);
-        outside += counts.outside;
-        shares.emplace_back(begin, std::move(own));
+    const std::size_t T = batch_threads(N, threads);
+    std::vector<std::vector<std::int64_t>> own(T - 1);  // the other threads' counts
+    std::vector<VoxelCounts> counts;
+    counts.reserve(T);
+    counts.push_back(VoxelCounts{hits});
+    for (auto& array : own) {
+        array.assign(std::size_t(grid.size()), 0);
+        counts.push_back(VoxelCounts{array.data()});
+    }
+    parallel_pieces(N, threads, [&](std::size_t worker, std::size_t begin, std::size_t end) {
+        fill(counts[worker], begin, end);
     });
-    std::sort(shares.begin(), shares.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& share : shares)
-        for (std::size_t v = 0; v < share.second.size(); ++v) hits[v] += share.second[v];
+    std::int64_t outside = 0;
+    for (const VoxelCounts& c : counts) outside += c.outside;
+    for (const auto& array : own)
+        for (std::size_t v = 0; v < array.size(); ++v) hits[v] += array[v];
     return outside;
 }
+
+// Counts configurations [first + begin, first + end) of the batch seeded `seed`, uniform in
+// [low, high), into counts (reach.cpp: built for AVX2 too, chosen at run time).
+void count_uniform_piece(const Chain& chain, const FastVoxels& fast, const double* low, const double* high,
+                         std::uint64_t seed, std::uint64_t first, std::size_t begin, std::size_t end,
+                         VoxelCounts& counts);
+
+// Counts configurations [begin, end) of q (N x n, finite) into counts (reach.cpp).
+void count_given_piece(const Chain& chain, const FastVoxels& fast, const double* q, std::size_t begin,
+                       std::size_t end, VoxelCounts& counts);
 
 // Adds to hits the tool positions of configurations [first, first + N) of the batch seeded
 // `seed`, uniform in the box [low, high) (n values each); returns the samples outside the grid.
 inline std::int64_t count_uniform(const Chain& chain, const double* low, const double* high, std::uint64_t seed,
                                   std::uint64_t first, std::size_t N, const VoxelGrid& grid, std::int64_t* hits,
                                   int threads) {
-    const int n = chain.n;
     const FastVoxels fast(chain, grid);
     return count_voxels(N, grid, hits, threads, [&](VoxelCounts& counts, std::size_t begin, std::size_t end) {
-        double q[kMaxJoints * kReachBlock] = {};
-        for (std::size_t i = begin; i < end; i += kReachBlock) {
-            const int m = int(std::min<std::size_t>(kReachBlock, end - i));
-            for (int b = 0; b < m; ++b) uniform_configuration(seed, first + i + b, n, low, high, q + b, kReachBlock);
-            counts.add_block(chain, fast, q, m);
-        }
+        count_uniform_piece(chain, fast, low, high, seed, first, begin, end, counts);
     });
 }
 
@@ -234,18 +241,9 @@ inline std::int64_t count_uniform(const Chain& chain, const double* low, const d
 // samples outside the grid.
 inline std::int64_t count_given(const Chain& chain, const double* q, std::size_t N, const VoxelGrid& grid,
                                 std::int64_t* hits, int threads) {
-    const int n = chain.n;
     const FastVoxels fast(chain, grid);
     return count_voxels(N, grid, hits, threads, [&](VoxelCounts& counts, std::size_t begin, std::size_t end) {
-        double block[kMaxJoints * kReachBlock] = {};
-        for (std::size_t i = begin; i < end; i += kReachBlock) {
-            const int m = int(std::min<std::size_t>(kReachBlock, end - i));
-            for (int b = 0; b < m; ++b)
-                for (int j = 0; j < n; ++j) block[j * kReachBlock + b] = q[std::size_t(n) * (i + b) + std::size_t(j)];
-            for (int b = m; b < kReachBlock; ++b)
-                for (int j = 0; j < n; ++j) block[j * kReachBlock + b] = 0.0;
-            counts.add_block(chain, fast, block, m);
-        }
+        count_given_piece(chain, fast, q, begin, end, counts);
     });
 }
 

@@ -1,0 +1,42 @@
+// The reachability kernel's loops (reach.hpp), built twice where the compiler can: for the
+// baseline CPU and for AVX2, the loader choosing by the CPU (GCC's target_clones, an ifunc).
+// Without FMA contraction the AVX2 build computes the same numbers, four lanes at a time.
+#include "armkit/reach.hpp"
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define ARMKIT_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define ARMKIT_CLONES
+#endif
+
+namespace armkit {
+
+ARMKIT_CLONES
+void count_uniform_piece(const Chain& chain, const FastVoxels& fast, const double* low, const double* high,
+                         std::uint64_t seed, std::uint64_t first, std::size_t begin, std::size_t end,
+                         VoxelCounts& counts) {
+    const int n = chain.n;
+    double q[kMaxJoints * kReachBlock] = {};
+    for (std::size_t i = begin; i < end; i += kReachBlock) {
+        const int m = int(std::min<std::size_t>(kReachBlock, end - i));
+        for (int b = 0; b < m; ++b) uniform_configuration(seed, first + i + b, n, low, high, q + b, kReachBlock);
+        counts.add_block(chain, fast, q, m);
+    }
+}
+
+ARMKIT_CLONES
+void count_given_piece(const Chain& chain, const FastVoxels& fast, const double* q, std::size_t begin,
+                       std::size_t end, VoxelCounts& counts) {
+    const int n = chain.n;
+    double block[kMaxJoints * kReachBlock] = {};
+    for (std::size_t i = begin; i < end; i += kReachBlock) {
+        const int m = int(std::min<std::size_t>(kReachBlock, end - i));
+        for (int b = 0; b < m; ++b)
+            for (int j = 0; j < n; ++j) block[j * kReachBlock + b] = q[std::size_t(n) * (i + b) + std::size_t(j)];
+        for (int b = m; b < kReachBlock; ++b)
+            for (int j = 0; j < n; ++j) block[j * kReachBlock + b] = 0.0;
+        counts.add_block(chain, fast, block, m);
+    }
+}
+
+}  // namespace armkit
