@@ -12,7 +12,7 @@ from armkit import _core
 from armkit.errors import InputError
 from armkit.workspace import grid_for, reachability
 from armkit.workspace.grid import Grid, reach_bound
-from armkit.workspace.sampling import SamplePlan, chunk_seed, configurations, voxel_hits
+from armkit.workspace.sampling import SamplePlan, chunk_seed, configurations, joint_box, voxel_hits
 
 
 def planar_2r(l1: float, l2: float) -> armkit.Robot:
@@ -198,3 +198,19 @@ def test_positions_on_voxel_faces_are_counted_where_plain_fk_and_division_put_th
                                     *grid.shape, hits, threads)
         np.testing.assert_array_equal(hits, np.bincount(plain[plain >= 0], minlength=grid.size))
         assert outside == int((plain < 0).sum()) > 0         # the last face is the grid's edge
+
+
+@pytest.mark.parametrize("name", ["stanford", "ur5"])
+def test_counts_on_two_threads_are_those_of_plain_fk_of_the_same_samples(name):
+    robot = armkit.load(name)   # the Stanford arm has a prismatic joint
+    grid = grid_for(robot, 0.03)
+    box = joint_box(robot)
+    low, high = np.ascontiguousarray(box[:, 0]), np.ascontiguousarray(box[:, 1])
+    q = np.empty((20_011, robot.n))
+    _core.sample_uniform(robot.chain._core, low, high, 9, 0, q, 1)
+    flat = grid.flat_index(robot.fk(q)[:, :3, 3])
+    hits = np.zeros(grid.size, dtype=np.int64)
+    outside = _core.reach_uniform(robot.chain._core, low, high, 9, 0, len(q), np.asarray(grid.lower),
+                                  grid.resolution, *grid.shape, hits, 2)
+    np.testing.assert_array_equal(hits, np.bincount(flat[flat >= 0], minlength=grid.size))
+    assert outside == int((flat < 0).sum()) == 0
