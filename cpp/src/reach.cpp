@@ -17,9 +17,13 @@ void count_uniform_piece(const Chain& chain, const FastVoxels& fast, const doubl
                          VoxelCounts& counts) {
     const int n = chain.n;
     double q[kMaxJoints * kReachBlock] = {};
+    std::uint64_t bits[kMaxJoints * kReachBlock] = {};
     for (std::size_t i = begin; i < end; i += kReachBlock) {
         const int m = int(std::min<std::size_t>(kReachBlock, end - i));
-        for (int b = 0; b < m; ++b) uniform_configuration(seed, first + i + b, n, low, high, q + b, kReachBlock);
+        for (int b = 0; b < m; ++b) configuration_bits(seed, first + i + b, n, bits + b, kReachBlock);
+        for (int j = 0; j < n; ++j)
+            for (int b = 0; b < kReachBlock; ++b)
+                q[j * kReachBlock + b] = uniform_value(low[j], high[j], bits[j * kReachBlock + b]);
         counts.add_block(chain, fast, q, m);
     }
 }

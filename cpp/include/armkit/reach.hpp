@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "armkit/batch.hpp"
@@ -50,13 +51,28 @@ struct VoxelGrid {
     }
 };
 
-// Joint values of configuration `index` of the batch seeded `seed`, uniform in [low, high)
-// per joint: 53 random bits scaled, as Random::uniform; joint j's value goes to q[j * stride].
-inline void uniform_configuration(std::uint64_t seed, std::uint64_t index, int n, const double* low,
-                                  const double* high, double* q, int stride = 1) {
+// The 53-bit words configuration `index` of the batch seeded `seed` draws, one per joint,
+// from splitmix64 started at item_seed(seed, index); joint j's goes to bits[j * stride].
+inline void configuration_bits(std::uint64_t seed, std::uint64_t index, int n, std::uint64_t* bits,
+                               int stride = 1) {
     std::uint64_t state = item_seed(seed, index);
-    for (int j = 0; j < n; ++j)
-        q[j * stride] = low[j] + (high[j] - low[j]) * (double(splitmix64(state) >> 11) * 0x1.0p-53);
+    for (int j = 0; j < n; ++j) bits[j * stride] = splitmix64(state) >> 11;
+}
+
+// double(bits) for bits < 2^53, in operations the compiler vectorises: the two halves through
+// the 2^52 exponent, each exact, and their exact sum.
+inline double exact_double(std::uint64_t bits) {
+    constexpr std::uint64_t kExponent52 = 0x4330000000000000ull;
+    const std::uint64_t high = (bits >> 26) | kExponent52, low = (bits & 0x3FFFFFFull) | kExponent52;
+    double h, l;
+    std::memcpy(&h, &high, sizeof h);
+    std::memcpy(&l, &low, sizeof l);
+    return (h - 0x1.0p52) * 0x1.0p26 + (l - 0x1.0p52);
+}
+
+// A joint value uniform in [low, high) from a 53-bit word: the word scaled, as Random::uniform.
+inline double uniform_value(double low, double high, std::uint64_t bits) {
+    return low + (high - low) * (exact_double(bits) * 0x1.0p-53);
 }
 
 //: Configurations a counting step handles together, structure-of-arrays (joint j of
@@ -252,7 +268,12 @@ inline std::int64_t count_given(const Chain& chain, const double* q, std::size_t
 inline void sample_uniform(int n, const double* low, const double* high, std::uint64_t seed, std::uint64_t first,
                            std::size_t N, double* q, int threads) {
     parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) uniform_configuration(seed, first + i, n, low, high, q + n * i);
+        std::uint64_t bits[kMaxJoints];
+        for (std::size_t i = begin; i < end; ++i) {
+            configuration_bits(seed, first + i, n, bits);
+            double* qi = q + std::size_t(n) * i;
+            for (int j = 0; j < n; ++j) qi[j] = uniform_value(low[j], high[j], bits[j]);
+        }
     });
 }
 
