@@ -67,6 +67,7 @@ def _scaling(label: str, work: int, unit: str, function, repeat: int) -> None:
     """``function(threads)`` on 1 and 2 threads: rate, the CPU the process got, and the rate per
     CPU second, which says whether the kernel scales (equal per-CPU rates) and what the machine
     gave (cpu < 2: other processes held the second core)."""
+    function(2)  # the first call pays the operating system's first touch of the memory
     rows = []
     for threads in (1, 2):
         load = _load()
@@ -83,7 +84,8 @@ def _scaling(label: str, work: int, unit: str, function, repeat: int) -> None:
 
 def kernel_and_threads(robot: armkit.Robot, samples: int, repeat: int) -> float:
     """The reachability kernel alone (``_core.reach_uniform``, 0.02 m grid) and batch FK of the UR5,
-    on 1 and 2 threads. Returns the kernel's one-thread time per sample [s]."""
+    on 1 and 2 threads. Returns the kernel's one-thread wall time per sample [s] (the peers' time
+    is wall time too, measured at about the same load)."""
     grid = workspace.grid_for(robot, 0.02)
     where = (np.ascontiguousarray(grid.lower, dtype=float), grid.resolution, *map(int, grid.shape))
     box = joint_box(robot)
@@ -93,8 +95,10 @@ def kernel_and_threads(robot: armkit.Robot, samples: int, repeat: int) -> float:
     def reach(threads: int) -> None:
         _core.reach_uniform(robot.chain._core, low, high, 1, 0, samples, *where, hits, threads)
 
-    one = _timed(lambda: reach(1), repeat)[0] / samples
-    print(f"{grid.size} voxels; 1e8 samples at the one-thread rate: {one * 1e8:.1f} s on one core")
+    wall, user, system, _ = _timed(lambda: reach(1), repeat)
+    one, cpu = wall / samples, (user + system) / samples
+    print(f"{grid.size} voxels; 1e8 samples on one thread: {cpu * 1e8:.1f} s of CPU "
+          f"(~{cpu * 5e7:.1f} s on two free cores), {one * 1e8:.1f} s wall at this load; {_load()}")
     _scaling("reachability kernel", samples, "samples", reach, repeat)
     ur5 = armkit.load("ur5")
     q = ur5.random_q(min(samples, 2_000_000), rng=1)
