@@ -82,7 +82,7 @@ constexpr int kReachBlock = 64;
 
 // Tool positions (x, y, z) of the kReachBlock configurations of a block, position only:
 // p = B_0 Z_1(q_1) B_1 ... Z_n(q_n) B_n o from the right, a vector through each transform
-// (about 25 operations a joint, a sixth of the pose product's). The sines and cosines are
+// (about 25 operations a joint, a third of the pose product's). The sines and cosines are
 // sin_cos's, as every FK path's; p differs from tool_pose's position by rounding only.
 // (Always inlined: reach.cpp's AVX2 build of the loops then computes it with AVX2 too.)
 [[gnu::always_inline]] inline void tool_positions_block(const Chain& chain, const double* q, double* x, double* y,
