@@ -1,17 +1,12 @@
-// The reachability kernel's loops (reach.hpp), built twice where the compiler can: for the
-// baseline CPU and for AVX2, the loader choosing by the CPU (GCC's target_clones, an ifunc).
-// Without FMA contraction the AVX2 build computes the same numbers, four lanes at a time.
+// The reachability kernel's loops (reach.hpp), built for the baseline CPU and for AVX2
+// (armkit/simd.hpp).
 #include "armkit/reach.hpp"
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define ARMKIT_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define ARMKIT_CLONES
-#endif
+#include "armkit/simd.hpp"
 
 namespace armkit {
 
-ARMKIT_CLONES
+ARMKIT_AVX2_CLONES
 void count_uniform_piece(const Chain& chain, const FastVoxels& fast, const double* low, const double* high,
                          std::uint64_t seed, std::uint64_t first, std::size_t begin, std::size_t end,
                          VoxelCounts& counts) {
@@ -28,7 +23,7 @@ void count_uniform_piece(const Chain& chain, const FastVoxels& fast, const doubl
     }
 }
 
-ARMKIT_CLONES
+ARMKIT_AVX2_CLONES
 void count_given_piece(const Chain& chain, const FastVoxels& fast, const double* q, std::size_t begin,
                        std::size_t end, VoxelCounts& counts) {
     const int n = chain.n;

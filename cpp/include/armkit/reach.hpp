@@ -25,6 +25,7 @@
 #include "armkit/fk.hpp"
 #include "armkit/linalg.hpp"
 #include "armkit/random.hpp"
+#include "armkit/simd.hpp"
 
 namespace armkit {
 
@@ -85,8 +86,7 @@ constexpr int kReachBlock = 64;
 // (about 25 operations a joint, a third of the pose product's). The sines and cosines are
 // sin_cos's, as every FK path's; p differs from tool_pose's position by rounding only.
 // (Always inlined: reach.cpp's AVX2 build of the loops then computes it with AVX2 too.)
-[[gnu::always_inline]] inline void tool_positions_block(const Chain& chain, const double* q, double* x, double* y,
-                                                      double* z) {
+ARMKIT_INLINE void tool_positions_block(const Chain& chain, const double* q, double* x, double* y, double* z) {
     constexpr int B = kReachBlock;
     double s[B], c[B];
     const Pose& tool = chain.between[std::size_t(chain.n)];
@@ -162,7 +162,7 @@ struct VoxelCounts {
     // Counts the tool positions of the first m configurations of a block q (joint j of
     // configuration b at q[j * kReachBlock + b]; the block's other entries finite). Always
     // inlined, as tool_positions_block.
-    [[gnu::always_inline]] void add_block(const Chain& chain, const FastVoxels& fast, const double* q, int m) {
+    ARMKIT_INLINE void add_block(const Chain& chain, const FastVoxels& fast, const double* q, int m) {
         constexpr int B = kReachBlock;
         const int n = chain.n;
         double length = fast.fixed_length;
