@@ -11,8 +11,8 @@ import armkit
 from armkit import _core
 from armkit.errors import InputError
 from armkit.workspace import grid_for, reachability
-from armkit.workspace.grid import reach_bound
-from armkit.workspace.sampling import SamplePlan, chunk_seed, configurations, voxel_hits
+from armkit.workspace.grid import Grid, reach_bound
+from armkit.workspace.sampling import SamplePlan, chunk_seed, configurations, joint_box, voxel_hits
 
 
 def planar_2r(l1: float, l2: float) -> armkit.Robot:
@@ -179,3 +179,38 @@ def test_uniform_samples_fill_the_joint_box_evenly_and_do_not_depend_on_threads(
     np.testing.assert_array_equal(counts[0], counts[1])
     np.testing.assert_array_equal(counts[0], counts[2])
     assert counts[0].sum() == len(q)
+
+
+def test_positions_on_voxel_faces_are_counted_where_plain_fk_and_division_put_them():
+    """The kernel multiplies by 1 / resolution and computes positions in another order than FK;
+    on a face the two can disagree (0.3 / 0.1 floors to 2, 0.3 * 10 to 3), and such samples must
+    take the plain path: a prismatic joint along z puts the tool exactly on faces."""
+    robot = armkit.Robot.from_dh([armkit.DHRow(0, 0, 0, 0, "prismatic")], "standard", limits=[(0.0, 4.0)])
+    grid = Grid((-0.05, -0.05, 0.0), 0.1, (1, 1, 41), (True, True, False))
+    faces = np.arange(41) * 0.1
+    z = np.concatenate([faces, np.nextafter(faces, -1), np.nextafter(faces, 5), [0.3, 0.7, 1.1, 2.3]])
+    q = np.ascontiguousarray(np.tile(z, 60)[:, None])      # 10,440 samples: enough for 2 threads
+    assert (np.floor(z * (1 / 0.1)) != np.floor(z / 0.1)).any()   # the test has such faces
+    plain = grid.flat_index(robot.fk(q)[:, :3, 3])
+    for threads in (1, 2):
+        hits = np.zeros(grid.size, dtype=np.int64)
+        outside = _core.reach_given(robot.chain._core, q, np.asarray(grid.lower), grid.resolution,
+                                    *grid.shape, hits, threads)
+        np.testing.assert_array_equal(hits, np.bincount(plain[plain >= 0], minlength=grid.size))
+        assert outside == int((plain < 0).sum()) > 0         # the last face is the grid's edge
+
+
+@pytest.mark.parametrize("name", ["stanford", "ur5"])
+def test_counts_on_two_threads_are_those_of_plain_fk_of_the_same_samples(name):
+    robot = armkit.load(name)   # the Stanford arm has a prismatic joint
+    grid = grid_for(robot, 0.03)
+    box = joint_box(robot)
+    low, high = np.ascontiguousarray(box[:, 0]), np.ascontiguousarray(box[:, 1])
+    q = np.empty((20_011, robot.n))
+    _core.sample_uniform(robot.chain._core, low, high, 9, 0, q, 1)
+    flat = grid.flat_index(robot.fk(q)[:, :3, 3])
+    hits = np.zeros(grid.size, dtype=np.int64)
+    outside = _core.reach_uniform(robot.chain._core, low, high, 9, 0, len(q), np.asarray(grid.lower),
+                                  grid.resolution, *grid.shape, hits, 2)
+    np.testing.assert_array_equal(hits, np.bincount(flat[flat >= 0], minlength=grid.size))
+    assert outside == int((flat < 0).sum()) == 0

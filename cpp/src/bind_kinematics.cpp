@@ -84,7 +84,7 @@ long long fk_into(const Chain& chain, const double* qs, std::size_t N, double* o
         for (std::size_t k = begin; k < end; ++k) {
             const std::size_t start = k * kFkBlock, count = std::min<std::size_t>(kFkBlock, N - start);
             if (count == std::size_t(kFkBlock) && all_finite(qs + n * start, n * count)) {
-                tool_poses_block(chain, qs + n * start, out + 16 * start);
+                tool_poses_blocks(chain, qs + n * start, out + 16 * start, 1);
                 continue;
             }
             for (std::size_t i = start; i < start + count; ++i) {

@@ -2,6 +2,12 @@
 
 namespace armkit {
 
+ARMKIT_AVX2_CLONES
+void tool_poses_blocks(const Chain& chain, const double* q, double* out, std::size_t blocks) {
+    const std::size_t n = std::size_t(chain.n);
+    for (std::size_t k = 0; k < blocks; ++k) tool_poses_block(chain, q + k * kFkBlock * n, out + k * kFkBlock * 16);
+}
+
 void pose_error(const Pose& target, const Pose& T, double* e) {
     double X[3][3];  // R_target R^T
     for (int a = 0; a < 3; ++a) {

@@ -1,8 +1,11 @@
 // Forward kinematics and the geometric Jacobian of one configuration, and the pose error.
 #pragma once
 
+#include <cstddef>
+
 #include "armkit/chain.hpp"
 #include "armkit/linalg.hpp"
+#include "armkit/simd.hpp"
 #include "armkit/sin_cos.hpp"
 
 namespace armkit {
@@ -45,8 +48,9 @@ inline Pose tool_pose(const Chain& chain, const double* q) {
 constexpr int kFkBlock = 8;
 
 // Tool poses of kFkBlock configurations q (kFkBlock x n, row-major) into T (kFkBlock x 4 x 4),
-// the same numbers as tool_pose of each (the same operations in the same order).
-inline void tool_poses_block(const Chain& chain, const double* q, double* out) {
+// the same numbers as tool_pose of each (the same operations in the same order). Always
+// inlined, so that tool_poses_blocks' AVX2 build computes it with AVX2.
+ARMKIT_INLINE void tool_poses_block(const Chain& chain, const double* q, double* out) {
     constexpr int B = kFkBlock;
     const int n = chain.n;
     double sines[B * kMaxJoints], cosines[B * kMaxJoints];
@@ -88,6 +92,10 @@ inline void tool_poses_block(const Chain& chain, const double* q, double* out) {
         M[15] = 1.0;
     }
 }
+
+// tool_poses_block over `blocks` consecutive blocks (q blocks x kFkBlock x n, out blocks x
+// kFkBlock x 4 x 4), built for the baseline CPU and for AVX2 (armkit/simd.hpp; fk.cpp).
+void tool_poses_blocks(const Chain& chain, const double* q, double* out, std::size_t blocks);
 
 // The tool pose, and per joint the z axis of its joint frame and its origin before the
 // joint's motion (the start of the travel for a prismatic joint), base frame.
