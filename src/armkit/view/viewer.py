@@ -16,7 +16,7 @@ of the same name does), :meth:`Viewer._set_q` (move the arm), :meth:`Viewer._pla
 moved the arm), :meth:`Viewer._redraw`, :meth:`Viewer._units_changed`, :meth:`Viewer._show_status`
 (the status line under the panel) and :meth:`Viewer._guarded` (run a page action under ``_lock``,
 an armkit error becoming the status line); the timeline takes ``_lock`` for each step of its
-thread. The viewer calls a part only through its own methods.
+thread. The viewer uses a part only through its public methods and attributes.
 """
 
 from __future__ import annotations
