@@ -75,15 +75,40 @@ def test_a_urdf_arm_drawn_with_its_meshes_shows_its_links_in_contact_in_the_cont
         fore = meshes.frames == scene.parts.index("fore")
         assert fore.sum() == 1
 
+        def copies() -> list[str]:  # the contact-coloured copies sent to the browser
+            return [name for name in viewer._server.scene._handle_from_node_name
+                    if name.endswith("_highlight")]
+
         def drawn():
             own = np.array([m.visible for m in meshes.meshes])
-            highlighted = np.array([h.visible for h in meshes.highlights])
+            highlighted = np.array([h is not None and h.visible for h in meshes.highlights])
             assert (own != highlighted).all()  # each visual drawn once: in its own colours or the contact one
             return highlighted
 
         assert not drawn().any()
+        assert copies() == [] and meshes.highlights == [None] * 3   # never in contact: no copy sent
         viewer.q = down
         np.testing.assert_array_equal(drawn(), fore)
-        assert all(tuple(h.color) == COLLIDING for h in meshes.highlights)
+        assert len(copies()) == 1                                   # a copy of the forearm only
+        assert tuple(meshes.highlights[int(np.flatnonzero(fore)[0])].color) == COLLIDING
         viewer.q = [0.0, 0.0]
         assert not drawn().any()
+        viewer.q = down                                             # in contact again: the same copy
+        np.testing.assert_array_equal(drawn(), fore)
+        assert len(copies()) == 1
+
+
+def test_a_mesh_drawing_without_a_highlight_colour_says_so_when_asked_to_highlight(tmp_path):
+    pytest.importorskip("trimesh")
+    from armkit.errors import ArmkitError
+
+    path = tmp_path / "bumper.urdf"
+    path.write_text(BUMPER_URDF)
+    with Viewer(armkit.load(path), port=0) as viewer:              # no collision scene: no highlight colour
+        meshes = viewer._arm_panel.meshes
+        meshes.highlight(np.zeros(3, dtype=bool))                    # nothing flagged: nothing to do
+        with pytest.raises(ArmkitError, match="highlight: this drawing was made without a highlight colour"):
+            meshes.highlight(np.ones(3, dtype=bool))
+        with pytest.raises(ArmkitError,
+                           match=r"highlight: expected 3 flags \(one per visual\), got shape \(2,\)"):
+            meshes.highlight(np.ones(2, dtype=bool))

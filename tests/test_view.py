@@ -142,6 +142,7 @@ def test_an_unreachable_target_says_how_far_the_closest_pose_is(probot):
     assert mm == pytest.approx(solver.value.position_error * 1000, abs=0.05)
     assert mm > 1000 * (2.0 - arm_size(probot.robot))              # at least the gap to the arm's reach
 
+
 def test_switching_the_angle_unit_rewrites_the_sliders_the_solution_list_and_the_waypoints():
     with Viewer("probot-anno", port=0) as viewer:
         q = np.array([0.9, -0.9, -0.35, 0.96, 2.97, -0.24])
@@ -224,6 +225,28 @@ def test_a_trajectory_file_from_armkit_traj_plays_on_the_timeline(probot, tmp_pa
         Playback.from_file(trajectory.to_csv(tmp_path / "t.csv"), armkit.load("grb400-scara"))
 
 
+def test_closing_the_viewer_while_it_plays_stops_the_timeline_and_sends_nothing_after():
+    import warnings
+
+    viewer = Viewer("probot-anno", port=0)
+    try:
+        trajectory = armkit.plan_trajectory(viewer.robot, np.array(published.PROBOT_WAYPOINT_JOINTS))
+        viewer.play(trajectory)
+        wait_until(lambda: viewer.time > 0.1, "the timeline to move")
+        player = viewer._timeline.player
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            viewer.close()
+            closed_at, q = viewer.time, viewer.q
+            player.join(WAIT_S)
+    finally:
+        viewer.close()
+    assert not player.is_alive() and not viewer._timeline.playing
+    assert viewer.time == closed_at < trajectory.duration
+    np.testing.assert_array_equal(viewer.q, q)
+    assert not [w for w in caught if "closed connection" in str(w.message)], [str(w.message) for w in caught]
+
+
 def _serve_and_interrupt(args: list[str], cwd, while_serving=None) -> tuple[str, int, str, str]:
     """Run ``armkit view ARGS --port 0 --no-browser``, call ``while_serving(url)`` once it prints its
     address, then Ctrl-C it; its first line, exit code, the rest of stdout, and stderr."""
@@ -256,8 +279,37 @@ def test_cli_view_serves_the_page_and_ctrl_c_ends_it_with_one_line(tmp_path):
     assert out.strip() == ""
 
 
+def _page_shows(url: str, text: str) -> None:
+    """Open the page's websocket as a browser tab does and read its messages until one holds ``text``
+    (viser's frame: the sizes of its MessagePack, 8 bytes each, then the MessagePack zstd-compressed)."""
+    import asyncio
+
+    import websockets
+    import zstandard
+
+    def messages(frame: bytes) -> bytes:
+        size, compressed = int.from_bytes(frame[:8], "little"), int.from_bytes(frame[8:16], "little")
+        return zstandard.ZstdDecompressor().decompress(frame[16:16 + compressed], max_output_size=size)
+
+    async def read() -> None:
+        protocol = f"viser-v{viser.__version__}"
+        async with websockets.connect(url.replace("http", "ws"), subprotocols=[protocol],
+                                      max_size=None) as connection:
+            async with asyncio.timeout(WAIT_S):
+                while text.encode() not in messages(await connection.recv()):
+                    pass
+
+    asyncio.run(read())
+
+
 def test_cli_view_free_joint_serves_a_7_joint_arms_self_motion_and_a_6_joint_arm_is_one_error_line(tmp_path):
-    line, code, _, err = _serve_and_interrupt(["panda", "--free-joint", "3"], tmp_path, _page_is_served)
+    def serves_the_self_motion(url: str) -> None:
+        _page_is_served(url)
+        # the self-motion panel's text: the branches along q3 (the CLI's 3 is joint q3), the arm on one
+        _page_shows(url, "branches along q3; branch ")
+
+    line, code, _, err = _serve_and_interrupt(["panda", "--free-joint", "3"], tmp_path,
+                                              serves_the_self_motion)
     assert line.startswith("armkit view: Panda at http://127.0.0.1:")
     assert (code, err.strip()) == (130, "armkit view: stopped")
     result = subprocess.run([sys.executable, "-m", "armkit.cli.main", "view", "ur5", "--free-joint", "3",
@@ -338,24 +390,44 @@ def test_junk_websocket_frames_are_one_line_each_and_the_server_stays_up(tmp_pat
     assert all(line.startswith("armkit view: ignored a message it cannot read (") for line in lines[:-1]), err
 
 
-def test_a_probe_of_the_port_logs_nothing_and_a_bad_message_still_one_line(caplog):
+def test_a_probe_of_the_port_logs_nothing_https_and_bad_http_one_line_each(caplog):
     import socket
+    import ssl
 
     import msgspec
+
+    from armkit.view.server_log import TLS_LINE
+
+    def server_lines() -> list[str]:
+        return [r.getMessage() for r in caplog.records if r.name in ("websockets.server", "asyncio")]
 
     with Viewer("probot-anno", port=0) as viewer:
         port = int(viewer.url.rsplit(":", 1)[1])
         with socket.create_connection(("127.0.0.1", port), timeout=WAIT_S):
             pass                                     # a port check (nc -z), a browser's unused pre-connection
+        # https:// typed for the page: a real TLS hello (the server reads it, answers nothing, closes)
+        context = ssl.create_default_context()
+        context.check_hostname, context.verify_mode = False, ssl.CERT_NONE
+        with socket.create_connection(("127.0.0.1", port), timeout=WAIT_S) as raw, \
+                pytest.raises((ssl.SSLError, ConnectionError, OSError)):
+            context.wrap_socket(raw, server_hostname="127.0.0.1")
+        wait_until(lambda: len(server_lines()) == 1, "the https line")
         with socket.create_connection(("127.0.0.1", port), timeout=WAIT_S) as probe:
-            probe.sendall(b"\x16\x03\x01\x00\xa5\x01\x00\x00\xa1\x03\x03\r\n\r\n")  # TLS hello, no HTTP
+            probe.sendall(b"\x16\x03\x01\x00\xa5\x01\x00\x00\xa1\x03\x03\r\n\r\n")  # a TLS record, cut
             probe.recv(100)                            # the server answers or closes: it has read it
+        wait_until(lambda: len(server_lines()) == 2, "the second https line")
+        with socket.create_connection(("127.0.0.1", port), timeout=WAIT_S) as old:
+            old.sendall(b"GET / HTTP/1.0\r\n\r\n")   # HTTP the server does not take
+            old.recv(100)
+        wait_until(lambda: len(server_lines()) == 3, "the bad request's line")
         _send_messages(viewer.url, [msgspec.msgpack.encode({"type": "NoSuchMessage"})])
-        wait_until(lambda: any("ignored a message" in r.getMessage() for r in caplog.records),
-                   "the bad message's line")
-    server = [r.getMessage() for r in caplog.records if r.name in ("websockets.server", "asyncio")]
-    assert len(server) == 1, server
-    assert server[0].startswith("armkit view: ignored a message it cannot read ("), server
+        wait_until(lambda: len(server_lines()) == 4, "the bad message's line")
+    server = server_lines()
+    assert server[:2] == [TLS_LINE] * 2, server
+    assert "the viewer serves http://, not https://" in TLS_LINE
+    assert server[2] == ("armkit view: refused a connection that sent no valid HTTP request (ValueError: "
+                         "unsupported protocol; expected HTTP/1.1: GET / HTTP/1.0)"), server
+    assert server[3].startswith("armkit view: ignored a message it cannot read ("), server
 
 
 # ------------------------------------------------------------------ a URDF arm's own look, the panel

@@ -368,6 +368,9 @@ def test_a_7_joint_arms_self_motion_ghosts_are_drawn_and_the_pages_slider_moves_
                    "the arm at the branch's first sample")
         assert box.input_value() == f"{np.degrees(motion.values[existing[0]]):.1f}"   # 0.1 deg shown
         np.testing.assert_allclose(_wait_for_matrix(page, viewer.robot.fk(viewer.q)), T, atol=1.5e-6)
+        viewer._joints.units.value = "rad"                   # the panel's "angles": the box in rad
+        wait_until(lambda: box.input_value() == f"{motion.values[existing[0]]:.3f}", "the box in rad")
+        viewer._joints.units.value = "deg"
         shot = ARTIFACTS / "view_self_motion.png"
         notice = page.locator("#webgl-software-rendering button")
         if notice.count() and notice.first.is_visible():

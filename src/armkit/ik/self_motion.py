@@ -29,7 +29,7 @@ from armkit.errors import InputError, UnreachableError
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
-__all__ = ["SelfMotion", "free_joint_index", "ik_at_free_joint", "self_motion"]
+__all__ = ["SelfMotion", "free_joint_index", "ik_at_free_joint", "largest_joint_gap", "self_motion"]
 
 #: A solution continues a branch when it lies within this many times the free joint's step
 #: of the branch's last sample (every joint, modulo 2 pi): along a smooth branch the other
@@ -201,7 +201,7 @@ def self_motion(robot: Robot, T_base_tool: ArrayLike, *, free_joint: int | str, 
             if last is None or not found:
                 branch.append(None)
                 continue
-            gap = [_distance(last, q, revolute) for q in found]
+            gap = largest_joint_gap(np.array(found), last, revolute)
             best = int(np.argmin(gap))
             branch.append(found.pop(best) if gap[best] <= _BRANCH_REACH * step + 1e-9 else None)
         for q in found:  # the others start branches of their own
@@ -217,8 +217,17 @@ def self_motion(robot: Robot, T_base_tool: ArrayLike, *, free_joint: int | str, 
     return SelfMotion(index, values, q, inside)
 
 
-def _distance(a: NDArray[np.float64], b: NDArray[np.float64], revolute: NDArray[np.bool_]) -> float:
-    """The largest joint difference, revolute joints modulo 2 pi."""
-    d = np.abs(b - a)
-    d[revolute] = np.abs(np.angle(np.exp(1j * (b - a)[revolute])))
-    return float(d.max())
+def largest_joint_gap(q: ArrayLike, reference: ArrayLike, revolute: ArrayLike) -> NDArray[np.float64]:
+    """The largest joint difference of each configuration ``q`` ``(..., n)`` from ``reference``
+    (broadcast against it) [rad or m], the joints flagged ``revolute`` ``(n,)`` modulo a turn;
+    shape ``(...)``.
+
+    Example
+    -------
+    >>> float(largest_joint_gap([3.1, 0.5], [-3.1, 0.2], [True, False]))   # 2 pi - 6.2 and 0.3
+    0.3
+    """
+    d = np.asarray(q, dtype=float) - np.asarray(reference, dtype=float)
+    revolute = np.asarray(revolute, dtype=bool)
+    d = np.where(revolute, np.angle(np.exp(1j * d)), d)
+    return np.abs(d).max(axis=-1)

@@ -113,6 +113,10 @@ class ArmPanel:
                 self._ellipsoid.batched_scales = np.maximum(semi * ELLIPSOID_SECONDS, 1e-4)[None]
         self._readout.content = readout.pose_html(robot, q, robot.fk(q), self.convention.value, degrees)
 
+    def show_at_limit(self, flagged: NDArray[np.bool_]) -> None:
+        """Draw the joints flagged ``(n,)`` in the at-limit red (the capsules)."""
+        self.arm.colour(Colours.LINK, Colours.JOINT, flagged)
+
     def _toggle_meshes(self) -> None:
         self.meshes.visible = self.show_meshes.value
         self.arm.visible = not self.show_meshes.value

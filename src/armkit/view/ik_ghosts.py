@@ -108,8 +108,8 @@ class IKGhosts:
             return found
         self.solutions, self._index = found, None
         if len(found.q) > MAX_GHOSTS:
-            self._viewer._status.content = (f"<div style='font-size:0.8em'>{len(found.q)} solutions; "
-                                            f"the first {MAX_GHOSTS} are drawn</div>")
+            self._viewer._show_status(f"<div style='font-size:0.8em'>{len(found.q)} solutions; "
+                                      f"the first {MAX_GHOSTS} are drawn</div>")
         self._draw(found)
         inside = np.flatnonzero(found.within_limits)
         if follow and len(inside):
@@ -177,7 +177,7 @@ class IKGhosts:
         found = self.solutions
         method = "closed form" if self._viewer.closed_form else "numeric, nearest the arm"
         self.status.content = readout.solutions_html(self._robot, found, self._index,
-                                                     self._viewer._joints.degrees, method)
+                                                     self._viewer._degrees, method)
         options = tuple(f"{k + 1}: {'in limits' if ok else 'OUT of limits'}"
                         f"{', singular family' if family else ''}"
                         for k, (ok, family) in enumerate(zip(found.within_limits, found.family, strict=True)))

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from armkit.errors import ArmkitError
 from armkit.robot import Robot
 from armkit.spatial.rotations import quaternion_wxyz_from_matrix
 from armkit.view.geometry import arm_placement, unit_cylinder
@@ -95,8 +96,9 @@ class MeshDrawing:
 
     Each chain frame that carries a visual is a scene frame (``{name}/{frame}``) whose pose
     :meth:`update` sets; the visuals sit in it at their fixed ``T_frame_visual``. With a
-    ``highlight`` colour, each visual also gets a hidden copy in that colour, which
-    :meth:`highlight` shows in its place (a mesh's own colours and textures cannot be changed).
+    ``highlight`` colour, :meth:`highlight` shows a copy of a visual in that colour in its place (a
+    mesh's own colours and textures cannot be changed); the copy is made the first time that visual
+    is highlighted, so a visual never in contact is sent to the browser once.
     """
 
     def __init__(self, scene: Any, name: str, visuals: tuple[LinkVisual, ...],
@@ -108,11 +110,10 @@ class MeshDrawing:
                   "wxyz": quaternion_wxyz_from_matrix(v.T_frame_visual[:3, :3])} for v in visuals]
         self.meshes = [scene.add_mesh_trimesh(f"{name}/{v.frame}/{k}", v.mesh, **pose)
                        for k, (v, pose) in enumerate(zip(visuals, poses, strict=True))]
-        self.highlights = ([] if highlight is None else
-                           [scene.add_mesh_simple(f"{name}/{v.frame}/{k}_highlight",
-                                                  np.asarray(v.mesh.vertices), np.asarray(v.mesh.faces),
-                                                  color=highlight, visible=False, **pose)
-                            for k, (v, pose) in enumerate(zip(visuals, poses, strict=True))])
+        self._scene, self._name, self._visuals, self._poses = scene, name, visuals, poses
+        self._highlight_colour = highlight
+        #: Each visual's copy in the highlight colour (``None`` until it is first highlighted).
+        self.highlights: list[Any | None] = [None] * len(visuals)
         self._highlighted = np.zeros(len(visuals), dtype=bool)
         self.update(link_frames)
 
@@ -125,7 +126,18 @@ class MeshDrawing:
     def highlight(self, flagged: NDArray[np.bool_]) -> None:
         """Draw the visuals flagged ``(len(meshes),)`` in the highlight colour, the others in their own."""
         flagged = np.asarray(flagged, dtype=bool)
+        if flagged.shape != self._highlighted.shape:
+            raise ArmkitError(f"highlight: expected {len(self.meshes)} flags (one per visual), got shape "
+                              f"{flagged.shape}")
+        if self._highlight_colour is None and flagged.any():
+            raise ArmkitError("highlight: this drawing was made without a highlight colour")
         for k in np.flatnonzero(flagged != self._highlighted):  # only the changed ones: one message each
+            if self.highlights[k] is None:
+                visual = self._visuals[k]
+                self.highlights[k] = self._scene.add_mesh_simple(
+                    f"{self._name}/{visual.frame}/{k}_highlight", np.asarray(visual.mesh.vertices),
+                    np.asarray(visual.mesh.faces), color=self._highlight_colour, visible=False,
+                    **self._poses[k])
             self.meshes[k].visible = not flagged[k]
             self.highlights[k].visible = bool(flagged[k])
         self._highlighted = flagged.copy()

@@ -90,4 +90,4 @@ class TeachPanel:
 
     def refresh_list(self) -> None:
         """Write the list again in the panel's current angle unit."""
-        self._list.content = readout.waypoints_html(self._robot, self.waypoints, self._viewer._joints.degrees)
+        self._list.content = readout.waypoints_html(self._robot, self.waypoints, self._viewer._degrees)

@@ -122,9 +122,7 @@ class Timeline:
             return
         q, _, _ = playback.at(t)
         velocity, acceleration = playback.at_limits(self._robot, t)
-        viewer._set_q(q)
-        viewer._ik.clear()
-        viewer._arm_panel.arm.colour(Colours.LINK, Colours.JOINT, velocity | acceleration)
+        viewer._play_q(q, velocity | acceleration)
         names = self._robot.joint_names
         flagged = ([f"{names[j]} at its velocity limit" for j in np.flatnonzero(velocity)]
                    + [f"{names[j]} at its acceleration limit" for j in np.flatnonzero(acceleration)])
@@ -145,7 +143,7 @@ class Timeline:
             time.sleep(1 / PLAY_RATE_HZ)
             now = time.perf_counter()
             with self._viewer._lock:
-                if not self._playing or self.playback is None:
+                if not self._playing or self.playback is None or self._viewer._closed:
                     break
                 t = min(self.slider.value + (now - last), self.playback.duration)
                 self.slider.value = t

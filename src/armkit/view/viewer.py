@@ -7,9 +7,16 @@ Python: the configuration ``q``; its parts keep theirs, one module each: the joi
 7-joint arm's self-motion (:mod:`~armkit.view.self_motion_ghosts`), the taught waypoints
 (:mod:`~armkit.view.teach_panel`, :mod:`~armkit.view.waypoint_saving`) and the motion on the
 timeline (:mod:`~armkit.view.timeline`). The page and the Python API change the same state; every
-change redraws the scene and the read-outs for every connected browser. The parts call back
-through :meth:`Viewer._set_q` (move the arm), :meth:`Viewer._redraw` and :meth:`Viewer._guarded`
-(run a page action, an armkit error becoming the status line).
+change redraws the scene and the read-outs for every connected browser.
+
+What a part may use of the viewer, and nothing else: to build, ``robot``, ``_server`` (its scene
+and panel), ``_radius``, ``_size`` and ``_scene``; to read, ``q``, ``closed_form``, ``_degrees`` (the
+panel's angle unit) and ``_closed``; to act, the public API (a part's control does what the method
+of the same name does), :meth:`Viewer._set_q` (move the arm), :meth:`Viewer._play_q` (the timeline
+moved the arm), :meth:`Viewer._redraw`, :meth:`Viewer._units_changed`, :meth:`Viewer._show_status`
+(the status line under the panel) and :meth:`Viewer._guarded` (run a page action under ``_lock``,
+an armkit error becoming the status line); the timeline takes ``_lock`` for each step of its
+thread. The viewer uses a part only through its public methods and attributes.
 """
 
 from __future__ import annotations
@@ -273,7 +280,8 @@ class Viewer:
         T_base_tool : array_like (4, 4), optional
             The tool pose [m]; the IK handle moves there.
         samples : int
-            Values of the free joint, spread evenly over its limits.
+            Values of the free joint, spread evenly over its limits (2 to 100000; sampled outside
+            the viewer's lock, so the page and a playing motion go on meanwhile).
 
         Returns
         -------
@@ -283,7 +291,9 @@ class Viewer:
         Raises
         ------
         InputError
-            For an arm without seven joints, an unknown joint or a bad sample count.
+            For an arm without seven joints, an unknown joint or a bad sample count (nothing changes
+            then), or if ``T_base_tool`` is not given and the IK target moved while its self-motion
+            was sampled (sample again).
 
         Examples
         --------
@@ -296,28 +306,69 @@ class Viewer:
         >>> viewer.close()
         """
         part = self._self_motion_part()
+        if T_base_tool is None:
+            with self._lock:
+                T = asked = self._ik.target.copy()
+        else:
+            T, asked = check_transform(T_base_tool, "target pose"), None
+        # sampled outside the lock (seconds for hundreds of values): the page and the player go on
+        motion = sample_self_motion(self.robot, T, free_joint=free_joint, samples=samples)
         with self._lock:
-            T = self._ik.target if T_base_tool is None else check_transform(T_base_tool, "target pose")
-            motion = sample_self_motion(self.robot, T, free_joint=free_joint, samples=samples)
+            if asked is not None and not np.array_equal(self._ik.target, asked):
+                raise InputError("self-motion: the IK target moved while its self-motion was sampled; "
+                                 "sample again")
             self._ik.move_handle(T)
             self._ik.clear()
             part.show(motion, T)
             return motion
 
     def move_along_self_motion(self, value: float, branch: int | None = None) -> NDArray[np.float64]:
-        """Move the arm along the self-motion shown to the sample whose free-joint value is nearest
-        ``value`` [rad or m], on ``branch`` (1-based, as listed in the panel; default: the branch shown).
+        """Move the arm along the self-motion shown to its sample whose free-joint value is nearest
+        ``value`` (a revolute joint's modulo a turn): the samples are the values
+        :attr:`self_motion` lists, so the arm lands on ``value`` only if it is one of them.
 
-        Returns the arm's configuration ``(7,)``; its tool stays on the target.
+        Parameters
+        ----------
+        value : float
+            The free joint's value [rad, or m for a prismatic joint]; a finite number.
+        branch : int, optional
+            The branch (1-based, as listed in the panel); default: the branch shown.
+
+        Returns
+        -------
+        ndarray (7,)
+            The arm's configuration [rad or m]; its tool stays on the target.
 
         Raises
         ------
         InputError
-            If no self-motion is shown, or the branch has no solution at that value.
+            If no self-motion is shown, ``value`` is not a finite number, ``branch`` is not a whole
+            number from 1 to the number of branches, or the branch has no solution at that value.
+
+        Examples
+        --------
+        >>> from armkit.view import Viewer
+        >>> viewer = Viewer("panda", port=0)
+        >>> motion = viewer.show_self_motion(2, samples=9)         # q3 at -2.8973, ..., 2.8973 rad
+        >>> q = viewer.move_along_self_motion(0.8)                  # the sample at 0.7243 rad
+        >>> round(float(q[2]), 4), bool(q[2] == motion.values[5])
+        (0.7243, True)
+        >>> viewer.close()
         """
         part = self._self_motion_part()
         with self._lock:
-            return part.move_to(float(value), None if branch is None else branch - 1)
+            motion = part.require_motion()
+            name = self.robot.joint_names[motion.free_joint]
+            unit = "m" if self.robot.chain.prismatic[motion.free_joint] else "rad"
+            number = isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
+            if not number or not np.isfinite(value):
+                raise InputError(f"value: expected a finite value of {name} [{unit}], got {value!r}")
+            count = len(motion.q)
+            whole = isinstance(branch, int | np.integer) and not isinstance(branch, bool)
+            if branch is not None and not (whole and 1 <= branch <= count):
+                raise InputError(f"branch {branch!r}: the self-motion has {count} branches; expected a whole "
+                                 f"number from 1 to {count}")
+            return part.move_to(float(value), None if branch is None else int(branch) - 1)
 
     def _self_motion_part(self) -> SelfMotionGhosts:
         if self._self_motion is None:
@@ -388,10 +439,13 @@ class Viewer:
             time.sleep(0.2)
 
     def close(self) -> None:
-        """Stop the web server (the page disconnects)."""
-        if self._closed:
-            return
-        self._closed = True
+        """Stop the playing motion and the web server (the page disconnects)."""
+        with self._lock:  # the player checks _closed under the lock: no step after this one
+            if self._closed:
+                return
+            self._closed = True
+            if hasattr(self, "_timeline"):  # absent if building the panel failed
+                self._timeline.pause()
         with contextlib.redirect_stdout(io.StringIO()) if not self._verbose else contextlib.nullcontext():
             self._server.stop()
         for name in SERVER_LOGGERS:
@@ -430,8 +484,24 @@ class Viewer:
             self._self_motion.arm_moved(self._q)
         self._redraw()
 
+    def _play_q(self, q: NDArray[np.float64], at_limit: NDArray[np.bool_]) -> None:
+        """The timeline moved the arm to ``q``: the joints flagged ``at_limit`` ``(n,)`` drawn red, the
+        IK solutions forgotten."""
+        self._set_q(q)
+        self._ik.clear()
+        self._arm_panel.show_at_limit(at_limit)
+
     def _redraw(self) -> None:
-        self._arm_panel.draw(self._q, self._joints.degrees)
+        self._arm_panel.draw(self._q, self._degrees)
+
+    @property
+    def _degrees(self) -> bool:
+        """The panel shows revolute joints in degrees (else radians)."""
+        return self._joints.degrees
+
+    def _show_status(self, content: str) -> None:
+        """Put ``content`` (HTML; anything a user wrote in it escaped) in the status line."""
+        self._status.content = content
 
     def _units_changed(self) -> None:
         """The angle unit changed: the sliders and every list of joint values again."""
@@ -440,13 +510,18 @@ class Viewer:
             self._redraw()
             self._teach.refresh_list()
             self._ik.refresh_list()
+            if self._self_motion is not None:
+                self._self_motion.refresh_units()
 
-    def _guarded(self, action) -> None:
-        """Run a GUI action; an armkit error becomes the status line instead of a traceback."""
+    def _guarded(self, action, locked: bool = True) -> None:
+        """Run a GUI action; an armkit error becomes the status line instead of a traceback. Under the
+        viewer's lock, unless ``locked`` is false (an action that takes the lock itself, for a while)."""
         with self._lock:
-            self._status.content = ""
-            try:
+            self._show_status("")
+        try:
+            with self._lock if locked else contextlib.nullcontext():
                 action()
-            except ArmkitError as exc:
-                self._status.content = (f"<div style='color:#d33;font-size:0.8em' data-armkit='error'>"
-                                        f"{html.escape(str(exc))}</div>")
+        except ArmkitError as exc:
+            with self._lock:
+                self._show_status(f"<div style='color:#d33;font-size:0.8em' data-armkit='error'>"
+                                  f"{html.escape(str(exc))}</div>")

@@ -41,6 +41,6 @@ class WaypointSaving:
         cancel.on_click(lambda _: modal.close())
 
     def _saved(self, path: Path) -> None:
-        self._viewer._status.content = (f"<div style='font-size:0.8em' data-armkit='saved'>saved "
-                                        f"{len(self._viewer.waypoints)} waypoints to "
-                                        f"{html.escape(str(path))}</div>")
+        self._viewer._show_status(f"<div style='font-size:0.8em' data-armkit='saved'>saved "
+                                  f"{len(self._viewer.waypoints)} waypoints to "
+                                  f"{html.escape(str(path))}</div>")
