@@ -66,14 +66,14 @@ def test_ctrl_c_before_the_first_chunk_exits_130_with_one_line(tmp_path):
 @pytest.mark.parametrize("extra", [(), ("--dask", "local")], ids=["local", "dask"])
 def test_ctrl_c_during_the_run_keeps_a_store_resume_continues(tmp_path, extra):
     out = tmp_path / "maps.zarr"
-    process = _start(out, "4e7", *extra)
+    process = _start(out, "2e8", *extra)  # 10,000 chunks: more than the kernel does in a second (4e7 was not)
     _wait_for_store(out, process)
     time.sleep(1.0)  # let chunks run: any number done by the interrupt (even 0 on a slow machine) is right
     assert process.poll() is None, "finished before it could be interrupted"
     _assert_one_line(*_interrupt(process))
     done = _chunks_done(out)
-    resumed = subprocess.run([*COMMAND, "--samples", "4e7", "--out", str(out), "--resume", "--json"],
+    resumed = subprocess.run([*COMMAND, "--samples", "2e8", "--out", str(out), "--resume", "--json"],
                              capture_output=True, text=True, timeout=WAIT_S)
     assert resumed.returncode == 0, resumed.stderr
-    assert json.loads(resumed.stdout)["samples"] == 40_000_000
-    assert _chunks_done(out) == 2000 > done
+    assert json.loads(resumed.stdout)["samples"] == 200_000_000
+    assert _chunks_done(out) == 10_000 > done
