@@ -215,6 +215,16 @@ inline int null_space(const Chain& chain, const double* q, double* V, int* null,
 }
 
 
+// Whether the Jacobian at q (n) is singular (a null space within kNullSpace). Every member of
+// a family is: a walk along one that lands on a configuration where it is not has left the
+// family for an isolated solution of another branch (a step across a near-singular
+// direction, see kNearCrossing, projected onto another elbow's solution).
+inline bool singular_at(const Chain& chain, const double* q) {
+    double V[kMaxJoints * kMaxJoints];
+    int null[kMaxJoints];
+    return null_space(chain, q, V, null) > 0;
+}
+
 // Whether the solution q (n) of T lies on a family: its Jacobian has a null space, and a
 // step of kFamilyProbe along it, put back onto the solution set, stays a solution that far
 // from q (the solution set continues there). An isolated singular solution, such as the
@@ -367,7 +377,8 @@ inline void descend_family(const Chain& chain, const Pose& T, double* q, const d
         }
         double aimed[kMaxJoints];
         for (int j = 0; j < n; ++j) aimed[j] = target[j];
-        const bool solved = project_onto_solutions(chain, T, target) && stays_on_family(chain, q, aimed, target);
+        const bool solved = project_onto_solutions(chain, T, target) && stays_on_family(chain, q, aimed, target) &&
+                            singular_at(chain, target);
         if (!(solved && family_distance(chain, target, near, weights, inside) <
                             family_distance(chain, q, near, weights, inside) - 1e-24)) {
             if (line) continue;  // the sampled point did not help: go on with local steps
