@@ -313,14 +313,16 @@ inline void trace_family(const Chain& chain, const Pose& T, double* q, const dou
 
 
 // Whether target (n), the projection of aimed, a point reached from q along the family,
-// stays on q's family (see kStayOnFamily).
-inline bool stays_on_family(const Chain& chain, const double* q, const double* aimed, const double* target) {
+// stays on q's family (see kStayOnFamily): the projection moved it by at most kStayOnFamily
+// of the way aimed, or of longest where that is shorter.
+inline bool stays_on_family(const Chain& chain, const double* q, const double* aimed, const double* target,
+                            double longest = std::numeric_limits<double>::infinity()) {
     double aim = 0.0, moved = 0.0;
     for (int j = 0; j < chain.n; ++j) {
         aim += (aimed[j] - q[j]) * (aimed[j] - q[j]);
         moved += (target[j] - aimed[j]) * (target[j] - aimed[j]);
     }
-    return moved <= kStayOnFamily * kStayOnFamily * aim;
+    return moved <= kStayOnFamily * kStayOnFamily * std::fmin(aim, longest * longest);
 }
 
 // Moves q (n, on the solution set of T) towards near: the line through q along a one-line
@@ -377,7 +379,11 @@ inline void descend_family(const Chain& chain, const Pose& T, double* q, const d
         }
         double aimed[kMaxJoints];
         for (int j = 0; j < n; ++j) aimed[j] = target[j];
-        const bool solved = project_onto_solutions(chain, T, target) && stays_on_family(chain, q, aimed, target) &&
+        // a point sampled along the line is a member where the family is a line; where it
+        // is curved, its projection from farther off than a trace step may land on another
+        // family of the pose (the other wrist of a free shoulder joint: the listing lost it)
+        const bool solved = project_onto_solutions(chain, T, target) &&
+                            stays_on_family(chain, q, aimed, target, line ? kTraceStep : std::numeric_limits<double>::infinity()) &&
                             singular_at(chain, target);
         if (!(solved && family_distance(chain, target, near, weights, inside) <
                             family_distance(chain, q, near, weights, inside) - 1e-24)) {
