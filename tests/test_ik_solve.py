@@ -457,15 +457,12 @@ def test_near_returns_the_configuration_itself_at_singular_poses(name, joint, si
         assert np.abs(joint_difference(robot, nearest_first, q[i])).max() < 1e-7
 
 
-@pytest.mark.parametrize("name", [
-    pytest.param("puma560", marks=pytest.mark.xfail(
-        strict=True, reason="1 of 300 poses still loses its branch: the family member is replaced by "
-                            "another branch's (issue 21 item 4, docs/ik.md)")),
-    "stanford", "probot-anno"])
+@pytest.mark.parametrize("name", ["puma560", "stanford", "probot-anno"])
 def test_wrist_singular_poses_keep_the_generating_branch_of_joints_1_to_3(name):
     # at q5 = 0 a spherical wrist frees q4 + q6 only: joints 1-3 are fixed by the wrist centre,
     # so the listing must hold the generating (q1, q2, q3). The family walk towards near once
-    # projected far points onto another elbow's branch (PUMA: 8 of 300 poses lost it)
+    # projected far points onto another elbow's branch (PUMA: 8 of 300 poses lost it, then 1:
+    # a step across a nearly singular direction landed on another elbow's isolated solution)
     robot = armkit.load(name)
     rng = np.random.default_rng(0)
     missed = 0

@@ -14,6 +14,7 @@
 // into the limits; a point that would leave the limits a representative was inside is not taken.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -35,6 +36,9 @@ constexpr int kProjectionIterations = 10;
 //: either way (several whole turns); the smallest step tried: kTraceSmallestStep.
 constexpr double kTraceStep = 0.1;
 constexpr double kTraceLength = 6.0 * kTwoPi;
+//: Local steps towards near that were cut to a trace step, taken besides kFamilySteps: up to
+//: 6.4 rad or m of travel along the family.
+constexpr int kShortenedSteps = 64;
 
 // Singular values s (n) and right singular vectors V (n x n, row-major, column j for s[j])
 // of J (6 x n, row-major, n <= 6) by one-sided (Hestenes) Jacobi rotations of J's columns.
@@ -215,6 +219,16 @@ inline int null_space(const Chain& chain, const double* q, double* V, int* null,
 }
 
 
+// Whether the Jacobian at q (n) is singular (a null space within kNullSpace). Every member of
+// a family is: a walk along one that lands on a configuration where it is not has left the
+// family for an isolated solution of another branch (a step across a near-singular
+// direction, see kNearCrossing, projected onto another elbow's solution).
+inline bool singular_at(const Chain& chain, const double* q) {
+    double V[kMaxJoints * kMaxJoints];
+    int null[kMaxJoints];
+    return null_space(chain, q, V, null) > 0;
+}
+
 // Whether the solution q (n) of T lies on a family: its Jacobian has a null space, and a
 // step of kFamilyProbe along it, put back onto the solution set, stays a solution that far
 // from q (the solution set continues there). An isolated singular solution, such as the
@@ -303,14 +317,35 @@ inline void trace_family(const Chain& chain, const Pose& T, double* q, const dou
 
 
 // Whether target (n), the projection of aimed, a point reached from q along the family,
-// stays on q's family (see kStayOnFamily).
-inline bool stays_on_family(const Chain& chain, const double* q, const double* aimed, const double* target) {
+// stays on q's family (see kStayOnFamily): the projection moved it by at most kStayOnFamily
+// of the way aimed, or of longest where that is shorter.
+inline bool stays_on_family(const Chain& chain, const double* q, const double* aimed, const double* target,
+                            double longest = std::numeric_limits<double>::infinity()) {
     double aim = 0.0, moved = 0.0;
     for (int j = 0; j < chain.n; ++j) {
         aim += (aimed[j] - q[j]) * (aimed[j] - q[j]);
         moved += (target[j] - aimed[j]) * (target[j] - aimed[j]);
     }
-    return moved <= kStayOnFamily * kStayOnFamily * aim;
+    return moved <= kStayOnFamily * kStayOnFamily * std::fmin(aim, longest * longest);
+}
+
+// Whether target (n, a solution of T) is reached from q (n) along the solution set: the
+// chord from q to it in kCrossingSubsteps substeps, each from the last point put back onto
+// the solutions, must end within kStayOnFamily of the chord's length from target. Across
+// the kink where two families cross, the path bends through the crossing onto the other
+// family; from one of two separate families (two elbows of a free shoulder joint within a
+// step of each other) the projections keep it on its own, and it ends a gap away.
+inline bool reached_along_solutions(const Chain& chain, const Pose& T, const double* q, const double* target) {
+    constexpr int kCrossingSubsteps = 8;
+    const int n = chain.n;
+    double at[kMaxJoints], step[kMaxJoints];
+    for (int j = 0; j < n; ++j) at[j] = q[j], step[j] = (target[j] - q[j]) / kCrossingSubsteps;
+    bool on = true;  // the last projection reached the solutions (one beside the crossing may stall)
+    for (int k = 0; k < kCrossingSubsteps; ++k) {
+        for (int j = 0; j < n; ++j) at[j] += step[j];
+        on = project_onto_solutions(chain, T, at);
+    }
+    return on && stays_on_family(chain, q, target, at);
 }
 
 // Moves q (n, on the solution set of T) towards near: the line through q along a one-line
@@ -321,7 +356,8 @@ inline void descend_family(const Chain& chain, const Pose& T, double* q, const d
                            bool inside, bool sample_line) {
     const int n = chain.n;
     bool wider = false;  // this step spans the directions of a nearby crossing too
-    for (int step = 0; step < kFamilySteps; ++step) {
+    int shortened = 0;  // steps cut to a trace step (they do not count against kFamilySteps)
+    for (int step = 0; step < kFamilySteps + std::min(shortened, kShortenedSteps); ++step) {
         double V[kMaxJoints * kMaxJoints];
         int null[kMaxJoints];  // the columns of V spanning the null space
         const int c = null_space(chain, q, V, null, wider ? kNearCrossing : kNullSpace);
@@ -359,15 +395,28 @@ inline void descend_family(const Chain& chain, const Pose& T, double* q, const d
                 b[a] = total;
             }
             if (!cholesky_solve(A, b, c)) break;
+            double length = 0.0;
             for (int j = 0; j < n; ++j) {
-                double total = q[j];
+                double total = 0.0;
                 for (int a = 0; a < c; ++a) total += V[j * n + null[a]] * b[a];
                 target[j] = total;
+                length += total * total;
             }
+            // at most a trace step at a time: projected from farther along a curved family,
+            // the step may land on another family of the pose (a free shoulder joint's: the
+            // other elbow's, and the listing lost this elbow)
+            const double shorten = std::fmin(1.0, kTraceStep / std::sqrt(length));
+            shortened += shorten < 1.0;
+            for (int j = 0; j < n; ++j) target[j] = q[j] + shorten * target[j];
         }
         double aimed[kMaxJoints];
         for (int j = 0; j < n; ++j) aimed[j] = target[j];
-        const bool solved = project_onto_solutions(chain, T, target) && stays_on_family(chain, q, aimed, target);
+        // a point sampled along the line is a member where the family is a line; where it
+        // is curved, its projection from farther off than a trace step may land on another
+        // family of the pose (the other wrist of a free shoulder joint: the listing lost it)
+        const bool solved = project_onto_solutions(chain, T, target) &&
+                            stays_on_family(chain, q, aimed, target, kTraceStep) && singular_at(chain, target) &&
+                            (!wider || reached_along_solutions(chain, T, q, target));
         if (!(solved && family_distance(chain, target, near, weights, inside) <
                             family_distance(chain, q, near, weights, inside) - 1e-24)) {
             if (line) continue;  // the sampled point did not help: go on with local steps
