@@ -46,6 +46,7 @@ fuzz: $(VENV)/.installed-test  # the fuzz and property tests (CLI, robot files, 
 	HYPOTHESIS_PROFILE=fuzz ARMKIT_FUZZ_EXAMPLES=20000 $(BIN)/python -m pytest -q tests/test_cli_fuzz.py \
 		tests/test_ik_property.py tests/test_robot_file_fuzz.py tests/test_urdf.py tests/test_params.py \
 		-k "fuzz or property or documents or mutated"
+	ARMKIT_SWEEP_POSES=40 $(BIN)/python -m pytest -q tests/test_ik_singular_sweeps.py
 
 bench: $(VENV)/.installed-test
 	$(BIN)/python -m pip install --quiet -e ".[bench]"

@@ -451,8 +451,12 @@ Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
             worst = std::max(worst, closest);
             mean += closest / kLoopSamples;
         }
-        if (best < 0 || near > best_near || (near == best_near && (worst < best_worst ||
-                                                                   (worst == best_worst && mean < best_mean))))
+        // the loop whose raw candidates come closest to every sample's configuration (worst
+        // sample, then mean), then the one with more distinct candidates near a solution:
+        // ranking by that count first picked a loop that loses a root beside a near-double one
+        // (a UR5 with its lines moved by 3e-6, q5 = 1e-3: 7 of 8 solutions)
+        if (best < 0 || worst < best_worst ||
+            (worst == best_worst && (mean < best_mean || (mean == best_mean && near > best_near))))
             best = l, best_near = near, best_worst = worst, best_mean = mean;
         if (worst <= kGoodLoop) break;
     }
