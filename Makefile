@@ -49,7 +49,7 @@ fuzz: $(VENV)/.installed-test  # the fuzz and property tests (CLI, robot files, 
 	ARMKIT_SWEEP_POSES=40 $(BIN)/python -m pytest -q tests/test_ik_singular_sweeps.py
 
 bench: $(VENV)/.installed-test
-	$(BIN)/python -m pip install --quiet -e ".[bench]"
+	$(BIN)/python -m pip install --quiet -e ".[test,bench]" -Ccmake.define.ARMKIT_TEST_BINDINGS=ON
 	$(BIN)/python benchmarks/run_all.py
 
 figures: $(VENV)/.installed-test  # the README's and docs' figures from the current build (docs/figures.py)

@@ -281,7 +281,7 @@ def bench_numeric(poses: int, slow_poses: int) -> None:
         ours = ours or median
         rows.append([label, str(count), f"{100 * ok / count:.1f}", f"{median * 1e3:.3f}",
                      f"{mean * 1e3:.3f}", ratio(median, ours)])
-    for threads in (1, 0):  # the whole batch in one call: its time per pose as the mean
+    for threads in (1, None):  # the whole batch in one call: its time per pose as the mean
         dt, result = timed(solver.solve_batch, targets[:poses], seeds[:poses], 0, threads)
         ok = sum(bool(reproduces(robot, q, T)[0] and robot.within_limits(q))
                  for q, T in zip(result.q, targets[:poses], strict=True))
