@@ -347,3 +347,11 @@ def test_without_mujoco_an_mjcf_file_is_one_error_naming_the_extra(ur5e_file, mo
     monkeypatch.setitem(sys.modules, "mujoco", None)  # import mujoco now raises ImportError
     with pytest.raises(ArmkitError, match=r"reading an MJCF file needs MuJoCo: pip install 'armkit\[sim\]'"):
         armkit.load(ur5e_file)
+
+
+def test_a_nan_joint_range_is_one_error_not_an_unlimited_joint():
+    text = ('<mujoco><worldbody><body name="l1"><joint name="j1" axis="0 1 0" range="nan 1" limited="true"/>'
+            '<geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
+    message = r"MJCF text, joint 'j1': range \[nan, .*expected two finite"
+    with pytest.raises(RobotDefinitionError, match=message):
+        robot_from_mjcf(text)

@@ -368,3 +368,11 @@ def test_mutated_urdfs_load_or_get_armkit_errors(case):
         return
     q = robot.random_q(3, rng=0)
     assert np.isfinite(robot.fk(q)).all() and np.isfinite(robot.jacobian(q)).all()
+
+
+@pytest.mark.parametrize("key", ["velocity", "effort"])
+def test_a_negative_velocity_or_effort_limit_is_one_error_not_no_limit(tmp_path, key):
+    text = ARM.replace(f'{key}="', f'{key}="-', 1)
+    assert text != ARM
+    with pytest.raises(RobotDefinitionError, match=f'<limit {key}="-[0-9.]+">: expected a number >= 0'):
+        robot_from_urdf(text, tip="tool")

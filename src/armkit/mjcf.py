@@ -144,6 +144,9 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
             kinds.append("revolute" if kind == _HINGE else "prismatic")
             before.append(pending @ P @ R @ (rot_z(-ref) if kind == _HINGE else trans_z(-ref)))
             after.append(R.T @ np.linalg.inv(P))
+            if model.jnt_limited[j] and not np.isfinite(model.jnt_range[j]).all():
+                raise RobotDefinitionError(f"{source}, joint {name!r}: range {model.jnt_range[j].tolist()}; "
+                                           f"expected two finite numbers")
             limits.append(tuple(model.jnt_range[j]) if model.jnt_limited[j] else (-np.inf, np.inf))
             names.append(name)
             ids.append(j)

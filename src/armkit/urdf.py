@@ -446,6 +446,10 @@ def _limit(joint: _UrdfJoint, where: str) -> tuple[tuple[float, float], float | 
     if lower > upper:
         raise RobotDefinitionError(f"{where}: <limit lower=\"{lower}\" upper=\"{upper}\">: lower is "
                                    f"above upper")
+    for key, value in (("velocity", velocity), ("effort", effort)):
+        if value < 0:
+            raise RobotDefinitionError(f"{where}: <limit {key}=\"{value:g}\">: expected a number >= 0 "
+                                       f"(0: no limit)")
     return (lower, upper), velocity if velocity > 0 else None, effort if "effort" in element.attrib else None
 
 

@@ -138,8 +138,9 @@ def _linear_plan(ctx: LabContext) -> tuple[NDArray, NDArray, object] | None:
         if not twist_possible(robot, q0, np.append(displacement, np.zeros(3))):
             continue
         plan = q0, displacement, move_linear(robot, q0, displacement, LINE_SECONDS)
-        if plan[2].success and plan[2].max_position_error < 1e-4:
-            break
+        if (plan[2].success and plan[2].max_position_error < 1e-4
+                and not ctx.scene.collides(plan[2].q[:: max(1, len(plan[2].q) // 500)]).any()):
+            break  # a line the arm follows, clear of the floor and of itself (the UR5's first went down)
     return plan
 
 
@@ -335,7 +336,7 @@ def trajectory_experiment(ctx: LabContext) -> Section:
     section.tables.append(Table("Peaks against the joint limits, and tracking in MuJoCo (gravity on)",
                                 ["joint", "peak |qd|", "max velocity", "peak |qdd|", "max acceleration",
                                  "max |q_MuJoCo - q_command|"], limit_rows, note=note))
-    section.headline = (f"{trajectory.duration:.0f} s, within limits; tracked in MuJoCo to "
+    section.headline = (f"{trajectory.duration:.3g} s, within limits; tracked in MuJoCo to "
                         f"{position_error.max():.1e} m, {rotation_error.max():.1e} rad")
     save_figure(ctx, plot_pva(trajectory, robot), "trajectory_pva.png", "Position, velocity and "
                 "acceleration of every joint (dots: waypoints, dashed: limits).", section)

@@ -1,8 +1,9 @@
 """Lab experiment 7: a motion planned around an obstacle, run in MuJoCo and checked for collisions.
 
-A box is put where the straight joint-space motion from the first waypoint of experiment 4 to
-its last (or, if that gives no such box, to the first with joint 1 turned by 90 deg) would carry
-the tool, so that the straight motion hits it; :func:`armkit.plan_path`
+A box is put where the straight joint-space motion from the first waypoint of experiment 4 to a
+goal (its last waypoint; else the first with joint 1 turned; else a random configuration with the
+tool far from the start's) would carry the tool, so that the straight motion hits it;
+:func:`armkit.plan_path`
 (OMPL's RRT-Connect, shortened, timed within the joint limits) finds a motion around it; MuJoCo
 runs the motion with gravity on; the simulated configurations are checked against the box, the
 floor and the arm itself. No seed report planned a motion: the section is armkit's own check.
@@ -106,8 +107,9 @@ def _box_clearance(scene, q: NDArray) -> NDArray:
 def planned_motion(ctx: LabContext) -> Section:
     """Experiment 7: a motion planned around an obstacle, run in MuJoCo, checked for collisions."""
     section = Section("plan", "7. A motion planned around an obstacle", (
-        "A box is placed where the straight joint motion from the first to the last waypoint of "
-        "experiment 4 (or to the first with joint 1 turned by 90 deg) carries the tool. armkit.plan_path "
+        "A box is placed where the straight joint motion from the first waypoint of experiment 4 to a "
+        "goal carries the tool: the last waypoint, else the first with joint 1 turned, else a random "
+        "configuration with the tool far from the start's (the table says which). armkit.plan_path "
         "(OMPL's RRT-Connect, shortened, then timed within the joint limits) finds a motion around it, "
         f"keeping {MARGIN * 100:g} cm from it and checked every 5 mm of arm motion; MuJoCo runs it with "
         "gravity on, and every simulated configuration is checked against the box, the "
@@ -162,7 +164,7 @@ def planned_motion(ctx: LabContext) -> Section:
         section.status = "failed"
         section.headline = f"the simulated motion touches {pair_text(scene.contacts(result.q[hits][0]))}"
     else:
-        section.headline = (f"around a {fmt(size, 2)} m box in {trajectory.duration:.2f} s; simulated "
+        section.headline = (f"around a {fmt(size, 3)} m box in {trajectory.duration:.2f} s; simulated "
                             f"distance from it {1000 * float(clearance.min()):.1f} mm or more")
     save_figure(ctx, plot_pva(trajectory, robot), "plan_pva.png",
                 "The planned motion: position, velocity and acceleration of every joint (dots: the shortened "
