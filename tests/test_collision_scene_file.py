@@ -161,3 +161,10 @@ def test_the_self_collision_table_a_scene_writes_gives_the_same_pairs_without_sa
     assert set(again.disabled_pairs) == set(scene.disabled_pairs)
     q = UR5.random_q(500, rng=3)
     np.testing.assert_array_equal(again.collides(q), scene.collides(q))
+
+
+def test_an_empty_scene_file_is_named_empty(tmp_path):
+    path = tmp_path / "cell.toml"
+    path.write_text("\n")
+    with pytest.raises(InputError, match="cell.toml: the file is empty; expected a scene file"):
+        armkit.load_scene(path, UR5)

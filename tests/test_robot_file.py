@@ -178,3 +178,8 @@ def test_a_robot_file_with_more_joints_than_armkit_handles_is_refused_at_load_in
     robot = armkit.load(path)
     q = np.full(MAX_JOINTS, 0.05)
     np.testing.assert_allclose(robot.fk(robot.ik(robot.fk(q), near=q)), robot.fk(q), atol=1e-9)
+
+
+def test_a_folder_is_named_a_folder(tmp_path):
+    with pytest.raises(RobotDefinitionError, match="a folder, not a robot file"):
+        armkit.load(tmp_path)

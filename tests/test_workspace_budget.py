@@ -84,6 +84,7 @@ def test_a_run_that_fits_is_not_refused(tmp_path, four_gib):
 @pytest.mark.parametrize(("args", "message"), [
     (["--samples", "1e30"], "--samples: expected a whole number from 1 to 9.007e+15, got '1e30'"),
     (["--samples", "0"], "--samples: expected a whole number from 1 to 9.007e+15, got '0'"),
+    (["--threads", "0"], "--threads: expected None (every core) or a whole number of threads from 1"),
     (["--samples", "-5"], "--samples: expected a whole number from 1 to 9.007e+15, got '-5'"),
     (["--manipulability-samples", "1e300"], "--manipulability-samples: expected a whole number from 0 to"),
     (["--singular-threshold", "nan"], "singular_threshold: expected a finite number > 0, got nan"),

@@ -140,6 +140,8 @@ def load(name_or_path: str | Path, base: str | None = None, tip: str | None = No
         resource = resources.files("armkit") / "robots" / f"{text}.toml"
         return _load_text(resource.read_bytes(), f"built-in robot {text!r}")
     path = Path(text)
+    if path.is_dir():
+        raise RobotDefinitionError(f"{text}: a folder, not a robot file (TOML), a URDF or an MJCF file")
     if not path.is_file():
         raise RobotDefinitionError(
             f"unknown robot {text!r}: not a built-in ({', '.join(builtin_robots())}) "
@@ -200,6 +202,8 @@ def toml_table(data: bytes, source: str, what: str = "robot file",
         text = data.decode("utf-8-sig")  # a byte order mark (some Windows editors write one) is skipped
     except UnicodeDecodeError as exc:
         raise error(f"{source}: not UTF-8 text (byte {exc.start}); save the {what} as UTF-8") from exc
+    if not text.strip():
+        raise error(f"{source}: the file is empty; expected a {what}")
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 from rich.markup import escape
 
+from armkit._params import thread_count
 from armkit.cli.app import (
     BaseOpt,
     LockOpt,
@@ -52,7 +53,7 @@ def _optional_count(text: str | None, option: str, minimum: int = 1) -> int | No
 def _engine(dask: str | None, threads: int | None):
     """The engine and, for ``--dask local``, the cluster to close afterwards."""
     if dask is None:
-        return threads, None
+        return (None if threads is None else thread_count(threads, "--threads")), None
     if dask == LOCAL_CLUSTER:
         try:
             from distributed import Client, LocalCluster
