@@ -167,3 +167,13 @@ def test_show_names_the_case_and_says_why_not_when_asked(capsys):
     structure = json.loads(capsys.readouterr().out)["structure"]
     assert structure["case"] == "three-parallel"
     assert ["general", "earlier", "not needed: the three-parallel case applies"] in structure["why_not"]
+
+
+def test_why_not_of_an_arm_every_case_refuses_alike_is_said_once(capsys):
+    from armkit.cli.main import main
+
+    assert main(["show", "panda", "--why-not"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("a redundant arm has infinitely many solutions") == 1
+    cases = "spherical, three-parallel, parallel-base, planar, point, general"
+    assert f"no case ({cases}): the reason above" in out

@@ -184,6 +184,10 @@ def show_command(
     console.print(f"IK case: {_case_line(structure)}", markup=False)
     console.print(f"kind: {structure.description}", markup=False)
     if why_not:
-        for case, fit, reason in structure.why_not:
-            if fit != "applies":
+        refused = [(case, fit, reason) for case, fit, reason in structure.why_not if fit != "applies"]
+        if refused and {reason for *_, reason in refused} == {structure.description}:
+            console.print(f"  no case ({', '.join(case for case, *_ in refused)}): the reason above",
+                          markup=False)  # an arm every case refuses alike (a 7-joint arm) says it once
+        else:
+            for case, fit, reason in refused:
                 console.print(f"  not {case} ({fit}): {reason}", markup=False)
