@@ -190,6 +190,14 @@ def test_nearest_solution_at_a_free_joint_holds_near_s_value():
     assert q[2] == near[2] and np.abs(panda.fk(q) - T).max() <= 1e-9
 
 
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), True, "0.3"])
+def test_a_free_value_that_is_no_finite_number_is_named_free_value(value):
+    panda = armkit.load("panda")
+    T = panda.fk(np.full(7, 0.3))
+    with pytest.raises(armkit.InputError, match=r"free_value .*: expected a finite value of q3 \[rad\]"):
+        panda.ik(T, free_joint=2, free_value=value)
+
+
 def test_free_value_without_free_joint_and_unknown_free_joint_are_input_errors():
     panda, _, T = panda_pose()
     with pytest.raises(armkit.InputError, match="free_value: given without free_joint"):

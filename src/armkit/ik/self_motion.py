@@ -18,7 +18,9 @@ Example
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from numbers import Real
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -138,6 +140,10 @@ def ik_at_free_joint(robot: Robot, T_base_tool: ArrayLike, free_joint: int | str
         return each if all_solutions else np.stack(each).reshape(near_q.shape)
     if free_value is None:
         free_value = 0.0 if near_q is None else float(np.reshape(near_q, (-1, robot.n))[0, index])
+    unit = "m" if robot.chain.prismatic[index] else "rad"
+    if isinstance(free_value, bool) or not isinstance(free_value, Real) or not math.isfinite(free_value):
+        raise InputError(f"free_value {free_value!r}: expected a finite value of "
+                         f"{robot.joint_names[index]} [{unit}]", parameter="free_value", value=free_value)
     arm = robot.lock({index: free_value})
     near_arm = None if near_q is None else arm.reduced_q(near_q)
     q = arm.ik(T_base_tool, all_solutions=all_solutions, near=near_arm, within_limits=within_limits,
