@@ -9,9 +9,10 @@ import pytest
 from armkit.chain import DHRow, chain_from_dh
 from armkit.ik import numeric_ik
 from armkit.ik.closed_form import closed_form_ik
-from armkit.ik.structure import poe_from_chain
 from armkit.kinematics import fk, geometric_jacobian, pose_error
+from armkit.poe import poe_from_chain
 from armkit.spatial.rotations import matrix_from_axis_angle
+from armkit.spatial.transforms import invert_transform
 
 #: The built-in robots with a closed form.
 CLOSED_FORM_ROBOTS = ["probot-anno", "puma560", "stanford", "ur5", "zju-i", "grb400-scara"]
@@ -93,9 +94,10 @@ def _eaik_exact_solutions(chain, T):
     if not robot.hasKnownDecomposition():  # e.g. axes 1-3 parallel: EAIK has no solver
         return None
     result = []
+    to_base = invert_transform(poe.T_base)  # EAIK's robot stands at the origin
     for pose in T:
-        target = pose.copy()
-        target[:3, :3] = pose[:3, :3] @ poe.M[:3, :3].T  # EAIK's tool has no rotation
+        target = to_base @ pose
+        target[:3, :3] = target[:3, :3] @ poe.M[:3, :3].T  # EAIK's tool has no rotation
         Q = np.array(robot.IK(target).Q).reshape(-1, chain.n)
         Q = Q[np.abs(fk(chain, Q) - pose).max(axis=(-1, -2)) < 1e-6] if len(Q) else Q
         # Near a double root EAIK may answer with a least-squares point between two exact

@@ -16,7 +16,8 @@ from scipy.optimize import least_squares
 
 import armkit
 from armkit.chain import DHRow
-from armkit.ik.structure import analyze_structure, poe_from_chain
+from armkit.ik.structure import analyze_structure
+from armkit.poe import poe_from_chain
 
 #: Seeds of the numeric search per pose.
 SEARCH_SEEDS = 40
@@ -250,7 +251,7 @@ def test_a_loop_joint_at_its_offset_plus_pi_is_found(index):
     rng = np.random.default_rng(2005)
     robot = general_arm(rng)
     poe = poe_from_chain(robot.chain)
-    geometry = GeneralGeometry(case_chain(poe), shift=0)
+    geometry = GeneralGeometry(case_chain(poe.axes, poe.points, robot.chain.prismatic), shift=0)
     for _ in range(5):
         q0 = rng.uniform(-np.pi, np.pi, 6)
         q0[index] = np.angle(np.exp(1j * ([0.3, 0.7, 1.1][index - 2] + np.pi)))

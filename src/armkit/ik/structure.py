@@ -46,13 +46,12 @@ from numpy.typing import NDArray
 
 from armkit import _core
 from armkit.chain import Chain, as_chain
-from armkit.kinematics import joint_frames
 
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
 __all__ = ["CLASS_TOLERANCE", "ArmStructure", "PoeChain", "SolverPlan", "analyze_structure", "arm_case",
-           "generic_rank", "plan_closed_form", "poe_from_chain"]
+           "generic_rank", "plan_closed_form"]
 
 #: Axes count as parallel where the sine of their angle is at most this, and as meeting where
 #: they pass within this times ``1 +`` the arm's size [m] (the core's ``kClassTolerance``, with
@@ -136,13 +135,6 @@ class SolverPlan:
     poe: PoeChain
     case: str = ""
     point: NDArray[np.float64] | None = None
-
-
-def poe_from_chain(chain: Chain) -> PoeChain:
-    """Screw axes ``(n, 3)``, points ``(n, 3)`` and ``M = T(0)`` of a chain, base frame."""
-    frames, M = joint_frames(chain, np.zeros(chain.n))
-    return PoeChain(frames[:, :3, 2].copy(), frames[:, :3, 3].copy(), chain.prismatic.copy(),
-                    M, np.arange(chain.n), np.ones(chain.n))
 
 
 def generic_rank(chain: Chain, tol: float = _core.RANK_TOLERANCE) -> int:
