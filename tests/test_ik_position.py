@@ -23,6 +23,7 @@ from armkit.cli.main import main
 from armkit.errors import InputError, NoClosedFormError, UnreachableError
 from armkit.ik import ik_position, ik_position_solutions, numeric_ik
 from armkit.ik.position import position_case
+from armkit.ik.structure import generic_rank
 from armkit.kinematics import fk, geometric_jacobian
 from armkit.spatial import transform_from
 
@@ -143,6 +144,17 @@ def test_out_of_reach_and_bad_input():
     with pytest.raises(NoClosedFormError, match="needs 3 joints"):
         chain_2r = chain_from_dh([DHRow(0, 0.3, 0, 0)] * 2, "standard")
         ik_position(chain_2r, [0.3, 0.2, 0.0])
+
+
+def test_a_shoulder_whose_axes_meet_moves_the_tool_point_on_a_sphere_only():
+    """Axes 1-3 through one point: the tool point has two directions (rank 2), so no closed form."""
+    tool = np.eye(4)
+    tool[:3, 3] = [0.5, 0.0, 0.1]
+    robot = armkit.Robot.from_poe(np.eye(3)[[2, 1, 0]], np.zeros((3, 3)), tool)
+    assert generic_rank(robot.chain, joints=3, position_only=True) == 2
+    assert generic_rank(armkit.load("ur5").chain, joints=3, position_only=True) == 3
+    with pytest.raises(NoClosedFormError, match="only 2 independent directions"):
+        robot.ik_position([0.0, 0.5, 0.1])
 
 
 def test_a_family_is_flagged_on_axis_1():

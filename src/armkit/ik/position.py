@@ -34,6 +34,7 @@ from armkit.ik.cases import PointGeometry, solve_pose
 from armkit.ik.numeric import wrap_into_limits
 from armkit.ik.pipeline import Found, left_off_warning, with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions
+from armkit.ik.structure import generic_rank
 from armkit.kinematics import fk, geometric_jacobian
 
 if TYPE_CHECKING:
@@ -74,7 +75,7 @@ _NO_POSITION_CASE = ("joints 1-3 have no closed-form position solution here (two
 def _make_plan(chain: Chain) -> str | NoClosedFormError:
     if chain.n < 3:
         return NoClosedFormError(f"position IK in closed form needs 3 joints; this arm has {chain.n}")
-    rank = _position_rank(chain)
+    rank = generic_rank(chain, joints=3, position_only=True)
     if rank < 3:
         return NoClosedFormError(f"joints 1-3 move the tool point in only {rank} independent directions at "
                                  f"every configuration tried (e.g. axes 1-3 meet at one point, or two are "
@@ -82,17 +83,6 @@ def _make_plan(chain: Chain) -> str | NoClosedFormError:
                                  f"closed form here; use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
     geometry, _, clause = _core.detect_point(chain._core, (0.0, 0.0, 0.0))  # the case is the lines'
     return NoClosedFormError(_NO_POSITION_CASE) if geometry is None else clause
-
-
-def _position_rank(chain: Chain, tries: int = 4) -> int:
-    """The largest rank of the tool point's Jacobian in joints 1-3 over a few random
-    configurations (joints 4..n at 0)."""
-    rng = np.random.default_rng(0)
-    q = np.zeros((tries, chain.n))
-    q[:, :3] = rng.uniform(-np.pi, np.pi, (tries, 3))
-    J = geometric_jacobian(chain, q)[:, :3, :3]
-    S = np.linalg.svd(J, compute_uv=False)
-    return int((S > _core.RANK_TOLERANCE * (1.0 + np.abs(fk(chain, q)[:, :3, 3]).max())).sum(axis=1).max())
 
 
 def _geometry(chain: Chain, tail: NDArray[np.float64]) -> tuple[PointGeometry, NDArray[np.float64]]:

@@ -137,19 +137,23 @@ class SolverPlan:
     point: NDArray[np.float64] | None = None
 
 
-def generic_rank(chain: Chain, tol: float = _core.RANK_TOLERANCE) -> int:
+def generic_rank(chain: Chain, tol: float = _core.RANK_TOLERANCE, *, joints: int | None = None,
+                 position_only: bool = False) -> int:
     """The rank of the chain's Jacobian at a generic configuration: the number of
     independent directions [v; w] its joints can move the tool in, at most ``min(6, n)``.
 
     The largest rank over a few seeded random configurations inside the limits (a rank
     reached anywhere is reached almost everywhere); singular values below ``tol`` times
-    the largest count as zero (computed in the core).
+    the largest count as zero (computed in the core). ``joints``: only the first ``joints``
+    joints move (the others stay at 0) and only their columns count; ``position_only``: the
+    directions the tool point can move in (rows ``v`` only).
 
     >>> import armkit
     >>> generic_rank(armkit.load("ur5").chain), generic_rank(armkit.load("grb400-scara").chain)
     (6, 4)
     """
-    return int(_core.generic_rank(chain._core, float(tol)))
+    moving = -1 if joints is None else int(joints)
+    return int(_core.generic_rank(chain._core, float(tol), moving, bool(position_only)))
 
 
 def arm_case(chain: Chain) -> _core.ArmCase:
