@@ -3,6 +3,7 @@ and dynamics (mj_kinematics, mj_fullM, qfrc_bias) on random configurations."""
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -285,8 +286,11 @@ def test_a_bad_limit_numeric_is_one_error_naming_it(data):
             f'<body name="f" pos="0 0 .5"/></body></worldbody>'
             f'<custom><numeric name="armkit:j1:max_velocity" data="{data}"/></custom></mujoco>')
     message = "MJCF text, custom numeric 'armkit:j1:max_velocity': expected one finite number > 0 .the max_v"
-    with pytest.raises(RobotDefinitionError, match=message):
+    with pytest.raises(RobotDefinitionError, match=message), warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
         robot_from_mjcf(text)
+    nan_warning = "MJCF text: MuJoCo warns: XML contains a 'NaN'. Please check it carefully."
+    assert [str(w.message) for w in said] == ([nan_warning] if data == "nan" else [])
 
 
 def test_every_command_taking_robot_reads_an_mjcf_file(ur5e_file):
@@ -349,9 +353,12 @@ def test_without_mujoco_an_mjcf_file_is_one_error_naming_the_extra(ur5e_file, mo
         armkit.load(ur5e_file)
 
 
-def test_a_nan_joint_range_is_one_error_not_an_unlimited_joint():
+def test_a_nan_joint_range_is_one_error_not_an_unlimited_joint(tmp_path, monkeypatch):
     text = ('<mujoco><worldbody><body name="l1"><joint name="j1" axis="0 1 0" range="nan 1" limited="true"/>'
             '<geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
     message = r"MJCF text, joint 'j1': range \[nan, .*expected two finite"
-    with pytest.raises(RobotDefinitionError, match=message):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(RobotDefinitionError, match=message), \
+            pytest.warns(UserWarning, match="MJCF text: MuJoCo warns: XML contains a 'NaN'"):
         robot_from_mjcf(text)
+    assert list(tmp_path.iterdir()) == []  # MuJoCo's own handler would append to MUJOCO_LOG.TXT here

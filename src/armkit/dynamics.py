@@ -19,6 +19,7 @@ compiled core (``cpp/src/dynamics.cpp``); this module checks inputs and prepares
 from __future__ import annotations
 
 import copy
+from collections.abc import Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -31,7 +32,7 @@ from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, RobotDefinitionError
 from armkit.inertial import Inertial
 from armkit.kinematics import non_finite_error
-from armkit.spatial.transforms import rot_z, trans_z
+from armkit.spatial.transforms import invert_transform, rot_z, trans_z
 
 if TYPE_CHECKING:  # armkit.robot imports this module lazily
     from armkit.robot import Robot
@@ -340,8 +341,14 @@ def with_estimated_inertia(robot: Robot, density: float = 1000.0) -> Robot:
     from armkit.export.physical import DENSITY, capsule_bodies
 
     scale = positive_float(density, "density [kg/m^3]") / DENSITY
-    inertials = []
-    for joint, body in zip(robot.chain.joints, capsule_bodies(robot)[2], strict=True):
-        in_joint_frame = Inertial(body.mass * scale, body.com, body.inertia * scale)
-        inertials.append(in_joint_frame.moved(np.linalg.inv(joint.T_after)))
+    return with_body_inertials(robot, capsule_bodies(robot)[2], scale)
+
+
+def with_body_inertials(robot: Robot, bodies: Sequence, scale: float = 1.0) -> Robot:
+    """A copy of ``robot`` whose links carry ``bodies``' masses and inertias (each body with
+    ``mass``, ``com`` and ``inertia`` in its joint's frame, as the MuJoCo export writes them),
+    scaled by ``scale`` and moved back into the link frames."""
+    inertials = [Inertial(body.mass * scale, body.com, body.inertia * scale)
+                 .moved(invert_transform(joint.T_after))
+                 for joint, body in zip(robot.chain.joints, bodies, strict=True)]
     return _with_inertials(robot, inertials)

@@ -41,12 +41,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit.chain import chain_from_frames
-from armkit.errors import ArmkitError, RobotDefinitionError
+from armkit.errors import ArmkitError, RobotDefinitionError, warn_at_caller
 from armkit.inertial import Inertial
 from armkit.poe import rotation_z_to
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_quaternion_wxyz
-from armkit.spatial.transforms import rot_z, trans_z, transform_from
+from armkit.spatial.transforms import invert_transform, rot_z, trans_z, transform_from
 
 __all__ = ["load_mjcf", "robot_from_mjcf"]
 
@@ -89,10 +89,7 @@ def load_mjcf(path: str | Path, base: str | None = None, tip: str | None = None)
     path = Path(path)
     if not path.is_file():
         raise RobotDefinitionError(f"{path}: no such file")
-    try:
-        model = mujoco.MjModel.from_xml_path(str(path))
-    except ValueError as exc:  # MuJoCo's compiler errors
-        raise RobotDefinitionError(f"{path}: MuJoCo cannot compile it: {_one_line(exc)}") from exc
+    model = _compiled(mujoco, mujoco.MjModel.from_xml_path, str(path), str(path))
     return robot_from_mjcf(model, str(path), base=base, tip=tip)
 
 
@@ -118,9 +115,10 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
     mujoco = _import_mujoco()
     if isinstance(model, str | bytes):
         try:
-            model = mujoco.MjModel.from_xml_string(model if isinstance(model, str) else model.decode())
-        except (ValueError, UnicodeDecodeError) as exc:
+            text = model if isinstance(model, str) else model.decode()
+        except UnicodeDecodeError as exc:
             raise RobotDefinitionError(f"{source}: MuJoCo cannot compile it: {_one_line(exc)}") from exc
+        model = _compiled(mujoco, mujoco.MjModel.from_xml_string, text, source)
     bodies = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or f"body {b}"
               for b in range(model.nbody)]
     base_id = 0 if base is None else _body_id(bodies, base, "base", source)
@@ -143,7 +141,7 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
             ref = float(model.qpos0[model.jnt_qposadr[j]])
             kinds.append("revolute" if kind == _HINGE else "prismatic")
             before.append(pending @ P @ R @ (rot_z(-ref) if kind == _HINGE else trans_z(-ref)))
-            after.append(R.T @ np.linalg.inv(P))
+            after.append(R.T @ invert_transform(P))
             if model.jnt_limited[j] and not np.isfinite(model.jnt_range[j]).all():
                 raise RobotDefinitionError(f"{source}, joint {name!r}: range {model.jnt_range[j].tolist()}; "
                                            f"expected two finite numbers")
@@ -182,6 +180,24 @@ def _limit_numeric(mujoco: Any, model: Any, joint: str, limit: str, source: str)
         raise RobotDefinitionError(f"{source}, custom numeric {name!r}: expected one finite number > 0 (the "
                                    f"{limit} of joint {joint!r}), got data {shown}")
     return float(data[0])
+
+
+def _compiled(mujoco: Any, compile_xml: Any, xml: str, source: str) -> Any:
+    """``compile_xml(xml)`` with MuJoCo's compiler errors as :class:`RobotDefinitionError` and its
+    warnings as Python warnings naming ``source`` (MuJoCo would otherwise print them and append
+    them to a ``MUJOCO_LOG.TXT`` in the user's working folder)."""
+    said: list[str] = []
+    previous = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(said.append)
+    try:
+        model = compile_xml(xml)
+    except ValueError as exc:
+        raise RobotDefinitionError(f"{source}: MuJoCo cannot compile it: {_one_line(exc)}") from exc
+    finally:
+        mujoco.set_mju_user_warning(previous)
+    for text in dict.fromkeys(said):
+        warn_at_caller(UserWarning(f"{source}: MuJoCo warns: {text.strip()}"))
+    return model
 
 
 def _one_line(exc: Exception) -> str:

@@ -23,7 +23,7 @@ from armkit._params import core_ready, thread_count, whole_number
 from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.inertial import Inertial
-from armkit.spatial.transforms import pose_from_transform, rot_z, trans_z
+from armkit.spatial.transforms import invert_transform, pose_from_transform, rot_z, trans_z
 
 if TYPE_CHECKING:  # the descriptions' modules import this one; matplotlib only when drawing
     from matplotlib.figure import Figure
@@ -76,7 +76,7 @@ def _with_base_inertials(chain: Chain, inertials: Sequence[Inertial | None] | No
     joints, T_base_link = [], np.eye(4)
     for joint, inertial, limit in zip(chain.joints, inertials, max_torque, strict=True):
         T_base_link = T_base_link @ joint.T_before @ joint.T_after
-        moved = None if inertial is None else inertial.moved(np.linalg.inv(T_base_link))
+        moved = None if inertial is None else inertial.moved(invert_transform(T_base_link))
         joints.append(replace(joint, inertial=moved, max_torque=limit))
     return Chain(tuple(joints), chain.T_base, chain.T_tool)
 
