@@ -80,7 +80,7 @@ def main() -> None:
 
     def armkit_closed_loop():
         T, J = control.kernel.fk_jacobian(q)
-        return control._solve(J, twist + 20.0 * pose_error(T_target, T)).qd
+        return control.solve(J, twist + 20.0 * pose_error(T_target, T)).qd
 
     def rtb_closed_loop():
         T = ets.eval(q)
@@ -97,12 +97,12 @@ def main() -> None:
          [("rtb ETS eval + p_servo + jacob0 + DLS", rtb_closed_loop)]),
     ]
     J = ours.jacobian(q)
-    gram = J @ J.T
-    assert np.isclose(np.sqrt(lapack.dsyev(gram, compute_v=0)[0][0]), np.linalg.svd(J, compute_uv=False)[-1])
-    print("ingredient: smallest singular value of the 6x6 Jacobian [us]: "
-          f"np.linalg.svd {median_us(lambda: np.linalg.svd(J, compute_uv=False), repeat, number):.2f}, "
-          f"J J^T + LAPACK dsyev (armkit) "
-          f"{median_us(lambda: lapack.dsyev(J @ J.T, compute_v=0), repeat, number):.2f}")
+    assert np.isclose(control.solve(J, twist).sigma_min, np.linalg.svd(J, compute_uv=False)[-1])
+    print("ingredient: DLS step through a given 6x6 Jacobian (sigma_min, damping, solve) [us]: "
+          f"np.linalg.svd alone {median_us(lambda: np.linalg.svd(J, compute_uv=False), repeat, number):.2f}, "
+          "J J^T + LAPACK dsyev alone "
+          f"{median_us(lambda: lapack.dsyev(J @ J.T, compute_v=0), repeat, number):.2f}, "
+          f"armkit's whole step (core) {median_us(lambda: control.solve(J, twist), repeat, number):.2f}")
     print(f"PROBOT Anno (6R), one configuration; median of {repeat} x {number} calls")
     print(f"{'case':34} {'armkit [us]':>11}  {'peer':38} {'peer [us]':>9} {'peer/armkit':>11}")
     for label, mine, peers in cases:

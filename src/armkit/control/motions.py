@@ -255,7 +255,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
         poses[k] = T
         dt = t[k + 1] - t[k]
         feedforward = pose_error(reference[k + 1], reference[k]) / dt
-        rate = control._solve(J, feedforward + gain * pose_error(reference[k], T))
+        rate = control.solve(J, feedforward + gain * pose_error(reference[k], T))
         sigma[k], scale[k] = rate.sigma_min, rate.scale
         fraction, joint = _limit_stop(robot.chain, q, rate.qd * dt)
         qds[k] = rate.qd * fraction
@@ -274,7 +274,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
             break
     T, J = control.kernel.fk_jacobian(q)
     poses[last] = T
-    sigma[last] = control._solve(J, np.zeros(6)).sigma_min
+    sigma[last] = control.solve(J, np.zeros(6)).sigma_min
     sl = slice(0, last + 1)
     # hypot, not norm: a target 1e160 m or farther is that far away, not inf
     errors = (float(np.hypot.reduce(T[:3, 3] - reference[-1, :3, 3])),
