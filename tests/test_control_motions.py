@@ -119,7 +119,8 @@ def test_track_poses_follows_a_given_reference():
 @pytest.mark.parametrize(("call", "match"), [
     (lambda: move_linear(PROBOT, Q0, [0.1, 0, np.nan], 1.0), "NaN"),
     (lambda: move_linear(PROBOT, Q0, [0.1, 0], 1.0), "expected 3 numbers"),
-    (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], -1.0), "duration = -1.0: expected a positive"),
+    (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], -1.0),
+     r"duration \[s\]: expected a finite number > 0, got -1.0"),
     (lambda: move_linear(PROBOT, [0] * 5, [0.1, 0, 0], 1.0), "6 joints"),
     (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], 1.0, frame="world"), "expected 'base' or 'tool'"),
     (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], 1.0, dt=0.1, gain=20), "gain \\* dt <= 1"),
@@ -131,7 +132,7 @@ def test_track_poses_follows_a_given_reference():
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, angular_velocity=-0.1),
      "opposite signs"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=0.0, duration=1.0), "non-zero"),
-    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=0.1, duration=-2.0), "positive"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=0.1, duration=-2.0), "> 0"),
     (lambda: track_poses(PROBOT, Q0, [0.0, 0.0], np.stack([np.eye(4)] * 2)), "increasing"),
 ])
 def test_bad_input(call, match):

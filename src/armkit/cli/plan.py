@@ -25,7 +25,7 @@ from armkit.cli.app import (
     reject_unknown_options,
     to_si,
 )
-from armkit.cli.ik import _target
+from armkit.cli.ik import target_from_options
 from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
 from armkit.cli.trajectory import (
     ForceOpt,
@@ -147,7 +147,8 @@ def plan_command(
             raise JointLimitError(f"{option}: {'; '.join(outside)}", joints[option],
                                   **arm.chain.limit_fields(joints[option]))
     q_start = arm.home if joints["--from"] is None else joints["--from"]
-    target = joints["--to"] if to_pose is None else _target(to_pose, None, None, parse_convention(euler), deg)
+    target = (joints["--to"] if to_pose is None
+              else target_from_options(to_pose, None, None, parse_convention(euler), deg))
     limits = planning_limits(arm, _limit_option(max_velocity, arm, deg, "--max-velocity"),
                              _limit_option(max_acceleration, arm, deg, "--max-acceleration"))
     world = load_scene_option(arm, scene, package_path)

@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit._deprecation import deprecated_property, renamed_argument
+from armkit._params import positive_float
 from armkit._time import even_time_grid
 from armkit.chain import Chain
 from armkit.control.resolved_rate import ResolvedRate
@@ -141,7 +142,8 @@ class MotionResult:
         return TrajectoryTorques(self.t, tau, np.abs(tau).max(axis=0))
 
 
-def _check_start(robot: Robot, q0: ArrayLike) -> NDArray[np.float64]:
+def check_start(robot: Robot, q0: ArrayLike) -> NDArray[np.float64]:
+    """``q0`` as one configuration of ``robot`` inside its limits, or an armkit error naming it."""
     q0 = robot.check_q(q0, "q0")
     if q0.ndim != 1:
         raise InputError(f"q0: expected one configuration of {robot.n} values, got shape {q0.shape}")
@@ -149,14 +151,9 @@ def _check_start(robot: Robot, q0: ArrayLike) -> NDArray[np.float64]:
     return q0
 
 
-def _check_positive(value: float, name: str, unit: str) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name}: expected a number [{unit}], got {value!r}") from exc
-    if not (np.isfinite(value) and value > 0):
-        raise InputError(f"{name} = {value}: expected a positive finite number [{unit}]")
-    return value
+def check_positive(value: object, name: str, unit: str) -> float:
+    """``value`` as a finite float > 0, or :class:`InputError` naming ``name`` and its ``unit``."""
+    return positive_float(value, f"{name} [{unit}]")
 
 
 def _check_vector(value: ArrayLike, name: str, unit: str) -> NDArray[np.float64]:
@@ -232,14 +229,14 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     -------
     MotionResult
     """
-    q = _check_start(robot, q0)
+    q = check_start(robot, q0)
     t = np.asarray(t, dtype=float)
     reference = np.asarray(reference, dtype=float)
     if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
         raise InputError(f"t: expected at least 2 finite increasing times, got {t!r}")
     if reference.shape != (t.size, 4, 4) or not np.all(np.isfinite(reference)):
         raise InputError(f"reference: expected {t.size} finite 4x4 poses, got shape {reference.shape}")
-    gain = _check_positive(gain, "gain", "1/s")
+    gain = check_positive(gain, "gain", "1/s")
     if gain * np.diff(t).max() > 1.0:
         raise InputError(f"gain = {gain:g} 1/s with a control period up to {np.diff(t).max():g} s: "
                          f"expected gain * dt <= 1 (a stable loop); shorten dt or lower the gain")
@@ -330,10 +327,10 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     >>> bool(result.position_error < 1e-6)
     True
     """
-    q0 = _check_start(robot, q0)
+    q0 = check_start(robot, q0)
     displacement = _check_vector(displacement, "displacement", "m")
-    duration = _check_positive(duration, "duration", "s")
-    dt = _check_positive(dt, "dt", "s")
+    duration = check_positive(duration, "duration", "s")
+    dt = check_positive(dt, "dt", "s")
     T0 = robot.fk(q0)
     if frame == "tool":
         displacement = T0[:3, :3] @ displacement
@@ -360,7 +357,7 @@ def _turn(angle: float | None, speed: float | None,
         if value is not None and not (np.isfinite(value) and value != 0):
             raise InputError(f"{name} = {value}: expected a non-zero finite number")
     if duration is not None:
-        duration = _check_positive(duration, "duration", "s")
+        duration = check_positive(duration, "duration", "s")
     if angle is not None and speed is not None:
         if np.sign(angle) != np.sign(speed) and speed < 0:
             raise InputError(f"angle {angle:g} rad and angular_velocity {speed:g} rad/s have opposite signs; "
@@ -426,7 +423,7 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     >>> bool(result.max_position_error < 1e-4), result.success
     (True, True)
     """
-    q0 = _check_start(robot, q0)
+    q0 = check_start(robot, q0)
     axis = _check_vector(axis, "axis", "unitless direction")
     norm = np.linalg.norm(axis)
     if norm < 1e-12:
@@ -435,7 +432,7 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     angular_velocity = renamed_argument("rotate_about_tool_point", "rate", "angular_velocity", rate,
                                         angular_velocity, None)
     signed_angle, total_time, constant_rate = _turn(angle, angular_velocity, duration)
-    dt = _check_positive(dt, "dt", "s")
+    dt = check_positive(dt, "dt", "s")
     T0 = robot.fk(q0)
     if frame == "tool":
         axis = T0[:3, :3] @ axis

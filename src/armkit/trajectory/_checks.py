@@ -7,8 +7,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError
 
-__all__ = ["MAX_DURATION", "MIN_DURATION", "check_durations", "check_finite", "check_waypoints",
-           "durations_from_times"]
+__all__ = ["FINEST_TOL", "MAX_DURATION", "MIN_DURATION", "check_durations", "check_finite", "check_tol",
+           "check_waypoints", "durations_from_times"]
 
 #: Shortest and longest segment duration [s] a trajectory takes: a microsecond (a thousandth of
 #: a 1 kHz servo period) to about 11.6 days. The polynomials hold powers of the duration up to
@@ -16,6 +16,23 @@ __all__ = ["MAX_DURATION", "MIN_DURATION", "check_durations", "check_finite", "c
 #: (NaN coefficients); these bounds keep every power within about 1e30 of 1.
 MIN_DURATION = 1e-6
 MAX_DURATION = 1e6
+#: Finest relative accuracy ``tol`` of the timing's durations: its bisection stops at
+#: ``hi - lo <= tol * hi``, and a finer bound than ~1e4 ulp could ask it to split two adjacent
+#: floats forever.
+FINEST_TOL = 1e-12
+
+
+def check_tol(tol: object) -> float:
+    """The timing's ``tol`` (relative accuracy of each duration) as a float in
+    ``[FINEST_TOL, 0.5]``, or :class:`InputError` naming it."""
+    try:
+        value = float(tol)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        value = float("nan")
+    if isinstance(tol, bool) or not FINEST_TOL <= value <= 0.5:
+        raise InputError(f"tol: expected a relative accuracy of each duration from {FINEST_TOL:g} to 0.5 "
+                         f"(e.g. 1e-4), got {tol!r}", parameter="tol", value=tol)
+    return value
 
 
 def check_finite(values: ArrayLike, name: str) -> NDArray[np.float64]:

@@ -52,7 +52,7 @@ from armkit.trajectory._checks import check_finite, check_waypoints
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.min_jerk import min_jerk
 from armkit.trajectory.polynomial import quintic_coefficients
-from armkit.trajectory.timing import _MARGIN, _checked_limits, limit_ratio
+from armkit.trajectory.timing import LIMIT_MARGIN, checked_limits, limit_ratio
 
 if TYPE_CHECKING:
     from armkit.robot import Robot
@@ -218,7 +218,7 @@ def geometric_path(waypoints: ArrayLike, max_velocity: ArrayLike, max_accelerati
     (:func:`~armkit.trajectory.min_jerk.min_jerk`). Parameters as in :func:`time_optimal`.
     """
     waypoints = check_waypoints(waypoints)
-    vmax, amax = _checked_limits(waypoints, max_velocity, max_acceleration)
+    vmax, amax = checked_limits(waypoints, max_velocity, max_acceleration)
     step = np.abs(np.diff(waypoints, axis=0))
     if (repeated := np.flatnonzero(step.max(axis=1) == 0)).size:
         k = int(repeated[0]) + 1
@@ -296,9 +296,9 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
         raise InputError(f"smoothing: expected a fraction in (0, 1] of the time between waypoints, got "
                          f"{smoothing:g}")
     path = geometric_path(waypoints, max_velocity, max_acceleration, position_limits=position_limits)
-    vmax, amax = _checked_limits(path.waypoints, max_velocity, max_acceleration)
+    vmax, amax = checked_limits(path.waypoints, max_velocity, max_acceleration)
     if np.all(np.isinf(amax)) and not constraints:
-        return _scaled(path, limit_ratio(path, vmax, amax) * (1 + _MARGIN))
+        return _scaled(path, limit_ratio(path, vmax, amax) * (1 + LIMIT_MARGIN))
     per_segment = max(GRID_PER_SEGMENT, -(-GRID_TOTAL // path.durations.size))
     fractions = np.arange(per_segment) / per_segment
     s = np.append(path.waypoint_times[:-1, None] + path.durations[:, None] * fractions, path.duration)
@@ -329,7 +329,7 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
     h = np.diff(knots)
     coefficients = quintic_coefficients(q[:-1], q[1:], h[:, None], qd[:-1], qd[1:], qdd[:-1], qdd[1:])
     fitted = JointTrajectory(h, coefficients, path.waypoints, segment_pieces=pieces)
-    k = limit_ratio(fitted, vmax, amax) * (1 + _MARGIN)
+    k = limit_ratio(fitted, vmax, amax) * (1 + LIMIT_MARGIN)
     if constraints:       # never faster than the profile that met them: slower keeps a torque between
         k = max(k, 1.0)   # its value at rest and along the profile
     return _scaled(fitted, k)
