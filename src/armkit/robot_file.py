@@ -91,8 +91,8 @@ from armkit.urdf import robot_from_urdf
 
 __all__ = ["builtin_robots", "load", "robot_from_dict", "robot_to_toml"]
 
-_LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
-_ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
+LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
+ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 _TOP_KEYS = {"name", "convention", "length_unit", "angle_unit", "description", "joints",
              "tool", "base"}
 _ROW_KEYS = {"alpha", "a", "d", "theta"}
@@ -220,11 +220,11 @@ def _load_text(data: bytes, source: str) -> Robot:
 # ------------------------------------------------------------------ values
 def _number(value: Any, where: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise RobotDefinitionError(f"{where}: expected a finite number, got {_shown(value)}")
+        raise RobotDefinitionError(f"{where}: expected a finite number, got {shown_value(value)}")
     return float(value)
 
 
-def _quantity(value: Any, where: str, unit: float) -> float:
+def table_quantity(value: Any, where: str, unit: float) -> float:
     """A length or angle in SI units, at most :data:`MAX_VALUE` in magnitude."""
     number = _number(value, where) * unit
     if not abs(number) <= MAX_VALUE:
@@ -233,30 +233,34 @@ def _quantity(value: Any, where: str, unit: float) -> float:
     return number
 
 
-def _shown(value: Any) -> str:
+def shown_value(value: Any) -> str:
+    """A value as an error message shows it (``repr``, long ones cut)."""
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _vector(value: Any, where: str, unit: float, size: int = 3) -> NDArray[np.float64]:
+def table_vector(value: Any, where: str, unit: float, size: int = 3) -> NDArray[np.float64]:
+    """A list of ``size`` finite numbers, times ``unit`` (to SI)."""
     if not isinstance(value, list) or len(value) != size:
-        raise RobotDefinitionError(f"{where}: expected {size} numbers, got {_shown(value)}")
-    return np.array([_quantity(v, where, unit) for v in value])
+        raise RobotDefinitionError(f"{where}: expected {size} numbers, got {shown_value(value)}")
+    return np.array([table_quantity(v, where, unit) for v in value])
 
 
-def _choice(data: dict, key: str, options: dict | tuple, source: str, default: str | None) -> str:
+def table_choice(data: dict, key: str, options: dict | tuple, source: str, default: str | None) -> str:
+    """``data[key]`` (or ``default``), one of ``options``, or an error naming the key and the options."""
     value = data.get(key, default)
     if value is None:
         raise RobotDefinitionError(f"{source}: missing key {key!r} (one of {', '.join(options)})")
     if not isinstance(value, str) or value not in options:
         raise RobotDefinitionError(
-            f"{source}: {key} = {_shown(value)}; expected one of {', '.join(map(repr, options))}")
+            f"{source}: {key} = {shown_value(value)}; expected one of {', '.join(map(repr, options))}")
     return value
 
 
-def _check_keys(table: Any, allowed: set[str], required: set[str], where: str) -> None:
+def check_table_keys(table: Any, allowed: set[str], required: set[str], where: str) -> None:
+    """``table`` is a TOML table with every ``required`` key and no key outside ``allowed``."""
     if not isinstance(table, dict):
-        raise RobotDefinitionError(f"{where}: expected a table, got {_shown(table)}")
+        raise RobotDefinitionError(f"{where}: expected a table, got {shown_value(table)}")
     unknown = sorted(set(table) - allowed)
     if unknown:
         raise RobotDefinitionError(f"{where}: unknown key {unknown[0]!r}; expected keys: "
@@ -268,16 +272,16 @@ def _check_keys(table: Any, allowed: set[str], required: set[str], where: str) -
 
 def _text(value: Any, where: str) -> str:
     if not isinstance(value, str):
-        raise RobotDefinitionError(f"{where}: expected a string, got {_shown(value)}")
+        raise RobotDefinitionError(f"{where}: expected a string, got {shown_value(value)}")
     return value
 
 
 # ------------------------------------------------------------------ tables
 def _row(table: dict, where: str, joint: str | None, length: float, angle: float) -> DHRow:
-    return DHRow(alpha=_quantity(table["alpha"], f"{where}, key 'alpha'", angle),
-                 a=_quantity(table["a"], f"{where}, key 'a'", length),
-                 d=_quantity(table["d"], f"{where}, key 'd'", length),
-                 theta=_quantity(table["theta"], f"{where}, key 'theta'", angle),
+    return DHRow(alpha=table_quantity(table["alpha"], f"{where}, key 'alpha'", angle),
+                 a=table_quantity(table["a"], f"{where}, key 'a'", length),
+                 d=table_quantity(table["d"], f"{where}, key 'd'", length),
+                 theta=table_quantity(table["theta"], f"{where}, key 'theta'", angle),
                  joint=joint)
 
 
@@ -285,14 +289,14 @@ def _fixed_rows(rows: list, key: str, source: str, length: float, angle: float) 
     out = []
     for i, table in enumerate(rows):
         where = f"{source}, {key} row {i + 1}"
-        _check_keys(table, _ROW_KEYS, _ROW_KEYS, where)
+        check_table_keys(table, _ROW_KEYS, _ROW_KEYS, where)
         out.append(_row(table, where, None, length, angle))
     return out
 
 
-def _transform(table: dict, where: str, length: float, angle: float) -> NDArray[np.float64]:
+def table_transform(table: dict, where: str, length: float, angle: float) -> NDArray[np.float64]:
     """A ``[base]`` / ``[tool]`` table: ``xyz`` + ``rpy`` or ``matrix``, to SI."""
-    _check_keys(table, _TRANSFORM_KEYS, set(), where)
+    check_table_keys(table, _TRANSFORM_KEYS, set(), where)
     if "matrix" in table:
         if set(table) != {"matrix"}:
             raise RobotDefinitionError(f"{where}: give either matrix or xyz and rpy, not both")
@@ -305,10 +309,10 @@ def _transform(table: dict, where: str, length: float, angle: float) -> NDArray[
             T = check_transform(T, f"{where}, key 'matrix'")
         except InputError as exc:
             raise RobotDefinitionError(str(exc)) from exc
-        T[:3, 3] = _vector(T[:3, 3].tolist(), f"{where}, key 'matrix' (translation)", length)
+        T[:3, 3] = table_vector(T[:3, 3].tolist(), f"{where}, key 'matrix' (translation)", length)
         return T
-    xyz = _vector(table.get("xyz", [0, 0, 0]), f"{where}, key 'xyz'", length)
-    rpy = _vector(table.get("rpy", [0, 0, 0]), f"{where}, key 'rpy'", angle)
+    xyz = table_vector(table.get("xyz", [0, 0, 0]), f"{where}, key 'xyz'", length)
+    rpy = table_vector(table.get("rpy", [0, 0, 0]), f"{where}, key 'rpy'", angle)
     return transform_from(matrix_from_euler(rpy, "xyz-fixed"), xyz)
 
 
@@ -319,11 +323,11 @@ def _end(data: dict, key: str, source: str, length: float, angle: float,
     if value is None:
         return [], None
     if isinstance(value, dict):
-        return [], _transform(value, f"{source}, [{key}]", length, angle)
+        return [], table_transform(value, f"{source}, [{key}]", length, angle)
     if isinstance(value, list) and not poe:
         return _fixed_rows(value, key, source, length, angle), None
     expected = f"a [{key}] table (xyz and rpy, or matrix)" + ("" if poe else f" or [[{key}]] DH rows")
-    raise RobotDefinitionError(f"{source}: {key} must be {expected}, got {_shown(value)}")
+    raise RobotDefinitionError(f"{source}: {key} must be {expected}, got {shown_value(value)}")
 
 
 def _joint_name(table: dict, where: str, index: int, seen: set[str]) -> str:
@@ -344,28 +348,28 @@ def robot_from_dict(data: dict, source: str = "robot description", require_units
     required keys.
     """
     required = {"convention", "joints"} | ({"length_unit", "angle_unit"} if require_units else set())
-    _check_keys(data, _TOP_KEYS, required, source)
-    convention = _choice(data, "convention", ("standard", "modified", "poe"), source, None)
-    length_unit = _choice(data, "length_unit", _LENGTH_UNITS, source, "m")
-    angle_unit = _choice(data, "angle_unit", _ANGLE_UNITS, source, "rad")
-    length, angle = _LENGTH_UNITS[length_unit], _ANGLE_UNITS[angle_unit]
+    check_table_keys(data, _TOP_KEYS, required, source)
+    convention = table_choice(data, "convention", ("standard", "modified", "poe"), source, None)
+    length_unit = table_choice(data, "length_unit", LENGTH_UNITS, source, "m")
+    angle_unit = table_choice(data, "angle_unit", ANGLE_UNITS, source, "rad")
+    length, angle = LENGTH_UNITS[length_unit], ANGLE_UNITS[angle_unit]
     poe = convention == "poe"
     joints = data["joints"]
     if not isinstance(joints, list) or not joints:
         raise RobotDefinitionError(f"{source}: 'joints' must be a non-empty array of tables "
-                                   f"([[joints]]), got {_shown(joints)}")
+                                   f"([[joints]]), got {shown_value(joints)}")
     rows, axes, points, kinds, limits, vmax, amax, names = [], [], [], [], [], [], [], []
     inertials, max_torque, radii = [], [], []
     seen: set[str] = set()
     for i, table in enumerate(joints):
         where = f"{source}, joint {i + 1}"
         keys = _POE_KEYS if poe else _ROW_KEYS
-        _check_keys(table, keys | _COMMON_JOINT_KEYS, keys, where)
-        kind = _choice(table, "type", ("revolute", "prismatic"), where, "revolute")
+        check_table_keys(table, keys | _COMMON_JOINT_KEYS, keys, where)
+        kind = table_choice(table, "type", ("revolute", "prismatic"), where, "revolute")
         unit = angle if kind == "revolute" else length
         if poe:
-            axes.append(_vector(table["axis"], f"{where}, key 'axis'", 1.0))
-            points.append(_vector(table["point"], f"{where}, key 'point'", length))
+            axes.append(table_vector(table["axis"], f"{where}, key 'axis'", 1.0))
+            points.append(table_vector(table["point"], f"{where}, key 'point'", length))
         else:
             rows.append(_row(table, where, kind, length, angle))
         kinds.append(kind)
@@ -417,15 +421,15 @@ def _inertial(table: dict, where: str, length: float) -> Inertial | None:
     if not 0 <= mass <= MAX_VALUE:
         raise RobotDefinitionError(f"{where}, key 'mass': expected a mass from 0 to {MAX_VALUE:g} kg, "
                                    f"got {table['mass']!r}")
-    com = _vector(table.get("com", [0, 0, 0]), f"{where}, key 'com'", length)
+    com = table_vector(table.get("com", [0, 0, 0]), f"{where}, key 'com'", length)
     value, key = table.get("inertia", [0, 0, 0]), f"{where}, key 'inertia'"
     if isinstance(value, list) and len(value) == 3 and all(isinstance(row, list) for row in value):
-        inertia = np.array([_vector(row, key, length**2) for row in value])
+        inertia = np.array([table_vector(row, key, length**2) for row in value])
     elif isinstance(value, list) and len(value) == 3:
-        inertia = np.diag(_vector(value, key, length**2))
+        inertia = np.diag(table_vector(value, key, length**2))
     else:
         raise RobotDefinitionError(f"{key}: expected 3 numbers (the diagonal) or a 3x3 matrix "
-                                   f"[kg length_unit^2], got {_shown(value)}")
+                                   f"[kg length_unit^2], got {shown_value(value)}")
     try:
         return Inertial(mass, com, inertia)
     except RobotDefinitionError as exc:
@@ -436,8 +440,8 @@ def _limits(value: Any, where: str, unit: float) -> tuple[float, float] | None:
     if value is None:
         return None
     if not isinstance(value, list) or len(value) != 2:
-        raise RobotDefinitionError(f"{where}: expected [lower, upper], got {_shown(value)}")
-    lower, upper = (_quantity(v, where, unit) for v in value)
+        raise RobotDefinitionError(f"{where}: expected [lower, upper], got {shown_value(value)}")
+    lower, upper = (table_quantity(v, where, unit) for v in value)
     if not lower < upper:
         raise RobotDefinitionError(f"{where}: lower {value[0]} must be below upper {value[1]}")
     return lower, upper
