@@ -469,3 +469,21 @@ def test_import_armkit_fk_and_ik_load_neither_the_cli_nor_plots():
             "'PIL', 'mpl_toolkits'}))\n")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == "[]"
+
+
+def test_no_module_imports_a_private_name_of_another():
+    """A name with a leading underscore is its module's own: what another module needs is public
+    (private modules such as ``armkit._params`` are shared on purpose)."""
+    import ast
+    from pathlib import Path
+
+    package = Path(armkit.__file__).parent
+    private = []
+    for path in package.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("armkit"):
+                if node.module.rsplit(".", 1)[-1].startswith("_"):
+                    continue
+                private += [f"{path.relative_to(package)}: {node.module}.{alias.name}" for alias in node.names
+                            if alias.name.startswith("_") and alias.name != "_core"]
+    assert private == []
