@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -139,6 +140,13 @@ def test_out_of_reach_and_bad_input():
         robot.ik_position([3.0, 0.1, 0.3])
     with pytest.raises(InputError, match="position: expected 3 finite numbers"):
         robot.ik_position([0.3, np.nan, 0.3])
+    with warnings.catch_warnings():  # no overflow on the way
+        warnings.simplefilter("error")
+        for far, distance in (([1e308, 0.0, 0.0], 1e308), ([1e300] * 3, np.sqrt(3) * 1e300),
+                              ([0.0, -3e7, 0.0], 3e7)):
+            with pytest.raises(UnreachableError, match="a million times the arm.s whole length") as error:
+                robot.ik_position(far)
+            assert error.value.position_error == pytest.approx(distance, rel=1e-15)
     with pytest.raises(InputError, match="near: expected 3 finite joint values"):
         robot.ik_position([0.3, 0.1, 0.3], near=[0, 1])
     with pytest.raises(NoClosedFormError, match="needs 3 joints"):
