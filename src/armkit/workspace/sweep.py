@@ -56,9 +56,13 @@ def parse_sweep(text: str) -> tuple[str, int, NDArray[np.float64]]:
                          f"{', '.join(PARAMETERS)}, e.g. 'a2=0.2:0.4:5' (SI units)")
     name, row, start, stop, count = match.groups()
     try:
-        values = np.linspace(float(start), float(stop), int(count))
+        ends = float(start), float(stop)
     except ValueError as exc:
         raise InputError(f"sweep {text!r}: {start!r} or {stop!r} is not a number") from exc
+    if not np.isfinite(ends).all():
+        raise InputError(f"sweep {text!r}: expected finite START and STOP, got {start.strip()} and "
+                         f"{stop.strip()}")
+    values = np.linspace(*ends, int(count))
     if len(values) < 1:
         raise InputError(f"sweep {text!r}: expected at least one value")
     return name, int(row), values
