@@ -131,6 +131,8 @@ def test_cli_json_summary_and_report(tmp_path, capsys):
     (["--sweep", "a3=nan:1:3"], "sweep 'a3=nan:1:3': expected finite START and STOP, got nan and 1"),
     (["--sweep", "a3=0:inf:3"], "expected finite START and STOP, got 0 and inf"),
     (["--dataset", "10"], "--dataset needs --out"),
+    (["--out", "maps.txt"], "--out maps.txt: a Zarr store is a folder, and '.txt' names a file; call it "
+                            "e.g. maps.zarr"),
 ])
 def test_cli_errors_are_one_line(args, message, capsys):
     assert main(["workspace", "puma560", "--resolution", "0.2", "--samples", "100", "--quiet", *args]) == 1

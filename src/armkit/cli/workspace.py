@@ -192,6 +192,9 @@ def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, 
         raise InputError("--scene: with the maps only (not with --sweep or --dataset)")
     if resume and out is None:
         raise InputError("--resume needs --out: the store to continue")
+    if out is not None and out.suffix not in ("", ".zarr") and not out.is_dir():
+        raise InputError(f"--out {out}: a Zarr store is a folder, and {out.suffix!r} names a file; call it "
+                         f"e.g. {out.with_suffix('.zarr')}")
     engine, cluster = _engine(dask, threads)
     common = {"seed": seed, "method": method, "engine": engine, "resume": resume, "overwrite": force,
               "progress": not quiet and not json_output}
