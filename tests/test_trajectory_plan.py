@@ -4,6 +4,8 @@ limits), and a tolerance that must be a relative accuracy."""
 from __future__ import annotations
 
 import json
+import re
+import warnings
 from importlib.metadata import distribution
 from pathlib import Path
 
@@ -60,6 +62,17 @@ def test_a_tolerance_that_is_not_a_relative_accuracy_is_refused(tol):
         plan_trajectory(robot, [[0.0] * 6, [0.5] * 6], tol=tol)
     with pytest.raises(InputError, match="tol: expected a relative accuracy"):
         plan_trajectory(robot, [[0.0] * 6, [0.5] * 6], [0.1], tol=tol)
+
+
+@pytest.mark.parametrize(("limits", "at_least"), [({"max_acceleration": 1e-300}, "6.32e+149 s"),
+                                                   ({"max_velocity": 1e-300}, "1e+299 s")])
+def test_limits_too_small_for_any_trajectory_are_named(limits, at_least):
+    robot = armkit.load("ur5")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow on the way
+        with pytest.raises(InputError, match=f"waypoints 1 to 2: at joint 1's limits .* takes at least "
+                                             f"{re.escape(at_least)}, longer than a trajectory's longest"):
+            plan_trajectory(robot, [[0.0] * 6, [0.1] + [0.0] * 5], **limits)
 
 
 def test_the_timing_descent_checks_its_budget_and_says_what_it_spent():

@@ -48,7 +48,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError
-from armkit.trajectory._checks import check_finite, check_waypoints
+from armkit.trajectory._checks import MAX_DURATION, check_finite, check_waypoints
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.min_jerk import min_jerk
 from armkit.trajectory.polynomial import quintic_coefficients
@@ -233,6 +233,12 @@ def geometric_path(waypoints: ArrayLike, max_velocity: ArrayLike, max_accelerati
         k = int(free[0]) + 1
         raise InputError(f"waypoints {k} to {k + 1}: only joints without a finite max_velocity or "
                          f"max_acceleration move, so no timing is fastest; give them limits")
+    if (slow := np.flatnonzero(nominal > MAX_DURATION)).size:
+        k, joint = int(slow[0]), int(np.argmax(np.nan_to_num(rest_to_rest[slow[0]], posinf=0.0)))
+        raise InputError(f"waypoints {k + 1} to {k + 2}: at joint {joint + 1}'s limits (max_velocity "
+                         f"{vmax[joint]:.3g}, max_acceleration {amax[joint]:.3g}) the move takes at least "
+                         f"{nominal[k]:.3g} s, longer than a trajectory's longest segment "
+                         f"({MAX_DURATION:g} s): are the limits in SI units (rad/s, rad/s^2)?")
     if np.all(np.isinf(amax)):   # timed uniformly by time_optimal, at rest at both ends; durations
         # as the square root of the time at the velocity limit ("centripetal"): a long segment next to
         # a short one would otherwise make the spline overshoot (as time at an acceleration limit does)
