@@ -3,6 +3,8 @@ forward(inverse) round trips, locked joints, payloads, estimated inertia and eve
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -261,8 +263,11 @@ def test_bad_states_gravity_payload_and_density_are_refused():
         robot.with_payload(-1.0)
     with pytest.raises(InputError, match=r"payload: inertia = .* is not symmetric"):
         robot.with_payload(1.0, inertia=[[1, 2, 0], [0, 1, 0], [0, 0, 1]])
-    with pytest.raises(InputError, match=r"density \[kg/m\^3\]: expected a finite number > 0, got -5"):
-        robot.with_estimated_inertia(density=-5)
+    for density in (-5, 1e308):  # the second: a density in the wrong unit, links of 1e305 kg
+        message = (r"density \[kg/m\^3\]: expected a finite number in \(0, 100000\], "
+                   rf"got {re.escape(str(density))}$")
+        with pytest.raises(InputError, match=message):
+            robot.with_estimated_inertia(density=density)
 
 
 def test_a_joint_that_moves_no_mass_makes_forward_dynamics_say_so():

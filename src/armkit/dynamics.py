@@ -49,6 +49,9 @@ def _read_only(values: list[float]) -> NDArray[np.float64]:
 
 #: Default gravity [m/s^2] in the robot's world frame: 9.81 along -z.
 GRAVITY: NDArray[np.float64] = _read_only([0.0, 0.0, -9.81])
+#: Largest density ``with_estimated_inertia`` takes [kg/m^3]: about four times osmium's (22,600), so
+#: that a density in the wrong unit (g/m^3, 1e308) is an error, not a link of 1e305 kg.
+MAX_DENSITY = 1e5
 
 
 def missing_inertia(chain: Chain) -> str | None:
@@ -340,7 +343,7 @@ def with_estimated_inertia(robot: Robot, density: float = 1000.0) -> Robot:
     """
     from armkit.export.physical import DENSITY, capsule_bodies
 
-    scale = positive_float(density, "density [kg/m^3]") / DENSITY
+    scale = positive_float(density, "density [kg/m^3]", maximum=MAX_DENSITY) / DENSITY
     return with_body_inertials(robot, capsule_bodies(robot)[2], scale)
 
 
