@@ -64,14 +64,16 @@ def test_a_tolerance_that_is_not_a_relative_accuracy_is_refused(tol):
         plan_trajectory(robot, [[0.0] * 6, [0.5] * 6], [0.1], tol=tol)
 
 
-@pytest.mark.parametrize(("limits", "at_least"), [({"max_acceleration": 1e-300}, "6.32e+149 s"),
-                                                   ({"max_velocity": 1e-300}, "1e+299 s")])
-def test_limits_too_small_for_any_trajectory_are_named(limits, at_least):
+@pytest.mark.parametrize(("limits", "takes"), [
+    ({"max_acceleration": 1e-300}, "at least 6.32e+149 s"), ({"max_velocity": 1e-300}, "at least 1e+299 s"),
+    ({"max_velocity": [1e-310, 1, 1, 1, 1, 1]}, "more seconds than a float holds"),  # overflows to inf
+    ({"max_acceleration": 1e-310}, "more seconds than a float holds")])
+def test_limits_too_small_for_any_trajectory_are_named(limits, takes):
     robot = armkit.load("ur5")
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no overflow on the way
-        with pytest.raises(InputError, match=f"waypoints 1 to 2: at joint 1's limits .* takes at least "
-                                             f"{re.escape(at_least)}, longer than a trajectory's longest"):
+        with pytest.raises(InputError, match=f"waypoints 1 to 2: at joint 1's limits .* takes "
+                                             f"{re.escape(takes)}, longer than a trajectory's longest"):
             plan_trajectory(robot, [[0.0] * 6, [0.1] + [0.0] * 5], **limits)
 
 

@@ -224,20 +224,23 @@ def geometric_path(waypoints: ArrayLike, max_velocity: ArrayLike, max_accelerati
         k = int(repeated[0]) + 1
         raise InputError(f"waypoints {k} and {k + 1} are the same ({waypoints[k].tolist()}): a path through "
                          f"waypoints needs each to differ from the previous one; drop the repeat")
-    with np.errstate(invalid="ignore"):                 # inf / inf: a joint with neither limit
-        cruising = step / vmax + vmax / amax
+    with np.errstate(invalid="ignore", over="ignore"):  # inf / inf: a joint with neither limit; overflow:
+        cruising = step / vmax + vmax / amax            # limits too small (refused below)
         rest_to_rest = np.where(step * amax >= vmax**2, cruising, 2.0 * np.sqrt(step / amax))
-    rest_to_rest = np.where(np.isfinite(rest_to_rest), rest_to_rest, step / vmax)   # no acceleration limit
-    nominal = np.nan_to_num(rest_to_rest, nan=0.0, posinf=0.0).max(axis=1)
+        rest_to_rest = np.where(np.isnan(rest_to_rest), step / vmax, rest_to_rest)  # no acceleration limit
+    nominal = np.nan_to_num(rest_to_rest, nan=0.0, posinf=np.inf).max(axis=1)
     if (free := np.flatnonzero(nominal == 0)).size:
         k = int(free[0]) + 1
         raise InputError(f"waypoints {k} to {k + 1}: only joints without a finite max_velocity or "
                          f"max_acceleration move, so no timing is fastest; give them limits")
-    if (slow := np.flatnonzero(nominal > MAX_DURATION)).size:
-        k, joint = int(slow[0]), int(np.argmax(np.nan_to_num(rest_to_rest[slow[0]], posinf=0.0)))
+    if (slow := np.flatnonzero(~(nominal <= MAX_DURATION))).size:
+        k = int(slow[0])
+        joint = int(np.argmax(np.nan_to_num(rest_to_rest[k], nan=0.0, posinf=np.inf)))
+        takes = (f"at least {nominal[k]:.3g} s" if np.isfinite(nominal[k])
+                 else "more seconds than a float holds")
         raise InputError(f"waypoints {k + 1} to {k + 2}: at joint {joint + 1}'s limits (max_velocity "
-                         f"{vmax[joint]:.3g}, max_acceleration {amax[joint]:.3g}) the move takes at least "
-                         f"{nominal[k]:.3g} s, longer than a trajectory's longest segment "
+                         f"{vmax[joint]:.3g}, max_acceleration {amax[joint]:.3g}) the move takes "
+                         f"{takes}, longer than a trajectory's longest segment "
                          f"({MAX_DURATION:g} s): are the limits in SI units (rad/s, rad/s^2)?")
     if np.all(np.isinf(amax)):   # timed uniformly by time_optimal, at rest at both ends; durations
         # as the square root of the time at the velocity limit ("centripetal"): a long segment next to
