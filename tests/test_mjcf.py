@@ -362,3 +362,17 @@ def test_a_nan_joint_range_is_one_error_not_an_unlimited_joint(tmp_path, monkeyp
             pytest.warns(UserWarning, match="MJCF text: MuJoCo warns: XML contains a 'NaN'"):
         robot_from_mjcf(text)
     assert list(tmp_path.iterdir()) == []  # MuJoCo's own handler would append to MUJOCO_LOG.TXT here
+
+
+def test_loading_mjcf_in_threads_leaves_mujocos_warning_handler_as_it_was():
+    import threading
+
+    text = ('<mujoco><worldbody><body name="l1"><joint name="j1" axis="0 1 0"/><geom size="0.05"/>'
+            '<body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
+    before = mujoco.get_mju_user_warning()
+    loaders = [threading.Thread(target=lambda: [robot_from_mjcf(text) for _ in range(50)]) for _ in range(4)]
+    for loader in loaders:
+        loader.start()
+    for loader in loaders:
+        loader.join()
+    assert mujoco.get_mju_user_warning() is before

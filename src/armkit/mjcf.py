@@ -34,6 +34,7 @@ Refused, with one :class:`~armkit.errors.RobotDefinitionError`
 
 from __future__ import annotations
 
+import threading
 from pathlib import Path
 from typing import Any
 
@@ -182,19 +183,26 @@ def _limit_numeric(mujoco: Any, model: Any, joint: str, limit: str, source: str)
     return float(data[0])
 
 
+#: MuJoCo's warning handler is one for the process: a compile swaps it under this lock.
+_WARNING_HANDLER = threading.Lock()
+
+
 def _compiled(mujoco: Any, compile_xml: Any, xml: str, source: str) -> Any:
     """``compile_xml(xml)`` with MuJoCo's compiler errors as :class:`RobotDefinitionError` and its
     warnings as Python warnings naming ``source`` (MuJoCo would otherwise print them and append
     them to a ``MUJOCO_LOG.TXT`` in the user's working folder)."""
     said: list[str] = []
-    previous = mujoco.get_mju_user_warning()
-    mujoco.set_mju_user_warning(said.append)
-    try:
-        model = compile_xml(xml)
-    except ValueError as exc:
-        raise RobotDefinitionError(f"{source}: MuJoCo cannot compile it: {_one_line(exc)}") from exc
-    finally:
-        mujoco.set_mju_user_warning(previous)
+    with _WARNING_HANDLER:
+        previous = mujoco.get_mju_user_warning()
+        mujoco.set_mju_user_warning(said.append)
+        try:
+            model = compile_xml(xml)
+        except ValueError as exc:
+            warned = "".join(f"; MuJoCo warned: {text.strip()}" for text in dict.fromkeys(said))
+            raise RobotDefinitionError(f"{source}: MuJoCo cannot compile it: {_one_line(exc)}"
+                                       f"{warned}") from exc
+        finally:
+            mujoco.set_mju_user_warning(previous)
     for text in dict.fromkeys(said):
         warn_at_caller(UserWarning(f"{source}: MuJoCo warns: {text.strip()}"))
     return model
