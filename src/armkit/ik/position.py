@@ -140,22 +140,29 @@ def _wrap_first_three(chain: Chain, q: NDArray[np.float64], near: NDArray[np.flo
 
 
 #: A position farther from the base than this many times the arm's whole length is out of reach
-#: without solving (the subproblems' squares would overflow near 1e154 m); its distance from the
-#: base is then the distance to the closest reachable point to 1e-6 relative.
+#: without solving; its distance from the base is then the distance to the closest reachable
+#: point to 1e-6 relative.
 _FAR = 1e6
+#: Largest distance [m] from the base the subproblems can take: their squares overflow near 1e154.
+_LARGEST_DISTANCE = 1e150
 
 
 def _refuse_far(chain: Chain, p: NDArray[np.float64]) -> None:
     """:class:`UnreachableError` for a position beyond :data:`_FAR` whole arm lengths (prismatic
-    joints' travel included) from the base."""
+    joints' travel included) from the base; :class:`InputError` beyond :data:`_LARGEST_DISTANCE`
+    for an arm whose unlimited prismatic joints might reach it."""
     travel = np.abs(chain.lower[chain.prismatic]).sum() + np.abs(chain.upper[chain.prismatic]).sum()
     whole = chain.link_length + travel
     scale = max(float(np.abs(p).max()), 1.0)  # |p| without overflow
     distance = float(np.linalg.norm(p / scale)) * scale
+    shown = ", ".join(f"{v:.6g}" for v in p)
     if np.isfinite(whole) and distance > _FAR * (1.0 + whole):
-        shown = ", ".join(f"{v:.6g}" for v in p)
         raise UnreachableError(f"tool position [{shown}] m is out of reach: {distance:.3g} m from the base, "
                                f"over a million times the arm's whole length ({whole:.3g} m)", distance)
+    if distance > _LARGEST_DISTANCE:
+        raise InputError(f"position [{shown}] m: {distance:.3g} m from the base; position IK takes targets "
+                         f"up to {_LARGEST_DISTANCE:g} m away (the subproblems' squares overflow beyond)",
+                         parameter="position", value=p)
 
 
 def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copies: bool
@@ -168,6 +175,7 @@ def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copie
     near = np.zeros(chain.n) if near is None else float_array(near, "near", f"{chain.n} finite joint values")
     if near.shape != (chain.n,) or not np.isfinite(near).all():
         raise InputError(f"near: expected {chain.n} finite joint values, got {near.tolist()}")
+    _plan(chain)  # an arm without a position closed form says so first
     _refuse_far(chain, p)
     geometry, sign = _geometry(chain, near[3:])
     q3, valid, family = solve_pose(geometry, np.eye(3), p)
