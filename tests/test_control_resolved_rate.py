@@ -92,6 +92,9 @@ def test_scale_to_limits():
     batch, scales = scale_to_limits([[0.5, 0.5], [4.0, 1.0]], [1.0, 1.0])
     np.testing.assert_allclose(batch, [[0.5, 0.5], [1.0, 0.25]])
     np.testing.assert_allclose(scales, [1.0, 0.25])
+    np.testing.assert_allclose(scale_to_limits([4.0, 1.0], 2.0)[0], [2.0, 0.5])  # one limit for all
+    with pytest.raises(InputError, match=r"max_velocity: expected one limit or one per joint \(2\)"):
+        scale_to_limits([4.0, 1.0], [1.0, 1.0, 1.0])
 
 
 def test_tool_frame_twist_is_the_base_twist_rotated():

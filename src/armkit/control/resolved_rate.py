@@ -102,9 +102,18 @@ def scale_to_limits(qd: ArrayLike, max_velocity: ArrayLike) -> tuple[NDArray[np.
     --------
     >>> scale_to_limits([2.0, 0.5], [1.0, 1.0])
     (array([1.  , 0.25]), 0.5)
+    >>> scale_to_limits([2.0, 0.5], 1.0)  # one limit for every joint
+    (array([1.  , 0.25]), 0.5)
     """
     qd = np.asarray(qd, dtype=float)
-    inverse_max_velocity = 1.0 / np.asarray(max_velocity, dtype=float)
+    limits = np.asarray(max_velocity, dtype=float)
+    if qd.ndim == 0:
+        raise InputError(f"qd: expected joint velocities (n,) or a batch (..., n), got {qd!r}",
+                         parameter="qd", value=qd)
+    if limits.ndim > 1 or limits.size not in (1, qd.shape[-1]):
+        raise InputError(f"max_velocity: expected one limit or one per joint ({qd.shape[-1]}), got shape "
+                         f"{limits.shape}", parameter="max_velocity", value=max_velocity)
+    inverse_max_velocity = np.ascontiguousarray(np.broadcast_to(1.0 / limits, qd.shape[-1:]))
     rows = np.ascontiguousarray(qd.reshape(-1, qd.shape[-1]))
     scale = np.array([_core.limit_scale(row, inverse_max_velocity) for row in rows]).reshape(qd.shape[:-1])
     return qd * scale[..., None], (float(scale) if scale.ndim == 0 else scale)
