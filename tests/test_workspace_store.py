@@ -123,6 +123,18 @@ def test_cli_json_summary_and_report(tmp_path, capsys):
     assert workspace.open(out).reachability.samples == 20_000
 
 
+def test_a_dotted_folder_name_is_a_store_and_an_existing_file_is_not(tmp_path, capsys):
+    store = tmp_path / "maps_res0.05"
+    assert main(["workspace", "puma560", "--resolution", "0.2", "--samples", "100", "--quiet", "--out",
+                 str(store)]) == 0
+    assert store.is_dir()
+    (tmp_path / "notes").write_text("mine")
+    assert main(["workspace", "puma560", "--resolution", "0.2", "--samples", "100", "--quiet", "--out",
+                 str(tmp_path / "notes")]) == 1
+    assert "a Zarr store is a folder, and 'notes' names a file" in capsys.readouterr().err
+    assert (tmp_path / "notes").read_text() == "mine"
+
+
 @pytest.mark.parametrize(("args", "message"), [
     (["--resume"], "--resume needs --out"),
     (["--samples", "many"], "--samples: 'many' is not a number"),
@@ -131,7 +143,7 @@ def test_cli_json_summary_and_report(tmp_path, capsys):
     (["--sweep", "a3=nan:1:3"], "sweep 'a3=nan:1:3': expected finite START and STOP, got nan and 1"),
     (["--sweep", "a3=0:inf:3"], "expected finite START and STOP, got 0 and inf"),
     (["--dataset", "10"], "--dataset needs --out"),
-    (["--out", "maps.txt"], "--out maps.txt: a Zarr store is a folder, and '.txt' names a file; call it "
+    (["--out", "maps.txt"], "--out maps.txt: a Zarr store is a folder, and 'maps.txt' names a file; call it "
                             "e.g. maps.zarr"),
 ])
 def test_cli_errors_are_one_line(args, message, capsys):

@@ -32,6 +32,12 @@ INTERRUPTED = 130
 LOCAL_CLUSTER = "local"
 
 
+#: Endings of file formats a user may give as --out by mistake (a Zarr store is a folder; other
+#: dotted names, such as maps_res0.05, are folder names).
+_FILE_SUFFIXES = frozenset({".txt", ".csv", ".json", ".npz", ".npy", ".h5", ".hdf5", ".png", ".svg", ".pdf",
+                            ".html", ".zip", ".gif", ".toml", ".yaml", ".yml", ".xml", ".urdf", ".pkl"})
+
+
 def _count(text: str, option: str, minimum: int = 1) -> int:
     """A count such as ``1e8`` or ``250000`` as an int, at least ``minimum``."""
     try:
@@ -192,8 +198,8 @@ def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, 
         raise InputError("--scene: with the maps only (not with --sweep or --dataset)")
     if resume and out is None:
         raise InputError("--resume needs --out: the store to continue")
-    if out is not None and out.suffix not in ("", ".zarr") and not out.is_dir():
-        raise InputError(f"--out {out}: a Zarr store is a folder, and {out.suffix!r} names a file; call it "
+    if out is not None and (out.is_file() or (out.suffix.lower() in _FILE_SUFFIXES and not out.is_dir())):
+        raise InputError(f"--out {out}: a Zarr store is a folder, and {out.name!r} names a file; call it "
                          f"e.g. {out.with_suffix('.zarr')}")
     engine, cluster = _engine(dask, threads)
     common = {"seed": seed, "method": method, "engine": engine, "resume": resume, "overwrite": force,
