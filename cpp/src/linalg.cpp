@@ -128,8 +128,14 @@ double smallest_gram_eigenvalue(const double* J, int n) {
 RateStepInfo rate_step(const double* J, int n, const double* twist, double threshold, double max_damping,
                        const double* inverse_max_velocity, double* qd) {
     RateStepInfo info;
-    info.sigma_min = std::sqrt(std::max(smallest_gram_eigenvalue(J, n), 0.0));
+    const double smallest = smallest_gram_eigenvalue(J, n);
+    info.sigma_min = std::sqrt(std::max(smallest, 0.0));
     info.damping = rate_damping(info.sigma_min, threshold, max_damping);
+    if (info.damping == 0.0) {  // no damping asked: an exactly singular J still gets the least-squares step
+        double trace = 0.0;
+        for (int k = 0; k < 6 * n; ++k) trace += J[k] * J[k];
+        if (smallest <= kGramRounding * trace) info.damping = kSingularDamping * trace;
+    }
     static constexpr int kEveryRow[6] = {0, 1, 2, 3, 4, 5};
     double free[kMaxJoints] = {};
     damped_step(J, n, twist, kEveryRow, 6, free, info.damping, qd);

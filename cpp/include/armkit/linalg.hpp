@@ -39,8 +39,9 @@ struct RateStepInfo {
 
 // Resolved-rate control's joint velocities qd (n) for a twist (6) through J (6 x n,
 // row-major): sigma_min from the eigenvalues of the small Gram matrix (J J^T for n >= 6,
-// else J^T J), damped_step with every row and rate_damping(sigma_min), then scaled by
-// limit_scale if inverse_max_velocity (n) is given (not null).
+// else J^T J), damped_step with every row and rate_damping(sigma_min) (kSingularDamping
+// trace(J^T J) where that is zero and J is singular to rounding, kGramRounding), then scaled
+// by limit_scale if inverse_max_velocity (n) is given (not null).
 RateStepInfo rate_step(const double* J, int n, const double* twist, double threshold, double max_damping,
                        const double* inverse_max_velocity, double* qd);
 

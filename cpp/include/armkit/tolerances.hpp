@@ -226,6 +226,12 @@ constexpr double kInfiniteEigenvalue = 1e-16;
 //: minimum-norm least-squares step on rank-deficient random Jacobians.
 constexpr double kSingularDamping = 1e-10;
 
+//: Smallest eigenvalue of a Gram matrix J J^T (or J^T J), relative to its trace, below which the
+//: resolved-rate step counts J as exactly singular and takes the kSingularDamping step: the
+//: eigenvalue is computed with an error of a few eps times the trace (seen: +4e-16 and +9e-18 of
+//: it at exact wrist singularities), so an undamped solve there would return rounding noise.
+constexpr double kGramRounding = 1e-13;
+
 // ------------------------------------------------------------------ time-optimal paths
 
 //: Relative slack by which rounding may leave a TOPP bound violated before a set counts as

@@ -20,8 +20,9 @@ by the same factor, which keeps the direction of motion.
 The step is computed in the core (``rate_step`` beside the numeric IK's damped least-squares
 step, which it calls): ``sigma_min`` comes from the eigenvalues of the small Gram matrix,
 which is cheaper than an SVD of ``J`` and accurate to about ``1e-8`` near zero, more than
-the damping needs. Where the damped equations are singular (``threshold = 0`` at an exact
-singularity) the step is the core's minimum-norm fallback (a damping of ``1e-10 trace(J^T J)``).
+the damping needs. With no damping asked (``threshold = 0``) at an exact singularity (the
+smallest Gram eigenvalue within rounding of zero, ``1e-13 trace(J^T J)``) the step is the
+least-squares one: a damping of ``1e-10 trace(J^T J)``, within about 1e-7 of ``pinv(J) @ twist``.
 :class:`ResolvedRate` evaluates the Jacobian with the shared single-configuration
 :class:`armkit.kinematics.ChainKernel` (``benchmarks/bench_control.py`` times one step).
 """
