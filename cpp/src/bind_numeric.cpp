@@ -84,7 +84,8 @@ void solve_many(const NumericSolver& solver, In T, In q0, std::uint64_t seed, in
 // velocity limits if inverse_max_velocity (n,) is given: (sigma_min, damping, scale).
 nb::tuple rate_step_of(In J, In twist, double threshold, double max_damping, In inverse_max_velocity, Out qd) {
     const std::size_t n = qd.size();
-    if (n == 0 || n > std::size_t(kMaxJoints) || J.size() != 6 * n || twist.size() != 6)
+    if (n == 0 || n > std::size_t(kMaxJoints) || J.ndim() != 2 || J.shape(0) != 6 || J.shape(1) != n ||
+        twist.ndim() != 1 || twist.size() != 6)
         throw std::invalid_argument("rate_step: expected J (6, n), twist (6,) and qd (n,)");
     const double* limits = optional_seeds(inverse_max_velocity, n, "rate_step: expected inverse_max_velocity (n,)");
     const RateStepInfo info = rate_step(J.data(), int(n), twist.data(), threshold, max_damping, limits, qd.data());

@@ -196,6 +196,20 @@ class ResolvedRate:
             C-ordered float64 Jacobian at the current configuration (:meth:`armkit.Robot.jacobian`).
         twist : (6,) array
             C-ordered float64 ``[v; w]`` of the tool origin in the base frame [m/s, rad/s].
+
+        Returns
+        -------
+        RateStep
+            Joint velocities, ``sigma_min``, the damping used and the velocity scale.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> robot = armkit.load("ur5")
+        >>> q = np.array([0.1, -1.2, 1.4, -0.3, 1.1, 0.2])
+        >>> step = ResolvedRate(robot).solve(robot.jacobian(q), np.array([0.01, 0, 0, 0, 0, 0]))
+        >>> bool(np.allclose(robot.jacobian(q) @ step.qd, [0.01, 0, 0, 0, 0, 0])), step.scale
+        (True, 1.0)
         """
         qd = np.empty(self._n)
         limits = self._inverse_max_velocity if self.limit_velocity else None
