@@ -59,7 +59,7 @@ def missing_inertia(chain: Chain) -> str | None:
     return next((joint.name for joint in chain.joints if joint.inertial is None), None)
 
 
-def _model(chain: Chain) -> _core.Dynamics:
+def dynamics_model(chain: Chain) -> _core.Dynamics:
     """The chain's bodies in their joint frames, as the core takes them (made once per chain)."""
     return chain.derived(_make_model)
 
@@ -168,7 +168,7 @@ def inverse_dynamics(robot: Robot | Chain, q: ArrayLike, qd: ArrayLike | None = 
     [11.81]
     """
     chain = as_chain(robot)
-    model = _model(chain)
+    model = dynamics_model(chain)
     q, qd, qdd = _states(chain, ("qd", "qdd"), q=q, qd=qd, qdd=qdd)  # broadcast to one shape
     tau = np.empty(q.shape)
     _core.inverse_dynamics(model, q, qd, qdd, _gravity(gravity), tau, thread_count(threads))
@@ -207,7 +207,7 @@ def mass_matrix(robot: Robot | Chain, q: ArrayLike, *, threads: int | None = Non
     [[3.5]]
     """
     chain = as_chain(robot)
-    model = _model(chain)
+    model = dynamics_model(chain)
     (q,) = _states(chain, q=q)
     M = np.empty((*q.shape, chain.n))
     _core.mass_matrix(model, q, M, thread_count(threads))
@@ -237,7 +237,7 @@ def forward_dynamics(robot: Robot | Chain, q: ArrayLike, qd: ArrayLike, tau: Arr
     [2.0]
     """
     chain = as_chain(robot)
-    model = _model(chain)
+    model = dynamics_model(chain)
     q, qd, tau = _states(chain, q=q, qd=qd, tau=tau)
     qdd = np.empty(q.shape)
     bad = _core.forward_dynamics(model, q, qd, tau, _gravity(gravity), qdd, thread_count(threads))

@@ -310,7 +310,7 @@ class Robot:
 
     def link_frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """Base, every DH link frame and tool: ``(..., n + 2, 4, 4)``."""
-        return kinematics._link_frames(self.chain, self._checked(q))
+        return kinematics.link_frames_at(self.chain, self._checked(q))
 
     def plot(self, q: ArrayLike, *, ax: Axes3D | None = None, frames: bool = False,
              joint_axes: bool = True, title: str | None = None) -> Figure:
@@ -334,10 +334,7 @@ class Robot:
     def jacobian(self, q: ArrayLike, frame: str = "base", *,
                  threads: int | None = None) -> NDArray[np.float64]:
         """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``, in the ``"base"`` or ``"tool"`` frame."""
-        try:
-            tool = kinematics._IS_TOOL_FRAME[frame]
-        except (KeyError, TypeError):
-            raise kinematics._frame_error(frame) from None
+        tool = kinematics.is_tool_frame(frame)
         threads = 0 if threads is None else thread_count(threads)
         try:
             return _core.jacobian(self.chain._core, q, tool, threads)  # as fk
@@ -497,7 +494,7 @@ class Robot:
         array([ 0.   , 37.484,  0.249,  0.   ,  0.   ,  0.   ])
         """
         if gravity is None and threads is None:
-            tau = _core.inverse_dynamics_one(dynamics._model(self.chain), q, qd, qdd)
+            tau = _core.inverse_dynamics_one(dynamics.dynamics_model(self.chain), q, qd, qdd)
             if tau is not None:
                 return tau
         return dynamics.inverse_dynamics(self.chain, q, qd, qdd, threads=threads,
@@ -507,7 +504,7 @@ class Robot:
         """Joint-space mass matrices ``(..., n, n)`` at ``q`` ``(..., n)``; see
         :func:`armkit.dynamics.mass_matrix`."""
         if threads is None:
-            M = _core.mass_matrix_one(dynamics._model(self.chain), q)
+            M = _core.mass_matrix_one(dynamics.dynamics_model(self.chain), q)
             if M is not None:
                 return M
         return dynamics.mass_matrix(self.chain, q, threads=threads)
@@ -527,7 +524,7 @@ class Robot:
         """Joint accelerations ``(..., n)`` under torques ``tau`` ``(..., n)``; see
         :func:`armkit.dynamics.forward_dynamics`."""
         if gravity is None and threads is None:
-            qdd = _core.forward_dynamics_one(dynamics._model(self.chain), q, qd, tau)
+            qdd = _core.forward_dynamics_one(dynamics.dynamics_model(self.chain), q, qd, tau)
             if qdd is not None:
                 return qdd
         return dynamics.forward_dynamics(self.chain, q, qd, tau, threads=threads,
