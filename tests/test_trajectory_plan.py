@@ -54,7 +54,7 @@ def test_bad_limits_are_input_errors_naming_them(ur5, limits, message):
         planning_limits(ur5, **limits)
 
 
-@pytest.mark.parametrize("tol", [0.0, -1e-4, float("nan"), 1.0, "small", 1e-300, True])
+@pytest.mark.parametrize("tol", [0.0, -1e-4, float("nan"), 1.0, "small", "1e-3", 1e-300, True])
 def test_a_tolerance_that_is_not_a_relative_accuracy_is_refused(tol):
     robot = armkit.load("probot-anno")
     message = "tol: expected a relative accuracy of each duration from 1e-12 to 0.5"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armkit._params import float_in_range
 from armkit.errors import InputError
 
 __all__ = ["FINEST_TOL", "MAX_DURATION", "MIN_DURATION", "check_durations", "check_finite", "check_tol",
@@ -25,14 +26,7 @@ FINEST_TOL = 1e-12
 def check_tol(tol: object) -> float:
     """The timing's ``tol`` (relative accuracy of each duration) as a float in
     ``[FINEST_TOL, 0.5]``, or :class:`InputError` naming it."""
-    try:
-        value = float(tol)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        value = float("nan")
-    if isinstance(tol, bool) or not FINEST_TOL <= value <= 0.5:
-        raise InputError(f"tol: expected a relative accuracy of each duration from {FINEST_TOL:g} to 0.5 "
-                         f"(e.g. 1e-4), got {tol!r}", parameter="tol", value=tol)
-    return value
+    return float_in_range(tol, "tol", FINEST_TOL, 0.5, "a relative accuracy of each duration")
 
 
 def check_finite(values: ArrayLike, name: str) -> NDArray[np.float64]:
