@@ -8,10 +8,10 @@ from numpy.typing import ArrayLike, NDArray
 from armkit.dynamics import missing_inertia
 from armkit.errors import InputError, JointLimitError
 from armkit.robot import Robot
-from armkit.trajectory._checks import check_tol
+from armkit.trajectory._checks import check_tol, per_joint_limits
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.min_jerk import min_jerk
-from armkit.trajectory.timing import per_joint_limits, stretch_to_limits
+from armkit.trajectory.timing import stretch_to_limits
 from armkit.trajectory.topp import slowed_to_torque_limits, time_optimal, torque_constraint
 from armkit.trajectory.waypoints import joint_waypoints, joint_waypoints_from_poses
 

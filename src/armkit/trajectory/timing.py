@@ -42,36 +42,22 @@ from scipy.optimize import minimize
 
 from armkit._params import whole_number
 from armkit.errors import ConvergenceError, InputError
-from armkit.trajectory._checks import check_durations, check_tol, check_waypoints
+from armkit.trajectory._checks import (
+    LIMIT_MARGIN,
+    check_durations,
+    check_tol,
+    check_waypoints,
+    checked_limits,
+    per_joint_limits,
+)
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.min_jerk import min_jerk, rest_points
 
 __all__ = ["auto_time", "limit_ratio", "limit_ratios", "stretch_to_limits"]
 
-#: Relative margin added to the exact uniform factor against rounding.
-LIMIT_MARGIN = 1e-12
 #: Fits repeated with the rest points a fit's durations add (position limits), before the
 #: result is slowed uniformly instead (see ``_inside``).
 _REFITS = 1
-
-
-def _as_float(value: ArrayLike, name: str) -> NDArray[np.float64]:
-    """``value`` as float64 (``inf`` allowed, meaning no limit), or :class:`InputError`."""
-    try:
-        return np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name}: expected numbers, got {value!r}") from exc
-
-
-def per_joint_limits(value: ArrayLike, n: int, name: str) -> NDArray[np.float64]:
-    """One limit or ``n`` limits as ``(n,)`` positive values (``inf`` for none), or :class:`InputError`."""
-    limits = np.asarray(_as_float(value, name), dtype=float)
-    if limits.ndim > 1 or limits.size not in (1, n):
-        raise InputError(f"{name}: expected one limit or {n} limits (one per joint), got {limits.tolist()}")
-    limits = np.broadcast_to(limits, (n,))
-    if np.any(np.isnan(limits)) or np.any(limits <= 0):
-        raise InputError(f"{name}: expected positive limits (inf for none), got {limits.tolist()}")
-    return limits
 
 
 def limit_ratios(trajectory: JointTrajectory, max_velocity: ArrayLike,
@@ -164,20 +150,6 @@ def _fit(spline, starts, lower, requested, vmax, amax, tol, max_rounds, refine):
             best = polished
     final = spline(best)
     return JointTrajectory(final.durations, final.coefficients, final.waypoints, requested)
-
-
-def checked_limits(waypoints: NDArray[np.float64], max_velocity: ArrayLike,
-                   max_acceleration: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """``(vmax, amax)`` per joint of ``waypoints`` ``(M, n)``, at least one of them finite somewhere."""
-    n = waypoints.shape[1]
-    vmax = per_joint_limits(max_velocity, n, "max_velocity")
-    amax = per_joint_limits(max_acceleration, n, "max_acceleration")
-    if np.all(np.isinf(vmax)) and np.all(np.isinf(amax)):
-        raise InputError("max_velocity, max_acceleration: no finite limit to fit the durations to; give "
-                         "limits (robot file keys max_velocity / max_acceleration, plan_trajectory's "
-                         "max_velocity= / max_acceleration=, armkit traj --max-velocity / "
-                         "--max-acceleration) or durations")
-    return vmax, amax
 
 
 def _inside(fit, waypoints: NDArray[np.float64], durations: NDArray[np.float64],

@@ -48,11 +48,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError
-from armkit.trajectory._checks import MAX_DURATION, check_finite, check_waypoints
+from armkit.trajectory._checks import (
+    LIMIT_MARGIN,
+    MAX_DURATION,
+    check_finite,
+    check_waypoints,
+    checked_limits,
+)
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.min_jerk import min_jerk
 from armkit.trajectory.polynomial import quintic_coefficients
-from armkit.trajectory.timing import LIMIT_MARGIN, checked_limits, limit_ratio
+from armkit.trajectory.timing import limit_ratio
 
 if TYPE_CHECKING:
     from armkit.robot import Robot
