@@ -27,7 +27,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit._deprecation import renamed_argument
 from armkit._time import even_time_grid
-from armkit.control.motions import DEFAULT_DT, check_positive, check_start, track_poses
+from armkit.control._checks import check_positive, check_start
+from armkit.control.motions import DEFAULT_DT, track_poses
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.robot import Robot

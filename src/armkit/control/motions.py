@@ -31,9 +31,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit._deprecation import deprecated_property, renamed_argument
-from armkit._params import positive_float
 from armkit._time import even_time_grid
 from armkit.chain import Chain
+from armkit.control._checks import check_positive, check_start
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError
 from armkit.kinematics import pose_error
@@ -140,20 +140,6 @@ class MotionResult:
         qdd[:-1] = np.diff(self.qd, axis=0) / dt[:, None]
         tau = robot.inverse_dynamics(self.q, self.qd, qdd, gravity=gravity)
         return TrajectoryTorques(self.t, tau, np.abs(tau).max(axis=0))
-
-
-def check_start(robot: Robot, q0: ArrayLike) -> NDArray[np.float64]:
-    """``q0`` as one configuration of ``robot`` inside its limits, or an armkit error naming it."""
-    q0 = robot.check_q(q0, "q0")
-    if q0.ndim != 1:
-        raise InputError(f"q0: expected one configuration of {robot.n} values, got shape {q0.shape}")
-    robot.check_limits(q0)
-    return q0
-
-
-def check_positive(value: object, name: str, unit: str) -> float:
-    """``value`` as a finite float > 0, or :class:`InputError` naming ``name`` and its ``unit``."""
-    return positive_float(value, f"{name} [{unit}]")
 
 
 def _check_vector(value: ArrayLike, name: str, unit: str) -> NDArray[np.float64]:
