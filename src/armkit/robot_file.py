@@ -71,7 +71,6 @@ from __future__ import annotations
 import json
 import math
 import re
-import tomllib
 from dataclasses import replace
 from importlib import resources
 from pathlib import Path
@@ -80,19 +79,28 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from armkit._tables import (
+    ANGLE_UNITS,
+    LENGTH_UNITS,
+    check_table_keys,
+    shown_value,
+    table_choice,
+    table_number,
+    table_quantity,
+    table_transform,
+    table_vector,
+    toml_table,
+)
 from armkit.chain import MAX_VALUE, Chain, DHRow
-from armkit.errors import ArmkitError, InputError, RobotDefinitionError
+from armkit.errors import RobotDefinitionError
 from armkit.inertial import Inertial
 from armkit.poe import poe_from_chain
 from armkit.robot import Robot
-from armkit.spatial.rotations import euler_from_matrix, matrix_from_euler
-from armkit.spatial.transforms import check_transform, transform_from
+from armkit.spatial.rotations import euler_from_matrix
 from armkit.urdf import robot_from_urdf
 
 __all__ = ["builtin_robots", "load", "robot_from_dict", "robot_to_toml"]
 
-LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
-ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 _TOP_KEYS = {"name", "convention", "length_unit", "angle_unit", "description", "joints",
              "tool", "base"}
 _ROW_KEYS = {"alpha", "a", "d", "theta"}
@@ -100,7 +108,6 @@ _COMMON_JOINT_KEYS = {"type", "limits", "max_velocity", "max_acceleration", "nam
                       "max_torque", "radius"}
 _JOINT_KEYS = _ROW_KEYS | _COMMON_JOINT_KEYS
 _POE_KEYS = {"axis", "point"}
-_TRANSFORM_KEYS = {"xyz", "rpy", "matrix"}
 
 
 def builtin_robots() -> list[str]:
@@ -195,79 +202,9 @@ def _no_links(base: str | None, tip: str | None, source: str) -> None:
                                    f"and [tool])")
 
 
-def toml_table(data: bytes, source: str, what: str = "robot file",
-               error: type[ArmkitError] = RobotDefinitionError) -> dict[str, Any]:
-    """The TOML table of a file's bytes, or one ``error`` naming ``source`` (not UTF-8, not TOML)."""
-    try:
-        text = data.decode("utf-8-sig")  # a byte order mark (some Windows editors write one) is skipped
-    except UnicodeDecodeError as exc:
-        raise error(f"{source}: not UTF-8 text (byte {exc.start}); save the {what} as UTF-8") from exc
-    if not text.strip():
-        raise error(f"{source}: the file is empty; expected a {what}")
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise error(f"{source}: not valid TOML: {exc}") from exc
-    except RecursionError as exc:
-        raise error(f"{source}: arrays or tables nested too deeply to read") from exc
-
-
 def _load_text(data: bytes, source: str) -> Robot:
     parsed = toml_table(data, source)
     return robot_from_dict(parsed, source, require_units=True)
-
-
-# ------------------------------------------------------------------ values
-def _number(value: Any, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise RobotDefinitionError(f"{where}: expected a finite number, got {shown_value(value)}")
-    return float(value)
-
-
-def table_quantity(value: Any, where: str, unit: float) -> float:
-    """A length or angle in SI units, at most :data:`MAX_VALUE` in magnitude."""
-    number = _number(value, where) * unit
-    if not abs(number) <= MAX_VALUE:
-        raise RobotDefinitionError(f"{where}: {value!r} is {abs(number):.3g} in SI units (m or rad); "
-                                   f"expected at most {MAX_VALUE:g}")
-    return number
-
-
-def shown_value(value: Any) -> str:
-    """A value as an error message shows it (``repr``, long ones cut)."""
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
-
-
-def table_vector(value: Any, where: str, unit: float, size: int = 3) -> NDArray[np.float64]:
-    """A list of ``size`` finite numbers, times ``unit`` (to SI)."""
-    if not isinstance(value, list) or len(value) != size:
-        raise RobotDefinitionError(f"{where}: expected {size} numbers, got {shown_value(value)}")
-    return np.array([table_quantity(v, where, unit) for v in value])
-
-
-def table_choice(data: dict, key: str, options: dict | tuple, source: str, default: str | None) -> str:
-    """``data[key]`` (or ``default``), one of ``options``, or an error naming the key and the options."""
-    value = data.get(key, default)
-    if value is None:
-        raise RobotDefinitionError(f"{source}: missing key {key!r} (one of {', '.join(options)})")
-    if not isinstance(value, str) or value not in options:
-        raise RobotDefinitionError(
-            f"{source}: {key} = {shown_value(value)}; expected one of {', '.join(map(repr, options))}")
-    return value
-
-
-def check_table_keys(table: Any, allowed: set[str], required: set[str], where: str) -> None:
-    """``table`` is a TOML table with every ``required`` key and no key outside ``allowed``."""
-    if not isinstance(table, dict):
-        raise RobotDefinitionError(f"{where}: expected a table, got {shown_value(table)}")
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise RobotDefinitionError(f"{where}: unknown key {unknown[0]!r}; expected keys: "
-                                   f"{', '.join(sorted(allowed))}")
-    missing = sorted(required - set(table))
-    if missing:
-        raise RobotDefinitionError(f"{where}: missing key {missing[0]!r}")
 
 
 def _text(value: Any, where: str) -> str:
@@ -292,28 +229,6 @@ def _fixed_rows(rows: list, key: str, source: str, length: float, angle: float) 
         check_table_keys(table, _ROW_KEYS, _ROW_KEYS, where)
         out.append(_row(table, where, None, length, angle))
     return out
-
-
-def table_transform(table: dict, where: str, length: float, angle: float) -> NDArray[np.float64]:
-    """A ``[base]`` / ``[tool]`` table: ``xyz`` + ``rpy`` or ``matrix``, to SI."""
-    check_table_keys(table, _TRANSFORM_KEYS, set(), where)
-    if "matrix" in table:
-        if set(table) != {"matrix"}:
-            raise RobotDefinitionError(f"{where}: give either matrix or xyz and rpy, not both")
-        rows = table["matrix"]
-        if not isinstance(rows, list) or len(rows) != 4 or not all(isinstance(r, list) and len(r) == 4
-                                                                   for r in rows):
-            raise RobotDefinitionError(f"{where}, key 'matrix': expected 4 rows of 4 numbers")
-        T = np.array([[_number(v, f"{where}, key 'matrix'") for v in row] for row in rows])
-        try:
-            T = check_transform(T, f"{where}, key 'matrix'")
-        except InputError as exc:
-            raise RobotDefinitionError(str(exc)) from exc
-        T[:3, 3] = table_vector(T[:3, 3].tolist(), f"{where}, key 'matrix' (translation)", length)
-        return T
-    xyz = table_vector(table.get("xyz", [0, 0, 0]), f"{where}, key 'xyz'", length)
-    rpy = table_vector(table.get("rpy", [0, 0, 0]), f"{where}, key 'rpy'", angle)
-    return transform_from(matrix_from_euler(rpy, "xyz-fixed"), xyz)
 
 
 def _end(data: dict, key: str, source: str, length: float, angle: float,
@@ -417,7 +332,7 @@ def _inertial(table: dict, where: str, length: float) -> Inertial | None:
             if key in table:
                 raise RobotDefinitionError(f"{where}, key {key!r}: needs 'mass' [kg] too")
         return None
-    mass = _number(table["mass"], f"{where}, key 'mass'")
+    mass = table_number(table["mass"], f"{where}, key 'mass'")
     if not 0 <= mass <= MAX_VALUE:
         raise RobotDefinitionError(f"{where}, key 'mass': expected a mass from 0 to {MAX_VALUE:g} kg, "
                                    f"got {table['mass']!r}")
@@ -450,7 +365,7 @@ def _limits(value: Any, where: str, unit: float) -> tuple[float, float] | None:
 def _positive(value: Any, where: str, unit: float) -> float | None:
     if value is None:
         return None
-    number = _number(value, where)
+    number = table_number(value, where)
     if number <= 0:
         raise RobotDefinitionError(f"{where}: expected a positive number, got {value!r}")
     return number * unit

@@ -38,11 +38,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from armkit.collision.scene import DEFAULT_SAMPLES, MAX_SAMPLES, Scene
-from armkit.collision.shapes import Box, Cylinder, Mesh, Obstacle, Sphere
-from armkit.errors import InputError, RobotDefinitionError
-from armkit.robot import Robot
-from armkit.robot_file import (
+from armkit._tables import (
     ANGLE_UNITS,
     LENGTH_UNITS,
     check_table_keys,
@@ -53,6 +49,10 @@ from armkit.robot_file import (
     table_vector,
     toml_table,
 )
+from armkit.collision.scene import DEFAULT_SAMPLES, MAX_SAMPLES, Scene
+from armkit.collision.shapes import Box, Cylinder, Mesh, Obstacle, Sphere
+from armkit.errors import InputError, RobotDefinitionError
+from armkit.robot import Robot
 
 __all__ = ["load_scene", "scene_from_dict"]
 
