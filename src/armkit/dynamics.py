@@ -37,8 +37,8 @@ from armkit.spatial.transforms import invert_transform, rot_z, trans_z
 if TYPE_CHECKING:  # armkit.robot imports this module lazily
     from armkit.robot import Robot
 
-__all__ = ["GRAVITY", "coriolis_torques", "forward_dynamics", "gravity_torques", "inverse_dynamics",
-           "locked_inertials", "mass_matrix", "with_estimated_inertia", "with_payload"]
+__all__ = ["GRAVITY", "MAX_DENSITY", "coriolis_torques", "forward_dynamics", "gravity_torques",
+           "inverse_dynamics", "locked_inertials", "mass_matrix", "with_estimated_inertia", "with_payload"]
 
 
 def _read_only(values: list[float]) -> NDArray[np.float64]:
@@ -332,7 +332,7 @@ def with_estimated_inertia(robot: Robot, density: float = 1000.0) -> Robot:
     Parameters
     ----------
     density : float
-        [kg/m^3], positive (1000: a light, partly hollow arm).
+        [kg/m^3], positive, at most :data:`MAX_DENSITY` (1000: a light, partly hollow arm).
 
     Examples
     --------

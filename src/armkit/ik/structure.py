@@ -45,6 +45,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit import _core
+from armkit._params import whole_number
 from armkit.chain import Chain, as_chain
 
 if TYPE_CHECKING:
@@ -152,7 +153,7 @@ def generic_rank(chain: Chain, tol: float = _core.RANK_TOLERANCE, *, joints: int
     >>> generic_rank(armkit.load("ur5").chain), generic_rank(armkit.load("grb400-scara").chain)
     (6, 4)
     """
-    moving = -1 if joints is None else int(joints)
+    moving = -1 if joints is None else whole_number(joints, "joints", minimum=1, maximum=chain.n)
     return int(_core.generic_rank(chain._core, float(tol), moving, bool(position_only)))
 
 
