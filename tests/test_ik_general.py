@@ -384,8 +384,8 @@ def test_a_prismatic_arm_far_from_every_class_says_to_use_numeric_ik():
 #: Near-class prismatic arms list their class's solutions carried over by Newton.
 CARRIED_OVER = pytest.mark.xfail(strict=True, reason=(
     "at poses much nearer the wrist singularity than the arm is to its class (q5 = 1e-5 .. 1e-7, lines "
-    "moved by 1e-8) a row is polished only to the 1e-9 bar, 1e-3 off the root along the weakest "
-    "direction (damped Newton, refinement capped at 1e-6), or goes to another root (docs/ik.md)"))
+    "moved by 1e-8) a row meets the 1e-9 bar 1e-3 off its root along the weakest direction (two roots "
+    "nearly meet there: Newton does not get closer), or goes to another root (docs/ik.md)"))
 
 
 @CARRIED_OVER
@@ -401,8 +401,9 @@ def test_a_stanford_arm_near_its_class_at_a_pose_very_near_its_wrist_singularity
 #: The three-parallel class near an aligned wrist, far from its sub-cases.
 NEAR_DOUBLE_ROOT = pytest.mark.xfail(strict=True, reason=(
     "at poses within ~1e-5 of an aligned wrist of a three-parallel arm that is not the exact UR5 (here "
-    "joint 1's axis turned by 1e-2) rows are polished only to the 1e-9 bar, 1e-4 .. 3e-2 off the root "
-    "along the weakest direction, and a root can be lost (docs/ik.md, still open)"))
+    "joint 1's axis turned by 1e-2) rows meet the 1e-9 bar 1e-4 .. 3e-2 off their roots along the "
+    "weakest direction (two roots nearly meet: Newton does not get closer), and a root can be lost "
+    "(docs/ik.md, still open)"))
 
 
 @NEAR_DOUBLE_ROOT
