@@ -19,6 +19,8 @@ planar-2r/3r        2 or 3 parallel revolute axes (optionally one prismatic)   2
 rank-deficient      the Jacobian has rank < min(6, n) everywhere (collinear    0
                     axes, or axes that only ever span 5 directions)
 general-6r          any other 6R arm (the general solver, the registry's last) 16
+near-class          6 joints with a prismatic one, within 1e-6 of a class      16
+                    (the class's solutions carried onto the real arm)
 none                anything else (redundant arms, a prismatic 6-joint arm...) 0
 ==================  =========================================================  ========
 
@@ -69,7 +71,9 @@ class ArmStructure:
     kind : str
         ``"spherical-wrist"``, ``"spherical-base"``, ``"three-parallel"``, ``"scara"``,
         ``"planar-2r"``, ``"planar-3r"``, ``"general-6r"`` (any other 6R arm: every
-        solution by elimination), ``"rank-deficient"`` (fewer independent
+        solution by elimination), ``"near-class"`` (a 6-joint arm with a prismatic joint
+        within 1e-6 of a class: the class's solutions, Newton-polished onto the real arm),
+        ``"rank-deficient"`` (fewer independent
         directions of motion than joints, up to 6) or ``"none"``.
     closed_form : bool
         Whether :func:`armkit.ik.closed_form_ik` solves this chain.
