@@ -27,7 +27,7 @@ inline double wrap_angle_into_limits(double q, double lower, double upper, doubl
     if (low <= q && q <= high && high - low < kTwoPi) return q;  // fits, and no other shift can
     const double turns_low = std::ceil((low - q) / kTwoPi);
     const double turns_high = std::floor((high - q) / kTwoPi);
-    double turns = std::nearbyint((reference - q) / kTwoPi);
+    double turns = nearest_integer((reference - q) / kTwoPi);
     if (turns_low <= turns_high) turns = std::fmin(std::fmax(turns, turns_low), turns_high);
     return q + kTwoPi * turns;
 }
