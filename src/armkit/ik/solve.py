@@ -133,8 +133,7 @@ class _Targets:
         """The reference configuration of every pose, ``(N, n)`` (a read-only view)."""
         return np.broadcast_to(np.zeros(n) if self.near is None else self.near, (self.poses, n))
 
-    def solve(self, solver: ClosedFormSolver, within_limits: bool = False, nearest: bool = False,
-              threads: int = 0) -> tuple[Found, int]:
+    def solve(self, solver: ClosedFormSolver, within_limits: bool, nearest: bool, threads: int) -> tuple[Found, int]:
         """:func:`~armkit.ik.pipeline.verified_solutions` of these targets (one core call)."""
         return verified_solutions(solver, self.T, self.near, self.weights, within_limits, nearest, threads)
 
@@ -228,7 +227,7 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
     solver = solver_or_reason(chain)
     if isinstance(solver, NoClosedFormError):
         raise solver
-    c, _ = targets.solve(solver, threads=threads)  # outside the limits too: the kept ones are counted
+    c, _ = targets.solve(solver, False, False, threads)  # outside the limits too: the kept ones are counted
     if turn_copies and chain.spans_turns:
         c = targets.with_turn_copies(chain, c, threads)
     if not targets.batch:
@@ -335,7 +334,7 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
         q = np.stack([_numeric_one(chain, T[i], near_rows[i], within_limits, labels[i], numeric_options)
                       for i in range(len(T))])
         return q.reshape(*batch, chain.n)
-    c, empty = targets.solve(solver, within_limits, nearest=not all_solutions, threads=threads)
+    c, empty = targets.solve(solver, within_limits, not all_solutions, threads)
     if empty:
         numeric_fallback(chain, c, targets.T.reshape(-1, 4, 4), targets.near_rows(chain.n),
                          Labels(targets.poses if batch else 0), within_limits)
