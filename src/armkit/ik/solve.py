@@ -133,7 +133,8 @@ class _Targets:
         """The reference configuration of every pose, ``(N, n)`` (a read-only view)."""
         return np.broadcast_to(np.zeros(n) if self.near is None else self.near, (self.poses, n))
 
-    def solve(self, solver: ClosedFormSolver, within_limits: bool, nearest: bool, threads: int) -> tuple[Found, int]:
+    def solve(self, solver: ClosedFormSolver, within_limits: bool, nearest: bool,
+              threads: int) -> tuple[Found, int]:
         """:func:`~armkit.ik.pipeline.verified_solutions` of these targets (one core call)."""
         return verified_solutions(solver, self.T, self.near, self.weights, within_limits, nearest, threads)
 
