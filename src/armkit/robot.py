@@ -44,6 +44,11 @@ def _solve_ik() -> Callable[..., NDArray[np.float64] | list[NDArray[np.float64]]
     return ik
 
 
+#: The keywords :meth:`Robot.ik` handles itself (the deprecated ``all=`` and a held joint); the others go
+#: to :func:`armkit.ik.solve.ik`.
+_ROBOT_IK_OPTIONS = frozenset({"all", "free_joint", "free_value"})
+
+
 @dataclass(frozen=True)
 class DHDescription:
     """The DH table a robot was written in, kept for display and export.
@@ -415,7 +420,7 @@ class Robot:
 
             return ik_free(self, scene, T_base_tool, all_solutions=all_solutions, near=near,
                            within_limits=within_limits, **options)
-        if options:
+        if not _ROBOT_IK_OPTIONS.isdisjoint(options):
             if "all" in options:
                 all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
                                                  all_solutions, False)
