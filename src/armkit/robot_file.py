@@ -380,6 +380,7 @@ def robot_to_toml(robot: Robot) -> str:
     ``convention = "poe"``: its joint lines at ``q = 0`` and the tool pose. Loading the
     text gives the same FK (to rounding) and the same joint names and limits.
 
+    >>> import tomllib
     >>> text = robot_to_toml(load("ur5").lock({"q1": 0.0}))
     >>> robot_from_dict(tomllib.loads(text)).n, 'convention = "poe"' in text
     (5, True)
