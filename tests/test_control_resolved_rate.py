@@ -138,11 +138,24 @@ def test_bad_input(q, twist, frame, match):
         joint_velocity(PROBOT, q, twist, frame)
 
 
-def test_bad_settings():
-    with pytest.raises(InputError, match="threshold"):
-        ResolvedRate(PROBOT, threshold=-1.0)
-    with pytest.raises(InputError, match="max_damping"):
-        ResolvedRate(PROBOT, max_damping=np.nan)
+@pytest.mark.parametrize("value", [-1.0, np.nan, "0.1", None, [0.1], True, 1e300])
+def test_bad_settings(value):
+    with pytest.raises(InputError, match=r"threshold: expected a smallest singular value from 0 to 1e\+06"):
+        ResolvedRate(PROBOT, threshold=value)
+    with pytest.raises(InputError, match=r"max_damping: expected a damping from 0 to 1e\+06, got"):
+        ResolvedRate(PROBOT, max_damping=value)
+
+
+def test_bad_values_of_the_public_helpers_are_named():
+    with pytest.raises(InputError, match=r"sigma_min: expected finite singular values >= 0, got \[-1.0\]"):
+        damping([-1.0])
+    for limits in (0.0, -1.0, np.nan):
+        with pytest.raises(InputError, match="max_velocity: expected limits > 0 .inf for none."):
+            scale_to_limits([1.0, 2.0], limits)
+    with pytest.raises(InputError, match="qd: expected finite joint velocities"):
+        scale_to_limits([np.inf, 1.0], 1.0)
+    with pytest.raises(InputError, match=r"twist: expected components from -1e\+06 to 1e\+06"):
+        ResolvedRate(armkit.load("ur5")).joint_velocity(np.zeros(6), [1e308, 1e308, 0, 0, 0, 0])
 
 
 finite = st.floats(-1.0, 1.0, allow_nan=False)

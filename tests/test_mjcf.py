@@ -364,6 +364,19 @@ def test_a_nan_joint_range_is_one_error_not_an_unlimited_joint(tmp_path, monkeyp
     assert list(tmp_path.iterdir()) == []  # MuJoCo's own handler would append to MUJOCO_LOG.TXT here
 
 
+@pytest.mark.parametrize(("body", "joint", "geom", "message"), [
+    ('pos="nan 0 0"', 'axis="0 1 0"', 'size="0.05"', r"MJCF text, body 'l1': pos \[nan, 0.0, 0.0\]; expe"),
+    ('pos="0 0 0"', 'axis="nan 0 0"', 'size="0.05"', r"MJCF text, joint 'j1': axis \[nan, .*\]; expected"),
+    ('pos="0 0 0"', 'axis="0 1 0"', 'size="0.05" mass="nan"', r"MJCF text: MuJoCo warns that the XML"),
+])
+def test_non_finite_geometry_or_mass_is_one_error_naming_it(body, joint, geom, message):
+    text = (f'<mujoco><worldbody><body name="l1" {body}><joint name="j1" {joint}/><geom {geom}/>'
+            f'<body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
+    with pytest.raises(RobotDefinitionError, match=message), \
+            pytest.warns(UserWarning, match="MuJoCo warns: XML contains a 'NaN'"):
+        robot_from_mjcf(text)
+
+
 def test_loading_mjcf_in_threads_leaves_mujocos_warning_handler_as_it_was():
     import threading
 

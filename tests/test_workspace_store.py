@@ -131,7 +131,7 @@ def test_a_dotted_folder_name_is_a_store_and_an_existing_file_is_not(tmp_path, c
     (tmp_path / "notes").write_text("mine")
     assert main(["workspace", "puma560", "--resolution", "0.2", "--samples", "100", "--quiet", "--out",
                  str(tmp_path / "notes")]) == 1
-    assert "a Zarr store is a folder, and 'notes' names a file" in capsys.readouterr().err
+    assert "--out " + str(tmp_path / "notes") + ": a file of that name exists" in capsys.readouterr().err
     assert (tmp_path / "notes").read_text() == "mine"
 
 
@@ -140,8 +140,11 @@ def test_a_dotted_folder_name_is_a_store_and_an_existing_file_is_not(tmp_path, c
     (["--samples", "many"], "--samples: 'many' is not a number"),
     (["--samples", "1.5"], "expected a whole number"),
     (["--sweep", "b2=1:2:3"], "expected PARAMETER ROW=START:STOP:COUNT"),
-    (["--sweep", "a3=nan:1:3"], "sweep 'a3=nan:1:3': expected finite START and STOP, got nan and 1"),
-    (["--sweep", "a3=0:inf:3"], "expected finite START and STOP, got 0 and inf"),
+    (["--sweep", "a3=nan:1:3"], "sweep 'a3=nan:1:3': expected finite START and STOP from -1e+06 to 1e+06"),
+    (["--sweep", "a3=0:inf:3"], "(m or rad), got 0 and inf"),
+    (["--sweep", "a3=1e308:1e308:2"], "(m or rad), got 1e308 and 1e308"),
+    (["--sweep", "a3=0.1:0.2:100000000"], "expected COUNT from 1 to 1000 (each value is a whole"),
+    (["--out", ""], "--out: expected a folder name for the Zarr store"),
     (["--dataset", "10"], "--dataset needs --out"),
     (["--out", "maps.txt"], "--out maps.txt: a Zarr store is a folder, and 'maps.txt' names a file; call it "
                             "e.g. maps.zarr"),

@@ -90,8 +90,8 @@ def load_mjcf(path: str | Path, base: str | None = None, tip: str | None = None)
     path = Path(path)
     if not path.is_file():
         raise RobotDefinitionError(f"{path}: no such file")
-    model = _compiled(mujoco, mujoco.MjModel.from_xml_path, str(path), str(path))
-    return robot_from_mjcf(model, str(path), base=base, tip=tip)
+    model, said = _compiled(mujoco, mujoco.MjModel.from_xml_path, str(path), str(path))
+    return _robot(mujoco, model, str(path), base, tip, said)
 
 
 def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None = None,
@@ -119,7 +119,13 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
             text = model if isinstance(model, str) else model.decode()
         except UnicodeDecodeError as exc:
             raise RobotDefinitionError(f"{source}: MuJoCo cannot compile it: {_one_line(exc)}") from exc
-        model = _compiled(mujoco, mujoco.MjModel.from_xml_string, text, source)
+        model, said = _compiled(mujoco, mujoco.MjModel.from_xml_string, text, source)
+        return _robot(mujoco, model, source, base, tip, said)
+    return _robot(mujoco, model, source, base, tip, [])
+
+
+def _robot(mujoco: Any, model: Any, source: str, base: str | None, tip: str | None, said: list[str]) -> Robot:
+    """:func:`robot_from_mjcf` of a compiled model; ``said``: MuJoCo's warnings while compiling it."""
     bodies = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or f"body {b}"
               for b in range(model.nbody)]
     base_id = 0 if base is None else _body_id(bodies, base, "base", source)
@@ -128,6 +134,7 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
     kinds, before, after, limits, names, ids, frame_of = [], [], [], [], [], [], {}
     pending = np.eye(4)
     for body in path:
+        _check_finite(source, f"body {bodies[body]!r}", pos=model.body_pos[body], quat=model.body_quat[body])
         pending = pending @ _body_pose(model, body)
         for j in range(model.body_jntadr[body], model.body_jntadr[body] + model.body_jntnum[body]):
             name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint {j}"
@@ -137,6 +144,7 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
                     f"{source}, joint {name!r} of body {bodies[body]!r}: a {_KIND_NAMES[kind]} joint on the "
                     f"path from {bodies[base_id]!r} to {tip_name!r}; armkit reads hinge and slide joints "
                     f"(a floating arm: choose its first body as base=...)")
+            _check_finite(source, f"joint {name!r}", axis=model.jnt_axis[j], pos=model.jnt_pos[j])
             R = transform_from(rotation_z_to(model.jnt_axis[j]), np.zeros(3))
             P = transform_from(np.eye(3), model.jnt_pos[j])
             ref = float(model.qpos0[model.jnt_qposadr[j]])
@@ -162,9 +170,22 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
                               max_acceleration=[_limit_numeric(mujoco, model, n, "max_acceleration", source)
                                                 for n in names],
                               max_torque=torque, inertials=_inertials(model, path, frame_of, len(kinds)))
+    if any("NaN" in text for text in said):  # e.g. a geom's mass, which MuJoCo then computes itself
+        raise RobotDefinitionError(f"{source}: MuJoCo warns that the XML contains a 'NaN' (in an attribute "
+                                   f"armkit does not name here, e.g. a geom's mass or size); write finite "
+                                   f"numbers")
     name = _model_name(model) or Path(source).stem
     return Robot(chain, name=name, source=source,
                  description=f"MJCF {Path(source).name}, {bodies[base_id]} to {tip_name}")
+
+
+def _check_finite(source: str, where: str, **attributes: NDArray[np.float64]) -> None:
+    """A :class:`RobotDefinitionError` naming the first of ``attributes`` of ``where`` that is not
+    finite (as MuJoCo compiled it)."""
+    for key, value in attributes.items():
+        if not np.isfinite(value).all():
+            raise RobotDefinitionError(f"{source}, {where}: {key} {np.asarray(value).tolist()}; expected "
+                                       f"finite numbers")
 
 
 def _limit_numeric(mujoco: Any, model: Any, joint: str, limit: str, source: str) -> float | None:
@@ -187,10 +208,10 @@ def _limit_numeric(mujoco: Any, model: Any, joint: str, limit: str, source: str)
 _WARNING_HANDLER = threading.Lock()
 
 
-def _compiled(mujoco: Any, compile_xml: Any, xml: str, source: str) -> Any:
-    """``compile_xml(xml)`` with MuJoCo's compiler errors as :class:`RobotDefinitionError` and its
-    warnings as Python warnings naming ``source`` (MuJoCo would otherwise print them and append
-    them to a ``MUJOCO_LOG.TXT`` in the user's working folder)."""
+def _compiled(mujoco: Any, compile_xml: Any, xml: str, source: str) -> tuple[Any, list[str]]:
+    """``compile_xml(xml)`` and MuJoCo's warnings, with MuJoCo's compiler errors as
+    :class:`RobotDefinitionError` and its warnings as Python warnings naming ``source`` (MuJoCo
+    would otherwise print them and append them to a ``MUJOCO_LOG.TXT`` in the user's folder)."""
     said: list[str] = []
     with _WARNING_HANDLER:
         previous = mujoco.get_mju_user_warning()
@@ -205,7 +226,7 @@ def _compiled(mujoco: Any, compile_xml: Any, xml: str, source: str) -> Any:
             mujoco.set_mju_user_warning(previous)
     for text in dict.fromkeys(said):
         warn_at_caller(UserWarning(f"{source}: MuJoCo warns: {text.strip()}"))
-    return model
+    return model, said
 
 
 def _one_line(exc: Exception) -> str:

@@ -35,6 +35,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
+from armkit._params import float_array, float_in_range
+from armkit.chain import MAX_VALUE
 from armkit.errors import InputError
 from armkit.kinematics import ChainKernel
 from armkit.robot import Robot
@@ -78,8 +80,24 @@ def damping(sigma_min: ArrayLike, threshold: float = DEFAULT_THRESHOLD,
     >>> damping([0.0, 0.02, 0.04, 0.1], threshold=0.04, max_damping=0.04)
     array([0.0016, 0.0012, 0.    , 0.    ])
     """
+    threshold, max_damping = _checked_law(threshold, max_damping)
+    sigma = float_array(sigma_min, "sigma_min", "singular values >= 0")
+    if not (sigma >= 0).all() or not np.isfinite(sigma).all():
+        raise InputError(f"sigma_min: expected finite singular values >= 0, got {sigma.tolist()}",
+                         parameter="sigma_min", value=sigma_min)
     rate_damping = np.vectorize(_core.rate_damping, otypes=[float])
-    return rate_damping(np.asarray(sigma_min, dtype=float), float(threshold), float(max_damping))
+    return rate_damping(sigma, threshold, max_damping)
+
+
+#: Largest threshold and max_damping the damping law takes: a singular value or a damping of a
+#: million (m or rad per joint unit) is no arm's; larger ones overflow lambda^2.
+_LARGEST_LAW = 1e6
+
+
+def _checked_law(threshold: object, max_damping: object) -> tuple[float, float]:
+    """The damping law's ``threshold`` and ``max_damping``, each a real number from 0 to 1e6."""
+    return (float_in_range(threshold, "threshold", 0.0, _LARGEST_LAW, "a smallest singular value"),
+            float_in_range(max_damping, "max_damping", 0.0, _LARGEST_LAW, "a damping"))
 
 
 def scale_to_limits(qd: ArrayLike, max_velocity: ArrayLike) -> tuple[NDArray[np.float64], float]:
@@ -106,15 +124,21 @@ def scale_to_limits(qd: ArrayLike, max_velocity: ArrayLike) -> tuple[NDArray[np.
     >>> scale_to_limits([2.0, 0.5], 1.0)  # one limit for every joint
     (array([1.  , 0.25]), 0.5)
     """
-    qd = np.asarray(qd, dtype=float)
-    limits = np.asarray(max_velocity, dtype=float)
-    if qd.ndim == 0:
+    qd = float_array(qd, "qd", "joint velocities (n,) or a batch (..., n)")
+    limits = float_array(max_velocity, "max_velocity", "one limit or one per joint")
+    if not np.isfinite(qd).all():
+        raise InputError(f"qd: expected finite joint velocities, got {qd.tolist()}", parameter="qd", value=qd)
+    if not (limits > 0).all():  # inf: no limit; NaN, 0 and negative ones refused
+        raise InputError(f"max_velocity: expected limits > 0 (inf for none), got {limits.tolist()}",
+                         parameter="max_velocity", value=max_velocity)
+    if qd.ndim == 0 or qd.shape[-1] == 0:
         raise InputError(f"qd: expected joint velocities (n,) or a batch (..., n), got {qd!r}",
                          parameter="qd", value=qd)
     if limits.ndim > 1 or limits.size not in (1, qd.shape[-1]):
         raise InputError(f"max_velocity: expected one limit or one per joint ({qd.shape[-1]}), got shape "
                          f"{limits.shape}", parameter="max_velocity", value=max_velocity)
-    inverse_max_velocity = np.ascontiguousarray(np.broadcast_to(1.0 / limits, qd.shape[-1:]))
+    with np.errstate(over="ignore"):  # a limit of 1e-320: its inverse is inf, the scale 0
+        inverse_max_velocity = np.ascontiguousarray(np.broadcast_to(1.0 / limits, qd.shape[-1:]))
     rows = np.ascontiguousarray(qd.reshape(-1, qd.shape[-1]))
     scale = np.array([_core.limit_scale(row, inverse_max_velocity) for row in rows]).reshape(qd.shape[:-1])
     return qd * scale[..., None], (float(scale) if scale.ndim == 0 else scale)
@@ -173,12 +197,10 @@ class ResolvedRate:
 
     def __init__(self, robot: Robot, *, threshold: float = DEFAULT_THRESHOLD,
                  max_damping: float = DEFAULT_MAX_DAMPING, limit_velocity: bool = True) -> None:
-        for label, value in (("threshold", threshold), ("max_damping", max_damping)):
-            if not (np.isfinite(value) and value >= 0):
-                raise InputError(f"{label} = {value}: expected a finite number >= 0")
+        threshold, max_damping = _checked_law(threshold, max_damping)
         self.robot = robot
-        self.threshold = float(threshold)
-        self.max_damping = float(max_damping)
+        self.threshold = threshold
+        self.max_damping = max_damping
         self.limit_velocity = bool(limit_velocity)
         self._n = robot.n
         self._inverse_max_velocity = 1.0 / robot.max_velocity
@@ -263,6 +285,9 @@ def check_twist(twist: ArrayLike, name: str = "twist") -> NDArray[np.float64]:
                          f"got shape {twist.shape}")
     if not np.all(np.isfinite(twist)):
         raise InputError(f"{name}: contains NaN or infinite values: {twist.tolist()}")
+    if not np.all(np.abs(twist) <= MAX_VALUE):
+        raise InputError(f"{name}: expected components from {-MAX_VALUE:g} to {MAX_VALUE:g} (m/s, rad/s), "
+                         f"got {twist.tolist()}", parameter=name, value=twist)
     return twist
 
 
