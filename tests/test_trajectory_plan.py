@@ -77,6 +77,17 @@ def test_limits_too_small_for_any_trajectory_are_named(limits, takes):
             plan_trajectory(robot, [[0.0] * 6, [0.1] + [0.0] * 5], **limits)
 
 
+def test_limits_so_large_that_a_segment_is_shorter_than_a_microsecond_are_named():
+    robot = armkit.load("ur5")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow on the way
+        with pytest.raises(InputError, match=r"waypoints 1 to 2: at the limits \(max_velocity 1e\+100, "
+                                             r"max_acceleration 1e\+100 at most\) the move takes 6.32e-51 s"):
+            plan_trajectory(robot, [[0.0] * 6, [0.1] * 6], max_velocity=1e100, max_acceleration=1e100)
+        trajectory = plan_trajectory(robot, [[0.0] * 6, [0.1] * 6], max_velocity=1e200, max_acceleration=1.0)
+    assert (trajectory.peak_acceleration <= 1.0 + 1e-9).all()
+
+
 def test_the_timing_descent_checks_its_budget_and_says_what_it_spent():
     waypoints = np.array([[0.0, 0.0], [1.0, 0.3], [0.2, 1.5], [1.4, 0.1]])
     with pytest.raises(InputError, match="max_rounds: expected a whole number from 1"):

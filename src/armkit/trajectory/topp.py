@@ -51,6 +51,7 @@ from armkit.errors import InputError
 from armkit.trajectory._checks import (
     LIMIT_MARGIN,
     MAX_DURATION,
+    MIN_DURATION,
     check_finite,
     check_waypoints,
     checked_limits,
@@ -248,6 +249,12 @@ def geometric_path(waypoints: ArrayLike, max_velocity: ArrayLike, max_accelerati
                          f"{vmax[joint]:.3g}, max_acceleration {amax[joint]:.3g}) the move takes "
                          f"{takes}, longer than a trajectory's longest segment "
                          f"({MAX_DURATION:g} s): are the limits in SI units (rad/s, rad/s^2)?")
+    if (quick := np.flatnonzero(nominal < MIN_DURATION)).size:
+        k = int(quick[0])
+        raise InputError(f"waypoints {k + 1} to {k + 2}: at the limits (max_velocity {vmax.max():.3g}, "
+                         f"max_acceleration {amax.max():.3g} at most) the move takes {nominal[k]:.3g} s, "
+                         f"shorter than a trajectory's shortest segment ({MIN_DURATION:g} s): are the limits "
+                         f"in SI units (rad/s, rad/s^2), and the waypoints apart?")
     if np.all(np.isinf(amax)):   # timed uniformly by time_optimal, at rest at both ends; durations
         # as the square root of the time at the velocity limit ("centripetal"): a long segment next to
         # a short one would otherwise make the spline overshoot (as time at an acceleration limit does)
@@ -324,7 +331,7 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
     constraint = LinearConstraint(*(
         np.concatenate([np.broadcast_to(getattr(row, name), np.shape(row.a)) for row in rows], axis=1)
         for name in ("a", "b", "c", "lo", "hi")))
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore"):  # inf: no bound from the velocity limits there
         x_max = np.min((vmax / np.abs(dq)) ** 2, axis=1)
     result = parameterize(s, constraint, x_max)
     if not result.success:
