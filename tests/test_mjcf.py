@@ -389,3 +389,16 @@ def test_loading_mjcf_in_threads_leaves_mujocos_warning_handler_as_it_was():
     for loader in loaders:
         loader.join()
     assert mujoco.get_mju_user_warning() is before
+
+
+def test_the_cli_shows_mujocos_warning_as_one_line(tmp_path, capsys):
+    from armkit.cli.main import main
+
+    path = tmp_path / "a.xml"
+    path.write_text('<mujoco><worldbody><body name="l1"><joint name="j1" axis="0 1 0" range="0 nan" '
+                    'limited="true"/><geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody>'
+                    '</mujoco>')
+    assert main(["show", str(path)]) == 1
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert lines == [f"warning: {path}: MuJoCo warns: XML contains a 'NaN'. Please check it carefully.",
+                     f"error: {path}, joint 'j1': range [0.0, nan]; expected two finite numbers"]
