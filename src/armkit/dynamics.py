@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit._params import positive_float, thread_count
+from armkit._params import float_in_range, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, RobotDefinitionError
 from armkit.inertial import Inertial
@@ -37,7 +37,7 @@ from armkit.spatial.transforms import invert_transform, rot_z, trans_z
 if TYPE_CHECKING:  # armkit.robot imports this module lazily
     from armkit.robot import Robot
 
-__all__ = ["GRAVITY", "MAX_DENSITY", "coriolis_torques", "forward_dynamics", "gravity_torques",
+__all__ = ["GRAVITY", "MAX_DENSITY", "MIN_DENSITY", "coriolis_torques", "forward_dynamics", "gravity_torques",
            "inverse_dynamics", "locked_inertials", "mass_matrix", "with_estimated_inertia", "with_payload"]
 
 
@@ -52,6 +52,9 @@ GRAVITY: NDArray[np.float64] = _read_only([0.0, 0.0, -9.81])
 #: Largest density ``with_estimated_inertia`` takes [kg/m^3]: about four times osmium's (22,600), so
 #: that a density in the wrong unit (g/m^3, 1e308) is an error, not a link of 1e305 kg.
 MAX_DENSITY = 1e5
+#: Smallest density it takes [kg/m^3]: a foam's is about 10; links of 1e-300 kg/m^3 would weigh
+#: nothing and forward dynamics would answer 1e306 rad/s^2.
+MIN_DENSITY = 1.0
 
 
 def missing_inertia(chain: Chain) -> str | None:
@@ -332,7 +335,7 @@ def with_estimated_inertia(robot: Robot, density: float = 1000.0) -> Robot:
     Parameters
     ----------
     density : float
-        [kg/m^3], positive, at most :data:`MAX_DENSITY` (1000: a light, partly hollow arm).
+        [kg/m^3], from :data:`MIN_DENSITY` to :data:`MAX_DENSITY` (1000: a light, partly hollow arm).
 
     Examples
     --------
@@ -343,7 +346,7 @@ def with_estimated_inertia(robot: Robot, density: float = 1000.0) -> Robot:
     """
     from armkit.export.physical import DENSITY, capsule_bodies
 
-    scale = positive_float(density, "density [kg/m^3]", maximum=MAX_DENSITY) / DENSITY
+    scale = float_in_range(density, "density [kg/m^3]", MIN_DENSITY, MAX_DENSITY, "a density") / DENSITY
     return with_body_inertials(robot, capsule_bodies(robot)[2], scale)
 
 
