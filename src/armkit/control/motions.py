@@ -176,8 +176,9 @@ def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
         return (f"{text}: an arm with {n} joints cannot follow every pose path (the motion holds or "
                 f"turns the tool's orientation as well as moving its point)")
     if sigma[-1] < control.threshold:
-        return (f"{text}: the arm ended at a singularity (smallest singular value {sigma[-1]:.3g}), "
-                f"e.g. fully stretched: the target is probably out of reach")
+        return (f"{text}: the arm ended near a singularity (smallest singular value {sigma[-1]:.3g}, below "
+                f"the damping threshold {control.threshold:g}): either the target is out of reach (e.g. the "
+                f"arm fully stretched) or the damping held the arm back there; a longer duration tells which")
     if scale.min() < 1.0:
         return (f"{text}: the joint velocity limits held it back (velocities scaled down to "
                 f"{scale.min():.0%} at the worst step); allow a longer duration")
