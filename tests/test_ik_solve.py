@@ -504,3 +504,31 @@ def test_a_misspelled_keyword_is_an_input_error_naming_it_and_the_valid_ones(nam
     with pytest.raises(InputError, match="unknown keyword argument 'q0'"):      # ik sets q0 from near
         armkit.ik.ik(robot, T, q0=q)
     np.testing.assert_allclose(robot.fk(robot.ik(T, near=q, position_tolerance=1e-10)), T, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["probot-anno", "ur5", "puma560", "stanford", "grb400-scara"])
+def test_one_pose_in_one_core_call_answers_as_the_checking_path(name):
+    """robot.ik of one pose as the core takes it (C-ordered float64, exactly rigid) is one core
+    call (closed_form.one_pose); the same pose handed over otherwise (a list, Fortran order, a
+    batch of one) goes through ik()'s checks: the same answers, singular poses included."""
+    robot = armkit.load(name)
+    rng = np.random.default_rng(41)
+    q = robot.random_q(30, rng=rng)
+    if robot.n == 6:
+        q[::3, 4] = 0.0  # wrist-singular poses: a family, walked towards near
+    near = robot.random_q(30, rng=rng)
+    for T, ref in zip(robot.fk(q), near, strict=True):
+        for within_limits in (True, False):
+            for all_solutions in (True, False):
+                kwargs = dict(all_solutions=all_solutions, within_limits=within_limits)
+                try:
+                    thin = robot.ik(T, near=ref, **kwargs)
+                except armkit.ArmkitError as error:  # then the checking path raises the same
+                    with pytest.raises(type(error)):
+                        robot.ik(T.tolist(), near=ref.tolist(), **kwargs)
+                    continue
+                for checked in (robot.ik(T.tolist(), near=ref.tolist(), **kwargs),
+                                robot.ik(np.asfortranarray(T), near=ref, **kwargs),
+                                robot.ik(T[None], near=ref[None], **kwargs)[0]):
+                    np.testing.assert_array_equal(thin, checked)
+                assert thin.shape == ((len(thin), robot.n) if all_solutions else (robot.n,))

@@ -10,6 +10,7 @@
 #include "armkit/batch.hpp"
 #include "armkit/fk.hpp"
 #include "armkit/linalg.hpp"
+#include "armkit/tolerances.hpp"
 #include "armkit/transform.hpp"
 #include "armkit/turn_copies.hpp"
 #include "bindings.hpp"
@@ -296,14 +297,9 @@ void bind_kinematics(nb::module_& m) {
         return nb::make_tuple(r.finite, r.last_row, r.orthonormal, r.rough);
     }, nb::arg("T"), "For transforms (N, 4, 4): all finite, worst last row, worst |R^T R - I| or |det - 1|, "
                      "how many are off by more than 1e-14.");
-    m.def("exactly_rigid", [](nb::handle T, double tolerance) {
-        PyArrayObject* a = float64_array(T);
-        if (!a || PyArray_NDIM(a) < 2 || PyArray_DIM(a, PyArray_NDIM(a) - 1) != 4 ||
-            PyArray_DIM(a, PyArray_NDIM(a) - 2) != 4)
-            return false;
-        const Rigidity r = rigidity(static_cast<const double*>(PyArray_DATA(a)), std::size_t(PyArray_SIZE(a)) / 16);
-        return r.finite && r.last_row <= tolerance && r.orthonormal <= tolerance && r.rough == 0;
-    }, nb::arg("T"), nb::arg("tolerance"),
+    m.attr("RIGID_TOLERANCE") = kRigidTolerance;
+    m.def("exactly_rigid", [](nb::handle T, double tolerance) { return exactly_rigid(T, tolerance) != nullptr; },
+       nb::arg("T"), nb::arg("tolerance"),
        "Whether T is transforms (..., 4, 4) as the core takes them (C-ordered native float64) that "
        "check_transform would return unchanged (finite, rigid to tolerance, off by at most 1e-14).");
 }

@@ -14,6 +14,7 @@
 #include "armkit/batch.hpp"
 #include "armkit/closed_form.hpp"
 #include "armkit/ik_solve.hpp"
+#include "armkit/tolerances.hpp"
 #include "armkit/turn_copies.hpp"
 #include "bindings.hpp"
 
@@ -132,6 +133,32 @@ nb::tuple solve(const ClosedForm& cf, nb::handle T, nb::handle near, nb::handle 
         });
     }
     return nb::make_tuple(q_out, errors_out, flags_out, count_out, empty.load());
+}
+
+// One pose T (4, 4) as solve takes it (exactly rigid, kRigidTolerance) with near (n,) finite
+// values or None: solve's listing of it, without solve's five arrays: the usable solutions
+// (count, n), nearest first, or with nearest only the first (n,). None if the inputs are not
+// as the core takes them or the pose has no usable candidate: the caller then takes the Python
+// layer's path, which checks the inputs and raises or falls back to numeric IK. The one-pose
+// path of robot.ik, kept thin: the same solve_poses, one allocation.
+nb::object solve_one(const ClosedForm& cf, nb::handle T, nb::handle near, bool within_limits, bool nearest) {
+    const int n = cf.chain.n, k = cf.k;
+    PyArrayObject* target = float64_array(T);
+    if (!target || PyArray_NDIM(target) != 2 || !exactly_rigid(T, kRigidTolerance)) return nb::none();
+    const double* reference = nullptr;
+    if (!near.is_none()) {
+        reference = one_configuration(near, n);
+        if (!reference || !all_finite(reference, std::size_t(n))) return nb::none();
+    }
+    const References ref(std::size_t(n), 1, reference, reference ? std::size_t(n) : 0, nullptr);
+    double q[kMaxCandidates * kMaxJoints], errors[kMaxCandidates * 2];
+    bool flags[kMaxCandidates * kFlags];
+    std::int64_t count = 0;
+    const Found f{k, n, q, errors, flags, &count};
+    solve_poses(cf, static_cast<const double*>(PyArray_DATA(target)), ref.near, 0, ref.weights, within_limits,
+                nearest, f, 0, 1);
+    if (count <= 0) return nb::none();
+    return nearest ? owned_array(q, std::size_t(n)) : owned_array(q, std::size_t(count), std::size_t(n));
 }
 
 #ifdef ARMKIT_TEST_BINDINGS  // the stages of solve, bound for their tests only (CMake's ARMKIT_TEST_BINDINGS)
@@ -298,6 +325,11 @@ void bind_solve(nb::module_& m) {
           "and the number of poses without a usable candidate. nearest: verify nearest first, up to the first "
           "kept. Rough candidates (FK residual above kRefineAbove, 1e-13) are refined by a few "
           "Levenberg-Marquardt steps that stay on their branch.");
+    m.def("solve_one", &solve_one, nb::arg("closed_form"), nb::arg("T"), nb::arg("near").none(),
+          nb::arg("within_limits"), nb::arg("nearest"),
+          "solve's listing of one pose T (4, 4) with near (n,) or None: the usable solutions (count, n), "
+          "nearest first (nearest: the first, (n,)); None if T is not an exactly rigid C-ordered float64 "
+          "(4, 4), near not n finite float64 values, or no candidate is usable (the caller's checking path).");
 #ifdef ARMKIT_TEST_BINDINGS
     m.def("rank", &rank, nb::arg("closed_form"), nb::arg("poses"), nb::arg("near").none(),
           nb::arg("weights").none(), nb::arg("within_limits"), nb::arg("q"), nb::arg("errors"), nb::arg("flags"),

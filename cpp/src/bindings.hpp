@@ -21,6 +21,7 @@
 #include <numpy/arrayobject.h>
 
 #include "armkit/chain.hpp"
+#include "armkit/transform.hpp"
 
 namespace armkit::bindings {
 
@@ -93,6 +94,19 @@ inline const double* prepared(nb::handle a, std::size_t size, const char* what) 
     PyArrayObject* array = float64_array(a);
     if (!array || std::size_t(PyArray_SIZE(array)) != size) throw std::invalid_argument(what);
     return static_cast<const double*>(PyArray_DATA(array));
+}
+
+// The values of T if it is transforms (..., 4, 4) as the core takes them (float64_array) that
+// check_transform returns unchanged (finite, rigid to tolerance, rotations off by at most 1e-14);
+// else nullptr (the caller then takes the Python layer's checking path).
+inline const double* exactly_rigid(nb::handle T, double tolerance) {
+    PyArrayObject* a = float64_array(T);
+    if (!a || PyArray_NDIM(a) < 2 || PyArray_DIM(a, PyArray_NDIM(a) - 1) != 4 ||
+        PyArray_DIM(a, PyArray_NDIM(a) - 2) != 4)
+        return nullptr;
+    const double* values = static_cast<const double*>(PyArray_DATA(a));
+    const Rigidity r = rigidity(values, std::size_t(PyArray_SIZE(a)) / 16);
+    return r.finite && r.last_row <= tolerance && r.orthonormal <= tolerance && r.rough == 0 ? values : nullptr;
 }
 
 void bind_kinematics(nb::module_& m);   // Chain, FK, frames, Jacobians, pose errors, checks

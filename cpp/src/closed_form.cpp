@@ -38,18 +38,14 @@ double fk_difference(const Chain& chain, const Pose& T, const double* q) {
     return worst;
 }
 
-// Whether configurations a and b (n joints, prismatic flags) differ by at most gap in every joint
-// (revolute ones modulo 2 pi): the one comparison of two configurations here.
-bool within(const std::uint8_t* prismatic, int n, const double* a, const double* b, double gap) {
-    for (int j = 0; j < n; ++j) {
-        const double d = b[j] - a[j];
-        if (!(std::fabs(prismatic[j] ? d : wrap_angle(d)) <= gap)) return false;
+bool any_close_pair(const Chain& chain, const double* q, int k, const bool* valid, double gap) {
+    const int n = chain.n;
+    for (int a = 0; a < k; ++a) {
+        if (!valid[a]) continue;
+        for (int b = a + 1; b < k; ++b)
+            if (valid[b] && within(chain, q + a * n, q + b * n, gap)) return true;
     }
-    return true;
-}
-
-bool within(const Chain& chain, const double* a, const double* b, double gap) {
-    return within(chain.prismatic.data(), chain.n, a, b, gap);
+    return false;
 }
 
 void mark_duplicates(const double* q, int k, int n, const bool* valid, const std::uint8_t* prismatic,
@@ -198,11 +194,15 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
         if (cf.verify && valid[s]) valid[s] = fk_difference(cf.chain, T, qs) <= cf.verify_tolerance;
     }
     take_exact_candidates(cf, T, q, valid, family);
-    bool duplicate[kMaxCandidates];
-    mark_duplicates(q, k, n, valid, cf.chain.prismatic.data(), duplicate);
-    for (int s = 0; s < k; ++s) valid[s] = valid[s] && !duplicate[s];
-    flag_close_singular_candidates(cf, T, q, valid, family);
-    merge_one_solution(cf, T, q, valid, family);
+    // duplicates, close singular candidates and one solution twice are pairs within kSplitRoots:
+    // a regular pose has none, and one scan tells
+    if (any_close_pair(cf.chain, q, k, valid, kSplitRoots)) {
+        bool duplicate[kMaxCandidates];
+        mark_duplicates(q, k, n, valid, cf.chain.prismatic.data(), duplicate);
+        for (int s = 0; s < k; ++s) valid[s] = valid[s] && !duplicate[s];
+        flag_close_singular_candidates(cf, T, q, valid, family);
+        merge_one_solution(cf, T, q, valid, family);
+    }
     for (int s = 0; s < k; ++s) family[s] = family[s] && valid[s];
 }
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from functools import cache
+from types import ModuleType
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -37,11 +38,20 @@ __all__ = ["DHDescription", "LockedRobot", "Robot"]
 
 
 @cache
+@cache
 def _solve_ik() -> Callable[..., NDArray[np.float64] | list[NDArray[np.float64]]]:
     """:func:`armkit.ik.solve.ik`, imported on first use (armkit.ik imports this module)."""
     from armkit.ik.solve import ik
 
     return ik
+
+
+@cache
+def _closed_form() -> ModuleType:
+    """:mod:`armkit.ik.closed_form` (its ``one_pose``), imported on first use."""
+    from armkit.ik import closed_form
+
+    return closed_form
 
 
 #: The keywords :meth:`Robot.ik` handles itself (the deprecated ``all=`` and a held joint); the others go
@@ -415,6 +425,10 @@ class Robot:
         >>> robot.ik(T, near=[1, -1, 0, 0, 1, 1]).round(3)
         array([ 0.927, -0.687, -0.396,  0.   ,  1.083,  0.927])
         """
+        if scene is None and not options:  # one pose as the core takes it: one call (else None)
+            q = _closed_form().one_pose(self.chain, T_base_tool, near, within_limits, not all_solutions)
+            if q is not None:
+                return q
         if scene is not None:
             from armkit.collision.ik import ik_free
 

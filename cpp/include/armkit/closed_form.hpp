@@ -6,6 +6,7 @@
 // FK where the chain is over-determined or a quartic was solved, and merges duplicates.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "armkit/chain.hpp"
@@ -50,6 +51,26 @@ void newton(const Chain& chain, const Pose& T, double* q, int steps, double stop
 
 // max |fk(q) - T| over the top three rows.
 double fk_difference(const Chain& chain, const Pose& T, const double* q);
+
+// Whether configurations a and b (n joints, prismatic flags) differ by at most gap in every joint
+// (revolute ones modulo 2 pi): the one comparison of two configurations here (inline: the
+// candidates' pairwise scans call it for every pair). Last joint first: a pose's candidates
+// share their first joints in groups (the arm's branches) and differ in the wrist's, so two
+// apart are told apart at the first joint looked at.
+inline bool within(const std::uint8_t* prismatic, int n, const double* a, const double* b, double gap) {
+    for (int j = n - 1; j >= 0; --j) {
+        const double d = b[j] - a[j];
+        if (!(std::fabs(prismatic[j] ? d : wrap_angle(d)) <= gap)) return false;
+    }
+    return true;
+}
+
+inline bool within(const Chain& chain, const double* a, const double* b, double gap) {
+    return within(chain.prismatic.data(), chain.n, a, b, gap);
+}
+
+// Whether two valid candidates (rows of q, k x n) are within gap of each other (within).
+bool any_close_pair(const Chain& chain, const double* q, int k, const bool* valid, double gap);
 
 // duplicate[b] (k): candidate b (row of q, k x n) equals, modulo 2 pi for revolute joints
 // and to kDuplicateTolerance, an earlier valid candidate.

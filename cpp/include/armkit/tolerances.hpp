@@ -23,6 +23,12 @@ constexpr double kSolutionTolerance = 1e-9;
 //: (armkit.ik.closed_form.DUPLICATE_TOLERANCE): distinct roots of a regular pose differ by far more.
 constexpr double kDuplicateTolerance = 1e-9;
 
+//: Deviation from a rigid transform [1] (|R^T R - I|, |det R - 1|, the last row's from
+//: [0, 0, 0, 1]) up to which a target pose is accepted (bound as
+//: armkit.spatial.transforms.RIGID_TOLERANCE): a rotation printed with six decimals deviates by
+//: up to about 2e-6; one off by more than 1e-14 is replaced by the nearest rotation first.
+constexpr double kRigidTolerance = 1e-5;
+
 // ------------------------------------------------- which case applies (ik_detect, ik_classify)
 
 //: Two axes count as parallel where the sine of their angle is at most this, and as meeting

@@ -25,7 +25,8 @@ Rigidity rigidity(const double* T, std::size_t N);
 inline double wrap_angle_into_limits(double q, double lower, double upper, double reference,
                                      double tolerance = kLimitTolerance) {
     const double low = lower - tolerance, high = upper + tolerance;
-    if (low <= q && q <= high && high - low < kTwoPi) return q;  // fits, and no other shift can
+    // fits, and no other shift can, or one nearer to reference cannot (turns rounds to 0 below pi)
+    if (low <= q && q <= high && (high - low < kTwoPi || std::fabs(reference - q) <= 3.0)) return q;
     const double turns_low = std::ceil((low - q) / kTwoPi);
     const double turns_high = std::floor((high - q) / kTwoPi);
     double turns = nearest_integer((reference - q) / kTwoPi);

@@ -38,7 +38,7 @@ from armkit.spatial.transforms import check_transform
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
-__all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver",
+__all__ = ["ClosedFormSolutions", "ClosedFormSolver", "closed_form_ik", "closed_form_solver", "one_pose",
            "solver_or_reason", "CANDIDATE_TOLERANCE", "DUPLICATE_TOLERANCE"]
 
 #: A candidate counts only if its FK matches the target to this, times ``1 + arm size``
@@ -166,6 +166,25 @@ def _make_solver(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
     if arm.chosen < 0:
         return NoClosedFormError(f"no closed-form IK for this chain: {arm.description}")
     return ClosedFormSolver(chain, arm)
+
+
+def one_pose(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None, within_limits: bool,
+             nearest: bool) -> NDArray[np.float64] | None:
+    """The answer of :func:`~armkit.ik.solve.ik` for one pose in one core call, when the inputs
+    are as the core takes them, else None (then ``ik`` checks them, and raises or falls back
+    to numeric IK).
+
+    ``T_base_tool`` an exactly rigid C-ordered float64 ``(4, 4)``, ``near`` None or ``n`` finite
+    C-ordered float64 values, a chain with a closed form and a pose it reaches (inside the limits
+    if ``within_limits``): every usable solution ``(k, n)``, nearest to ``near`` first, or with
+    ``nearest`` the first ``(n,)``. The same core solver as
+    :func:`~armkit.ik.pipeline.verified_solutions`, without its per-batch arrays: the path of
+    ``robot.ik(T)`` for one pose, kept thin.
+    """
+    solver = chain.derived(_make_solver)
+    if isinstance(solver, NoClosedFormError):
+        return None
+    return _core.solve_one(solver.core, T_base_tool, near, within_limits, nearest)
 
 
 def closed_form_ik(robot: Robot | Chain, T_base_tool: ArrayLike) -> ClosedFormSolutions:

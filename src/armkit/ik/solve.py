@@ -29,7 +29,7 @@ from armkit._deprecation import renamed_argument
 from armkit._params import float_array, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError, SolutionsLeftOffWarning, warn_at_caller
-from armkit.ik.closed_form import solver_or_reason
+from armkit.ik.closed_form import one_pose, solver_or_reason
 from armkit.ik.messages import Labels, numeric_failure, outside_limits
 from armkit.ik.numeric import numeric_ik, wrap_into_limits
 from armkit.ik.pipeline import (
@@ -311,6 +311,10 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     """
     chain = as_chain(robot)
     threads = thread_count(threads)
+    if not numeric_options and weights is None and not (turn_copies and chain.spans_turns):
+        q = one_pose(chain, T_base_tool, near, within_limits, not all_solutions)
+        if q is not None:
+            return q
     if numeric_options:
         if "all" in numeric_options:
             all_solutions = renamed_argument("ik", "all", "all_solutions", numeric_options.pop("all"),

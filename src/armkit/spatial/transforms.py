@@ -26,8 +26,9 @@ __all__ = [
 ]
 
 #: Tolerance on ``R^T R - I`` and ``det R - 1`` for a matrix to count as a rigid transform
-#: (a rotation printed with six decimals deviates by up to about 2e-6).
-RIGID_TOLERANCE = 1e-5
+#: (a rotation printed with six decimals deviates by up to about 2e-6; the core's
+#: ``kRigidTolerance``).
+RIGID_TOLERANCE: float = _core.RIGID_TOLERANCE
 
 
 def _identity_batch(shape: tuple[int, ...]) -> NDArray[np.float64]:
