@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 import armkit
 from armkit.control import ResolvedRate, move_linear, rotate_about_tool_point, track_poses
-from armkit.errors import InputError, JointLimitError
+from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
 
 PROBOT = armkit.load("probot-anno")
@@ -190,7 +190,8 @@ def test_property_turn_and_turn_back_returns_to_the_start(seed, axis, angle, fra
 
 
 def test_target_beyond_reach_is_called_out_of_reach():
-    result = move_linear(PROBOT, np.zeros(6), [1.0, 0.0, 0.0], 2.0)
+    # 0.78 m from the base: inside the bound of summed link lengths (0.79 m), beyond the arm's real reach
+    result = move_linear(PROBOT, np.zeros(6), [0.4, 0.0, 0.0], 2.0)
     assert not result.success
     assert "singularity" in result.message and "either the target is out of reach" in result.message
 
@@ -208,10 +209,20 @@ def test_a_reachable_turn_held_back_by_the_damping_is_not_called_out_of_reach_on
 
 
 @pytest.mark.filterwarnings("error")
-def test_a_target_too_far_for_squares_is_that_far_away_not_inf():
-    result = move_linear(PROBOT, np.zeros(6), [1e300, 0.0, 0.0], 2.0)
-    assert not result.success and result.position_error == pytest.approx(1e300, rel=1e-6)
-    assert result.max_position_error == pytest.approx(1e300, rel=1e-6)
+@pytest.mark.parametrize(("displacement", "frame", "shown", "distance"), [
+    ([1e300, 0.0, 0.0], "base", r"\[1e\+300, 0, 0\] m \(base frame\)", 1e300),
+    ([1e308, -1e308, 0.0], "base", r"\[1e\+308, -1e\+308, 0\] m \(base frame\)", 1.4142135623730951e308),
+    ([0.0, 0.0, 2.0], "tool", r"\[0, 0, 2\] m \(tool frame\)", None),
+])
+def test_a_target_beyond_the_arms_reach_is_refused_before_the_motion_runs(displacement, frame, shown, distance):
+    """Before: a 1e300 m move ran its whole 2 s of control steps and then said 'out of reach'.
+    Now the target's distance from the base is held against the sum of the link lengths first
+    (as 1e308 m, not inf)."""
+    with pytest.raises(UnreachableError, match=f"displacement {shown} puts the target .* m from the base, "
+                                               r"beyond the arm's reach \(0.7929 m") as error:
+        move_linear(PROBOT, np.zeros(6), displacement, 2.0, frame=frame)
+    if distance is not None:
+        assert error.value.position_error == pytest.approx(distance - PROBOT.chain.reach, rel=1e-12)
 
 
 def test_an_arm_with_fewer_than_six_joints_is_told_why_it_missed():

@@ -35,7 +35,7 @@ from armkit._time import even_time_grid
 from armkit.chain import Chain
 from armkit.control._checks import check_positive, check_start
 from armkit.control.resolved_rate import ResolvedRate
-from armkit.errors import InputError, JointLimitError
+from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.kinematics import pose_error
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
@@ -52,6 +52,9 @@ DEFAULT_GAIN = 20.0
 POSITION_TOLERANCE = 1e-5
 #: Default final orientation error [rad] within which a motion counts as completed.
 ORIENTATION_TOLERANCE = 1e-5
+#: Relative margin on :attr:`armkit.chain.Chain.reach` before a target counts as beyond it (the bound's
+#: own rounding).
+REACH_MARGIN = 1e-9
 
 
 @dataclass(frozen=True)
@@ -304,6 +307,11 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     -------
     MotionResult
 
+    Raises
+    ------
+    UnreachableError
+        Before any step, if the target lies beyond the arm's reach (:attr:`armkit.chain.Chain.reach`).
+
     Examples
     --------
     >>> import armkit
@@ -315,19 +323,37 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     True
     """
     q0 = check_start(robot, q0)
-    displacement = _check_vector(displacement, "displacement", "m")
+    given = _check_vector(displacement, "displacement", "m")
     duration = check_positive(duration, "duration", "s")
     dt = check_positive(dt, "dt", "s")
     T0 = robot.fk(q0)
     if frame == "tool":
-        displacement = T0[:3, :3] @ displacement
-    elif frame != "base":
+        displacement = T0[:3, :3] @ given
+    elif frame == "base":
+        displacement = given
+    else:
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
+    shown = f"[{', '.join(f'{v:.6g}' for v in given)}] m ({frame} frame)"
+    _refuse_beyond_reach(robot, T0[:3, 3], displacement, shown)
     t = even_time_grid(duration, dt)
     s = quintic(0.0, 1.0, duration).at_time(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     reference[:, :3, 3] += s[:, None] * displacement
     return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits)
+
+
+def _refuse_beyond_reach(robot: Robot, start: NDArray[np.float64], displacement: NDArray[np.float64],
+                         shown: str) -> None:
+    """:class:`UnreachableError` before any step if the target ``start + displacement`` [m] (base frame)
+    lies beyond :attr:`armkit.chain.Chain.reach`, farther than any tool position can be; ``shown``: the
+    displacement as given."""
+    reach = robot.chain.reach
+    scale = max(float(np.abs(displacement).max()), 1.0)  # |target| without overflow (1e308 components)
+    distance = float(np.linalg.norm(start / scale + displacement / scale)) * scale
+    if distance > reach * (1.0 + REACH_MARGIN):
+        raise UnreachableError(f"displacement {shown} puts the target {distance:.6g} m from the base, beyond "
+                               f"the arm's reach ({reach:.6g} m: its link lengths and slide travel added up); "
+                               f"nothing was run", distance - reach)
 
 
 def _turn(angle: float | None, speed: float | None,

@@ -149,8 +149,7 @@ def _refuse_far(chain: Chain, p: NDArray[np.float64]) -> None:
     """:class:`UnreachableError` for a position beyond :data:`_FAR` whole arm lengths (prismatic
     joints' travel included) from the base; :class:`InputError` beyond :data:`_LARGEST_DISTANCE`
     for an arm whose unlimited prismatic joints might reach it."""
-    travel = np.abs(chain.lower[chain.prismatic]).sum() + np.abs(chain.upper[chain.prismatic]).sum()
-    whole = chain.link_length + travel
+    whole = chain.reach
     scale = max(float(np.abs(p).max()), 1.0)  # |p| without overflow
     distance = float(np.linalg.norm(p / scale)) * scale
     shown = ", ".join(f"{v:.6g}" for v in p)
