@@ -126,6 +126,15 @@ def test_track_poses_follows_a_given_reference():
     (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], 1.0, dt=0.1, gain=20), "gain \\* dt <= 1"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [0, 0, 0], angle=1.0, angular_velocity=0.1),
      "non-zero direction"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [0, 0, 1e-300], angle=1.0, angular_velocity=0.1),
+     r"axis: expected a non-zero direction, got \[0.0, 0.0, 1e-300\]: its length 1e-300 is too small to be a "
+     r"direction \(at least 1e-12\)"),
+    (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], 5.0, dt=10.0),  # blamed the gain and a period of 5 s
+     r"dt = 10 s with the feedback gain 20 1/s: expected gain \* dt <= 1 \(a stable loop\), a control period "
+     r"of at most 0.05 s"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=0.1, duration=5.0, dt=10.0), r"dt = 10 s"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1e300, angular_velocity=0.2),
+     r"a turn of 1e\+300 rad at 0.2 rad/s takes 5e\+300 s: 5e\+300 s in steps of 0.002 s asks for"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0), "give two of"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, angular_velocity=0.1, duration=2.0),
      "give two of"),
@@ -138,6 +147,15 @@ def test_track_poses_follows_a_given_reference():
 def test_bad_input(call, match):
     with pytest.raises(InputError, match=match):
         call()
+
+
+def test_an_axis_of_huge_components_is_still_a_direction():
+    """Before: [1e308, 1e308, 0] had norm inf, so the axis became zero and the tool did not turn."""
+    q0 = np.array([0.0, 0.3, 0.2, 0.0, 0.5, 0.0])
+    result = rotate_about_tool_point(PROBOT, q0, [0.0, 1e308, 1e308], angle=0.1, duration=1.0)
+    expected = rotate_about_tool_point(PROBOT, q0, [0.0, 1.0, 1.0], angle=0.1, duration=1.0)
+    assert result.success
+    np.testing.assert_array_equal(result.q_final, expected.q_final)
 
 
 def test_start_outside_the_limits():
@@ -214,7 +232,8 @@ def test_a_reachable_turn_held_back_by_the_damping_is_not_called_out_of_reach_on
     ([1e308, -1e308, 0.0], "base", r"\[1e\+308, -1e\+308, 0\] m \(base frame\)", 1.4142135623730951e308),
     ([0.0, 0.0, 2.0], "tool", r"\[0, 0, 2\] m \(tool frame\)", None),
 ])
-def test_a_target_beyond_the_arms_reach_is_refused_before_the_motion_runs(displacement, frame, shown, distance):
+def test_a_target_beyond_the_arms_reach_is_refused_before_the_motion_runs(displacement, frame, shown,
+                                                                          distance):
     """Before: a 1e300 m move ran its whole 2 s of control steps and then said 'out of reach'.
     Now the target's distance from the base is held against the sum of the link lengths first
     (as 1e308 m, not inf)."""

@@ -103,7 +103,8 @@ def test_a_scara_with_a_spherical_wrist_is_solved_in_closed_form(convention):
     index = range(1, 7) if convention == "standard" else range(0, 6)
     rows = [DHRow(alpha[i], a[i], d[i + (convention == "modified")], theta[i + (convention == "modified")],
                   kinds[k]) for k, i in enumerate(index)]
-    chain = chain_from_dh(rows, convention, limits=[(-np.pi, np.pi)] * 2 + [(-0.5, 0.5)] + [(-np.pi, np.pi)] * 3,
+    limits = [(-np.pi, np.pi)] * 2 + [(-0.5, 0.5)] + [(-np.pi, np.pi)] * 3
+    chain = chain_from_dh(rows, convention, limits=limits,
                           T_base=random_transform(rng), T_tool=random_transform(rng))
     structure = analyze_structure(chain)
     assert structure.kind == "spherical-wrist" and "slides along them" in structure.description
@@ -113,7 +114,8 @@ def test_a_scara_with_a_spherical_wrist_is_solved_in_closed_form(convention):
     for k in range(3):
         listed = sol.q[k][sol.valid[k]]
         for seed in _random_q(rng, chain, 20):
-            result = armkit.ik.numeric_ik(chain, fk(chain, q[k]), q0=seed, within_limits=False, max_restarts=0)
+            result = armkit.ik.numeric_ik(chain, fk(chain, q[k]), q0=seed, within_limits=False,
+                                          max_restarts=0)
             if result.success:
                 converged += 1
                 assert joint_distance(chain, listed, result.q).min() < 1e-6, f"numeric IK found {result.q}"

@@ -365,9 +365,11 @@ def test_a_nan_joint_range_is_one_error_not_an_unlimited_joint(tmp_path, monkeyp
 
 
 @pytest.mark.parametrize(("compiler", "joint", "shown"), [
-    ("", 'type="hinge" range="nan 90"', r"\[nan, 90\] degrees \(<compiler angle=\"degree\">, MuJoCo's default\)"),
+    ("", 'type="hinge" range="nan 90"',
+     r"\[nan, 90\] degrees \(<compiler angle=\"degree\">, MuJoCo's default\)"),
     ('<compiler angle="degree"/>', 'range="-45 nan"', r"\[-45, nan\] degrees"),
-    ('<compiler angle="radian"/>', 'range="nan 1.25"', r"\[nan, 1.25\] rad \(the file's <compiler angle=\"radian\">\)"),
+    ('<compiler angle="radian"/>', 'range="nan 1.25"',
+     r"\[nan, 1.25\] rad \(the file's <compiler angle=\"radian\">\)"),
     ('<compiler angle="degree"/>', 'type="slide" range="nan 0.25"', r"\[nan, 0.25\] m;"),
 ])
 def test_a_bad_joint_range_is_shown_as_the_file_wrote_it(tmp_path, monkeypatch, compiler, joint, shown):
@@ -375,7 +377,8 @@ def test_a_bad_joint_range_is_shown_as_the_file_wrote_it(tmp_path, monkeypatch, 
     monkeypatch.chdir(tmp_path)  # MuJoCo's own compile below may append its warning to MUJOCO_LOG.TXT here
     path = tmp_path / "arm.xml"
     path.write_text(f'<mujoco>{compiler}<worldbody><body name="l1"><joint name="j1" axis="0 1 0" {joint} '
-                    f'limited="true"/><geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
+                    f'limited="true"/><geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody>'
+                    f'</mujoco>')
     for load in (lambda: armkit.load(path), lambda: robot_from_mjcf(path.read_text())):
         with pytest.raises(RobotDefinitionError, match=f"joint 'j1': range {shown}.*expected two finite"), \
                 pytest.warns(UserWarning, match="MuJoCo warns: XML contains a 'NaN'"):
@@ -424,5 +427,5 @@ def test_the_cli_shows_mujocos_warning_as_one_line(tmp_path, capsys):
     assert main(["show", str(path)]) == 1
     lines = capsys.readouterr().err.strip().splitlines()
     assert lines == [f"warning: {path}: MuJoCo warns: XML contains a 'NaN'. Please check it carefully.",
-                     f"error: {path}, joint 'j1': range [0, nan] degrees (<compiler angle=\"degree\">, MuJoCo's "
-                     f"default); expected two finite numbers"]
+                     f"error: {path}, joint 'j1': range [0, nan] degrees (<compiler angle=\"degree\">, "
+                     f"MuJoCo's default); expected two finite numbers"]

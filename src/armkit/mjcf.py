@@ -35,8 +35,8 @@ Refused, with one :class:`~armkit.errors.RobotDefinitionError`
 from __future__ import annotations
 
 import threading
-from pathlib import Path
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np

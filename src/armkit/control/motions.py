@@ -37,6 +37,7 @@ from armkit.control._checks import check_positive, check_start
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.kinematics import pose_error
+from armkit.poe import MIN_AXIS_LENGTH, direction
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
 from armkit.trajectory.joint_trajectory import TrajectoryTorques
@@ -227,9 +228,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     if reference.shape != (t.size, 4, 4) or not np.all(np.isfinite(reference)):
         raise InputError(f"reference: expected {t.size} finite 4x4 poses, got shape {reference.shape}")
     gain = check_positive(gain, "gain", "1/s")
-    if gain * np.diff(t).max() > 1.0:
-        raise InputError(f"gain = {gain:g} 1/s with a control period up to {np.diff(t).max():g} s: "
-                         f"expected gain * dt <= 1 (a stable loop); shorten dt or lower the gain")
+    _check_period(float(np.diff(t).max()), gain, "the longest step of t")
     control = ResolvedRate(robot) if control is None else control
     N, n = t.size, robot.n
     qs, qds = np.zeros((N, n)), np.zeros((N, n))
@@ -326,6 +325,7 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     given = _check_vector(displacement, "displacement", "m")
     duration = check_positive(duration, "duration", "s")
     dt = check_positive(dt, "dt", "s")
+    _check_period(dt, check_positive(gain, "gain", "1/s"), "dt")
     T0 = robot.fk(q0)
     if frame == "tool":
         displacement = T0[:3, :3] @ given
@@ -342,6 +342,26 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits)
 
 
+def _check_period(period: float, gain: float, name: str) -> None:
+    """An :class:`InputError` naming ``name`` unless the control period ``period`` [s] and the
+    feedback ``gain`` [1/s] make a stable loop (``gain * period <= 1``)."""
+    if gain * period > 1.0:
+        raise InputError(f"{name} = {period:g} s with the feedback gain {gain:g} 1/s: expected "
+                         f"gain * dt <= 1 (a stable loop), a control period of at most {1.0 / gain:g} s "
+                         f"(or a lower gain)", parameter="dt", value=period)
+
+
+def _check_axis(axis: ArrayLike) -> NDArray[np.float64]:
+    """``axis`` as a unit vector, or an :class:`InputError` if it is no direction (too short)."""
+    axis = _check_vector(axis, "axis", "unitless direction")
+    unit, length = direction(axis)
+    if unit is None:
+        raise InputError(f"axis: expected a non-zero direction, got {axis.tolist()}: its length "
+                         f"{length:.3g} is too small to be a direction (at least {MIN_AXIS_LENGTH:g})",
+                         parameter="axis", value=axis)
+    return unit
+
+
 def _refuse_beyond_reach(robot: Robot, start: NDArray[np.float64], displacement: NDArray[np.float64],
                          shown: str) -> None:
     """:class:`UnreachableError` before any step if the target ``start + displacement`` [m] (base frame)
@@ -352,8 +372,8 @@ def _refuse_beyond_reach(robot: Robot, start: NDArray[np.float64], displacement:
     distance = float(np.linalg.norm(start / scale + displacement / scale)) * scale
     if distance > reach * (1.0 + REACH_MARGIN):
         raise UnreachableError(f"displacement {shown} puts the target {distance:.6g} m from the base, beyond "
-                               f"the arm's reach ({reach:.6g} m: its link lengths and slide travel added up); "
-                               f"nothing was run", distance - reach)
+                               f"the arm's reach ({reach:.6g} m: its link lengths and slide travel added "
+                               f"up); nothing was run", distance - reach)
 
 
 def _turn(angle: float | None, speed: float | None,
@@ -437,21 +457,24 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     (True, True)
     """
     q0 = check_start(robot, q0)
-    axis = _check_vector(axis, "axis", "unitless direction")
-    norm = np.linalg.norm(axis)
-    if norm < 1e-12:
-        raise InputError(f"axis: expected a non-zero direction, got {axis.tolist()}")
-    axis = axis / norm
+    axis = _check_axis(axis)
     angular_velocity = renamed_argument("rotate_about_tool_point", "rate", "angular_velocity", rate,
                                         angular_velocity, None)
     signed_angle, total_time, constant_rate = _turn(angle, angular_velocity, duration)
     dt = check_positive(dt, "dt", "s")
+    _check_period(dt, check_positive(gain, "gain", "1/s"), "dt")
     T0 = robot.fk(q0)
     if frame == "tool":
         axis = T0[:3, :3] @ axis
     elif frame != "base":
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
-    t = even_time_grid(total_time, dt)
+    try:
+        t = even_time_grid(total_time, dt)
+    except InputError as exc:
+        if duration is not None:
+            raise
+        raise InputError(f"a turn of {signed_angle:g} rad at {angular_velocity:g} rad/s takes "
+                         f"{total_time:g} s: {exc}", parameter="angle", value=angle) from exc
     s = t / total_time if constant_rate else quintic(0.0, 1.0, total_time).at_time(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     turns = matrix_from_axis_angle(np.outer(s * signed_angle, axis))

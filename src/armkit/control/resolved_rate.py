@@ -255,8 +255,8 @@ class ResolvedRate:
                 return InputError(f"{name}: expected a C-ordered float64 array of shape {shape}, got "
                                   f"{array.dtype} shape {array.shape}", parameter=name, value=value)
             if not np.isfinite(array).all():
-                return InputError(f"{name}: contains NaN or infinite values: {array.tolist()}", parameter=name,
-                                  value=value)
+                return InputError(f"{name}: contains NaN or infinite values: {array.tolist()}",
+                                  parameter=name, value=value)
         check_twist(twist)  # components beyond MAX_VALUE
         return InputError(f"twist {np.asarray(twist).tolist()}: the joint velocities through J overflow; "
                           f"expected a twist the arm can follow", parameter="twist", value=twist)
