@@ -211,7 +211,11 @@ def test_target_beyond_reach_is_called_out_of_reach():
     # 0.78 m from the base: inside the bound of summed link lengths (0.79 m), beyond the arm's real reach
     result = move_linear(PROBOT, np.zeros(6), [0.4, 0.0, 0.0], 2.0)
     assert not result.success
-    assert "singularity" in result.message and "either the target is out of reach" in result.message
+    assert "near a singularity" in result.message
+    # closed-form IK of the target decides it (before: 'either out of reach or the damping held it back')
+    assert ("and IK of the target says: the target pose is out of reach: the closest pose found is"
+            in result.message)
+    assert "damping held" not in result.message
 
 
 def test_a_reachable_turn_held_back_by_the_damping_is_not_called_out_of_reach_only():
@@ -221,9 +225,17 @@ def test_a_reachable_turn_held_back_by_the_damping_is_not_called_out_of_reach_on
     axis = [0.0, 0.0, 1.0]
     fast = rotate_about_tool_point(PROBOT, np.zeros(6), axis, angle=np.pi / 2, angular_velocity=0.2,
                                    frame="tool")
-    assert not fast.success and "the damping held the arm back there; a longer duration" in fast.message
+    assert not fast.success and "near a singularity" in fast.message
+    assert "the target is reachable (IK finds q = [" in fast.message
+    assert "so the damping held the arm back near the singularity: move slower (a longer" in fast.message
+    assert "out of reach" not in fast.message
     slow = rotate_about_tool_point(PROBOT, np.zeros(6), axis, angle=np.pi / 2, duration=20.0, frame="tool")
     assert slow.success
+    # the q the message names reaches the target, inside the limits
+    named = np.array(fast.message.split("IK finds q = [")[1].split("]")[0].split(", "), dtype=float)
+    assert PROBOT.within_limits(named)
+    np.testing.assert_allclose(PROBOT.fk(named), fast.target, atol=1e-3)  # printed to 4 digits
+
 
 
 @pytest.mark.filterwarnings("error")

@@ -170,9 +170,23 @@ def _limit_stop(chain: Chain, q: NDArray[np.float64], step: NDArray[np.float64])
     return float(np.clip(fraction[joint], 0.0, 1.0)), joint
 
 
+def _target_check(robot: Robot, target: NDArray[np.float64], q_final: NDArray[np.float64]) -> str:
+    """Whether IK (closed form, or numeric from ``q_final``) reaches ``target`` inside the limits, said
+    as the end of a sentence on a motion that stopped short of it near a singularity."""
+    try:
+        q = robot.ik(target, near=q_final)
+    except (UnreachableError, JointLimitError) as exc:  # out of reach, or only outside the limits
+        return f"IK of the target says: {exc}"
+    shown = ", ".join(f"{v:.4g}" for v in q)
+    return (f"the target is reachable (IK finds q = [{shown}] rad or m, inside the limits), so the damping "
+            f"held the arm back near the singularity: move slower (a longer duration or, for a turn, a lower "
+            f"angular velocity)")
+
+
 def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
-               sigma: NDArray[np.float64], control: ResolvedRate) -> str:
-    """Why a motion that ran to its end did not reach its target."""
+               sigma: NDArray[np.float64], control: ResolvedRate, target: NDArray[np.float64],
+               q_final: NDArray[np.float64]) -> str:
+    """Why a motion that ran to its end (at ``q_final``) did not reach its ``target`` pose."""
     position, angle = result_errors
     text = f"the tool ended {position:.3g} m and {angle:.3g} rad from the target"
     n = control.robot.n
@@ -181,8 +195,8 @@ def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
                 f"turns the tool's orientation as well as moving its point)")
     if sigma[-1] < control.threshold:
         return (f"{text}: the arm ended near a singularity (smallest singular value {sigma[-1]:.3g}, below "
-                f"the damping threshold {control.threshold:g}): either the target is out of reach (e.g. the "
-                f"arm fully stretched) or the damping held the arm back there; a longer duration tells which")
+                f"the damping threshold {control.threshold:g}), and "
+                f"{_target_check(control.robot, target, q_final)}")
     if scale.min() < 1.0:
         return (f"{text}: the joint velocity limits held it back (velocities scaled down to "
                 f"{scale.min():.0%} at the worst step); allow a longer duration")
@@ -266,7 +280,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     errors = (float(np.hypot.reduce(T[:3, 3] - reference[-1, :3, 3])),
               float(rotation_angle_between(T, reference[-1])))
     if not message and (errors[0] > position_tolerance or errors[1] > orientation_tolerance):
-        message = _shortfall(errors, scale[sl], sigma[sl], control)
+        message = _shortfall(errors, scale[sl], sigma[sl], control, reference[-1], q)
     return MotionResult(
         t=t[sl].copy(), q=qs[sl], qd=qds[sl], poses=poses[sl], reference=reference[sl].copy(),
         target=reference[-1].copy(), position_error=errors[0], orientation_error=errors[1],
