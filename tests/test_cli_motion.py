@@ -70,8 +70,8 @@ def test_errors_are_one_line(capsys):
     assert code == 1 and "6 joints" in err
     code, _, err = run(capsys, "move", "probot-anno", "0", "0", "--by", "0.1", "0", "0")
     assert code == 1 and "after --from" in err
-    code, _, err = run(capsys, "rotate", "probot-anno", "--from", "0", "abc", "0", "0", "0", "0", "--axis", "1",
-                       "0", "0", "--angle", "1")
+    code, _, err = run(capsys, "rotate", "probot-anno", "--from", "0", "abc", "0", "0", "0", "0",
+                       "--axis", "1", "0", "0", "--angle", "1")
     assert code == 1 and "error: --from: 'abc' is not a number" in err  # it said 'joint values: ...'
     code, _, err = run(capsys, "move", "probot-anno", "--by", "0.1", "0", "0", "--dt", "10")
     assert code == 1 and "error: dt = 10 s with the feedback gain 20 1/s" in err and "at most 0.05 s" in err
