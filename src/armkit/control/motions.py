@@ -40,6 +40,7 @@ from armkit.kinematics import pose_error
 from armkit.poe import MIN_AXIS_LENGTH, direction
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
+from armkit.trajectory._checks import MAX_DURATION, MIN_DURATION
 from armkit.trajectory.joint_trajectory import TrajectoryTorques
 from armkit.trajectory.polynomial import quintic
 
@@ -337,7 +338,7 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     """
     q0 = check_start(robot, q0)
     given = _check_vector(displacement, "displacement", "m")
-    duration = check_positive(duration, "duration", "s")
+    duration = _motion_duration(check_positive(duration, "duration", "s"), "the move")
     dt = check_positive(dt, "dt", "s")
     _check_period(dt, check_positive(gain, "gain", "1/s"), "dt")
     T0 = robot.fk(q0)
@@ -409,10 +410,21 @@ def _turn(angle: float | None, speed: float | None,
         if np.sign(angle) != np.sign(speed) and speed < 0:
             raise InputError(f"angle {angle:g} rad and angular_velocity {speed:g} rad/s have opposite signs; "
                              f"give the direction once (the sign of angle, or of angular_velocity)")
-        return float(angle), abs(angle / speed), True
+        turn = f"a turn of {angle:g} rad at {speed:g} rad/s"
+        return float(angle), _motion_duration(abs(angle / speed), turn), True
     if speed is not None:
-        return float(speed) * duration, duration, True
-    return float(angle), duration, False
+        return float(speed) * _motion_duration(duration, "the turn"), duration, True
+    return float(angle), _motion_duration(duration, "the turn"), False
+
+
+def _motion_duration(duration: float, what: str) -> float:
+    """``duration`` [s] if a time law takes it (:data:`~armkit.trajectory._checks.MIN_DURATION` to
+    ``MAX_DURATION``: a quintic's powers of it stay finite), else an :class:`InputError` saying how
+    long ``what`` takes."""
+    if not MIN_DURATION <= duration <= MAX_DURATION:
+        raise InputError(f"{what} takes {duration:g} s; expected a duration from {MIN_DURATION:g} s to "
+                         f"{MAX_DURATION:g} s", parameter="duration", value=duration)
+    return duration
 
 
 def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle: float | None = None,
