@@ -390,6 +390,17 @@ def test_a_bad_joint_range_is_shown_as_the_file_wrote_it(tmp_path, monkeypatch, 
             robot_from_mjcf(compiled)
 
 
+def test_without_mujocos_spec_parser_a_bad_range_is_shown_in_compiled_radians(monkeypatch, tmp_path):
+    """MuJoCo before 3.2 has no MjSpec to say the file's unit: the radians are said to be MuJoCo's."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.delattr(mujoco, "MjSpec")
+    text = ('<mujoco><worldbody><body name="l1"><joint name="j1" axis="0 1 0" range="nan 90" limited="true"/>'
+            '<geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
+    with pytest.raises(RobotDefinitionError, match=r"range \[nan, 1.5708\] rad, as MuJoCo compiled it"), \
+            pytest.warns(UserWarning, match="MuJoCo warns"):
+        robot_from_mjcf(text)
+
+
 @pytest.mark.parametrize(("body", "joint", "geom", "message"), [
     ('pos="nan 0 0"', 'axis="0 1 0"', 'size="0.05"', r"MJCF text, body 'l1': pos \[nan, 0.0, 0.0\]; expe"),
     ('pos="0 0 0"', 'axis="nan 0 0"', 'size="0.05"', r"MJCF text, joint 'j1': axis \[nan, .*\]; expected"),

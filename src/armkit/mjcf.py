@@ -93,7 +93,7 @@ def load_mjcf(path: str | Path, base: str | None = None, tip: str | None = None)
         raise RobotDefinitionError(f"{path}: no such file")
     model, said = _compiled(mujoco, mujoco.MjModel.from_xml_path, str(path), str(path))
     return _robot(mujoco, model, str(path), base, tip, said,
-                  lambda: _in_degrees(mujoco, mujoco.MjSpec.from_file, str(path)))
+                  lambda: _in_degrees(mujoco, "from_file", str(path)))
 
 
 def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None = None,
@@ -123,7 +123,7 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
             raise RobotDefinitionError(f"{source}: MuJoCo cannot compile it: {_one_line(exc)}") from exc
         model, said = _compiled(mujoco, mujoco.MjModel.from_xml_string, text, source)
         return _robot(mujoco, model, source, base, tip, said,
-                      lambda: _in_degrees(mujoco, mujoco.MjSpec.from_string, text))
+                      lambda: _in_degrees(mujoco, "from_string", text))
     return _robot(mujoco, model, source, base, tip, [], lambda: None)
 
 
@@ -186,14 +186,18 @@ def _robot(mujoco: Any, model: Any, source: str, base: str | None, tip: str | No
                  description=f"MJCF {Path(source).name}, {bodies[base_id]} to {tip_name}")
 
 
-def _in_degrees(mujoco: Any, parse: Any, xml: str) -> bool | None:
-    """Whether ``parse(xml)`` (MuJoCo's own parser: ``<include>`` files and MuJoCo's default,
-    degrees, as it reads them) says the file writes angles in degrees; ``None`` if it cannot tell."""
+def _in_degrees(mujoco: Any, parse: str, xml: str) -> bool | None:
+    """Whether ``mujoco.MjSpec.<parse>(xml)`` (MuJoCo's own parser: ``<include>`` files and MuJoCo's
+    default, degrees, as it reads them) says the file writes angles in degrees; ``None`` if it cannot
+    tell (MuJoCo before 3.2 has no ``MjSpec``)."""
+    spec = getattr(mujoco, "MjSpec", None)
+    if spec is None:
+        return None
     with _WARNING_HANDLER:  # its warnings were already given once, by the compile
         previous = mujoco.get_mju_user_warning()
         mujoco.set_mju_user_warning(lambda text: None)
         try:
-            return bool(parse(xml).compiler.degree)
+            return bool(getattr(spec, parse)(xml).compiler.degree)
         except ValueError:
             return None
         finally:
