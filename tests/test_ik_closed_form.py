@@ -107,7 +107,7 @@ def test_a_scara_with_a_spherical_wrist_is_solved_in_closed_form(convention):
     chain = chain_from_dh(rows, convention, limits=limits,
                           T_base=random_transform(rng), T_tool=random_transform(rng))
     structure = analyze_structure(chain)
-    assert structure.kind == "spherical-wrist" and "slides along them" in structure.description
+    assert structure.kind == "spherical-wrist" and "slides at an angle to them" in structure.description
     q = _random_q(rng, chain, 30)
     sol = _assert_round_trip(chain, q)
     converged = 0

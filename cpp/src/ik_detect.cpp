@@ -199,7 +199,7 @@ std::variant<PositionPlan, CaseReason> position_plan(const ArmLines& arm) {
         plan.position_case = int(PositionCase::Parallel12Prismatic);
         plan.lines = aligned(arm, {0, 1}, arm.h[0]);
         plan.clause = "axes " + axes_text(arm, {0, 1}) + " are parallel and joint " + axes_text(arm, {2}) +
-                      " slides along them";
+                      (parallel(arm, 0, 2) ? " slides along them" : " slides at an angle to them");
         return plan;
     }
     if (all) {
