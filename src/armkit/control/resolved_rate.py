@@ -244,22 +244,25 @@ class ResolvedRate:
         try:
             info = _core.rate_step(J, twist, self.threshold, self.max_damping, limits, qd)
         except (TypeError, ValueError) as exc:  # the core checks shapes and finiteness; name the culprit
-            raise self._unsolvable(J, twist) from exc
+            raise self._unsolvable(J, twist, exc) from exc
         return RateStep(qd, *info)
 
-    def _unsolvable(self, J: object, twist: object) -> InputError:
-        """The :class:`InputError` for a ``J`` or ``twist`` the core refused in :meth:`solve`."""
+    def _unsolvable(self, J: object, twist: object, refusal: Exception) -> InputError:
+        """The :class:`InputError` for the ``J`` or ``twist`` the core refused (``refusal``) in solve."""
         for name, value, shape in (("J", J, (6, self._n)), ("twist", twist, (6,))):
-            array = np.asarray(value)
-            if array.shape != shape or array.dtype != np.float64 or not array.flags.c_contiguous:
-                return InputError(f"{name}: expected a C-ordered float64 array of shape {shape}, got "
-                                  f"{array.dtype} shape {array.shape}", parameter=name, value=value)
-            if not np.isfinite(array).all():
-                return InputError(f"{name}: contains NaN or infinite values: {array.tolist()}",
+            if not isinstance(value, np.ndarray) or value.shape != shape:
+                shown = f"shape {value.shape}" if isinstance(value, np.ndarray) else type(value).__name__
+                return InputError(f"{name}: expected a float64 array of shape {shape}, got {shown} (solve "
+                                  f"takes arrays as they are; joint_velocity() checks and converts)",
+                                  parameter=name, value=value)
+            if not np.isfinite(value).all():
+                return InputError(f"{name}: contains NaN or infinite values: {value.tolist()}",
                                   parameter=name, value=value)
         check_twist(twist)  # components beyond MAX_VALUE
-        return InputError(f"twist {np.asarray(twist).tolist()}: the joint velocities through J overflow; "
-                          f"expected a twist the arm can follow", parameter="twist", value=twist)
+        if "overflow" in str(refusal):
+            return InputError(f"twist {twist.tolist()}: the joint velocities through J overflow; expected a "
+                              f"twist the arm can follow", parameter="twist", value=twist)
+        return InputError(f"J, twist: {refusal}", parameter="twist", value=twist)
 
     def step(self, q: NDArray[np.float64], twist: NDArray[np.float64]) -> RateStep:
         """One control step without input checks: ``q`` float64 ``(n,)``, base-frame twist ``(6,)``.
