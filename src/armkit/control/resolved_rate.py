@@ -227,8 +227,8 @@ class ResolvedRate:
         Raises
         ------
         InputError
-            If ``J`` or ``twist`` has another shape or dtype, or holds NaN or infinite values (the
-            core checks; Python looks only when it refused).
+            If ``J`` or ``twist`` is not an array of its shape, holds NaN or infinite values, or the
+            step overflows (the core checks; Python looks only when it refused).
 
         Examples
         --------
