@@ -89,7 +89,7 @@ def test_errors_are_one_line(capsys):
 def test_a_move_beyond_reach_is_one_error_before_any_step(capsys):
     code, out, err = run(capsys, "move", "probot-anno", "--by", "1e300", "0", "0")
     assert code == 1 and out == ""
-    assert ("error: displacement [1e+300, 0, 0] m (base frame) puts the target 1e+300 m from the base, "
+    assert ("error: displacement [1e+300, 0, 0] m (base frame): the target is 1e+300 m from the base, "
             "beyond the arm's reach (0.7929 m" in err)
 
 

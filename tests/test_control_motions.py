@@ -257,7 +257,7 @@ def test_a_target_beyond_the_arms_reach_is_refused_before_the_motion_runs(displa
     """Before: a 1e300 m move ran its whole 2 s of control steps and then said 'out of reach'.
     Now the target's distance from the base is held against the sum of the link lengths first
     (as 1e308 m, not inf)."""
-    with pytest.raises(UnreachableError, match=f"displacement {shown} puts the target .* m from the base, "
+    with pytest.raises(UnreachableError, match=f"displacement {shown}: the target is .* m from the base, "
                                                r"beyond the arm's reach \(0.7929 m") as error:
         move_linear(PROBOT, np.zeros(6), displacement, 2.0, frame=frame)
     if distance is not None:

@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from armkit._deprecation import deprecated_property, renamed_argument
 from armkit._time import even_time_grid
 from armkit.chain import Chain
-from armkit.control._checks import check_positive, check_start
+from armkit.control._checks import check_positive, check_start, refuse_beyond_reach
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.kinematics import pose_error
@@ -54,9 +54,6 @@ DEFAULT_GAIN = 20.0
 POSITION_TOLERANCE = 1e-5
 #: Default final orientation error [rad] within which a motion counts as completed.
 ORIENTATION_TOLERANCE = 1e-5
-#: Relative margin on :attr:`armkit.chain.Chain.reach` before a target counts as beyond it (the bound's
-#: own rounding).
-REACH_MARGIN = 1e-9
 
 
 @dataclass(frozen=True)
@@ -349,7 +346,7 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     else:
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
     shown = f"[{', '.join(f'{v:.6g}' for v in given)}] m ({frame} frame)"
-    _refuse_beyond_reach(robot, T0[:3, 3], displacement, shown)
+    refuse_beyond_reach(robot, T0[:3, 3], displacement, f"displacement {shown}")
     t = even_time_grid(duration, dt)
     s = quintic(0.0, 1.0, duration).at_time(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
@@ -375,20 +372,6 @@ def _check_axis(axis: ArrayLike) -> NDArray[np.float64]:
                          f"{length:.3g} is too small to be a direction (at least {MIN_AXIS_LENGTH:g})",
                          parameter="axis", value=axis)
     return unit
-
-
-def _refuse_beyond_reach(robot: Robot, start: NDArray[np.float64], displacement: NDArray[np.float64],
-                         shown: str) -> None:
-    """:class:`UnreachableError` before any step if the target ``start + displacement`` [m] (base frame)
-    lies beyond :attr:`armkit.chain.Chain.reach`, farther than any tool position can be; ``shown``: the
-    displacement as given."""
-    reach = robot.chain.reach
-    scale = max(float(np.abs(displacement).max()), 1.0)  # |target| without overflow (1e308 components)
-    distance = float(np.linalg.norm(start / scale + displacement / scale)) * scale
-    if distance > reach * (1.0 + REACH_MARGIN):
-        raise UnreachableError(f"displacement {shown} puts the target {distance:.6g} m from the base, beyond "
-                               f"the arm's reach ({reach:.6g} m: its link lengths and slide travel added "
-                               f"up); nothing was run", distance - reach)
 
 
 def _turn(angle: float | None, speed: float | None,
