@@ -151,6 +151,9 @@ def test_track_poses_follows_a_given_reference():
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=0.0, duration=1.0), "non-zero"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=0.1, duration=-2.0), "> 0"),
     (lambda: track_poses(PROBOT, Q0, [0.0, 0.0], np.stack([np.eye(4)] * 2)), "increasing"),
+    (lambda: track_poses(PROBOT, Q0, [0.0, 1.0], np.stack([np.eye(4), 2 * np.eye(4)])),
+     "reference: last row"),
+    (lambda: track_poses(PROBOT, Q0, [0.0, 1.0], np.stack([np.eye(4)] * 3)), "reference: expected 2 finite"),
 ])
 def test_bad_input(call, match):
     with pytest.raises(InputError, match=match):

@@ -40,6 +40,7 @@ from armkit.kinematics import pose_error
 from armkit.poe import MIN_AXIS_LENGTH, direction
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
+from armkit.spatial.transforms import check_transform
 from armkit.trajectory._checks import MAX_DURATION, MIN_DURATION
 from armkit.trajectory.joint_trajectory import TrajectoryTorques
 from armkit.trajectory.polynomial import quintic
@@ -234,10 +235,10 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     """
     q = check_start(robot, q0)
     t = np.asarray(t, dtype=float)
-    reference = np.asarray(reference, dtype=float)
     if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
         raise InputError(f"t: expected at least 2 finite increasing times, got {t!r}")
-    if reference.shape != (t.size, 4, 4) or not np.all(np.isfinite(reference)):
+    reference = check_transform(reference, "reference")  # rigid, as the final IK check takes it
+    if reference.shape != (t.size, 4, 4):
         raise InputError(f"reference: expected {t.size} finite 4x4 poses, got shape {reference.shape}")
     gain = check_positive(gain, "gain", "1/s")
     _check_period(float(np.diff(t).max()), gain, "the longest step of t")
