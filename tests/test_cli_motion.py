@@ -70,6 +70,13 @@ def test_errors_are_one_line(capsys):
     assert code == 1 and "6 joints" in err
     code, _, err = run(capsys, "move", "probot-anno", "0", "0", "--by", "0.1", "0", "0")
     assert code == 1 and "after --from" in err
+    code, _, err = run(capsys, "rotate", "probot-anno", "--from", "0", "abc", "0", "0", "0", "0",
+                       "--axis", "1", "0", "0", "--angle", "1")
+    assert code == 1 and "error: --from: 'abc' is not a number" in err  # it said 'joint values: ...'
+    code, _, err = run(capsys, "move", "probot-anno", "--by", "0.1", "0", "0", "--dt", "10")
+    assert code == 1 and "error: dt = 10 s with the feedback gain 20 1/s" in err and "at most 0.05 s" in err
+    code, _, err = run(capsys, "rotate", "probot-anno", "--axis", "0", "0", "1e-300", "--angle", "1")
+    assert code == 1 and "its length 1e-300 is too small to be a direction" in err
     code, _, err = run(capsys, "move", "probot-anno", "--by", "0.1", "0", "0", "--duration", "-2")
     assert code == 1 and "duration [s]: expected a finite number > 0, got -2.0" in err
     code, _, err = run(capsys, "rotate", "probot-anno", "--axis", "0", "0", "0", "--angle", "1")
@@ -77,6 +84,13 @@ def test_errors_are_one_line(capsys):
     code, _, err = run(capsys, "rotate", "probot-anno", "--axis", "1", "0", "0", "--angle", "1",
                        "--rate", "0.1", "--duration", "3")
     assert code == 1 and "give two of" in err
+
+
+def test_a_move_beyond_reach_is_one_error_before_any_step(capsys):
+    code, out, err = run(capsys, "move", "probot-anno", "--by", "1e300", "0", "0")
+    assert code == 1 and out == ""
+    assert ("error: displacement [1e+300, 0, 0] m (base frame): the target is 1e+300 m from the base, "
+            "beyond the arm's reach (0.7929 m" in err)
 
 
 def test_rotate_opposite_signs_reported_in_the_units_typed(capsys):

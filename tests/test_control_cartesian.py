@@ -57,6 +57,16 @@ def test_unreachable_point_is_named(method):
         cartesian_line(PROBOT, Q0, far, 4.0, method=method)
 
 
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("method", ["ik", "closed-loop"])
+def test_a_goal_beyond_the_arms_reach_is_refused_before_any_sample(method):
+    """Before: the closed loop ran until the tool was 'inf m away', with NumPy's overflow warning."""
+    far = transform_from(np.eye(3), [1e300, 0.0, 0.3])
+    message = r"T_goal at \[1e\+300, 0, 0.3\] m: the target is 1e\+300 m from the base, beyond the arm"
+    with pytest.raises(UnreachableError, match=message):
+        cartesian_line(PROBOT, Q0, far, 4.0, method=method)
+
+
 def test_csv_export(tmp_path):
     line = cartesian_line(PROBOT, Q0, T_GOAL, 1.0, rate_hz=20)
     path = line.to_csv(tmp_path / "line.csv")

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 import armkit
 from armkit.control import ResolvedRate, move_linear, rotate_about_tool_point, track_poses
-from armkit.errors import InputError, JointLimitError
+from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
 
 PROBOT = armkit.load("probot-anno")
@@ -126,6 +126,23 @@ def test_track_poses_follows_a_given_reference():
     (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], 1.0, dt=0.1, gain=20), "gain \\* dt <= 1"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [0, 0, 0], angle=1.0, angular_velocity=0.1),
      "non-zero direction"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [0, 0, 1e-300], angle=1.0, angular_velocity=0.1),
+     r"axis: expected a non-zero direction, got \[0.0, 0.0, 1e-300\]: its length 1e-300 is too small to be a "
+     r"direction \(at least 1e-12\)"),
+    (lambda: move_linear(PROBOT, Q0, [0.1, 0, 0], 5.0, dt=10.0),  # blamed the gain and a period of 5 s
+     r"dt = 10 s with the feedback gain 20 1/s: expected gain \* dt <= 1 \(a stable loop\), a control period "
+     r"of at most 0.05 s"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=0.1, duration=5.0, dt=10.0), r"dt = 10 s"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1e300, angular_velocity=0.2),
+     r"a turn of 1e\+300 rad at 0.2 rad/s takes 5e\+300 s; expected a duration from 1e-06 s to 1e\+06 s"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, angular_velocity=1e300),
+     r"a turn of 1 rad at 1e\+300 rad/s takes 1e-300 s; expected a duration from 1e-06 s"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=2000.0, angular_velocity=0.2),
+     r"a turn of 2000 rad at 0.2 rad/s takes 10000 s: 10000 s in steps of 0.002 s asks for 5e\+06"),
+    (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, duration=1e-300),
+     r"the turn takes 1e-300 s; expected a duration"),
+    (lambda: move_linear(PROBOT, Q0, [0.01, 0, 0], 1e-300),  # said 'segment 1'
+     r"the move takes 1e-300 s; expected a duration from 1e-06 s to 1e\+06 s"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0), "give two of"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=1.0, angular_velocity=0.1, duration=2.0),
      "give two of"),
@@ -134,10 +151,22 @@ def test_track_poses_follows_a_given_reference():
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angle=0.0, duration=1.0), "non-zero"),
     (lambda: rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=0.1, duration=-2.0), "> 0"),
     (lambda: track_poses(PROBOT, Q0, [0.0, 0.0], np.stack([np.eye(4)] * 2)), "increasing"),
+    (lambda: track_poses(PROBOT, Q0, [0.0, 1.0], np.stack([np.eye(4), 2 * np.eye(4)])),
+     "reference: last row"),
+    (lambda: track_poses(PROBOT, Q0, [0.0, 1.0], np.stack([np.eye(4)] * 3)), "reference: expected 2 finite"),
 ])
 def test_bad_input(call, match):
     with pytest.raises(InputError, match=match):
         call()
+
+
+def test_an_axis_of_huge_components_is_still_a_direction():
+    """Before: [1e308, 1e308, 0] had norm inf, so the axis became zero and the tool did not turn."""
+    q0 = np.array([0.0, 0.3, 0.2, 0.0, 0.5, 0.0])
+    result = rotate_about_tool_point(PROBOT, q0, [0.0, 1e308, 1e308], angle=0.1, duration=1.0)
+    expected = rotate_about_tool_point(PROBOT, q0, [0.0, 1.0, 1.0], angle=0.1, duration=1.0)
+    assert result.success
+    np.testing.assert_array_equal(result.q_final, expected.q_final)
 
 
 def test_start_outside_the_limits():
@@ -190,9 +219,14 @@ def test_property_turn_and_turn_back_returns_to_the_start(seed, axis, angle, fra
 
 
 def test_target_beyond_reach_is_called_out_of_reach():
-    result = move_linear(PROBOT, np.zeros(6), [1.0, 0.0, 0.0], 2.0)
+    # 0.78 m from the base: inside the bound of summed link lengths (0.79 m), beyond the arm's real reach
+    result = move_linear(PROBOT, np.zeros(6), [0.4, 0.0, 0.0], 2.0)
     assert not result.success
-    assert "singularity" in result.message and "either the target is out of reach" in result.message
+    assert "near a singularity" in result.message
+    # closed-form IK of the target decides it (before: 'either out of reach or the damping held it back')
+    assert ("and IK of the target says: the target pose is out of reach: the closest pose found is"
+            in result.message)
+    assert "damping held" not in result.message
 
 
 def test_a_reachable_turn_held_back_by_the_damping_is_not_called_out_of_reach_only():
@@ -202,16 +236,35 @@ def test_a_reachable_turn_held_back_by_the_damping_is_not_called_out_of_reach_on
     axis = [0.0, 0.0, 1.0]
     fast = rotate_about_tool_point(PROBOT, np.zeros(6), axis, angle=np.pi / 2, angular_velocity=0.2,
                                    frame="tool")
-    assert not fast.success and "the damping held the arm back there; a longer duration" in fast.message
+    assert not fast.success and "near a singularity" in fast.message
+    assert "the target is reachable (IK finds q = [" in fast.message
+    assert "so the damping held the arm back near the singularity: move slower (a longer" in fast.message
+    assert "out of reach" not in fast.message
     slow = rotate_about_tool_point(PROBOT, np.zeros(6), axis, angle=np.pi / 2, duration=20.0, frame="tool")
     assert slow.success
+    # the q the message names reaches the target, inside the limits
+    named = np.array(fast.message.split("IK finds q = [")[1].split("]")[0].split(", "), dtype=float)
+    assert PROBOT.within_limits(named)
+    np.testing.assert_allclose(PROBOT.fk(named), fast.target, atol=1e-3)  # printed to 4 digits
+
 
 
 @pytest.mark.filterwarnings("error")
-def test_a_target_too_far_for_squares_is_that_far_away_not_inf():
-    result = move_linear(PROBOT, np.zeros(6), [1e300, 0.0, 0.0], 2.0)
-    assert not result.success and result.position_error == pytest.approx(1e300, rel=1e-6)
-    assert result.max_position_error == pytest.approx(1e300, rel=1e-6)
+@pytest.mark.parametrize(("displacement", "frame", "shown", "distance"), [
+    ([1e300, 0.0, 0.0], "base", r"\[1e\+300, 0, 0\] m \(base frame\)", 1e300),
+    ([1e308, -1e308, 0.0], "base", r"\[1e\+308, -1e\+308, 0\] m \(base frame\)", 1.4142135623730951e308),
+    ([0.0, 0.0, 2.0], "tool", r"\[0, 0, 2\] m \(tool frame\)", None),
+])
+def test_a_target_beyond_the_arms_reach_is_refused_before_the_motion_runs(displacement, frame, shown,
+                                                                          distance):
+    """Before: a 1e300 m move ran its whole 2 s of control steps and then said 'out of reach'.
+    Now the target's distance from the base is held against the sum of the link lengths first
+    (as 1e308 m, not inf)."""
+    with pytest.raises(UnreachableError, match=f"displacement {shown}: the target is .* m from the base, "
+                                               r"beyond the arm's reach \(0.7929 m") as error:
+        move_linear(PROBOT, np.zeros(6), displacement, 2.0, frame=frame)
+    if distance is not None:
+        assert error.value.position_error == pytest.approx(distance - PROBOT.chain.reach, rel=1e-12)
 
 
 def test_an_arm_with_fewer_than_six_joints_is_told_why_it_missed():

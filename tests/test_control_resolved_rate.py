@@ -138,6 +138,39 @@ def test_bad_input(q, twist, frame, match):
         joint_velocity(PROBOT, q, twist, frame)
 
 
+SOLVE_J = PROBOT.jacobian(np.array([0.1, 0.5, 0.4, 0.2, 0.7, 0.3]))
+
+
+@pytest.mark.parametrize(("J", "twist", "match"), [
+    (SOLVE_J, np.array([0.0, 0.0, np.nan, 0.0, 0.0, 0.0]),
+     r"twist: contains NaN or infinite values: \[0.0, 0.0, nan, 0.0, 0.0, 0.0\]"),
+    (SOLVE_J, np.array([np.inf, 0.0, 0.0, 0.0, 0.0, -np.inf]),
+     r"twist: contains NaN or infinite values: \[inf"),
+    (np.where(np.eye(6, dtype=bool), np.nan, SOLVE_J), np.full(6, 0.01), r"J: contains NaN or infinite"),
+    (SOLVE_J[:, :5].copy(), np.zeros(6),
+     r"J: expected a float64 array of shape \(6, 6\), got shape \(6, 5\)"),
+    (SOLVE_J.tolist(), np.zeros(6), r"J: expected a float64 array of shape \(6, 6\), got list \(solve takes"),
+    (SOLVE_J, [0.0] * 6, r"twist: expected a float64 array of shape \(6,\), got list"),
+    (SOLVE_J, np.array([1e308, -1e308, 1e308, 0.0, 0.0, 0.0]),
+     r"twist: expected components from -1e\+06 to 1e\+06"),
+])
+def test_the_fast_solve_refuses_what_it_cannot_step_with_a_named_input_error(J, twist, match):
+    """Before: a NaN or infinite twist went through solve() into NaN joint velocities, silently."""
+    control = ResolvedRate(PROBOT, limit_velocity=False)
+    with pytest.raises(InputError, match=match):
+        control.solve(J, twist)
+    with pytest.raises(InputError, match=match):
+        ResolvedRate(PROBOT).solve(J, twist)
+
+
+def test_a_step_that_overflows_is_refused_not_returned_as_inf():
+    """A finite twist within MAX_VALUE through a J of 1e-155 entries: qd would be inf."""
+    control = ResolvedRate(PROBOT, limit_velocity=False, max_damping=0.0, threshold=0.0)
+    with pytest.raises(InputError, match=r"twist \[1.0, 0.0, 0.0, 0.0, 0.0, 0.0\]: the joint velocities "
+                                         r"through J overflow"):
+        control.solve(np.ascontiguousarray(SOLVE_J * 1e-155), np.array([1.0, 0, 0, 0, 0, 0]))
+
+
 @pytest.mark.parametrize("value", [-1.0, np.nan, "0.1", None, [0.1], True, 1e300])
 def test_bad_settings(value):
     with pytest.raises(InputError, match=r"threshold: expected a smallest singular value from 0 to 1e\+06"):

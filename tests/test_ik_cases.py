@@ -126,8 +126,8 @@ def test_case_geometries_are_plain_structs_checked_by_the_core():
         SphericalGeometry(**fields, bogus=1)
     with pytest.raises(TypeError):
         SphericalGeometry(**{**fields, "c": (0.0, 1.0)})
-    with pytest.raises(ValueError, match="position_case must be 0 .. 5"):
-        SphericalGeometry(**{**fields, "position_case": 6})
+    with pytest.raises(ValueError, match="position_case must be 0 .. 6"):
+        SphericalGeometry(**{**fields, "position_case": 7})
     three = _core.CaseChain(np.eye(3), np.zeros((3, 3)), np.zeros(3, bool))
     with pytest.raises(ValueError, match="needs a chain of 6 joints, got 3"):
         SphericalGeometry(**{**fields, "chain": three})

@@ -89,6 +89,39 @@ def test_round_trip_random_scara_and_planar():
             _assert_round_trip(chain, _random_q(rng, chain, 50))
 
 
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+def test_a_scara_with_a_spherical_wrist_is_solved_in_closed_form(convention):
+    """Revolute axes 1, 2 parallel, a slide (tilted from them), a spherical wrist: the wrist
+    centre by the point case's 2R plus slide (NoClosedFormError before); numeric IK from many
+    seeds finds nothing the listing lacks."""
+    rng = np.random.default_rng(12 + len(convention))
+    a, d, theta = rng.uniform(0.1, 0.4, 7), rng.uniform(-0.3, 0.3, 7), rng.uniform(-np.pi, np.pi, 7)
+    alpha = rng.choice([-1, 1], 7) * rng.uniform(0.3, np.pi - 0.3, 7)
+    alpha[1] = 0.0  # axes 1, 2 parallel (link 1)
+    a[4] = a[5] = d[5] = 0.0  # axes 4-6 meet
+    kinds = ["revolute", "revolute", "prismatic", "revolute", "revolute", "revolute"]
+    index = range(1, 7) if convention == "standard" else range(0, 6)
+    rows = [DHRow(alpha[i], a[i], d[i + (convention == "modified")], theta[i + (convention == "modified")],
+                  kinds[k]) for k, i in enumerate(index)]
+    limits = [(-np.pi, np.pi)] * 2 + [(-0.5, 0.5)] + [(-np.pi, np.pi)] * 3
+    chain = chain_from_dh(rows, convention, limits=limits,
+                          T_base=random_transform(rng), T_tool=random_transform(rng))
+    structure = analyze_structure(chain)
+    assert structure.kind == "spherical-wrist" and "slides at an angle to them" in structure.description
+    q = _random_q(rng, chain, 30)
+    sol = _assert_round_trip(chain, q)
+    converged = 0
+    for k in range(3):
+        listed = sol.q[k][sol.valid[k]]
+        for seed in _random_q(rng, chain, 20):
+            result = armkit.ik.numeric_ik(chain, fk(chain, q[k]), q0=seed, within_limits=False,
+                                          max_restarts=0)
+            if result.success:
+                converged += 1
+                assert joint_distance(chain, listed, result.q).min() < 1e-6, f"numeric IK found {result.q}"
+    assert converged >= 20
+
+
 def test_seed_probot_ik_case():
     """Report 000: target [0.2, 0.2, 0.2007] with xyz-fixed [pi/2, -pi/2, 0]."""
     chain = armkit.load("probot-anno").chain

@@ -171,6 +171,66 @@ def test_a_shoulder_whose_axes_meet_moves_the_tool_point_on_a_sphere_only():
         robot.ik_position([0.0, 0.5, 0.1])
 
 
+def scara_arm(rng, convention, tilt):
+    """Revolute joints 1, 2 about parallel axes, then a slide at ``tilt`` [rad] from them (0: a
+    SCARA's vertical slide), random lengths, offsets and tool."""
+    a, d, theta = rng.uniform(0.1, 0.4, 3), rng.uniform(-0.2, 0.2, 3), rng.uniform(-pi, pi, 3)
+    twist = rng.uniform(-pi, pi)
+    alphas = [0.0, tilt, twist] if convention == "standard" else [twist, 0.0, tilt]
+    rows = [DHRow(alphas[j], a[j], d[j], 0.0 if j == 2 else theta[j], "prismatic" if j == 2 else "revolute")
+            for j in range(3)]
+    tool = DHRow(rng.uniform(-pi, pi), rng.uniform(0.05, 0.3), rng.uniform(-0.2, 0.2), 0.0, None)
+    return chain_from_dh(rows, convention, limits=[(-pi, pi), (-pi, pi), (-0.5, 0.5)], tool_rows=[tool])
+
+
+def test_the_grb400_scara_lists_its_two_elbows_in_closed_form():
+    """Before: 'no closed-form position solution here (two prismatic joints, or parallel axes
+    ...)', though joints 1-3 are a planar 2R plus a vertical slide."""
+    robot = armkit.load("grb400-scara")
+    assert position_case(robot) == "axes 1, 2 are parallel and joint 3 slides along them"
+    rng = np.random.default_rng(400)
+    for q in robot.random_q(20, rng=rng):
+        p = robot.fk(q)[:3, 3]
+        found = robot.ik_position(p, all_solutions=True, near=q, within_limits=False)
+        assert len(found) == 2  # elbow one way and the other, one slide height
+        np.testing.assert_allclose(robot.fk(found)[:, :3, 3], np.tile(p, (2, 1)), atol=1e-12)
+        np.testing.assert_allclose(found[:, 2], q[2], atol=1e-15)
+        assert joint_distance(robot.chain, found, q).min() <= 1e-12  # joint 4 held at near's value
+        np.testing.assert_allclose(robot.ik_position(p, near=q), q, atol=1e-12)
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+@pytest.mark.parametrize("tilt", [0.0, pi, 0.7, -2.0])
+def test_random_scara_arms_against_numeric_ik(convention, tilt):
+    """Parallel axes 1, 2 and a slide (vertical, or tilted from them): every solution numeric IK
+    finds from many seeds is listed, and the configuration that made the target."""
+    rng = np.random.default_rng(int(1000 * abs(tilt)) + len(convention))
+    for _ in range(3):
+        chain = scara_arm(rng, convention, tilt)
+        along = tilt in (0.0, pi)
+        assert position_case(chain).endswith("slides along them" if along else "slides at an angle to them")
+        q = rng.uniform(chain.lower, chain.upper, (3, 3))
+        check_arm(chain, q, rng.uniform(chain.lower, chain.upper, (12, 3)))
+
+
+@pytest.mark.parametrize(("kinds", "alphas", "reason"), [
+    (["revolute", "prismatic", "revolute"], [pi / 2, pi / 2, 0.0],
+     r"joint 2 is prismatic \(a prismatic joint is solved only as joint 3 after revolute joints 1, 2\)"),
+    (["prismatic", "revolute", "prismatic"], [pi / 2, 0.4, 0.0], r"joints 1, 3 are prismatic"),
+    (["revolute", "revolute", "prismatic"], [0.8, 0.6, 0.0],
+     r"joint 3 is prismatic and axes 1, 2 neither meet nor are parallel"),
+])
+def test_the_reason_without_a_closed_form_names_what_is_missing(kinds, alphas, reason):
+    """Before, every such arm read '(two prismatic joints, or parallel axes that leave the
+    position problem degenerate)', true of none of these."""
+    rows = [DHRow(alpha, 0.3, 0.1, 0.2, kind) for alpha, kind in zip(alphas, kinds, strict=True)]
+    chain = chain_from_dh(rows, "standard", limits=[(-1, 1)] * 3)
+    assert generic_rank(chain, joints=3, position_only=True) == 3  # a volume: the rank is not the reason
+    message = f"joints 1, 2, 3 have no closed-form position case here: {reason}.*use numeric IK with mask="
+    with pytest.raises(NoClosedFormError, match=message):
+        ik_position(chain, fk(chain, np.full(3, 0.3))[:3, 3])
+
+
 def test_a_family_is_flagged_on_axis_1():
     """The tool point on axis 1 of an elbow arm: q1 is free, the member found is flagged."""
     rows = [DHRow(pi / 2, 0, 0.2, 0), DHRow(0, 0.3, 0, 0), DHRow(0, 0.25, 0, 0)]

@@ -364,6 +364,43 @@ def test_a_nan_joint_range_is_one_error_not_an_unlimited_joint(tmp_path, monkeyp
     assert list(tmp_path.iterdir()) == []  # MuJoCo's own handler would append to MUJOCO_LOG.TXT here
 
 
+@pytest.mark.parametrize(("compiler", "joint", "shown"), [
+    ("", 'type="hinge" range="nan 90"',
+     r"\[nan, 90\] degrees \(<compiler angle=\"degree\">, MuJoCo's default\)"),
+    ('<compiler angle="degree"/>', 'range="-45 nan"', r"\[-45, nan\] degrees"),
+    ('<compiler angle="radian"/>', 'range="nan 1.25"',
+     r"\[nan, 1.25\] rad \(the file's <compiler angle=\"radian\">\)"),
+    ('<compiler angle="degree"/>', 'type="slide" range="nan 0.25"', r"\[nan, 0.25\] m;"),
+])
+def test_a_bad_joint_range_is_shown_as_the_file_wrote_it(tmp_path, monkeypatch, compiler, joint, shown):
+    """Before: a range in degrees (MuJoCo's default unit) was shown in radians, [nan, 1.5707963267948966]."""
+    monkeypatch.chdir(tmp_path)  # MuJoCo's own compile below may append its warning to MUJOCO_LOG.TXT here
+    path = tmp_path / "arm.xml"
+    path.write_text(f'<mujoco>{compiler}<worldbody><body name="l1"><joint name="j1" axis="0 1 0" {joint} '
+                    f'limited="true"/><geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody>'
+                    f'</mujoco>')
+    for load in (lambda: armkit.load(path), lambda: robot_from_mjcf(path.read_text())):
+        with pytest.raises(RobotDefinitionError, match=f"joint 'j1': range {shown}.*expected two finite"), \
+                pytest.warns(UserWarning, match="MuJoCo warns: XML contains a 'NaN'"):
+            load()
+    compiled = mujoco.MjModel.from_xml_path(str(path)) if "slide" not in joint else None
+    if compiled is not None:  # a compiled model does not know the file's unit: its radians, said so
+        with pytest.raises(RobotDefinitionError, match=r"range \[nan, [-\d.]+\] rad, as MuJoCo compiled it|"
+                                                        r"range \[-[\d.]+, nan\] rad, as MuJoCo compiled it"):
+            robot_from_mjcf(compiled)
+
+
+def test_without_mujocos_spec_parser_a_bad_range_is_shown_in_compiled_radians(monkeypatch, tmp_path):
+    """MuJoCo before 3.2 has no MjSpec to say the file's unit: the radians are said to be MuJoCo's."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.delattr(mujoco, "MjSpec")
+    text = ('<mujoco><worldbody><body name="l1"><joint name="j1" axis="0 1 0" range="nan 90" limited="true"/>'
+            '<geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
+    with pytest.raises(RobotDefinitionError, match=r"range \[nan, 1.5708\] rad, as MuJoCo compiled it"), \
+            pytest.warns(UserWarning, match="MuJoCo warns"):
+        robot_from_mjcf(text)
+
+
 @pytest.mark.parametrize(("body", "joint", "geom", "message"), [
     ('pos="nan 0 0"', 'axis="0 1 0"', 'size="0.05"', r"MJCF text, body 'l1': pos \[nan, 0.0, 0.0\]; expe"),
     ('pos="0 0 0"', 'axis="nan 0 0"', 'size="0.05"', r"MJCF text, joint 'j1': axis \[nan, .*\]; expected"),
@@ -401,4 +438,5 @@ def test_the_cli_shows_mujocos_warning_as_one_line(tmp_path, capsys):
     assert main(["show", str(path)]) == 1
     lines = capsys.readouterr().err.strip().splitlines()
     assert lines == [f"warning: {path}: MuJoCo warns: XML contains a 'NaN'. Please check it carefully.",
-                     f"error: {path}, joint 'j1': range [0.0, nan]; expected two finite numbers"]
+                     f"error: {path}, joint 'j1': range [0, nan] degrees (<compiler angle=\"degree\">, "
+                     f"MuJoCo's default); expected two finite numbers"]

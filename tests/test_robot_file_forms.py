@@ -59,6 +59,16 @@ def write(tmp_path, text, name="arm.toml"):
     return path
 
 
+def test_a_joint_axis_too_short_to_be_a_direction_is_named_with_the_file(tmp_path):
+    """Before: 'joint 'q1': axis [0.0, 0.0, 1e-300]: expected three finite numbers, not all zero', without
+    the file, of an axis that is not zero."""
+    path = write(tmp_path, UR5_POE.replace("axis = [0, 0, -1]", "axis = [0, 0, -1e-300]"))
+    message = (r"arm.toml, joint 'q5': axis \[0.0, 0.0, -1e-300\]: its length 1e-300 is too small to be a "
+               r"direction; expected three finite numbers of length at least 1e-12")
+    with pytest.raises(RobotDefinitionError, match=message):
+        armkit.load(path)
+
+
 def test_ur5_from_joint_lines_equals_the_dh_ur5(tmp_path):
     poe = armkit.load(write(tmp_path, UR5_POE))
     dh = armkit.load("ur5")

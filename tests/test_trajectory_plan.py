@@ -46,12 +46,25 @@ def test_a_urdf_arm_has_no_acceleration_limits_and_given_ones_are_kept(ur5):
     ({"max_acceleration": [1.0, 2.0]}, "max_acceleration: expected one limit or 6 limits"),
     ({"max_acceleration": -1.0}, "max_acceleration: expected positive limits"),
     ({"max_velocity": "fast"}, "max_velocity: expected numbers"),
+    # before, text that reads as a number was taken for one, and True for 1
+    ({"max_velocity": "1"},
+     r"max_velocity: expected numbers \(one limit or one per joint; inf for none\), got '1'"),
+    ({"max_velocity": ["1"] * 6}, r"max_velocity: expected numbers .*, got \['1', '1'"),
+    ({"max_acceleration": True}, r"max_acceleration: expected numbers .*, got True"),
+    ({"max_acceleration": [2.0] * 5 + [None]}, r"max_acceleration: expected numbers .*, got \[2.0, .*None\]"),
 ])
 def test_bad_limits_are_input_errors_naming_them(ur5, limits, message):
     with pytest.raises(InputError, match=message):
         plan_trajectory(ur5, WAYPOINTS, **limits)
     with pytest.raises(InputError, match=message):
         planning_limits(ur5, **limits)
+
+
+@pytest.mark.parametrize(("durations", "waypoints"), [("2", WAYPOINTS[:2]), (["1", "1"], WAYPOINTS),
+                                                     ([1.0, 1.0], [["0"] * 6, [0.1] * 6, [0.2] * 6])])
+def test_text_for_durations_or_waypoints_is_refused(ur5, durations, waypoints):
+    with pytest.raises(InputError, match=r"(durations|waypoints): expected numbers, got"):
+        plan_trajectory(ur5, waypoints, durations)
 
 
 @pytest.mark.parametrize("tol", [0.0, -1e-4, float("nan"), 1.0, "small", "1e-3", 1e-300, True])

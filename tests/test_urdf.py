@@ -187,6 +187,10 @@ def edit(old: str, new: str):
     (edit('<axis xyz="-1 1 0"/>', '<axis xyz="0 0 0"/>'),
      r"joint 'j3': axis \[0.0, 0.0, 0.0\]: expected three"),
     (edit('<axis xyz="-1 1 0"/>', '<axis/>'), r"joint 'j3': <axis> has no xyz=\"...\""),
+    # before: 'expected three finite numbers, not all zero', of an axis that is not zero
+    (edit('<axis xyz="-1 1 0"/>', '<axis xyz="0 0 1e-300"/>'),
+     r"joint 'j3': axis \[0.0, 0.0, 1e-300\]: its length 1e-300 is too small to be a direction; expected "
+     r"three finite numbers of length at least 1e-12"),
     (edit('<limit lower="-0.1" upper="0.2" velocity="0.5" effort="100"/>', ""),
      r"joint 'j3': a prismatic joint needs <limit lower=\.\.\. upper=\.\.\. velocity=\.\.\. effort=\.\.\.>"),
     (edit('lower="-0.1" upper="0.2"', 'lower="0.2" upper="-0.1"'),

@@ -68,8 +68,9 @@ void copy2(const M2& from, double (&to)[2][2]) {
 
 // position_case: an index of kPositionCaseNames.
 void check_position_case(int position_case) {
-    if (position_case < 0 || position_case > int(PositionCase::General123))
-        throw nb::value_error("position_case must be 0 .. 5 (armkit.ik.cases.POSITION_CASES)");
+    if (position_case < 0 || position_case >= kPositionCaseCount)
+        throw nb::value_error(("position_case must be 0 .. " + std::to_string(kPositionCaseCount - 1) +
+                               " (armkit.ik.cases.POSITION_CASES)").c_str());
 }
 
 // The chain of a case with `n` joints (`what` names the case in the error).

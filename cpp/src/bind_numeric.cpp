@@ -81,14 +81,19 @@ void solve_many(const NumericSolver& solver, In T, In q0, std::uint64_t seed, in
 }
 
 // Resolved-rate control's step through J (6, n) for a twist (6,) into qd (n,), scaled to the
-// velocity limits if inverse_max_velocity (n,) is given: (sigma_min, damping, scale).
+// velocity limits if inverse_max_velocity (n,) is given: (sigma_min, damping, scale). A J or
+// twist of the wrong shape, or not finite, or a step that overflows: std::invalid_argument (the
+// Python layer then names the value).
 nb::tuple rate_step_of(In J, In twist, double threshold, double max_damping, In inverse_max_velocity, Out qd) {
     const std::size_t n = qd.size();
     if (n == 0 || n > std::size_t(kMaxJoints) || J.ndim() != 2 || J.shape(0) != 6 || J.shape(1) != n ||
         twist.ndim() != 1 || twist.size() != 6)
         throw std::invalid_argument("rate_step: expected J (6, n), twist (6,) and qd (n,)");
+    if (!all_finite(J.data(), 6 * n) || !all_finite(twist.data(), 6))
+        throw std::invalid_argument("rate_step: expected finite J and twist");
     const double* limits = optional_seeds(inverse_max_velocity, n, "rate_step: expected inverse_max_velocity (n,)");
     const RateStepInfo info = rate_step(J.data(), int(n), twist.data(), threshold, max_damping, limits, qd.data());
+    if (!all_finite(qd.data(), n)) throw std::invalid_argument("rate_step: the step overflows");
     return nb::make_tuple(info.sigma_min, info.damping, info.scale);
 }
 

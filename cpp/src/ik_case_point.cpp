@@ -1,6 +1,6 @@
 // Joints 1-3 carry a point to a target (ik_case_point.hpp): SP3 / SP4 / SP2 / planar 2R by
-// which pair of axes 1-3 meets or is parallel, a quadratic for a prismatic third joint, a
-// two-angle system in q1, q3 for general axes.
+// which pair of axes 1-3 meets or is parallel, a quadratic for a prismatic third joint (a
+// linear equation when axes 1, 2 are parallel), a two-angle system in q1, q3 for general axes.
 #include "armkit/ik_case_point.hpp"
 
 #include <algorithm>
@@ -97,6 +97,13 @@ ArmCandidates wrist_centre_joints(const PointGeometry& g, Vec3 w) {
                     put(2 * i + j, q1.t[i], q23.t1[j], q23.t2[j], q1.ok[i] && q23.ok[j],
                         q1.free || q23.free1 || q23.free2);
             }
+            break;
+        }
+        case PositionCase::Parallel12Prismatic: {
+            // rotations about axes 1, 2 (parallel) keep the height along them: the slide sets it
+            const double q3 = dot(h0, w - c) / dot(h0, h2);
+            const Planar2 q12 = planar_2r(h0, p1 - p0, c + q3 * h2 - p1, w - p0);
+            for (int j = 0; j < 2; ++j) put(j, q12.ta[j], q12.tb[j], q3, q12.ok[j], q12.free);
             break;
         }
         default: {  // Intersect12Revolute / Intersect12Prismatic

@@ -151,6 +151,32 @@ std::string axes_text(const ArmLines& arm, std::initializer_list<int> joints) {
     return text;
 }
 
+namespace {
+
+// Why position_plan has no case for joints 1-3 of arm (one that none of its cases fits).
+std::string position_gap(const ArmLines& arm) {
+    if (arm.prismatic[0] || arm.prismatic[1]) {
+        int numbers[3], count = 0;
+        for (int j = 0; j < 3; ++j)
+            if (arm.prismatic[j]) numbers[count++] = arm.index[j] + 1;
+        std::sort(numbers, numbers + count);
+        std::string which;
+        for (int c = 0; c < count; ++c) which += (c ? ", " : "") + std::to_string(numbers[c]);
+        return (count == 1 ? "joint " + which + " is" : "joints " + which + " are") +
+               " prismatic (a prismatic joint is solved only as joint " + axes_text(arm, {2}) +
+               " after revolute joints " + axes_text(arm, {0, 1}) + ")";
+    }
+    if (arm.prismatic[2] && parallel(arm, 0, 1))
+        return "joint " + axes_text(arm, {2}) + " slides normal to the parallel axes " + axes_text(arm, {0, 1}) +
+               ", so the point stays in a plane";
+    if (arm.prismatic[2])
+        return "joint " + axes_text(arm, {2}) + " is prismatic and axes " + axes_text(arm, {0, 1}) +
+               " neither meet nor are parallel";
+    return "axes " + axes_text(arm, {0, 1, 2}) + " are parallel, so the point stays in a plane";
+}
+
+}  // namespace
+
 std::variant<PositionPlan, CaseReason> position_plan(const ArmLines& arm) {
     const bool revolute[3] = {!arm.prismatic[0], !arm.prismatic[1], !arm.prismatic[2]};
     PositionPlan plan;
@@ -166,6 +192,14 @@ std::variant<PositionPlan, CaseReason> position_plan(const ArmLines& arm) {
         plan.position_case = int(arm.prismatic[2] ? PositionCase::Intersect12Prismatic
                                                   : PositionCase::Intersect12Revolute);
         plan.clause = "axes " + axes_text(arm, {0, 1}) + " meet";
+        return plan;
+    }
+    const bool parallel12 = revolute[0] && revolute[1] && parallel(arm, 0, 1);
+    if (parallel12 && arm.prismatic[2] && std::fabs(dot(arm.h[0], arm.h[2])) > arm.tolerance) {
+        plan.position_case = int(PositionCase::Parallel12Prismatic);
+        plan.lines = aligned(arm, {0, 1}, arm.h[0]);
+        plan.clause = "axes " + axes_text(arm, {0, 1}) + " are parallel and joint " + axes_text(arm, {2}) +
+                      (parallel(arm, 0, 2) ? " slides along them" : " slides at an angle to them");
         return plan;
     }
     if (all) {
@@ -186,9 +220,8 @@ std::variant<PositionPlan, CaseReason> position_plan(const ArmLines& arm) {
             return plan;
         }
     }
-    return CaseReason{CaseFit::Position, "joints " + axes_text(arm, {0, 1, 2}) +
-                                             " are not solved in closed form here (a prismatic joint, or "
-                                             "degenerate axes)"};
+    return CaseReason{CaseFit::Position, "joints " + axes_text(arm, {0, 1, 2}) + " have no closed-form position "
+                                             "case here: " + position_gap(arm)};
 }
 
 bool six_revolute(const ArmLines& arm, const std::string& what, CaseReason& why) {
@@ -270,7 +303,10 @@ bool snap_to_class(const ArmLines& arm, const char* kind, ArmLines& out) {
         for (int j = 3; j < 6; ++j) out.p[j] = centre;
         switch (PositionCase(p.position_case)) {
             case PositionCase::Parallel23: out.h[2] = dot(lines.h[2], lines.h[1]) < 0 ? -lines.h[1] : lines.h[1]; break;
-            case PositionCase::Parallel12: out.h[1] = dot(lines.h[1], lines.h[0]) < 0 ? -lines.h[0] : lines.h[0]; break;
+            case PositionCase::Parallel12:
+            case PositionCase::Parallel12Prismatic:
+                out.h[1] = dot(lines.h[1], lines.h[0]) < 0 ? -lines.h[0] : lines.h[0];
+                break;
             case PositionCase::Intersect12Revolute:
             case PositionCase::Intersect12Prismatic: out.p[0] = out.p[1] = p.o; break;
             case PositionCase::Intersect23: out.p[1] = out.p[2] = p.o; break;

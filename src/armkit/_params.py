@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from armkit.errors import InputError
 
 __all__ = ["MAX_COUNT", "MAX_THREADS", "core_ready", "float_array", "non_negative_float", "positive_float",
-           "thread_count", "whole_number"]
+           "real_array", "thread_count", "whole_number"]
 
 _FLOAT64 = np.dtype(np.float64)  # native byte order
 
@@ -119,22 +119,43 @@ def thread_count(value: object, name: str = "threads") -> int:
 
 
 def float_array(value: object, label: str, expected: str) -> NDArray[np.float64]:
-    """``value`` as a C-ordered float64 array (itself if it already is one, :func:`core_ready`);
-    its shape and values are the caller's to check.
+    """``value`` as a C-ordered float64 array (itself if it already is one, :func:`core_ready`), or an
+    :class:`InputError` if it holds anything but real numbers (a string such as ``"1"``, a bool,
+    ``None``); its shape and values are the caller's to check.
 
     >>> float_array([1, 2], "near", "2 joint values").dtype
     dtype('float64')
-    >>> float_array("x", "near", "2 joint values")
+    >>> float_array("1", "near", "2 joint values")
     Traceback (most recent call last):
-    armkit.errors.InputError: near: expected 2 joint values, got 'x'
+    armkit.errors.InputError: near: expected 2 joint values, got '1'
     """
     if core_ready(value):
         return value
+    return np.ascontiguousarray(real_array(value, label, expected))
+
+
+def real_array(value: object, label: str, expected: str) -> NDArray[np.float64]:
+    """``value`` as a float64 array of its own shape (a number gives shape ``()``) if it holds real
+    numbers only (ints and floats of any kind), or an :class:`InputError` saying it expected
+    ``expected``: a string (``"1"`` is text, not 1.0), a bool, ``None`` or a complex number is refused.
+
+    >>> real_array(2, "max_velocity", "numbers")
+    array(2.)
+    >>> real_array(True, "max_velocity", "numbers")
+    Traceback (most recent call last):
+    armkit.errors.InputError: max_velocity: expected numbers, got True
+    """
     try:
-        return np.ascontiguousarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{label}: expected {expected}, got {value!r}", parameter=label,
-                         value=value) from exc
+        array = np.asarray(value)
+        if array.dtype.kind == "O":
+            numbers = all(_real(item) is not None for item in array.flat)
+        else:
+            numbers = array.dtype.kind in "iuf"
+        if numbers:
+            return np.asarray(array, dtype=np.float64, order="C")
+    except (TypeError, ValueError, OverflowError):  # ragged nesting; an int past float64
+        pass
+    raise InputError(f"{label}: expected {expected}, got {value!r}", parameter=label, value=value)
 
 
 def core_ready(value: object, shape: tuple[int, ...] = (), *, exact: bool = False) -> bool:

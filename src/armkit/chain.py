@@ -218,6 +218,22 @@ class Chain:
         return float(np.linalg.norm(self.T_between[:, :3, 3], axis=-1).sum())
 
     @cached_property
+    def reach(self) -> float:
+        """A distance [m] from the base frame's origin that no tool position exceeds, at any joint
+        values within the prismatic joints' limits: :attr:`link_length` plus each prismatic joint's
+        largest travel (``inf`` if one is unlimited). A bound, not the workspace's exact radius.
+
+        Examples
+        --------
+        >>> chain = chain_from_dh([DHRow(0, 0.5, 0.2, 0), DHRow(0, 0, 0, 0, "prismatic")], "standard",
+        ...                       limits=[(-3, 3), (-0.1, 0.3)])
+        >>> round(chain.reach, 6)  # sqrt(0.29) + 0.3
+        0.838516
+        """
+        travel = np.maximum(np.abs(self.lower), np.abs(self.upper))[self.prismatic]
+        return self.link_length + float(travel.sum())
+
+    @cached_property
     def spans_turns(self) -> tuple[int, ...]:
         """The revolute joints (0-based) whose finite limits span more than a whole turn:
         an angle of such a joint has several whole-turn copies ``q + 2 pi t`` inside the

@@ -35,6 +35,7 @@ Refused, with one :class:`~armkit.errors.RobotDefinitionError`
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -91,7 +92,8 @@ def load_mjcf(path: str | Path, base: str | None = None, tip: str | None = None)
     if not path.is_file():
         raise RobotDefinitionError(f"{path}: no such file")
     model, said = _compiled(mujoco, mujoco.MjModel.from_xml_path, str(path), str(path))
-    return _robot(mujoco, model, str(path), base, tip, said)
+    return _robot(mujoco, model, str(path), base, tip, said,
+                  lambda: _in_degrees(mujoco, "from_file", str(path)))
 
 
 def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None = None,
@@ -120,12 +122,16 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
         except UnicodeDecodeError as exc:
             raise RobotDefinitionError(f"{source}: MuJoCo cannot compile it: {_one_line(exc)}") from exc
         model, said = _compiled(mujoco, mujoco.MjModel.from_xml_string, text, source)
-        return _robot(mujoco, model, source, base, tip, said)
-    return _robot(mujoco, model, source, base, tip, [])
+        return _robot(mujoco, model, source, base, tip, said,
+                      lambda: _in_degrees(mujoco, "from_string", text))
+    return _robot(mujoco, model, source, base, tip, [], lambda: None)
 
 
-def _robot(mujoco: Any, model: Any, source: str, base: str | None, tip: str | None, said: list[str]) -> Robot:
-    """:func:`robot_from_mjcf` of a compiled model; ``said``: MuJoCo's warnings while compiling it."""
+def _robot(mujoco: Any, model: Any, source: str, base: str | None, tip: str | None, said: list[str],
+           in_degrees: Callable[[], bool | None]) -> Robot:
+    """:func:`robot_from_mjcf` of a compiled model; ``said``: MuJoCo's warnings while compiling it;
+    ``in_degrees``: whether the file writes angles in degrees (``None``: unknown, a compiled model),
+    asked only for an error message."""
     bodies = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or f"body {b}"
               for b in range(model.nbody)]
     base_id = 0 if base is None else _body_id(bodies, base, "base", source)
@@ -152,8 +158,9 @@ def _robot(mujoco: Any, model: Any, source: str, base: str | None, tip: str | No
             before.append(pending @ P @ R @ (rot_z(-ref) if kind == _HINGE else trans_z(-ref)))
             after.append(R.T @ invert_transform(P))
             if model.jnt_limited[j] and not np.isfinite(model.jnt_range[j]).all():
-                raise RobotDefinitionError(f"{source}, joint {name!r}: range {model.jnt_range[j].tolist()}; "
-                                           f"expected two finite numbers")
+                written = _as_written(model.jnt_range[j], kind == _HINGE, in_degrees())
+                raise RobotDefinitionError(f"{source}, joint {name!r}: range {written}; expected two finite "
+                                           f"numbers")
             limits.append(tuple(model.jnt_range[j]) if model.jnt_limited[j] else (-np.inf, np.inf))
             names.append(name)
             ids.append(j)
@@ -177,6 +184,39 @@ def _robot(mujoco: Any, model: Any, source: str, base: str | None, tip: str | No
     name = _model_name(model) or Path(source).stem
     return Robot(chain, name=name, source=source,
                  description=f"MJCF {Path(source).name}, {bodies[base_id]} to {tip_name}")
+
+
+def _in_degrees(mujoco: Any, parse: str, xml: str) -> bool | None:
+    """Whether ``mujoco.MjSpec.<parse>(xml)`` (MuJoCo's own parser: ``<include>`` files and MuJoCo's
+    default, degrees, as it reads them) says the file writes angles in degrees; ``None`` if it cannot
+    tell (MuJoCo before 3.2 has no ``MjSpec``)."""
+    spec = getattr(mujoco, "MjSpec", None)
+    if spec is None:
+        return None
+    with _WARNING_HANDLER:  # its warnings were already given once, by the compile
+        previous = mujoco.get_mju_user_warning()
+        mujoco.set_mju_user_warning(lambda text: None)
+        try:
+            return bool(getattr(spec, parse)(xml).compiler.degree)
+        except ValueError:
+            return None
+        finally:
+            mujoco.set_mju_user_warning(previous)
+
+
+def _as_written(values: NDArray[np.float64], angle: bool, degrees: bool | None) -> str:
+    """A joint's compiled ``range`` (radians or metres) as the file wrote it, with its unit.
+
+    >>> print(_as_written(np.array([np.nan, np.pi / 2]), True, True))
+    [nan, 90] degrees (<compiler angle="degree">, MuJoCo's default)
+    """
+    if angle and degrees:
+        written, unit = np.degrees(values), 'degrees (<compiler angle="degree">, MuJoCo\'s default)'
+    else:
+        written = values
+        unit = "m" if not angle else 'rad (the file\'s <compiler angle="radian">)' if degrees is False else \
+            "rad, as MuJoCo compiled it"
+    return f"[{', '.join(f'{v:g}' for v in written)}] {unit}"
 
 
 def _check_finite(source: str, where: str, **attributes: NDArray[np.float64]) -> None:

@@ -28,7 +28,8 @@ from armkit.errors import RobotDefinitionError
 from armkit.kinematics import joint_frames
 from armkit.spatial.transforms import invert_transform, transform_from
 
-__all__ = ["PoeDescription", "chain_from_poe", "poe_from_chain", "rotation_z_to", "unit_axis"]
+__all__ = ["MIN_AXIS_LENGTH", "PoeDescription", "chain_from_poe", "direction", "poe_from_chain",
+           "rotation_z_to", "unit_axis"]
 
 
 @dataclass(frozen=True)
@@ -75,14 +76,39 @@ def rotation_z_to(axis: ArrayLike) -> NDArray[np.float64]:
     return np.eye(3) + K + K @ K / (1.0 + a[2])
 
 
+#: Shortest axis vector [unitless] taken as a direction: shorter ones (1e-300, 0) are rounding noise.
+MIN_AXIS_LENGTH = 1e-12
+
+
+def direction(axis: NDArray[np.float64]) -> tuple[NDArray[np.float64] | None, float]:
+    """A finite ``(3,)`` vector scaled to length one, and its length (without overflow: ``[1e308, 1e308, 0]``
+    is 1.4e308 long, not inf); the direction is ``None`` if the length is below :data:`MIN_AXIS_LENGTH`.
+
+    >>> direction(np.array([0.0, 3e300, 4e300]))
+    (array([0. , 0.6, 0.8]), 5e+300)
+    >>> direction(np.array([0.0, 0.0, 1e-300]))
+    (None, 1e-300)
+    """
+    largest = float(np.abs(axis).max())
+    if largest == 0.0:
+        return None, 0.0
+    scaled = axis / largest
+    length = float(np.linalg.norm(scaled))
+    return (scaled / length if length * largest >= MIN_AXIS_LENGTH else None), length * largest
+
+
 def unit_axis(axis: ArrayLike, where: str) -> NDArray[np.float64]:
     """``axis`` ``(3,)`` scaled to length one, or a :class:`RobotDefinitionError` naming ``where``."""
     a = np.asarray(axis, dtype=float)
-    norm = float(np.linalg.norm(a)) if a.shape == (3,) and np.isfinite(a).all() else 0.0
-    if not norm > 1e-12:
+    if a.shape != (3,) or not np.isfinite(a).all() or not a.any():
         raise RobotDefinitionError(f"{where}: axis {np.asarray(axis).tolist()}: expected three "
                                    f"finite numbers, not all zero")
-    return a / norm
+    unit, length = direction(a)
+    if unit is None:
+        raise RobotDefinitionError(f"{where}: axis {a.tolist()}: its length {length:.3g} is too small to "
+                                   f"be a direction; expected three finite numbers of length at least "
+                                   f"{MIN_AXIS_LENGTH:g}")
+    return unit
 
 
 def chain_from_poe(axes: ArrayLike, points: ArrayLike, M: ArrayLike, *,

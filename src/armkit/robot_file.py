@@ -305,10 +305,13 @@ def robot_from_dict(data: dict, source: str = "robot description", require_units
     tool_rows, T_tool = _end(data, "tool", source, length, angle, poe)
     name = _text(data.get("name", Path(source).stem), f"{source}, key 'name'")
     if poe:
-        robot = Robot.from_poe(axes, points, np.eye(4) if T_tool is None else T_tool, name=name, kinds=kinds,
-                               T_base=T_base, limits=limits, max_velocity=vmax, max_acceleration=amax,
-                               names=names, length_unit=length_unit, angle_unit=angle_unit,
-                               inertials=inertials, max_torque=max_torque)
+        try:
+            robot = Robot.from_poe(axes, points, np.eye(4) if T_tool is None else T_tool, name=name,
+                                   kinds=kinds, T_base=T_base, limits=limits, max_velocity=vmax,
+                                   max_acceleration=amax, names=names, length_unit=length_unit,
+                                   angle_unit=angle_unit, inertials=inertials, max_torque=max_torque)
+        except RobotDefinitionError as exc:  # e.g. an axis too short to be a direction: name the file
+            raise RobotDefinitionError(f"{source}, {exc}") from exc
     else:
         robot = Robot.from_dh(rows, convention, name=name, limits=limits, max_velocity=vmax,
                               max_acceleration=amax, base_rows=base_rows, tool_rows=tool_rows,

@@ -10,13 +10,17 @@
 namespace armkit {
 
 // Which pair of axes 1-3 meets or is parallel (armkit.ik.cases.POSITION_CASES, same order).
+// Parallel12Prismatic: revolute axes 1, 2 parallel and joint 3 a slide not normal to them (a
+// SCARA's R R P): the slide sets the height along axis 1, a planar 2R the rest.
 enum class PositionCase : int {
     Parallel23 = 0, Parallel12 = 1, Intersect23 = 2, Intersect12Revolute = 3, Intersect12Prismatic = 4,
-    General123 = 5
+    General123 = 5, Parallel12Prismatic = 6
 };
 //: Their names, in PositionCase's order.
 constexpr const char* kPositionCaseNames[] = {"parallel-23", "parallel-12", "intersect-23", "intersect-12-revolute",
-                                              "intersect-12-prismatic", "general-123"};
+                                              "intersect-12-prismatic", "general-123", "parallel-12-prismatic"};
+//: How many position cases there are.
+constexpr int kPositionCaseCount = int(sizeof(kPositionCaseNames) / sizeof(kPositionCaseNames[0]));
 
 // o: where axes 1 and 2 (or 2 and 3) meet; for general axes (General123) the closest points
 // o2, o3 of axes 2 and 3 and the two-angle system in q1, q3.

@@ -49,7 +49,7 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON (SI units) ins
 
 def _start(robot: Robot, first: str | None, rest: list[str] | None, degrees: bool) -> np.ndarray:
     words = option_values(first, rest, "--from", "start joint values")
-    q = np.zeros(robot.n) if words is None else to_si(robot, words, degrees)
+    q = np.zeros(robot.n) if words is None else to_si(robot, words, degrees, "--from")
     if violations := robot.limit_violations(q, degrees):  # said in the units typed
         raise JointLimitError("--from: " + "; ".join(violations), q, **robot.chain.limit_fields(q))
     return q

@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit._deprecation import renamed_argument
 from armkit._time import even_time_grid
-from armkit.control._checks import check_positive, check_start
+from armkit.control._checks import check_positive, check_start, refuse_beyond_reach
 from armkit.control.motions import DEFAULT_DT, track_poses
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError, UnreachableError
@@ -230,6 +230,8 @@ def cartesian_line(robot: Robot, q0: ArrayLike, T_goal: ArrayLike, duration: flo
     """
     q0 = check_start(robot, q0)
     T_goal = check_transform(T_goal, "T_goal")
+    goal = ", ".join(f"{v:.6g}" for v in T_goal[:3, 3])
+    refuse_beyond_reach(robot, np.zeros(3), T_goal[:3, 3], f"T_goal at [{goal}] m")
     duration = check_positive(duration, "duration", "s")
     rate_hz = renamed_argument("cartesian_line", "rate", "rate_hz", rate, rate_hz, 100.0)
     rate_hz = check_positive(rate_hz, "rate_hz", "Hz")

@@ -33,12 +33,15 @@ from numpy.typing import ArrayLike, NDArray
 from armkit._deprecation import deprecated_property, renamed_argument
 from armkit._time import even_time_grid
 from armkit.chain import Chain
-from armkit.control._checks import check_positive, check_start
+from armkit.control._checks import check_positive, check_start, refuse_beyond_reach
 from armkit.control.resolved_rate import ResolvedRate
-from armkit.errors import InputError, JointLimitError
+from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.kinematics import pose_error
+from armkit.poe import MIN_AXIS_LENGTH, direction
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_axis_angle, rotation_angle_between
+from armkit.spatial.transforms import check_transform
+from armkit.trajectory._checks import MAX_DURATION, MIN_DURATION
 from armkit.trajectory.joint_trajectory import TrajectoryTorques
 from armkit.trajectory.polynomial import quintic
 
@@ -166,9 +169,23 @@ def _limit_stop(chain: Chain, q: NDArray[np.float64], step: NDArray[np.float64])
     return float(np.clip(fraction[joint], 0.0, 1.0)), joint
 
 
+def _target_check(robot: Robot, target: NDArray[np.float64], q_final: NDArray[np.float64]) -> str:
+    """Whether IK (closed form, or numeric from ``q_final``) reaches ``target`` inside the limits, said
+    as the end of a sentence on a motion that stopped short of it near a singularity."""
+    try:
+        q = robot.ik(target, near=q_final)
+    except (UnreachableError, JointLimitError) as exc:  # out of reach, or only outside the limits
+        return f"IK of the target says: {exc}"
+    shown = ", ".join(f"{v:.4g}" for v in q)
+    return (f"the target is reachable (IK finds q = [{shown}] rad or m, inside the limits), so the damping "
+            f"held the arm back near the singularity: move slower (a longer duration or, for a turn, a lower "
+            f"angular velocity)")
+
+
 def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
-               sigma: NDArray[np.float64], control: ResolvedRate) -> str:
-    """Why a motion that ran to its end did not reach its target."""
+               sigma: NDArray[np.float64], control: ResolvedRate, target: NDArray[np.float64],
+               q_final: NDArray[np.float64]) -> str:
+    """Why a motion that ran to its end (at ``q_final``) did not reach its ``target`` pose."""
     position, angle = result_errors
     text = f"the tool ended {position:.3g} m and {angle:.3g} rad from the target"
     n = control.robot.n
@@ -177,8 +194,8 @@ def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
                 f"turns the tool's orientation as well as moving its point)")
     if sigma[-1] < control.threshold:
         return (f"{text}: the arm ended near a singularity (smallest singular value {sigma[-1]:.3g}, below "
-                f"the damping threshold {control.threshold:g}): either the target is out of reach (e.g. the "
-                f"arm fully stretched) or the damping held the arm back there; a longer duration tells which")
+                f"the damping threshold {control.threshold:g}), and "
+                f"{_target_check(control.robot, target, q_final)}")
     if scale.min() < 1.0:
         return (f"{text}: the joint velocity limits held it back (velocities scaled down to "
                 f"{scale.min():.0%} at the worst step); allow a longer duration")
@@ -218,15 +235,13 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     """
     q = check_start(robot, q0)
     t = np.asarray(t, dtype=float)
-    reference = np.asarray(reference, dtype=float)
     if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
         raise InputError(f"t: expected at least 2 finite increasing times, got {t!r}")
-    if reference.shape != (t.size, 4, 4) or not np.all(np.isfinite(reference)):
+    reference = check_transform(reference, "reference")  # rigid, as the final IK check takes it
+    if reference.shape != (t.size, 4, 4):
         raise InputError(f"reference: expected {t.size} finite 4x4 poses, got shape {reference.shape}")
     gain = check_positive(gain, "gain", "1/s")
-    if gain * np.diff(t).max() > 1.0:
-        raise InputError(f"gain = {gain:g} 1/s with a control period up to {np.diff(t).max():g} s: "
-                         f"expected gain * dt <= 1 (a stable loop); shorten dt or lower the gain")
+    _check_period(float(np.diff(t).max()), gain, "the longest step of t")
     control = ResolvedRate(robot) if control is None else control
     N, n = t.size, robot.n
     qs, qds = np.zeros((N, n)), np.zeros((N, n))
@@ -264,7 +279,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     errors = (float(np.hypot.reduce(T[:3, 3] - reference[-1, :3, 3])),
               float(rotation_angle_between(T, reference[-1])))
     if not message and (errors[0] > position_tolerance or errors[1] > orientation_tolerance):
-        message = _shortfall(errors, scale[sl], sigma[sl], control)
+        message = _shortfall(errors, scale[sl], sigma[sl], control, reference[-1], q)
     return MotionResult(
         t=t[sl].copy(), q=qs[sl], qd=qds[sl], poses=poses[sl], reference=reference[sl].copy(),
         target=reference[-1].copy(), position_error=errors[0], orientation_error=errors[1],
@@ -304,6 +319,11 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     -------
     MotionResult
 
+    Raises
+    ------
+    UnreachableError
+        Before any step, if the target lies beyond the arm's reach (:attr:`armkit.chain.Chain.reach`).
+
     Examples
     --------
     >>> import armkit
@@ -315,19 +335,44 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     True
     """
     q0 = check_start(robot, q0)
-    displacement = _check_vector(displacement, "displacement", "m")
-    duration = check_positive(duration, "duration", "s")
+    given = _check_vector(displacement, "displacement", "m")
+    duration = _motion_duration(check_positive(duration, "duration", "s"), "the move")
     dt = check_positive(dt, "dt", "s")
+    _check_period(dt, check_positive(gain, "gain", "1/s"), "dt")
     T0 = robot.fk(q0)
     if frame == "tool":
-        displacement = T0[:3, :3] @ displacement
-    elif frame != "base":
+        displacement = T0[:3, :3] @ given
+    elif frame == "base":
+        displacement = given
+    else:
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
+    shown = f"[{', '.join(f'{v:.6g}' for v in given)}] m ({frame} frame)"
+    refuse_beyond_reach(robot, T0[:3, 3], displacement, f"displacement {shown}")
     t = even_time_grid(duration, dt)
     s = quintic(0.0, 1.0, duration).at_time(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     reference[:, :3, 3] += s[:, None] * displacement
     return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits)
+
+
+def _check_period(period: float, gain: float, name: str) -> None:
+    """An :class:`InputError` naming ``name`` unless the control period ``period`` [s] and the
+    feedback ``gain`` [1/s] make a stable loop (``gain * period <= 1``)."""
+    if gain * period > 1.0:
+        raise InputError(f"{name} = {period:g} s with the feedback gain {gain:g} 1/s: expected "
+                         f"gain * dt <= 1 (a stable loop), a control period of at most {1.0 / gain:g} s "
+                         f"(or a lower gain)", parameter="dt", value=period)
+
+
+def _check_axis(axis: ArrayLike) -> NDArray[np.float64]:
+    """``axis`` as a unit vector, or an :class:`InputError` if it is no direction (too short)."""
+    axis = _check_vector(axis, "axis", "unitless direction")
+    unit, length = direction(axis)
+    if unit is None:
+        raise InputError(f"axis: expected a non-zero direction, got {axis.tolist()}: its length "
+                         f"{length:.3g} is too small to be a direction (at least {MIN_AXIS_LENGTH:g})",
+                         parameter="axis", value=axis)
+    return unit
 
 
 def _turn(angle: float | None, speed: float | None,
@@ -349,10 +394,21 @@ def _turn(angle: float | None, speed: float | None,
         if np.sign(angle) != np.sign(speed) and speed < 0:
             raise InputError(f"angle {angle:g} rad and angular_velocity {speed:g} rad/s have opposite signs; "
                              f"give the direction once (the sign of angle, or of angular_velocity)")
-        return float(angle), abs(angle / speed), True
+        turn = f"a turn of {angle:g} rad at {speed:g} rad/s"
+        return float(angle), _motion_duration(abs(angle / speed), turn), True
     if speed is not None:
-        return float(speed) * duration, duration, True
-    return float(angle), duration, False
+        return float(speed) * _motion_duration(duration, "the turn"), duration, True
+    return float(angle), _motion_duration(duration, "the turn"), False
+
+
+def _motion_duration(duration: float, what: str) -> float:
+    """``duration`` [s] if a time law takes it (:data:`~armkit.trajectory._checks.MIN_DURATION` to
+    ``MAX_DURATION``: a quintic's powers of it stay finite), else an :class:`InputError` saying how
+    long ``what`` takes."""
+    if not MIN_DURATION <= duration <= MAX_DURATION:
+        raise InputError(f"{what} takes {duration:g} s; expected a duration from {MIN_DURATION:g} s to "
+                         f"{MAX_DURATION:g} s", parameter="duration", value=duration)
+    return duration
 
 
 def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle: float | None = None,
@@ -411,21 +467,24 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     (True, True)
     """
     q0 = check_start(robot, q0)
-    axis = _check_vector(axis, "axis", "unitless direction")
-    norm = np.linalg.norm(axis)
-    if norm < 1e-12:
-        raise InputError(f"axis: expected a non-zero direction, got {axis.tolist()}")
-    axis = axis / norm
+    axis = _check_axis(axis)
     angular_velocity = renamed_argument("rotate_about_tool_point", "rate", "angular_velocity", rate,
                                         angular_velocity, None)
     signed_angle, total_time, constant_rate = _turn(angle, angular_velocity, duration)
     dt = check_positive(dt, "dt", "s")
+    _check_period(dt, check_positive(gain, "gain", "1/s"), "dt")
     T0 = robot.fk(q0)
     if frame == "tool":
         axis = T0[:3, :3] @ axis
     elif frame != "base":
         raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
-    t = even_time_grid(total_time, dt)
+    try:
+        t = even_time_grid(total_time, dt)
+    except InputError as exc:
+        if duration is not None:
+            raise
+        raise InputError(f"a turn of {signed_angle:g} rad at {angular_velocity:g} rad/s takes "
+                         f"{total_time:g} s: {exc}", parameter="angle", value=angle) from exc
     s = t / total_time if constant_rate else quintic(0.0, 1.0, total_time).at_time(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     turns = matrix_from_axis_angle(np.outer(s * signed_angle, axis))

@@ -209,8 +209,8 @@ class ResolvedRate:
 
     # ------------------------------------------------------------------ fast path
     def solve(self, J: NDArray[np.float64], twist: NDArray[np.float64]) -> RateStep:
-        """One control step through a given base-frame Jacobian, without input checks: DLS joint
-        velocities for a base-frame twist (in the core), then velocity scaling.
+        """One control step through a given base-frame Jacobian, with only the core's checks: DLS
+        joint velocities for a base-frame twist (in the core), then velocity scaling.
 
         Parameters
         ----------
@@ -224,6 +224,12 @@ class ResolvedRate:
         RateStep
             Joint velocities, ``sigma_min``, the damping used and the velocity scale.
 
+        Raises
+        ------
+        InputError
+            If ``J`` or ``twist`` is not an array of its shape, holds NaN or infinite values, or the
+            step overflows (the core checks; Python looks only when it refused).
+
         Examples
         --------
         >>> import armkit
@@ -235,7 +241,28 @@ class ResolvedRate:
         """
         qd = np.empty(self._n)
         limits = self._inverse_max_velocity if self.limit_velocity else None
-        return RateStep(qd, *_core.rate_step(J, twist, self.threshold, self.max_damping, limits, qd))
+        try:
+            info = _core.rate_step(J, twist, self.threshold, self.max_damping, limits, qd)
+        except (TypeError, ValueError) as exc:  # the core checks shapes and finiteness; name the culprit
+            raise self._unsolvable(J, twist, exc) from exc
+        return RateStep(qd, *info)
+
+    def _unsolvable(self, J: object, twist: object, refusal: Exception) -> InputError:
+        """The :class:`InputError` for the ``J`` or ``twist`` the core refused (``refusal``) in solve."""
+        for name, value, shape in (("J", J, (6, self._n)), ("twist", twist, (6,))):
+            if not isinstance(value, np.ndarray) or value.shape != shape:
+                shown = f"shape {value.shape}" if isinstance(value, np.ndarray) else type(value).__name__
+                return InputError(f"{name}: expected a float64 array of shape {shape}, got {shown} (solve "
+                                  f"takes arrays as they are; joint_velocity() checks and converts)",
+                                  parameter=name, value=value)
+            if not np.isfinite(value).all():
+                return InputError(f"{name}: contains NaN or infinite values: {value.tolist()}",
+                                  parameter=name, value=value)
+        check_twist(twist)  # components beyond MAX_VALUE
+        if "overflow" in str(refusal):
+            return InputError(f"twist {twist.tolist()}: the joint velocities through J overflow; expected a "
+                              f"twist the arm can follow", parameter="twist", value=twist)
+        return InputError(f"J, twist: {refusal}", parameter="twist", value=twist)
 
     def step(self, q: NDArray[np.float64], twist: NDArray[np.float64]) -> RateStep:
         """One control step without input checks: ``q`` float64 ``(n,)``, base-frame twist ``(6,)``.

@@ -67,9 +67,7 @@ def _plan(chain: Chain) -> str:
     return plan
 
 
-_NO_POSITION_CASE = ("joints 1-3 have no closed-form position solution here (two prismatic joints, or "
-                     "parallel axes that leave the position problem degenerate); use numeric IK with "
-                     "mask=[1, 1, 1, 0, 0, 0]")
+_USE_NUMERIC = "use numeric IK with mask=[1, 1, 1, 0, 0, 0]"
 
 
 def _make_plan(chain: Chain) -> str | NoClosedFormError:
@@ -80,9 +78,9 @@ def _make_plan(chain: Chain) -> str | NoClosedFormError:
         return NoClosedFormError(f"joints 1-3 move the tool point in only {rank} independent directions at "
                                  f"every configuration tried (e.g. axes 1-3 meet at one point, or two are "
                                  f"one line): its positions form a surface, not a volume, so there is no "
-                                 f"closed form here; use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
-    geometry, _, clause = _core.detect_point(chain._core, (0.0, 0.0, 0.0))  # the case is the lines'
-    return NoClosedFormError(_NO_POSITION_CASE) if geometry is None else clause
+                                 f"closed form here; {_USE_NUMERIC}")
+    geometry, _, text = _core.detect_point(chain._core, (0.0, 0.0, 0.0))  # the case is the lines'
+    return NoClosedFormError(f"{text}; {_USE_NUMERIC}") if geometry is None else text
 
 
 def _geometry(chain: Chain, tail: NDArray[np.float64]) -> tuple[PointGeometry, NDArray[np.float64]]:
@@ -90,9 +88,9 @@ def _geometry(chain: Chain, tail: NDArray[np.float64]) -> tuple[PointGeometry, N
     and the signs of joints 1-3."""
     _plan(chain)
     c = fk(chain, np.concatenate([np.zeros(3), tail])[None])[0, :3, 3]
-    geometry, lines, _ = _core.detect_point(chain._core, tuple(float(x) for x in c))
+    geometry, lines, clause = _core.detect_point(chain._core, tuple(float(x) for x in c))
     if geometry is None:
-        raise NoClosedFormError(_NO_POSITION_CASE)
+        raise NoClosedFormError(f"{clause}; {_USE_NUMERIC}")
     return geometry, lines["sign"]
 
 
@@ -151,8 +149,7 @@ def _refuse_far(chain: Chain, p: NDArray[np.float64]) -> None:
     """:class:`UnreachableError` for a position beyond :data:`_FAR` whole arm lengths (prismatic
     joints' travel included) from the base; :class:`InputError` beyond :data:`_LARGEST_DISTANCE`
     for an arm whose unlimited prismatic joints might reach it."""
-    travel = np.abs(chain.lower[chain.prismatic]).sum() + np.abs(chain.upper[chain.prismatic]).sum()
-    whole = chain.link_length + travel
+    whole = chain.reach
     scale = max(float(np.abs(p).max()), 1.0)  # |p| without overflow
     distance = float(np.linalg.norm(p / scale)) * scale
     shown = ", ".join(f"{v:.6g}" for v in p)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armkit._params import float_in_range
+from armkit._params import float_in_range, real_array
 from armkit.errors import InputError
 
 __all__ = ["FINEST_TOL", "LIMIT_MARGIN", "MAX_DURATION", "MIN_DURATION", "check_durations", "check_finite",
@@ -34,10 +34,7 @@ def check_tol(tol: object) -> float:
 
 def check_finite(values: ArrayLike, name: str) -> NDArray[np.float64]:
     """``values`` as float64, or :class:`InputError` naming ``name`` if not numeric and finite."""
-    try:
-        array = np.asarray(values, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name}: expected numbers, got {values!r}") from exc
+    array = real_array(values, name, "numbers")
     if not np.all(np.isfinite(array)):
         raise InputError(f"{name}: contains NaN or infinite values: {array.tolist()}")
     return array
@@ -89,17 +86,9 @@ def durations_from_times(times: ArrayLike) -> NDArray[np.float64]:
     return np.diff(times)
 
 
-def _as_float(value: ArrayLike, name: str) -> NDArray[np.float64]:
-    """``value`` as float64 (``inf`` allowed, meaning no limit), or :class:`InputError`."""
-    try:
-        return np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name}: expected numbers, got {value!r}") from exc
-
-
 def per_joint_limits(value: ArrayLike, n: int, name: str) -> NDArray[np.float64]:
     """One limit or ``n`` limits as ``(n,)`` positive values (``inf`` for none), or :class:`InputError`."""
-    limits = np.asarray(_as_float(value, name), dtype=float)
+    limits = real_array(value, name, "numbers (one limit or one per joint; inf for none)")
     if limits.ndim > 1 or limits.size not in (1, n):
         raise InputError(f"{name}: expected one limit or {n} limits (one per joint), got {limits.tolist()}")
     limits = np.broadcast_to(limits, (n,))
