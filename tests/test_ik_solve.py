@@ -249,7 +249,7 @@ def test_bad_near_and_weights():
         ik_solutions(robot.chain, T, near=[0, 0, 0])
     with pytest.raises(InputError, match=r"near: shape \(3, 6\) for target poses of shape \(2, 4, 4\)"):
         robot.ik(np.stack([T, T]), near=np.zeros((3, 6)))
-    with pytest.raises(InputError, match=r"near: shape \(3, 6\) does not match 2 target poses"):
+    with pytest.raises(InputError, match=r"near: shape \(3, 6\) for target poses of shape \(2, 4, 4\)"):
         ik_solutions(robot.chain, np.stack([T, T]), near=np.zeros((3, 6)))
     with pytest.raises(InputError, match="weights: expected 6 positive numbers"):
         robot.ik(T, weights=[1, 1, 1, 1, 1, -1])

@@ -38,20 +38,20 @@ __all__ = ["DHDescription", "LockedRobot", "Robot"]
 
 
 @cache
+def _closed_form() -> ModuleType:
+    """:mod:`armkit.ik.closed_form` (its ``one_pose``), imported on first use (armkit.ik imports
+    this module)."""
+    from armkit.ik import closed_form
+
+    return closed_form
+
+
 @cache
 def _solve_ik() -> Callable[..., NDArray[np.float64] | list[NDArray[np.float64]]]:
     """:func:`armkit.ik.solve.ik`, imported on first use (armkit.ik imports this module)."""
     from armkit.ik.solve import ik
 
     return ik
-
-
-@cache
-def _closed_form() -> ModuleType:
-    """:mod:`armkit.ik.closed_form` (its ``one_pose``), imported on first use."""
-    from armkit.ik import closed_form
-
-    return closed_form
 
 
 #: The keywords :meth:`Robot.ik` handles itself (the deprecated ``all=`` and a held joint); the others go
@@ -425,7 +425,7 @@ class Robot:
         >>> robot.ik(T, near=[1, -1, 0, 0, 1, 1]).round(3)
         array([ 0.927, -0.687, -0.396,  0.   ,  1.083,  0.927])
         """
-        if scene is None and not options:  # one pose as the core takes it: one call (else None)
+        if scene is None and not options:  # one pose as the core takes it: one core call (else None)
             q = _closed_form().one_pose(self.chain, T_base_tool, near, within_limits, not all_solutions)
             if q is not None:
                 return q
@@ -449,13 +449,8 @@ class Robot:
                 joint, value = options.pop("free_joint"), options.pop("free_value", None)
                 return ik_at_free_joint(self, T_base_tool, joint, value, all_solutions=all_solutions,
                                         near=near, within_limits=within_limits, **options)
-        if near is not None:  # in this robot's words (the targets are checked by ik, with near's shape)
+        if near is not None:  # in this robot's words (its shape against the targets': ik)
             near = self.check_q(near, "near")
-            shape = np.shape(T_base_tool) if near.ndim > 1 else ()
-            if near.ndim > 1 and near.shape[:-1] != shape[:-2]:
-                poses = "one target pose" if len(shape) == 2 else f"target poses of shape {shape}"
-                raise InputError(f"near: shape {near.shape} for {poses}; expected ({self.n},), one set of "
-                                 f"joint values for every pose, or {(*shape[:-2], self.n)}, one per pose")
         return _solve_ik()(self.chain, T_base_tool, all_solutions=all_solutions, near=near,
                            within_limits=within_limits, **options)
 

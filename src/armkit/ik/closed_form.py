@@ -168,21 +168,50 @@ def _make_solver(chain: Chain) -> ClosedFormSolver | NoClosedFormError:
     return ClosedFormSolver(chain, arm)
 
 
-def one_pose(chain: Chain, T_base_tool: ArrayLike, near: ArrayLike | None, within_limits: bool,
+def one_pose(chain: Chain, T_base_tool: object, near: object, within_limits: object,
              nearest: bool) -> NDArray[np.float64] | None:
-    """The answer of :func:`~armkit.ik.solve.ik` for one pose in one core call, when the inputs
-    are as the core takes them, else None (then ``ik`` checks them, and raises or falls back
-    to numeric IK).
+    """The answer of :meth:`armkit.Robot.ik` for one pose in one core call, if the inputs are
+    as the core takes them and the pose has a usable solution; else None.
 
-    ``T_base_tool`` an exactly rigid C-ordered float64 ``(4, 4)``, ``near`` None or ``n`` finite
-    C-ordered float64 values, a chain with a closed form and a pose it reaches (inside the limits
-    if ``within_limits``): every usable solution ``(k, n)``, nearest to ``near`` first, or with
-    ``nearest`` the first ``(n,)``. The same core solver as
-    :func:`~armkit.ik.pipeline.verified_solutions`, without its per-batch arrays: the path of
-    ``robot.ik(T)`` for one pose, kept thin.
+    The first step of ``robot.ik(T)``, kept thin: the same core solver as
+    :func:`~armkit.ik.pipeline.verified_solutions` (candidates wrapped into the limits,
+    FK-verified, family members moved towards ``near``, ranked), without its per-batch arrays
+    and without a Python check of the inputs. Where it returns None, ``robot.ik`` goes on to
+    :func:`~armkit.ik.solve.ik`, which checks the inputs and raises, or falls back to numeric IK.
+
+    Parameters
+    ----------
+    chain : Chain
+        The arm.
+    T_base_tool : object
+        The target pose: used if it is a C-ordered native float64 ``(4, 4)`` NumPy array that
+        :func:`~armkit.spatial.check_transform` would return unchanged (exactly rigid).
+    near : object
+        None (zeros) or ``n`` finite joint values as such an array ``(n,)``.
+    within_limits : object
+        ``True`` or ``False`` (a Python bool): only solutions inside the limits.
+    nearest : bool
+        Only the nearest solution.
+
+    Returns
+    -------
+    ndarray or None
+        Every usable solution ``(k, n)``, nearest to ``near`` first (``k >= 1``), or with
+        ``nearest`` the nearest ``(n,)``; None if the chain has no closed form, an input is not
+        as described, or no candidate is usable (out of reach, or outside the limits).
+
+    Examples
+    --------
+    >>> import armkit
+    >>> robot = armkit.load("ur5")
+    >>> T = robot.fk(np.array([0.3, -1.0, 1.2, 0.4, 0.7, -0.2]))
+    >>> one_pose(robot.chain, T, None, True, False).shape
+    (8, 6)
+    >>> one_pose(robot.chain, T.tolist(), None, True, False) is None  # a list: robot.ik checks it
+    True
     """
     solver = chain.derived(_make_solver)
-    if isinstance(solver, NoClosedFormError):
+    if isinstance(solver, NoClosedFormError) or type(within_limits) is not bool:
         return None
     return _core.solve_one(solver.core, T_base_tool, near, within_limits, nearest)
 

@@ -29,7 +29,7 @@ from armkit._deprecation import renamed_argument
 from armkit._params import float_array, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError, SolutionsLeftOffWarning, warn_at_caller
-from armkit.ik.closed_form import one_pose, solver_or_reason
+from armkit.ik.closed_form import solver_or_reason
 from armkit.ik.messages import Labels, numeric_failure, outside_limits
 from armkit.ik.numeric import numeric_ik, wrap_into_limits
 from armkit.ik.pipeline import (
@@ -112,7 +112,10 @@ class _Targets:
                 try:
                     near = np.broadcast_to(near, (*self.batch, n)).reshape(-1, n)
                 except ValueError as exc:
-                    raise InputError(f"near: shape {near.shape} does not match {self.poses} target poses") \
+                    poses = ("one target pose" if not self.batch else
+                             f"target poses of shape {(*self.batch, 4, 4)}")
+                    raise InputError(f"near: shape {near.shape} for {poses}; expected ({n},), one set of "
+                                     f"joint values for every pose, or {(*self.batch, n)}, one per pose") \
                         from exc
             near = np.ascontiguousarray(near)
         self.near = near
@@ -236,6 +239,13 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
     return IKSolutionsBatch(c.q, c.count, c.inside, c.family & c.keep, c.position_error, c.orientation_error)
 
 
+def _flag(value: object, name: str) -> bool:
+    """``value`` as a bool (NumPy's bools too), or an :class:`InputError` naming it."""
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    raise InputError(f"{name}: expected True or False, got {value!r}", parameter=name, value=value)
+
+
 def _numeric_one(chain: Chain, T: NDArray[np.float64], seed: NDArray[np.float64],
                  within_limits: bool, label: str, options: dict) -> NDArray[np.float64]:
     result = numeric_ik(chain, T, q0=seed, within_limits=within_limits, **options)
@@ -311,10 +321,7 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
     """
     chain = as_chain(robot)
     threads = thread_count(threads)
-    if not numeric_options and weights is None and not (turn_copies and chain.spans_turns):
-        q = one_pose(chain, T_base_tool, near, within_limits, not all_solutions)
-        if q is not None:
-            return q
+    within_limits = _flag(within_limits, "within_limits")
     if numeric_options:
         if "all" in numeric_options:
             all_solutions = renamed_argument("ik", "all", "all_solutions", numeric_options.pop("all"),
