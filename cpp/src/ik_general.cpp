@@ -90,27 +90,58 @@ void null_vector(const Mat12& A, Eigen::Matrix<double, 12, 1>& z) {
     z = lu.permutationQ() * w;
 }
 
+using Mat16 = Eigen::Matrix<double, 16, 16>;
+using Mat12x24 = Eigen::Matrix<double, 12, 24>;
+
+// The companion matrix C = [0 I; K] of the pencil restricted to the complement of its
+// eigenvalues +-i (the spurious roots, see spurious_bases), into A; false where they do not
+// split off to kSpuriousSplit (then C keeps them). With Q = [Q1 Q2] (Q1 spanning their real
+// invariant subspace) Q^T C Q = [* *; 0 A], A = Q2^T C Q2: an orthogonal similarity, no digits
+// lost, and 16 x 16 for the eigensolver instead of 24 x 24.
+bool without_spurious_roots(const Mat12x24& K, const double* basis, Mat16& A) {
+    const Eigen::Map<const Mat24> Q(basis);
+    const Mat12x24 KQ = K * Q;
+    // C Q = [Q's bottom rows; K Q]
+    const Eigen::Matrix<double, 16, 8> leak = Q.topRightCorner<12, 16>().transpose() * Q.bottomLeftCorner<12, 8>() +
+                                              Q.bottomRightCorner<12, 16>().transpose() * KQ.leftCols<8>();
+    if (!(leak.cwiseAbs().maxCoeff() <= kSpuriousSplit * std::max(1.0, K.cwiseAbs().maxCoeff()))) return false;
+    A.noalias() = Q.topRightCorner<12, 16>().transpose() * Q.bottomRightCorner<12, 16>();
+    A.noalias() += Q.bottomRightCorner<12, 16>().transpose() * KQ.rightCols<16>();
+    return true;
+}
+
 // The real roots of det(M0 + M1 x + M2 x^2) as angles t = 2 atan(x) (x = infinity: t = pi)
 // into t (at most kGeneralRoots, the most nearly real first); returns their number. A
-// companion matrix of the better conditioned of M2 (roots x) and M0 (roots 1 / x) goes to
-// Eigen's real Schur eigenvalue solver; where both are nearly singular, Eigen's QZ takes
-// the pencil itself.
-int half_angle_roots(const Mat12 (&M)[3], double* t) {
+// companion matrix of the better conditioned of M2 (roots x) and M0 (roots 1 / x), without
+// the spurious roots +-i where the arm has their subspace (spurious: per arm, see
+// spurious_bases; null: none), goes to Eigen's real Schur eigenvalue solver; where both are
+// nearly singular, Eigen's QZ takes the pencil itself.
+int half_angle_roots(const Mat12 (&M)[3], const double (*spurious)[24 * 24], double* t) {
     const Eigen::PartialPivLU<Mat12> lead(M[2]), trail(M[0]);
     const double rc_lead = lead.rcond(), rc_trail = trail.rcond();
     std::complex<double> x[24];  // eigenvalues, as x = tan(t / 2) or as 1 / x
+    int eigenvalues = 24;
     bool inverted = false;
     if (std::max(rc_lead, rc_trail) >= kCompanionCondition) {
         inverted = rc_trail > rc_lead;
         const Eigen::PartialPivLU<Mat12>& lu = inverted ? trail : lead;
-        const Mat12& low = inverted ? M[2] : M[0];
-        Mat24 C = Mat24::Zero();
-        C.topRightCorner<12, 12>().setIdentity();
-        C.bottomLeftCorner<12, 12>() = -lu.solve(low);
-        C.bottomRightCorner<12, 12>() = -lu.solve(M[1]);
-        const Eigen::EigenSolver<Mat24> eig(C, false);
-        if (eig.info() != Eigen::Success) return 0;
-        for (int r = 0; r < 24; ++r) x[r] = eig.eigenvalues()(r);
+        Mat12x24 K;  // C's bottom rows
+        K.leftCols<12>() = -lu.solve(inverted ? M[2] : M[0]);
+        K.rightCols<12>() = -lu.solve(M[1]);
+        Mat16 A;
+        if (spurious && without_spurious_roots(K, spurious[inverted], A)) {
+            const Eigen::EigenSolver<Mat16> eig(A, false);
+            if (eig.info() != Eigen::Success) return 0;
+            eigenvalues = 16;
+            for (int r = 0; r < 16; ++r) x[r] = eig.eigenvalues()(r);
+        } else {
+            Mat24 C = Mat24::Zero();
+            C.topRightCorner<12, 12>().setIdentity();
+            C.bottomRows<12>() = K;
+            const Eigen::EigenSolver<Mat24> eig(C, false);
+            if (eig.info() != Eigen::Success) return 0;
+            for (int r = 0; r < 24; ++r) x[r] = eig.eigenvalues()(r);
+        }
     } else {
         Mat24 A = Mat24::Zero(), B = Mat24::Zero();
         A.topRightCorner<12, 12>().setIdentity();
@@ -129,7 +160,7 @@ int half_angle_roots(const Mat12 (&M)[3], double* t) {
     }
     int order[24], count = 0;
     double imag[24];
-    for (int r = 0; r < 24; ++r) {
+    for (int r = 0; r < eigenvalues; ++r) {
         imag[r] = std::fabs(x[r].imag()) / std::max(1.0, std::abs(x[r]));
         if (imag[r] <= kRealRoot && x[r].imag() >= 0.0 && std::isfinite(x[r].real())) order[count++] = r;
     }
@@ -167,13 +198,59 @@ void left_side(const Vec3* h, const Vec3* p, double (&left)[kQuantities][3][3][3
                 }
 }
 
+// The orthogonal bases Q (24 x 24, column-major) whose first eight columns span the real
+// invariant subspace of the companion matrix for its eigenvalues y = +-i: bases[0] for y = x3,
+// bases[1] for y = 1 / x3. det M(x3) holds the spurious factor (1 + x3^2)^4, semisimple: M(i)
+// has a null space of four dimensions, and it depends on the arm alone, since at x3 = i the
+// factor 1 + x3^2 of the constant term (the only one holding the pose) vanishes: every
+// quantity of the left side, as a row over the monomials x4^a x5^b and times x4, annihilates
+// it (28 rows; a real 56 x 24 system of rank 16 for v = a + i b). The companion's eigenvectors
+// are [u; i u] with u = v for y = x3 and u = conj(v) for y = 1 / x3 (P(y) = y^2 M(1 / y)):
+// real parts [a; -b] and [a; b].
+void spurious_bases(const double (&left)[kQuantities][3][3][3], double (&bases)[2][24 * 24]) {
+    Eigen::Matrix<double, 56, 24> L = Eigen::Matrix<double, 56, 24>::Zero();
+    for (int z = 0; z < kQuantities; ++z)
+        for (int p4 = 0; p4 < 3; ++p4)
+            for (int p5 = 0; p5 < 3; ++p5) {
+                // at x3 = i: (1 + x3^2, 1 - x3^2, 2 x3) = (0, 2, 2 i) on (1, cos, sin) of t3
+                double re = 0.0, im = 0.0;
+                for (int j = 0; j < 3; ++j)
+                    for (int k = 0; k < 3; ++k) {
+                        const double w = 2.0 * kHalfAngle[p4][j] * kHalfAngle[p5][k];
+                        re += w * left[z][1][j][k];
+                        im += w * left[z][2][j][k];
+                    }
+                for (int times = 0; times < 2; ++times) {  // the quantity, and times x4
+                    const int row = 2 * z + times, col = 3 * (p4 + times) + p5;
+                    L(row, col) = re, L(row, 12 + col) = -im;
+                    L(28 + row, col) = im, L(28 + row, 12 + col) = re;
+                }
+            }
+    // the null space from the LU (P L Q = L U, U's rows past 16 ~0): U11 w = -U12, [a; b] = Q [w; I]
+    const Eigen::FullPivLU<Eigen::Matrix<double, 56, 24>> lu(L);
+    const auto U = lu.matrixLU().topRows<24>();
+    Eigen::Matrix<double, 24, 8> X;
+    X.bottomRows<8>().setIdentity();
+    X.topRows<16>() = -U.topLeftCorner<16, 16>().triangularView<Eigen::Upper>().solve(U.topRightCorner<16, 8>());
+    X = lu.permutationQ() * X;
+    for (int inverted = 0; inverted < 2; ++inverted) {
+        Eigen::Matrix<double, 24, 8> Y = X;
+        if (!inverted) Y.bottomRows<12>() *= -1.0;
+        Eigen::Map<Mat24> Q(bases[inverted]);
+        Q = Eigen::HouseholderQR<Eigen::Matrix<double, 24, 8>>(Y).householderQ();
+    }
+}
+
 }  // namespace
 
 void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g) {
     std::copy(h, h + 6, g.h);
     std::copy(p, p + 6, g.p);
     g.shift = shift;
-    if (shift == 0) left_side(h, p, g.left);
+    if (shift == 0) {
+        left_side(h, p, g.left);
+        spurious_bases(g.left, g.spurious);
+    }
 }
 
 int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
@@ -234,7 +311,7 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
 
     // det(M0 + M1 x + M2 x^2) = 0: the roots x3 = tan(t3 / 2) as angles t3
     double roots[24];
-    const int count = half_angle_roots(M, roots);
+    const int count = half_angle_roots(M, g.shift == 0 ? g.spurious : nullptr, roots);
 
     int found = 0;
     for (int c = 0; c < count; ++c) {

@@ -45,6 +45,7 @@ struct GeneralSixR {
     Vec3 h[6], p[6];                      // axes and points at q = 0 (internal joint order)
     int shift = 0;                        // the loop starts at joint shift + 1 (see general_six_r)
     double left[kQuantities][3][3][3];    // shift 0: left side over (1, cos, sin) of t3, t4, t5
+    double spurious[2][24 * 24];          // shift 0: bases splitting off the roots x3 = +-i
 };
 
 // The arm's constants from its axes h and points p (6 each) and the loop's shift (0 .. 5).
@@ -66,7 +67,7 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
 struct ClassSeed;
 
 // The general case of the registry (ik_cases.hpp), the last: any 6R arm, the elimination's
-// constants made once and shared by copies (3 KB: not carried by any other case); for an arm
+// constants made once and shared by copies (12 KB: not carried by any other case); for an arm
 // near a class, that class's seed.
 struct GeneralGeometry : CaseChain {
     std::shared_ptr<const GeneralSixR> arm;

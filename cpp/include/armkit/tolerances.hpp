@@ -215,6 +215,11 @@ constexpr double kRealRoot = 1e-4;
 //: The companion matrix needs the leading (or trailing) coefficient matrix inverted; below
 //: this reciprocal condition number of both the pencil goes to QZ instead.
 constexpr double kCompanionCondition = 1e-10;
+//: The spurious roots x3 = +-i split off the companion matrix (ik_general.cpp,
+//: without_spurious_roots) where the arm's basis for them leaks at most this times the
+//: matrix's largest entry: rounding leaves ~1e-15 (random arms); beyond, the whole 24 x 24
+//: matrix goes to the eigensolver.
+constexpr double kSpuriousSplit = 1e-12;
 //: A QZ eigenvalue alpha / beta with |beta| below this times |alpha| is at infinity
 //: (rounding of beta relative to alpha).
 constexpr double kInfiniteEigenvalue = 1e-16;
