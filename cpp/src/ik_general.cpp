@@ -282,8 +282,10 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
         for (int m = 1; m < 9; ++m) Q(z, m - 1) = right[z][m / 3][m % 3];
     }
     const Eigen::ColPivHouseholderQR<Mat14x8> qr(Q);
-    const Eigen::Matrix<double, kQuantities, kQuantities> basis_q = qr.householderQ();
-    const Eigen::Matrix<double, 6, kQuantities> N = basis_q.rightCols<6>().transpose();  // N Q = 0
+    Eigen::Matrix<double, kQuantities, 6> basis_q = Eigen::Matrix<double, kQuantities, 6>::Zero();
+    basis_q.bottomRows<6>().setIdentity();
+    basis_q.applyOnTheLeft(qr.householderQ());  // the last 6 columns of the QR's Q
+    const Eigen::Matrix<double, 6, kQuantities> N = basis_q.transpose();  // N Q = 0
 
     // 6 equations over (1, cos, sin)^3, then over powers of x3, x4, x5 (times the denominators)
     double E[6][3][3][3];
@@ -297,17 +299,27 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
                 }
     Mat12 M[3];
     for (auto& m : M) m.setZero();
-    for (int e = 0; e < 6; ++e)
+    for (int e = 0; e < 6; ++e) {
+        // kHalfAngle on t5, then t4, then t3 (one joint at a time)
+        double a[3][3][3], b[3][3][3];
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                for (int p5 = 0; p5 < 3; ++p5)
+                    a[i][j][p5] = kHalfAngle[p5][0] * E[e][i][j][0] + kHalfAngle[p5][1] * E[e][i][j][1] +
+                                  kHalfAngle[p5][2] * E[e][i][j][2];
+        for (int i = 0; i < 3; ++i)
+            for (int p4 = 0; p4 < 3; ++p4)
+                for (int p5 = 0; p5 < 3; ++p5)
+                    b[i][p4][p5] = kHalfAngle[p4][0] * a[i][0][p5] + kHalfAngle[p4][1] * a[i][1][p5] +
+                                   kHalfAngle[p4][2] * a[i][2][p5];
         for (int p3 = 0; p3 < 3; ++p3)
             for (int p4 = 0; p4 < 3; ++p4)
                 for (int p5 = 0; p5 < 3; ++p5) {
-                    double s = 0.0;
-                    for (int i = 0; i < 3; ++i)
-                        for (int j = 0; j < 3; ++j)
-                            for (int k = 0; k < 3; ++k)
-                                s += kHalfAngle[p3][i] * kHalfAngle[p4][j] * kHalfAngle[p5][k] * E[e][i][j][k];
+                    const double s = kHalfAngle[p3][0] * b[0][p4][p5] + kHalfAngle[p3][1] * b[1][p4][p5] +
+                                     kHalfAngle[p3][2] * b[2][p4][p5];
                     for (int shift = 0; shift < 2; ++shift) M[p3](e + 6 * shift, (p4 + shift) * 3 + p5) = s;
                 }
+    }
 
     // det(M0 + M1 x + M2 x^2) = 0: the roots x3 = tan(t3 / 2) as angles t3
     double roots[24];
