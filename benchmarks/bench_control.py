@@ -25,7 +25,7 @@ from scipy.linalg import lapack
 from spatialmath import SE3
 
 import armkit
-from armkit.control import ResolvedRate, damping
+from armkit.control import ResolvedRate
 from armkit.control.resolved_rate import DEFAULT_MAX_DAMPING, DEFAULT_THRESHOLD
 from armkit.kinematics import pose_error
 
@@ -45,7 +45,8 @@ def probot_rtb() -> rtb.DHRobot:
 def dls_numpy(J: np.ndarray, twist: np.ndarray, inverse_max_velocity: np.ndarray) -> np.ndarray:
     """The same damped least squares and velocity scaling, written with NumPy for the peer."""
     sigma_min = np.linalg.svd(J, compute_uv=False)[-1]
-    lam2 = damping(sigma_min, DEFAULT_THRESHOLD, DEFAULT_MAX_DAMPING)
+    ratio = min(sigma_min / DEFAULT_THRESHOLD, 1.0)  # armkit's damping law, in plain floats
+    lam2 = (1.0 - ratio * ratio) * DEFAULT_MAX_DAMPING**2
     qd = J.T @ np.linalg.solve(J @ J.T + lam2 * np.eye(6), twist)
     ratio = np.max(np.abs(qd) * inverse_max_velocity)
     return qd / ratio if ratio > 1 else qd
@@ -68,7 +69,7 @@ def main() -> None:
     q = np.array([0.3, -0.5, 0.4, 0.2, 1.2, -0.3])
     twist = np.array([0.05, -0.02, 0.03, 0.1, -0.2, 0.15])
 
-    # Same work, same answer: check before timing (this also compiles armkit's numba kernels).
+    # Same work, same answer: check before timing.
     expected = dls_numpy(ets.jacob0(q), twist, inverse_max_velocity)
     assert np.allclose(control.step(q, twist).qd, expected, atol=1e-12), "the two steps disagree"
     q_near = np.array([0.3, -0.5, 0.4, 0.2, np.pi / 2 - 1e-3, -0.3])  # near the wrist singularity
@@ -80,7 +81,7 @@ def main() -> None:
 
     def armkit_closed_loop():
         T, J = control.kernel.fk_jacobian(q)
-        return control._solve(J, twist + 20.0 * pose_error(T_target, T)).qd
+        return control.solve(J, twist + 20.0 * pose_error(T_target, T)).qd
 
     def rtb_closed_loop():
         T = ets.eval(q)
@@ -88,7 +89,7 @@ def main() -> None:
         return dls_numpy(ets.jacob0(q), twist + v, inverse_max_velocity)
 
     cases = [
-        ("step: FK+J, DLS, scaling", lambda: control.step(q, twist),
+        ("step: J, DLS, scaling", lambda: control.step(q, twist),
          [("rtb ETS jacob0 + NumPy DLS", lambda: dls_numpy(ets.jacob0(q), twist, inverse_max_velocity)),
           ("rtb DH jacob0 + NumPy DLS",
            lambda: dls_numpy(theirs.jacob0(q), twist, inverse_max_velocity)),
@@ -97,12 +98,12 @@ def main() -> None:
          [("rtb ETS eval + p_servo + jacob0 + DLS", rtb_closed_loop)]),
     ]
     J = ours.jacobian(q)
-    gram = J @ J.T
-    assert np.isclose(np.sqrt(lapack.dsyev(gram, compute_v=0)[0][0]), np.linalg.svd(J, compute_uv=False)[-1])
-    print("ingredient: smallest singular value of the 6x6 Jacobian [us]: "
-          f"np.linalg.svd {median_us(lambda: np.linalg.svd(J, compute_uv=False), repeat, number):.2f}, "
-          f"J J^T + LAPACK dsyev (armkit) "
-          f"{median_us(lambda: lapack.dsyev(J @ J.T, compute_v=0), repeat, number):.2f}")
+    assert np.isclose(control.solve(J, twist).sigma_min, np.linalg.svd(J, compute_uv=False)[-1])
+    print("ingredient: DLS step through a given 6x6 Jacobian (sigma_min, damping, solve) [us]: "
+          f"np.linalg.svd alone {median_us(lambda: np.linalg.svd(J, compute_uv=False), repeat, number):.2f}, "
+          "J J^T + LAPACK dsyev alone "
+          f"{median_us(lambda: lapack.dsyev(J @ J.T, compute_v=0), repeat, number):.2f}, "
+          f"armkit's whole step (core) {median_us(lambda: control.solve(J, twist), repeat, number):.2f}")
     print(f"PROBOT Anno (6R), one configuration; median of {repeat} x {number} calls")
     print(f"{'case':34} {'armkit [us]':>11}  {'peer':38} {'peer [us]':>9} {'peer/armkit':>11}")
     for label, mine, peers in cases:

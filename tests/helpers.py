@@ -1,17 +1,22 @@
 """Helpers several test modules share (random arms, joint distances, the EAIK cross-check): import
 them as ``from helpers import random_arm``. Fixtures and the transform assertion live in conftest."""
 
+from dataclasses import replace
 from functools import cache
+from importlib.metadata import distribution
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from armkit.chain import DHRow, chain_from_dh
+import armkit
+from armkit.chain import Chain, DHRow, chain_from_dh
 from armkit.ik import numeric_ik
 from armkit.ik.closed_form import closed_form_ik
-from armkit.ik.structure import poe_from_chain
 from armkit.kinematics import fk, geometric_jacobian, pose_error
+from armkit.poe import poe_from_chain
 from armkit.spatial.rotations import matrix_from_axis_angle
+from armkit.spatial.transforms import invert_transform
 
 #: The built-in robots with a closed form.
 CLOSED_FORM_ROBOTS = ["probot-anno", "puma560", "stanford", "ur5", "zju-i", "grb400-scara"]
@@ -93,9 +98,10 @@ def _eaik_exact_solutions(chain, T):
     if not robot.hasKnownDecomposition():  # e.g. axes 1-3 parallel: EAIK has no solver
         return None
     result = []
+    to_base = invert_transform(poe.T_base)  # EAIK's robot stands at the origin
     for pose in T:
-        target = pose.copy()
-        target[:3, :3] = pose[:3, :3] @ poe.M[:3, :3].T  # EAIK's tool has no rotation
+        target = to_base @ pose
+        target[:3, :3] = target[:3, :3] @ poe.M[:3, :3].T  # EAIK's tool has no rotation
         Q = np.array(robot.IK(target).Q).reshape(-1, chain.n)
         Q = Q[np.abs(fk(chain, Q) - pose).max(axis=(-1, -2)) < 1e-6] if len(Q) else Q
         # Near a double root EAIK may answer with a least-squares point between two exact
@@ -222,3 +228,62 @@ def _toppra_path_type():
 def toppra_path(path):
     """``path`` (armkit's geometric path) as a toppra geometric path."""
     return _toppra_path_type()(path)
+
+
+# ---------------------------------------------------------- shared data
+# Report 000: IK solutions of the four Cartesian waypoints (SEED_ROBOTS.md, section 1).
+SEED_WAYPOINTS = np.array([
+    [0, 0, 0, 0, 0, 0],
+    [0.795586, -0.772686, 0.205056, 1.08734, 2.51046, -0.842853],
+    [0.387677, -1.07517, -0.199884, 0.404374, 2.86768, -0.114923],
+    [-0.387371, -1.29256, -0.0658126, -0.394643, 2.94426, 0.0811483],
+])
+SEED_VMAX = np.array([0.7854, 0.6981, 0.7854, 0.9599, 0.9599, 0.9599])
+SEED_AMAX = np.array([0.3491, 0.2618, 0.3491, 0.4363, 0.4363, 0.4363])
+
+#: A PROBOT Anno motion out and back, for the torque-limited timing tests.
+WAYPOINTS = np.array([[0, 0, 0, 0, 0, 0], [0.8, -0.6, 0.5, 0.3, 0.6, 0.2], [-0.5, 0.3, -0.4, -0.3, 0.2, 1.0],
+                      [0, 0, 0, 0, 0, 0]])
+
+
+def limited(max_torque) -> armkit.Robot:
+    """The PROBOT Anno with estimated inertia (aluminium), its own velocity and acceleration
+    limits, and ``max_torque`` [N m]."""
+    base = armkit.load("probot-anno").with_estimated_inertia(density=2700.0)
+    chain = base.chain
+    joints = tuple(replace(j, max_torque=float(L)) for j, L in zip(chain.joints, max_torque, strict=True))
+    return armkit.Robot(Chain(joints, chain.T_base, chain.T_tool), name="probot-anno, torque-limited")
+
+
+#: Tight enough that joints 1-3 would pass their limits at the velocity/acceleration-optimal timing.
+TIGHT = np.array([0.05, 6.0, 2.8, 0.15, 0.2, 0.003])
+
+
+def example_robot_data_folder() -> Path:
+    """Where example-robot-data installs its robots (data files, no Python module);
+    :class:`importlib.metadata.PackageNotFoundError` if it is not installed."""
+    installed = distribution("example-robot-data")
+    return Path(installed.locate_file("cmeel.prefix/share/example-robot-data/robots"))
+
+
+# Serial arms: (file, base, tip, closed form the geometry has). The UR files end in three leaves
+# (base, ee_link, tool0), so they need a tip; 6R arms with a spherical wrist or three parallel
+# axes must be found as such.
+ARMS = [
+    ("ur_description/urdf/ur3_robot.urdf", None, "tool0", "three-parallel"),
+    ("ur_description/urdf/ur5_robot.urdf", None, "tool0", "three-parallel"),
+    ("ur_description/urdf/ur10_robot.urdf", None, "tool0", "three-parallel"),
+    ("ur_description/urdf/ur5_joint_limited_robot.urdf", None, "tool0", "three-parallel"),
+    ("ur_description/urdf/ur3_gripper.urdf", None, "tool0", "three-parallel"),
+    ("panda_description/urdf/panda.urdf", None, "panda_hand_tcp", "none"),
+    ("kinova_description/robots/kinova.urdf", None, "j2s6s200_end_effector", "spherical-wrist"),
+    ("xarm_description/urdf/xarm7.urdf", None, None, "none"),
+    ("z1_description/urdf/z1.urdf", None, "link06", "three-parallel"),
+    ("so_arm_description/urdf/so100.urdf", None, None, "three-parallel"),
+    ("so_arm_description/urdf/so101.urdf", None, "gripper_frame_link", "none"),
+    ("talos_data/robots/talos_left_arm.urdf", None, "gripper_left_base_link", "spherical-wrist"),
+    ("baxter_description/urdf/baxter.urdf", None, "right_gripper", "none"),
+    ("baxter_description/urdf/baxter.urdf", None, "left_gripper", "none"),
+    ("pr2_description/urdf/pr2.urdf", "torso_lift_link", "r_gripper_palm_link", "none"),
+    ("tiago_description/robots/tiago_no_hand.urdf", None, "arm_tool_link", "none"),
+]

@@ -469,3 +469,35 @@ def test_import_armkit_fk_and_ik_load_neither_the_cli_nor_plots():
             "'PIL', 'mpl_toolkits'}))\n")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == "[]"
+
+
+def test_no_module_imports_a_private_name_of_another():
+    """A name with a leading underscore is its module's own: what another module needs is public
+    (private modules such as ``armkit._params`` are shared on purpose), whether imported by name or
+    reached as an attribute of an imported module (``kinematics._frames``)."""
+    import ast
+    from pathlib import Path
+
+    def private(name: str) -> bool:
+        return name.startswith("_") and not name.startswith("__") and name != "_core"
+
+    package = Path(armkit.__file__).parent
+    found = []
+    for path in package.rglob("*.py"):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        modules = set()  # names bound to public armkit modules in this file
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("armkit"):
+                if node.module.rsplit(".", 1)[-1].startswith("_"):
+                    continue
+                found += [f"{path.relative_to(package)}: {node.module}.{alias.name}" for alias in node.names
+                          if private(alias.name)]
+                modules |= {alias.asname or alias.name for alias in node.names if not private(alias.name)}
+            elif isinstance(node, ast.Import):
+                modules |= {alias.asname or alias.name for alias in node.names
+                            if alias.name.startswith("armkit")}
+        for node in ast.walk(tree):
+            if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+                    and node.value.id in modules and private(node.attr)):
+                found.append(f"{path.relative_to(package)}:{node.lineno}: {node.value.id}.{node.attr}")
+    assert found == []

@@ -58,7 +58,7 @@ def test_dynamics_bad_values_are_one_line_errors(capsys):
                           (["--qdd", "a,b,c,d,e,f"], "--qdd: 'a' is not a number"),
                           (["--payload=-1"], "--payload: expected a mass >= 0 kg, got -1.0"),
                           (["--estimate-inertia", "0"],
-                           "density [kg/m^3]: expected a finite number > 0, got 0.0")):
+                           "density [kg/m^3]: expected a density from 1 to 100000, got 0.0")):
         code, _, err = run(capsys, "dynamics", "puma560", *["0"] * 6, *argv)
         assert code == 1 and message in err and err.count("\n") == 1, err
 

@@ -71,7 +71,7 @@ def test_errors_are_one_line(capsys):
     code, _, err = run(capsys, "move", "probot-anno", "0", "0", "--by", "0.1", "0", "0")
     assert code == 1 and "after --from" in err
     code, _, err = run(capsys, "move", "probot-anno", "--by", "0.1", "0", "0", "--duration", "-2")
-    assert code == 1 and "duration = -2.0" in err
+    assert code == 1 and "duration [s]: expected a finite number > 0, got -2.0" in err
     code, _, err = run(capsys, "rotate", "probot-anno", "--axis", "0", "0", "0", "--angle", "1")
     assert code == 1 and "non-zero direction" in err
     code, _, err = run(capsys, "rotate", "probot-anno", "--axis", "1", "0", "0", "--angle", "1",

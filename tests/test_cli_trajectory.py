@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import SEED_AMAX, SEED_VMAX, SEED_WAYPOINTS
 from PIL import Image
-from test_trajectory_min_jerk import SEED_AMAX, SEED_VMAX, SEED_WAYPOINTS
 
 import armkit
 from armkit.cli.main import main

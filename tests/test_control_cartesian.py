@@ -68,9 +68,9 @@ def test_csv_export(tmp_path):
 
 
 @pytest.mark.parametrize(("kwargs", "match"), [
-    ({"duration": -1.0}, "duration = -1.0"),
+    ({"duration": -1.0}, r"duration \[s\]: expected a finite number > 0, got -1.0"),
     ({"method": "spline"}, "expected 'ik' or 'closed-loop'"),
-    ({"rate_hz": 0.0}, "rate_hz = 0.0"),
+    ({"rate_hz": 0.0}, r"rate_hz \[Hz\]: expected a finite number > 0, got 0.0"),
     ({"T_goal": np.full((4, 4), np.nan)}, "NaN"),
     ({"q0": [0.0] * 5}, "6 joints"),
 ])

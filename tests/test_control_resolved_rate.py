@@ -92,6 +92,9 @@ def test_scale_to_limits():
     batch, scales = scale_to_limits([[0.5, 0.5], [4.0, 1.0]], [1.0, 1.0])
     np.testing.assert_allclose(batch, [[0.5, 0.5], [1.0, 0.25]])
     np.testing.assert_allclose(scales, [1.0, 0.25])
+    np.testing.assert_allclose(scale_to_limits([4.0, 1.0], 2.0)[0], [2.0, 0.5])  # one limit for all
+    with pytest.raises(InputError, match=r"max_velocity: expected one limit or one per joint \(2\)"):
+        scale_to_limits([4.0, 1.0], [1.0, 1.0, 1.0])
 
 
 def test_tool_frame_twist_is_the_base_twist_rotated():
@@ -107,10 +110,20 @@ def test_tool_frame_twist_is_the_base_twist_rotated():
             np.testing.assert_allclose(PROBOT.jacobian(q, "tool") @ qd_tool, twist_tool, atol=1e-12)
 
 
-def test_exactly_singular_without_damping_falls_back_to_least_squares():
-    control = ResolvedRate(PROBOT, threshold=0.0, limit_velocity=False)
-    qd = control.step(WRIST_SINGULAR, np.array([0, 0, 0, 0.1, 0, 0])).qd
-    assert np.all(np.isfinite(qd))
+@pytest.mark.parametrize(("name", "q"), [
+    ("probot-anno", WRIST_SINGULAR),
+    # the Gram matrix's smallest eigenvalue comes out +4e-16 / +9e-18 here, not 0 or negative
+    ("puma560", [1.402, -0.587, -1.045, 2.246, 0.0, -0.226]),
+    ("ur5", [1.044, -1.542, -3.119, 2.136, 0.0, -1.77])])
+def test_exactly_singular_without_damping_gives_the_least_squares_step(name, q):
+    robot = armkit.load(name)
+    control = ResolvedRate(robot, threshold=0.0, limit_velocity=False)
+    twist = np.array([0.01, 0.02, -0.01, 0.1, 0.0, 0.05])
+    step = control.step(np.array(q, dtype=float), twist)
+    J = robot.jacobian(q)
+    least_squares = np.linalg.pinv(J, rcond=1e-10) @ twist  # J's exact rank: the singular direction left out
+    np.testing.assert_allclose(step.qd, least_squares, atol=1e-6 * np.abs(least_squares).max())
+    assert 0.0 < step.damping <= 1e-9 * np.sum(J**2)
 
 
 @pytest.mark.parametrize(("q", "twist", "frame", "match"), [
@@ -125,11 +138,24 @@ def test_bad_input(q, twist, frame, match):
         joint_velocity(PROBOT, q, twist, frame)
 
 
-def test_bad_settings():
-    with pytest.raises(InputError, match="threshold"):
-        ResolvedRate(PROBOT, threshold=-1.0)
-    with pytest.raises(InputError, match="max_damping"):
-        ResolvedRate(PROBOT, max_damping=np.nan)
+@pytest.mark.parametrize("value", [-1.0, np.nan, "0.1", None, [0.1], True, 1e300])
+def test_bad_settings(value):
+    with pytest.raises(InputError, match=r"threshold: expected a smallest singular value from 0 to 1e\+06"):
+        ResolvedRate(PROBOT, threshold=value)
+    with pytest.raises(InputError, match=r"max_damping: expected a damping from 0 to 1e\+06, got"):
+        ResolvedRate(PROBOT, max_damping=value)
+
+
+def test_bad_values_of_the_public_helpers_are_named():
+    with pytest.raises(InputError, match=r"sigma_min: expected finite singular values >= 0, got \[-1.0\]"):
+        damping([-1.0])
+    for limits in (0.0, -1.0, np.nan):
+        with pytest.raises(InputError, match="max_velocity: expected limits > 0 .inf for none."):
+            scale_to_limits([1.0, 2.0], limits)
+    with pytest.raises(InputError, match="qd: expected finite joint velocities"):
+        scale_to_limits([np.inf, 1.0], 1.0)
+    with pytest.raises(InputError, match=r"twist: expected components from -1e\+06 to 1e\+06"):
+        ResolvedRate(armkit.load("ur5")).joint_velocity(np.zeros(6), [1e308, 1e308, 0, 0, 0, 0])
 
 
 finite = st.floats(-1.0, 1.0, allow_nan=False)
@@ -174,9 +200,11 @@ def test_step_uses_the_public_damping_and_scaling():
     twist = np.array([0.5, -0.3, 0.2, 1.0, 0.5, -2.0])
     for q in (np.zeros(6), np.array([0.2, -0.4, 0.3, 0.5, 1.0, -0.2])):
         step = control.step(q, twist)
-        assert step.damping == damping(step.sigma_min)
+        sigma_min = np.linalg.svd(PROBOT.jacobian(q), compute_uv=False)[-1]
+        below = min(sigma_min / DEFAULT_THRESHOLD, 1.0)  # the damping law, written out
+        assert step.damping == pytest.approx((1 - below**2) * DEFAULT_MAX_DAMPING**2, rel=1e-9, abs=1e-15)
         free = ResolvedRate(PROBOT, limit_velocity=False).step(q, twist).qd
-        qd, scale = scale_to_limits(free, PROBOT.max_velocity)
-        assert step.scale == scale
-        np.testing.assert_array_equal(step.qd, qd)
+        ratio = np.max(np.abs(free) / PROBOT.max_velocity)  # scaling, written out
+        assert step.scale == pytest.approx(1.0 / ratio if ratio > 1 else 1.0, rel=1e-15)
+        np.testing.assert_allclose(step.qd, free * step.scale, rtol=1e-15)
     np.testing.assert_array_equal(damping([0.0, 0.1], threshold=0.0), [0.0, 0.0])

@@ -3,6 +3,8 @@ forward(inverse) round trips, locked joints, payloads, estimated inertia and eve
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -261,8 +263,10 @@ def test_bad_states_gravity_payload_and_density_are_refused():
         robot.with_payload(-1.0)
     with pytest.raises(InputError, match=r"payload: inertia = .* is not symmetric"):
         robot.with_payload(1.0, inertia=[[1, 2, 0], [0, 1, 0], [0, 0, 1]])
-    with pytest.raises(InputError, match=r"density \[kg/m\^3\]: expected a finite number > 0, got -5"):
-        robot.with_estimated_inertia(density=-5)
+    for density in (-5, 1e-300, 1e308, "1000", True):  # 1e-300 / 1e308: another unit, absurd links
+        message = rf"density \[kg/m\^3\]: expected a density from 1 to 100000, got {re.escape(repr(density))}"
+        with pytest.raises(InputError, match=message):
+            robot.with_estimated_inertia(density=density)
 
 
 def test_a_joint_that_moves_no_mass_makes_forward_dynamics_say_so():

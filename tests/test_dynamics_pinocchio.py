@@ -7,13 +7,19 @@ hands and fingers beyond the tip) are the ones pinocchio merges.
 
 from __future__ import annotations
 
+from importlib.metadata import PackageNotFoundError
+
 import numpy as np
 import pytest
-from test_urdf_example_robot_data import ARMS, ROBOTS
+from helpers import ARMS, example_robot_data_folder
 
 import armkit
 
 pinocchio = pytest.importorskip("pinocchio")
+try:
+    ROBOTS = example_robot_data_folder()
+except PackageNotFoundError:  # pragma: no cover - the test extra installs it
+    pytest.skip("example-robot-data is not installed", allow_module_level=True)
 RELATIVE = 1e-10
 
 

@@ -12,9 +12,10 @@ from armkit.chain import DHRow, chain_from_dh
 from armkit.errors import InputError, NoClosedFormError
 from armkit.ik import ik_solutions
 from armkit.ik.closed_form import closed_form_ik, closed_form_solver
-from armkit.ik.structure import analyze_structure, poe_from_chain
+from armkit.ik.structure import analyze_structure
 from armkit.ik.subproblems import sp1, sp4
 from armkit.kinematics import fk, singular_values
+from armkit.poe import poe_from_chain
 from armkit.spatial.rotations import matrix_from_axis_angle, matrix_from_euler
 
 seeds = st.integers(0, 2**32 - 1)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -23,6 +24,7 @@ from armkit.cli.main import main
 from armkit.errors import InputError, NoClosedFormError, UnreachableError
 from armkit.ik import ik_position, ik_position_solutions, numeric_ik
 from armkit.ik.position import position_case
+from armkit.ik.structure import generic_rank
 from armkit.kinematics import fk, geometric_jacobian
 from armkit.spatial import transform_from
 
@@ -138,11 +140,35 @@ def test_out_of_reach_and_bad_input():
         robot.ik_position([3.0, 0.1, 0.3])
     with pytest.raises(InputError, match="position: expected 3 finite numbers"):
         robot.ik_position([0.3, np.nan, 0.3])
+    with warnings.catch_warnings():  # no overflow on the way
+        warnings.simplefilter("error")
+        for far, distance in (([1e308, 0.0, 0.0], 1e308), ([1e300] * 3, np.sqrt(3) * 1e300),
+                              ([0.0, -3e7, 0.0], 3e7)):
+            with pytest.raises(UnreachableError, match="a million times the arm.s whole length") as error:
+                robot.ik_position(far)
+            assert error.value.position_error == pytest.approx(distance, rel=1e-15)
+        stanford = armkit.load("stanford")  # an unlimited prismatic joint might reach anything
+        unlimited = armkit.Robot.from_dh(stanford.dh.rows, stanford.dh.convention,
+                                         limits=[(-3, 3)] * 2 + [(-np.inf, np.inf)] + [(-3, 3)] * 3)
+        message = r"position \[1e\+308, 0, 0\] m: 1e\+308 m from the base; position IK takes targets up to"
+        with pytest.raises(InputError, match=message):
+            unlimited.ik_position([1e308, 0.0, 0.0])
     with pytest.raises(InputError, match="near: expected 3 finite joint values"):
         robot.ik_position([0.3, 0.1, 0.3], near=[0, 1])
     with pytest.raises(NoClosedFormError, match="needs 3 joints"):
         chain_2r = chain_from_dh([DHRow(0, 0.3, 0, 0)] * 2, "standard")
         ik_position(chain_2r, [0.3, 0.2, 0.0])
+
+
+def test_a_shoulder_whose_axes_meet_moves_the_tool_point_on_a_sphere_only():
+    """Axes 1-3 through one point: the tool point has two directions (rank 2), so no closed form."""
+    tool = np.eye(4)
+    tool[:3, 3] = [0.5, 0.0, 0.1]
+    robot = armkit.Robot.from_poe(np.eye(3)[[2, 1, 0]], np.zeros((3, 3)), tool)
+    assert generic_rank(robot.chain, joints=3, position_only=True) == 2
+    assert generic_rank(armkit.load("ur5").chain, joints=3, position_only=True) == 3
+    with pytest.raises(NoClosedFormError, match="only 2 independent directions"):
+        robot.ik_position([0.0, 0.5, 0.1])
 
 
 def test_a_family_is_flagged_on_axis_1():

@@ -274,16 +274,9 @@ def test_the_opw_arms_reproduce_their_published_geometry(name):
     assert armkit.ik.analyze_structure(robot.chain).kind == "spherical-wrist"
 
 
-#: The folded TX40 (c2 = c3, a2 = 0) puts its wrist centre on axis 2: q2 free, the wrist following.
-FOLDED_TX40 = pytest.mark.xfail(strict=True, reason="the closed form's member of the free q2 family sits "
-                                "where it is doubly singular (q2 = 0) and the walk from there misses "
-                                "branches a numeric search finds (docs/ik.md, still open)")
-
-
 @pytest.mark.slow  # the sweeps: POSES poses, a numeric search and family traces each
-@pytest.mark.parametrize(("name", "kind"), [
-    pytest.param(name, kind, marks=FOLDED_TX40 if (name, kind) == ("Staubli TX40", "elbow stretched") else ())
-    for name in OPW_ARMS for kind in ["wrist aligned", "elbow stretched"]])
+@pytest.mark.parametrize("kind", ["wrist aligned", "elbow stretched"])
+@pytest.mark.parametrize("name", OPW_ARMS)
 def test_singular_poses_of_opw_arms_miss_no_branch(name, kind):
     robot = opw_robot(name)
     rng = np.random.default_rng(21)

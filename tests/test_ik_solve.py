@@ -317,6 +317,22 @@ def test_residuals_agree_with_fk_and_rotation_angle(name):
         np.testing.assert_allclose(large, np.pi - distance, rtol=0, atol=1e-13)
 
 
+@pytest.mark.parametrize("name", ["probot-anno", "ur5", "puma560", "grb400-scara"])
+def test_reported_residuals_are_those_of_one_configuration_fk_to_the_last_bit(name):
+    # the core verifies a pose's candidates in FK blocks; each residual must be the one the
+    # one-configuration FK gives (the same operations in the same order), not merely close
+    robot = armkit.load(name)
+    q = robot.random_q(40, rng=23)
+    q[:10, min(4, robot.n - 1)] = 0.0  # some at a singular wrist: families walked, then verified again
+    for T in robot.fk(q):
+        found = ik_solutions(robot, T)
+        assert len(found.q) > 0
+        F = np.stack([robot.fk(row) for row in found.q])
+        expected = residuals(np.broadcast_to(T, F.shape), F)
+        np.testing.assert_array_equal(found.position_error, expected[:, 0])
+        np.testing.assert_array_equal(found.orientation_error, expected[:, 1])
+
+
 @pytest.mark.parametrize("name", ["probot-anno", "ur5"])
 def test_batches_equal_one_at_a_time(name):
     """One pose goes through reused buffers, a batch through fresh ones: the same answers."""

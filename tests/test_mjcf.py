@@ -3,6 +3,7 @@ and dynamics (mj_kinematics, mj_fullM, qfrc_bias) on random configurations."""
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -285,8 +286,11 @@ def test_a_bad_limit_numeric_is_one_error_naming_it(data):
             f'<body name="f" pos="0 0 .5"/></body></worldbody>'
             f'<custom><numeric name="armkit:j1:max_velocity" data="{data}"/></custom></mujoco>')
     message = "MJCF text, custom numeric 'armkit:j1:max_velocity': expected one finite number > 0 .the max_v"
-    with pytest.raises(RobotDefinitionError, match=message):
+    with pytest.raises(RobotDefinitionError, match=message), warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
         robot_from_mjcf(text)
+    nan_warning = "MJCF text: MuJoCo warns: XML contains a 'NaN'. Please check it carefully."
+    assert [str(w.message) for w in said] == ([nan_warning] if data == "nan" else [])
 
 
 def test_every_command_taking_robot_reads_an_mjcf_file(ur5e_file):
@@ -349,9 +353,52 @@ def test_without_mujoco_an_mjcf_file_is_one_error_naming_the_extra(ur5e_file, mo
         armkit.load(ur5e_file)
 
 
-def test_a_nan_joint_range_is_one_error_not_an_unlimited_joint():
+def test_a_nan_joint_range_is_one_error_not_an_unlimited_joint(tmp_path, monkeypatch):
     text = ('<mujoco><worldbody><body name="l1"><joint name="j1" axis="0 1 0" range="nan 1" limited="true"/>'
             '<geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
     message = r"MJCF text, joint 'j1': range \[nan, .*expected two finite"
-    with pytest.raises(RobotDefinitionError, match=message):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(RobotDefinitionError, match=message), \
+            pytest.warns(UserWarning, match="MJCF text: MuJoCo warns: XML contains a 'NaN'"):
         robot_from_mjcf(text)
+    assert list(tmp_path.iterdir()) == []  # MuJoCo's own handler would append to MUJOCO_LOG.TXT here
+
+
+@pytest.mark.parametrize(("body", "joint", "geom", "message"), [
+    ('pos="nan 0 0"', 'axis="0 1 0"', 'size="0.05"', r"MJCF text, body 'l1': pos \[nan, 0.0, 0.0\]; expe"),
+    ('pos="0 0 0"', 'axis="nan 0 0"', 'size="0.05"', r"MJCF text, joint 'j1': axis \[nan, .*\]; expected"),
+    ('pos="0 0 0"', 'axis="0 1 0"', 'size="0.05" mass="nan"', r"MJCF text: MuJoCo warns that the XML"),
+])
+def test_non_finite_geometry_or_mass_is_one_error_naming_it(body, joint, geom, message):
+    text = (f'<mujoco><worldbody><body name="l1" {body}><joint name="j1" {joint}/><geom {geom}/>'
+            f'<body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
+    with pytest.raises(RobotDefinitionError, match=message), \
+            pytest.warns(UserWarning, match="MuJoCo warns: XML contains a 'NaN'"):
+        robot_from_mjcf(text)
+
+
+def test_loading_mjcf_in_threads_leaves_mujocos_warning_handler_as_it_was():
+    import threading
+
+    text = ('<mujoco><worldbody><body name="l1"><joint name="j1" axis="0 1 0"/><geom size="0.05"/>'
+            '<body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
+    before = mujoco.get_mju_user_warning()
+    loaders = [threading.Thread(target=lambda: [robot_from_mjcf(text) for _ in range(50)]) for _ in range(4)]
+    for loader in loaders:
+        loader.start()
+    for loader in loaders:
+        loader.join()
+    assert mujoco.get_mju_user_warning() is before
+
+
+def test_the_cli_shows_mujocos_warning_as_one_line(tmp_path, capsys):
+    from armkit.cli.main import main
+
+    path = tmp_path / "a.xml"
+    path.write_text('<mujoco><worldbody><body name="l1"><joint name="j1" axis="0 1 0" range="0 nan" '
+                    'limited="true"/><geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody>'
+                    '</mujoco>')
+    assert main(["show", str(path)]) == 1
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert lines == [f"warning: {path}: MuJoCo warns: XML contains a 'NaN'. Please check it carefully.",
+                     f"error: {path}, joint 'j1': range [0.0, nan]; expected two finite numbers"]

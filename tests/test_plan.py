@@ -127,8 +127,10 @@ def test_a_goal_pose_whose_every_solution_collides_is_refused(ur5, wall_scene):
 
 
 def test_no_path_within_the_time_budget_is_an_error(wall_scene):
-    with pytest.raises(PlanningError, match=r"no collision-free path found within time_budget=1e-09 s"):
+    message = r"no collision-free path found within time_budget=1e-09 s"
+    with pytest.raises(PlanningError, match=message) as error:
         plan_path(wall_scene, Q_START, Q_GOAL, time_budget=1e-9)
+    assert (error.value.time_budget, error.value.segment) == (1e-9, None)
 
 
 def test_a_start_already_at_the_goal_is_refused(ur5, wall_scene):

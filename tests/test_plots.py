@@ -8,8 +8,8 @@ import sys
 import numpy as np
 import pytest
 from conftest import WAIT_S
+from helpers import SEED_WAYPOINTS
 from PIL import Image
-from test_trajectory_min_jerk import SEED_WAYPOINTS
 
 import armkit
 from armkit.errors import InputError

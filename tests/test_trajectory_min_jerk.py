@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import SEED_AMAX, SEED_VMAX, SEED_WAYPOINTS
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -11,16 +12,6 @@ import armkit
 from armkit.errors import InputError
 from armkit.trajectory import JointTrajectory, durations_from_times, min_jerk, quintic
 from armkit.trajectory.polynomial import quintic_coefficients
-
-# Report 000: IK solutions of the four Cartesian waypoints (SEED_ROBOTS.md, section 1).
-SEED_WAYPOINTS = np.array([
-    [0, 0, 0, 0, 0, 0],
-    [0.795586, -0.772686, 0.205056, 1.08734, 2.51046, -0.842853],
-    [0.387677, -1.07517, -0.199884, 0.404374, 2.86768, -0.114923],
-    [-0.387371, -1.29256, -0.0658126, -0.394643, 2.94426, 0.0811483],
-])
-SEED_VMAX = np.array([0.7854, 0.6981, 0.7854, 0.9599, 0.9599, 0.9599])
-SEED_AMAX = np.array([0.3491, 0.2618, 0.3491, 0.4363, 0.4363, 0.4363])
 
 
 def ends_of_segments(traj: JointTrajectory, order: int):

@@ -4,6 +4,8 @@ limits), and a tolerance that must be a relative accuracy."""
 from __future__ import annotations
 
 import json
+import re
+import warnings
 from importlib.metadata import distribution
 from pathlib import Path
 
@@ -12,8 +14,9 @@ import pytest
 
 import armkit
 from armkit.cli.main import main
-from armkit.errors import InputError
+from armkit.errors import ConvergenceError, InputError
 from armkit.trajectory import plan_trajectory, planning_limits
+from armkit.trajectory.timing import auto_time
 
 UR5_URDF = str(Path(distribution("example-robot-data").locate_file(
     "cmeel.prefix/share/example-robot-data/robots")) / "ur_description/urdf/ur5_robot.urdf")
@@ -51,13 +54,47 @@ def test_bad_limits_are_input_errors_naming_them(ur5, limits, message):
         planning_limits(ur5, **limits)
 
 
-@pytest.mark.parametrize("tol", [0.0, -1e-4, float("nan"), 1.0, "small"])
+@pytest.mark.parametrize("tol", [0.0, -1e-4, float("nan"), 1.0, "small", "1e-3", 1e-300, True])
 def test_a_tolerance_that_is_not_a_relative_accuracy_is_refused(tol):
     robot = armkit.load("probot-anno")
-    with pytest.raises(InputError, match="tol: expected a relative accuracy between 0 and 1"):
+    message = "tol: expected a relative accuracy of each duration from 1e-12 to 0.5"
+    with pytest.raises(InputError, match=message):
         plan_trajectory(robot, [[0.0] * 6, [0.5] * 6], tol=tol)
     with pytest.raises(InputError, match="tol: expected a relative accuracy"):
         plan_trajectory(robot, [[0.0] * 6, [0.5] * 6], [0.1], tol=tol)
+
+
+@pytest.mark.parametrize(("limits", "takes"), [
+    ({"max_acceleration": 1e-300}, "at least 6.32e+149 s"), ({"max_velocity": 1e-300}, "at least 1e+299 s"),
+    ({"max_velocity": [1e-310, 1, 1, 1, 1, 1]}, "more seconds than a float holds"),  # overflows to inf
+    ({"max_acceleration": 1e-310}, "more seconds than a float holds")])
+def test_limits_too_small_for_any_trajectory_are_named(limits, takes):
+    robot = armkit.load("ur5")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow on the way
+        with pytest.raises(InputError, match=f"waypoints 1 to 2: at joint 1's limits .* takes "
+                                             f"{re.escape(takes)}, longer than a trajectory's longest"):
+            plan_trajectory(robot, [[0.0] * 6, [0.1] + [0.0] * 5], **limits)
+
+
+def test_limits_so_large_that_a_segment_is_shorter_than_a_microsecond_are_named():
+    robot = armkit.load("ur5")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow on the way
+        with pytest.raises(InputError, match=r"waypoints 1 to 2: at the limits \(max_velocity 1e\+100, "
+                                             r"max_acceleration 1e\+100 at most\) the move takes 6.32e-51 s"):
+            plan_trajectory(robot, [[0.0] * 6, [0.1] * 6], max_velocity=1e100, max_acceleration=1e100)
+        trajectory = plan_trajectory(robot, [[0.0] * 6, [0.1] * 6], max_velocity=1e200, max_acceleration=1.0)
+    assert (trajectory.peak_acceleration <= 1.0 + 1e-9).all()
+
+
+def test_the_timing_descent_checks_its_budget_and_says_what_it_spent():
+    waypoints = np.array([[0.0, 0.0], [1.0, 0.3], [0.2, 1.5], [1.4, 0.1]])
+    with pytest.raises(InputError, match="max_rounds: expected a whole number from 1"):
+        auto_time(waypoints, 1.0, 1.0, max_rounds=0)
+    with pytest.raises(ConvergenceError, match="still shortening after 1 rounds") as error:
+        auto_time(waypoints, 1.0, 1.0, max_rounds=1, tol=1e-12)
+    assert error.value.rounds == 1 and 1e-12 < error.value.last_change < 1e-3
 
 
 def test_cli_traj_takes_max_velocity_and_acceleration_and_the_warning_names_them(capsys, tmp_path):

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import TIGHT, WAYPOINTS, limited
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_trajectory_torque_timing import TIGHT, WAYPOINTS, limited
 
 import armkit
 from armkit.errors import InputError, JointLimitError

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import SEED_AMAX, SEED_VMAX, SEED_WAYPOINTS
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_trajectory_min_jerk import SEED_AMAX, SEED_VMAX, SEED_WAYPOINTS
 
 from armkit.errors import InputError
 from armkit.trajectory import auto_time, limit_ratio, limit_ratios, min_jerk, stretch_to_limits

@@ -6,36 +6,16 @@ checked against pinocchio and MuJoCo) on the same geometric path.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 import pytest
-from helpers import toppra_path
+from helpers import TIGHT, WAYPOINTS, limited, toppra_path
 
-import armkit
-from armkit.chain import Chain
 from armkit.errors import InputError
 from armkit.trajectory.topp import geometric_path, slowed_to_torque_limits, time_optimal, torque_constraint
 
 toppra = pytest.importorskip("toppra")
 from toppra import algorithm as toppra_algorithm  # noqa: E402
 from toppra import constraint as toppra_constraint  # noqa: E402
-
-WAYPOINTS = np.array([[0, 0, 0, 0, 0, 0], [0.8, -0.6, 0.5, 0.3, 0.6, 0.2], [-0.5, 0.3, -0.4, -0.3, 0.2, 1.0],
-                      [0, 0, 0, 0, 0, 0]])
-
-
-def limited(max_torque) -> armkit.Robot:
-    """The PROBOT Anno with estimated inertia (aluminium), its own velocity and acceleration
-    limits, and ``max_torque`` [N m]."""
-    base = armkit.load("probot-anno").with_estimated_inertia(density=2700.0)
-    chain = base.chain
-    joints = tuple(replace(j, max_torque=float(L)) for j, L in zip(chain.joints, max_torque, strict=True))
-    return armkit.Robot(Chain(joints, chain.T_base, chain.T_tool), name="probot-anno, torque-limited")
-
-
-#: Tight enough that joints 1-3 would pass their limits at the velocity/acceleration-optimal timing.
-TIGHT = np.array([0.05, 6.0, 2.8, 0.15, 0.2, 0.003])
 
 
 def test_torque_limited_timing_never_exceeds_a_torque_limit_at_1_khz_and_touches_one():

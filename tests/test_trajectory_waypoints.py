@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import assert_transform_close
-from test_trajectory_min_jerk import SEED_WAYPOINTS
+from helpers import SEED_WAYPOINTS
 
 import armkit
 from armkit.errors import InputError, JointLimitError, UnreachableError

@@ -7,45 +7,24 @@ robots/...``, no Python module); they are found through the installed distributi
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
-from importlib.metadata import PackageNotFoundError, distribution
+from importlib.metadata import PackageNotFoundError
 from pathlib import Path
 
 import numpy as np
 import pytest
 from conftest import assert_transform_close
+from helpers import ARMS, example_robot_data_folder
 
 import armkit
 from armkit.errors import RobotDefinitionError
 
 pinocchio = pytest.importorskip("pinocchio")
 try:
-    ROBOTS = Path(distribution("example-robot-data").locate_file(
-        "cmeel.prefix/share/example-robot-data/robots"))
+    ROBOTS = example_robot_data_folder()
 except PackageNotFoundError:  # pragma: no cover - the test extra installs it
     pytest.skip("example-robot-data is not installed", allow_module_level=True)
 URDFS = sorted(ROBOTS.rglob("*.urdf"))
 
-# Serial arms: (file, base, tip, closed form the geometry has). The UR files end in three leaves
-# (base, ee_link, tool0), so they need a tip; 6R arms with a spherical wrist or three parallel
-# axes must be found as such.
-ARMS = [
-    ("ur_description/urdf/ur3_robot.urdf", None, "tool0", "three-parallel"),
-    ("ur_description/urdf/ur5_robot.urdf", None, "tool0", "three-parallel"),
-    ("ur_description/urdf/ur10_robot.urdf", None, "tool0", "three-parallel"),
-    ("ur_description/urdf/ur5_joint_limited_robot.urdf", None, "tool0", "three-parallel"),
-    ("ur_description/urdf/ur3_gripper.urdf", None, "tool0", "three-parallel"),
-    ("panda_description/urdf/panda.urdf", None, "panda_hand_tcp", "none"),
-    ("kinova_description/robots/kinova.urdf", None, "j2s6s200_end_effector", "spherical-wrist"),
-    ("xarm_description/urdf/xarm7.urdf", None, None, "none"),
-    ("z1_description/urdf/z1.urdf", None, "link06", "three-parallel"),
-    ("so_arm_description/urdf/so100.urdf", None, None, "three-parallel"),
-    ("so_arm_description/urdf/so101.urdf", None, "gripper_frame_link", "none"),
-    ("talos_data/robots/talos_left_arm.urdf", None, "gripper_left_base_link", "spherical-wrist"),
-    ("baxter_description/urdf/baxter.urdf", None, "right_gripper", "none"),
-    ("baxter_description/urdf/baxter.urdf", None, "left_gripper", "none"),
-    ("pr2_description/urdf/pr2.urdf", "torso_lift_link", "r_gripper_palm_link", "none"),
-    ("tiago_description/robots/tiago_no_hand.urdf", None, "arm_tool_link", "none"),
-]
 
 
 def leaves(path: Path) -> list[str]:

@@ -123,17 +123,36 @@ def test_cli_json_summary_and_report(tmp_path, capsys):
     assert workspace.open(out).reachability.samples == 20_000
 
 
+def test_a_dotted_folder_name_is_a_store_and_an_existing_file_is_not(tmp_path, capsys):
+    store = tmp_path / "maps_res0.05"
+    assert main(["workspace", "puma560", "--resolution", "0.2", "--samples", "100", "--quiet", "--out",
+                 str(store)]) == 0
+    assert store.is_dir()
+    (tmp_path / "notes").write_text("mine")
+    assert main(["workspace", "puma560", "--resolution", "0.2", "--samples", "100", "--quiet", "--out",
+                 str(tmp_path / "notes")]) == 1
+    assert "--out " + str(tmp_path / "notes") + ": a file of that name exists" in capsys.readouterr().err
+    assert (tmp_path / "notes").read_text() == "mine"
+
+
 @pytest.mark.parametrize(("args", "message"), [
     (["--resume"], "--resume needs --out"),
     (["--samples", "many"], "--samples: 'many' is not a number"),
     (["--samples", "1.5"], "expected a whole number"),
     (["--sweep", "b2=1:2:3"], "expected PARAMETER ROW=START:STOP:COUNT"),
+    (["--sweep", "a3=nan:1:3"], "sweep 'a3=nan:1:3': expected finite START and STOP from -1e+06 to 1e+06"),
+    (["--sweep", "a3=0:inf:3"], "(m or rad), got 0 and inf"),
+    (["--sweep", "a3=1e308:1e308:2"], "(m or rad), got 1e308 and 1e308"),
+    (["--sweep", "a3=0.1:0.2:100000000"], "expected COUNT from 1 to 1000 (each value is a whole"),
+    (["--out", ""], "--out: expected a folder name for the Zarr store"),
     (["--dataset", "10"], "--dataset needs --out"),
+    (["--out", "maps.txt"], "--out maps.txt: a Zarr store is a folder, and 'maps.txt' names a file; call it "
+                            "e.g. maps.zarr"),
 ])
 def test_cli_errors_are_one_line(args, message, capsys):
     assert main(["workspace", "puma560", "--resolution", "0.2", "--samples", "100", "--quiet", *args]) == 1
     err = capsys.readouterr().err
-    assert message in err and "Traceback" not in err
+    assert message in err and "Traceback" not in err and "Warning" not in err
 
 
 @pytest.mark.slow

@@ -364,8 +364,11 @@ void bind_closed_form(nb::module_& m) {
                                          kCaseFitNames[4], kCaseFitNames[5], kCaseFitNames[6], kCaseFitNames[7]);
     m.def("classify", &classify, nb::arg("chain"),
           "The case that solves the chain (the registry's detect functions in order), and why the others do not.");
-    m.def("generic_rank", &generic_rank, nb::arg("chain"), nb::arg("tol") = kRankTolerance,
-          "The largest rank of the chain's Jacobian over a few seeded random configurations inside its limits.");
+    m.def("generic_rank", &generic_rank, nb::arg("chain"), nb::arg("tol") = kRankTolerance, nb::arg("joints") = -1,
+          nb::arg("position_only") = false,
+          "The largest rank of the chain's Jacobian over a few seeded random configurations inside its limits "
+          "(only the first `joints` joints moving, the others at 0, if joints >= 0; only the tool point's rows "
+          "if position_only).");
     m.def("closed_form_of", [](const Chain& chain, const ArmCase& arm) {
             if (arm.chosen < 0) throw nb::value_error(("closed_form_of: no case applies: " + arm.description).c_str());
             return closed_form_of(chain, arm);

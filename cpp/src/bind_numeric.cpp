@@ -80,6 +80,24 @@ void solve_many(const NumericSolver& solver, In T, In q0, std::uint64_t seed, in
                 restarts.data(), position_error.data(), orientation_error.data());
 }
 
+// Resolved-rate control's step through J (6, n) for a twist (6,) into qd (n,), scaled to the
+// velocity limits if inverse_max_velocity (n,) is given: (sigma_min, damping, scale).
+nb::tuple rate_step_of(In J, In twist, double threshold, double max_damping, In inverse_max_velocity, Out qd) {
+    const std::size_t n = qd.size();
+    if (n == 0 || n > std::size_t(kMaxJoints) || J.ndim() != 2 || J.shape(0) != 6 || J.shape(1) != n ||
+        twist.ndim() != 1 || twist.size() != 6)
+        throw std::invalid_argument("rate_step: expected J (6, n), twist (6,) and qd (n,)");
+    const double* limits = optional_seeds(inverse_max_velocity, n, "rate_step: expected inverse_max_velocity (n,)");
+    const RateStepInfo info = rate_step(J.data(), int(n), twist.data(), threshold, max_damping, limits, qd.data());
+    return nb::make_tuple(info.sigma_min, info.damping, info.scale);
+}
+
+double limit_scale_of(In qd, In inverse_max_velocity) {
+    if (qd.size() != inverse_max_velocity.size())
+        throw std::invalid_argument("limit_scale: expected qd and inverse_max_velocity (n,)");
+    return limit_scale(qd.data(), inverse_max_velocity.data(), int(qd.size()));
+}
+
 #ifdef ARMKIT_TEST_BINDINGS  // bound for the tests only (CMake's ARMKIT_TEST_BINDINGS)
 void project_into_limits(const NumericSolver& solver, Out q, Out sides) {
     if (q.size() != std::size_t(solver.chain.n) || sides.size() != q.size())
@@ -123,6 +141,15 @@ void bind_numeric(nb::module_& m) {
              "pose i draws its restart seeds from stream i of `seed` (stream 0 is solve()'s), so the results "
              "do not depend on the thread count unless the time budget cuts a solve short.")
         .def_prop_ro("n", [](const NumericSolver& s) { return s.chain.n; });
+    m.def("rate_step", &rate_step_of, nb::arg("J"), nb::arg("twist"), nb::arg("threshold"), nb::arg("max_damping"),
+          nb::arg("inverse_max_velocity").none(), nb::arg("qd"),
+          "Resolved-rate joint velocities qd (n,) for a base-frame twist (6,) through J (6, n), damped least "
+          "squares with rate_damping(sigma_min), scaled by limit_scale unless inverse_max_velocity is None: "
+          "(sigma_min, damping, scale).");
+    m.def("limit_scale", &limit_scale_of, nb::arg("qd"), nb::arg("inverse_max_velocity"),
+          "The factor in (0, 1] that brings every |qd_i| * inverse_max_velocity_i to at most 1.");
+    m.def("rate_damping", &rate_damping, nb::arg("sigma_min"), nb::arg("threshold"), nb::arg("max_damping"),
+          "(1 - (sigma_min / threshold)^2) max_damping^2 below threshold, else 0.");
     m.attr("NUMERIC_SOLVED") = int(kSolved);
     m.attr("NUMERIC_TARGET_NOT_FINITE") = int(kTargetNotFinite);
     m.attr("NUMERIC_SEED_NOT_FINITE") = int(kSeedNotFinite);

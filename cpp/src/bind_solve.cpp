@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -124,7 +125,8 @@ nb::tuple solve(const ClosedForm& cf, nb::handle T, nb::handle near, nb::handle 
     const Found f{int(k), int(n), q, errors, flags, count};
     std::atomic<long long> empty{0};
     {
-        nb::gil_scoped_release release;
+        std::optional<nb::gil_scoped_release> release;  // for a batch: one pose takes less than a release
+        if (N > 1) release.emplace();
         parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
             empty += solve_poses(cf, poses, ref.near, ref.stride, ref.weights, within_limits, nearest, f, begin, end);
         });

@@ -31,33 +31,76 @@ Vec3 moved_by_arm(const CaseChain& g, const double* qa, Vec3 x) {
 //: Values of a free arm joint tried for a second member of its family.
 constexpr int kFreeArmSamples = 16;
 
+// Arm joint j's axis and a point of it (g.h[j], g.p[j] at q = 0) moved by the arm joints
+// before it, qa (3).
+void arm_line(const CaseChain& g, const double* qa, int j, Vec3& h, Vec3& p) {
+    h = g.h[j], p = g.p[j];
+    for (int k = j - 1; k >= 0; --k) {
+        if (g.prismatic[k]) {
+            p = p + qa[k] * g.h[k];
+        } else {
+            h = rotate(g.h[k], qa[k], h);
+            p = g.p[k] + rotate(g.h[k], qa[k], p - g.p[k]);
+        }
+    }
+}
+
+// How far the arm joints other than the free one (free) are from moving the wrist centre
+// along one line at qa (3): the smaller singular value of their two centre velocities over
+// the larger (|va x vb| / s_max^2, exact where it is small; 0 where both vanish). Where it
+// is 0 the family of the free joint is doubly singular even with the wrist turned away from
+// aligned (the folded Staubli TX40 at q2 = 0: axes 1 and 3 then move the centre the same way).
+double arm_conditioning(const PointGeometry& g, const double* qa, int free) {
+    const Vec3 centre = moved_by_arm(g, qa, g.c);
+    Vec3 v[2];
+    int m = 0;
+    for (int j = 0; j < 3; ++j) {
+        if (j == free) continue;
+        Vec3 h, p;
+        arm_line(g, qa, j, h, p);
+        v[m++] = g.prismatic[j] ? h : cross(h, centre - p);
+    }
+    const double a = dot(v[0], v[0]), d = dot(v[1], v[1]), b = dot(v[0], v[1]);
+    const double largest = 0.5 * (a + d + std::sqrt((a - d) * (a - d) + 4.0 * b * b));
+    return largest > 0.0 ? norm(cross(v[0], v[1])) / largest : 0.0;
+}
+
 // A free arm triple (its wrist centre on the axis of one of its revolute joints, which
-// then turns freely while the wrist follows) whose wrist is aligned (within kNearlyAligned)
-// gets a second member in an unused slot of arm: the free joint where the wrist is farthest
-// from aligned. At the first the Jacobian lacks the family's direction (the wrist would
-// have to turn infinitely fast), which the walk to near follows; at the second it has it.
+// then turns freely while the wrist follows) whose family is doubly singular at the closed
+// form's member gets a second member in an unused slot of arm: the free joint's value, of
+// kFreeArmSamples round the circle, where the family is farthest from doubly singular (the
+// smaller of the wrist's misalignment and arm_conditioning, largest). Doubly singular: the
+// wrist aligned (within kNearlyAligned), or the other two arm joints moving the centre
+// along one line (arm_conditioning within kNullSpace, as the family walk counts a singular
+// value as zero). There the Jacobian lacks the family's direction (the wrist would have to
+// turn infinitely fast; or two null directions, one of them off the family), so the walk to
+// near cannot follow the family from it; from the second member it can.
 void second_free_arm_member(const PointGeometry& g, const Mat3& R, ArmCandidates& arm) {
     const Vec3 axis6 = R * g.h[5];
     bool first[4];  // the triples of the closed form (not the members added here)
     for (int i = 0; i < 4; ++i) first[i] = arm.valid[i] && arm.free[i];
     for (int i = 0; i < 4; ++i) {
-        if (!(first[i] && wrist_misalignment(g, in_wrist_frame(g, arm.q[i], axis6)) <= kNearlyAligned)) continue;
-        int spare = -1;
-        for (int e = 0; e < 4 && spare < 0; ++e)
-            if (!arm.valid[e]) spare = e;
-        if (spare < 0) return;
+        if (!first[i]) continue;
         const Vec3 centre = moved_by_arm(g, arm.q[i], g.c);
         for (int j = 0; j < 3; ++j) {
             if (g.prismatic[j]) continue;
             double turned[3] = {arm.q[i][0], arm.q[i][1], arm.q[i][2]};
             turned[j] += 1.0;
             if (norm(moved_by_arm(g, turned, g.c) - centre) > kOutTolerance * g.size) continue;
+            if (wrist_misalignment(g, in_wrist_frame(g, arm.q[i], axis6)) > kNearlyAligned &&
+                arm_conditioning(g, arm.q[i], j) > kNullSpace)
+                break;  // singly singular: the walk follows the family from the member itself
+            int spare = -1;
+            for (int e = 0; e < 4 && spare < 0; ++e)
+                if (!arm.valid[e]) spare = e;
+            if (spare < 0) return;
             double best = -1.0;
             for (int m = 0; m < kFreeArmSamples; ++m) {
                 turned[j] = arm.q[i][j] + (m + 0.5) * (kTwoPi / kFreeArmSamples);
-                const double misaligned = wrist_misalignment(g, in_wrist_frame(g, turned, axis6));
-                if (misaligned <= best) continue;
-                best = misaligned;
+                const double farthest = std::fmin(wrist_misalignment(g, in_wrist_frame(g, turned, axis6)),
+                                                  arm_conditioning(g, turned, j));
+                if (farthest <= best) continue;
+                best = farthest;
                 for (int c = 0; c < 3; ++c) arm.q[spare][c] = turned[c];
             }
             arm.q[spare][j] = wrap_angle(arm.q[spare][j]);

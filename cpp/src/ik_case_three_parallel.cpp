@@ -192,6 +192,21 @@ Detection<ThreeParallelGeometry> detect_three_parallel(const ArmLines& arm) {
     for (const ArmLines& lines : {arm, reversed(arm)}) {
         if (!three_parallel_block(lines, 1)) continue;
         const ArmLines a = aligned(lines, {1, 2, 3}, lines.h[1]);
+        // axes 5 and 6 within kNearSubcase of a sub-case (meeting: the two-angle system nearly
+        // of rank 1; or axis 6 able to turn almost, not exactly, parallel to the block: the
+        // wrist almost aligns), not to kClassTolerance: the quartic loses roots near an aligned
+        // wrist (a UR5 with joint 5's point moved or joint 6's axis turned by 1e-8 .. 1e-6: 1-6
+        // of 8 solutions listed at q5 = 1e-4 .. 1e-2, on 60 of 480 poses). Such an arm is near
+        // the sub-case and is solved as arms near a class are: the general solver, seeded
+        // (within kNearClass) by this case on the arm moved onto it (snap_to_class).
+        double meeting, aligning;
+        wrist_subcase_gaps(a, meeting, aligning);
+        const auto near = [](double gap) { return gap > kClassTolerance && gap <= kNearSubcase; };
+        if (near(meeting) || near(aligning))
+            return CaseReason{CaseFit::Axes, "axes " + axes_text(a, {1, 2, 3}) + " are parallel, but axes " +
+                                                 axes_text(a, {4, 5}) + (near(meeting) ? " nearly meet" : " nearly "
+                                                 "let the wrist align") + " (within 1e-3, not to rounding): the general "
+                                                 "solver, seeded by this case on the arm moved onto it within 1e-6"};
         ThreeParallelGeometry g = three_parallel_geometry(a);
         const bool polish = !g.rank1;
         const std::string axes = axes_text(a, {1, 2, 3});

@@ -25,13 +25,13 @@ void no_case(ArmCase& out, const std::string& kind, const std::string& descripti
 
 }  // namespace
 
-int generic_rank(const Chain& chain, double tol) {
+int generic_rank(const Chain& chain, double tol, int joints, bool position_only) {
     Random random(0);
     int rank = 0;
-    const int n = chain.n;
+    const int n = chain.n, moving = joints < 0 ? n : std::min(joints, n), rows = position_only ? 3 : 6;
     for (int s = 0; s < kRankSamples; ++s) {
-        double q[kMaxJoints];
-        for (int j = 0; j < n; ++j) {
+        double q[kMaxJoints] = {};
+        for (int j = 0; j < moving; ++j) {
             const bool finite = std::isfinite(chain.lower[j]) && std::isfinite(chain.upper[j]);
             q[j] = random.uniform(finite ? chain.lower[j] : -1.0, finite ? chain.upper[j] : 1.0);
         }
@@ -40,7 +40,8 @@ int generic_rank(const Chain& chain, double tol) {
         double J[6 * kMaxJoints];
         jacobian_from_axes(T, axes, points, chain.prismatic.data(), n, J);
         const Eigen::Map<const Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>> A(J, 6, n);
-        const Eigen::VectorXd S = Eigen::JacobiSVD<Eigen::MatrixXd>(A).singularValues();
+        const Eigen::VectorXd S =
+            Eigen::JacobiSVD<Eigen::MatrixXd>(A.topLeftCorner(rows, moving)).singularValues();
         int r = 0;
         for (int k = 0; k < int(S.size()); ++k) r += S(k) > tol * S(0);
         rank = std::max(rank, r);

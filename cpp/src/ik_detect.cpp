@@ -206,6 +206,40 @@ bool six_revolute(const ArmLines& arm, const std::string& what, CaseReason& why)
     return true;
 }
 
+void wrist_subcase_gaps(const ArmLines& lines, double& meeting, double& aligning) {
+    const Vec3 h5 = lines.h[4], h6 = lines.h[5], hp = lines.h[1];
+    Vec3 a, b;
+    closest_points(lines.p[4], h5, lines.p[5], h6, a, b);
+    meeting = norm(a - b) / lines.scale;
+    // the angles axis 5 makes with axis 6 and with hp, each folded into [0, pi / 2]
+    const double to6 = std::atan2(norm(cross(h5, h6)), std::fabs(dot(h5, h6)));
+    const double to_hp = std::atan2(norm(cross(h5, hp)), std::fabs(dot(h5, hp)));
+    aligning = std::fabs(to6 - to_hp);
+}
+
+namespace {
+
+// Axes 5 and 6 of a three-parallel arm's lines (internal 4, 5) moved onto the class's
+// sub-cases where they are within lines.tolerance of them (wrist_subcase_gaps): made to meet
+// (through the middle of their closest points), and axis 6 turned about its point nearest
+// axis 5, in the plane of axes 5 and 6, to the angle with axis 5 that hp makes.
+void snap_wrist_subcases(const ArmLines& lines, ArmLines& out) {
+    double meeting, aligning;
+    wrist_subcase_gaps(lines, meeting, aligning);
+    const Vec3 h5 = lines.h[4], h6 = lines.h[5];
+    Vec3 a, b;
+    closest_points(lines.p[4], h5, lines.p[5], h6, a, b);
+    out.p[5] = b;
+    if (meeting <= lines.tolerance) out.p[4] = out.p[5] = 0.5 * (a + b);
+    if (aligning <= lines.tolerance) {
+        const double c = dot(h5, h6), target = std::fabs(dot(h5, lines.h[1])) * (c < 0.0 ? -1.0 : 1.0);
+        const Vec3 w = h6 - c * h5;
+        out.h[5] = target * h5 + (std::sqrt(std::fmax(0.0, 1.0 - target * target)) / norm(w)) * w;
+    }
+}
+
+}  // namespace
+
 bool snap_to_class(const ArmLines& arm, const char* kind, ArmLines& out) {
     out = arm;
     out.tolerance = kClassTolerance;
@@ -219,6 +253,7 @@ bool snap_to_class(const ArmLines& arm, const char* kind, ArmLines& out) {
             out = lines;
             for (int j = first + 1; j <= first + 2; ++j)
                 out.h[j] = dot(lines.h[j], lines.h[first]) < 0 ? -lines.h[first] : lines.h[first];
+            if (first == 1) snap_wrist_subcases(lines, out);
             any = true;
             break;
         }

@@ -449,7 +449,13 @@ std::shared_ptr<const ClassSeed> near_class_seed(const ArmLines& arm, const ArmL
 }  // namespace
 
 void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
-    const int found = general_six_r(*g.arm, R, t, q, valid, family);
+    int found = 0;
+    if (g.arm) {
+        found = general_six_r(*g.arm, R, t, q, valid, family);
+    } else {  // a prismatic arm near a class: its seed alone
+        std::fill(valid, valid + kGeneralRoots, false);
+        std::fill(family, family + kGeneralRoots, false);
+    }
     if (g.seed) add_class_candidates(*g.seed, R, t, q, valid, found);
 }
 
@@ -489,9 +495,31 @@ GeneralGeometry general_geometry(const ArmLines& lines, int shift) {
 
 }  // namespace
 
+// A 6-joint arm with a prismatic joint (the elimination takes revolute joints only) near a
+// class: that class on the arm moved onto it, whose candidates Newton takes onto the real arm
+// (the pipeline's polish and FK check), the same as the seed of a revolute arm near a class,
+// but without the elimination behind it: every listed solution is exact, and the listing is
+// as complete as the class's solutions carried over by Newton (all of them, where the arm is
+// farther from singular than its deviation). Else why not, and what to use.
+Detection<GeneralGeometry> prismatic_near_class(const ArmLines& arm, const CaseReason& why) {
+    const std::shared_ptr<const ClassSeed> seed = near_class_seed(arm, arm);
+    if (!seed)
+        return CaseReason{why.fit, why.text + ", and the arm is not within 1e-6 (of its size) of a class that has one; "
+                                              "numeric IK solves it (robot.ik(T, near=q), one solution per seed)"};
+    GeneralGeometry g;
+    static_cast<CaseChain&>(g) = arm;
+    g.seed = seed;
+    return CaseMatch<GeneralGeometry>{g, arm, "near-class",
+                                      "a prismatic joint, within 1e-6 of the " + std::string(case_entry(seed->geometry).name) +
+                                          " case: that case's solutions on the arm moved onto it, each taken onto the "
+                                          "real arm by Newton steps and checked by FK, up to 8 solutions",
+                                      true};
+}
+
 Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
     CaseReason why;
-    if (!six_revolute(arm, "the general solver", why)) return why;
+    if (!six_revolute(arm, "the general solver", why))
+        return why.fit == CaseFit::Prismatic ? prismatic_near_class(arm, why) : Detection<GeneralGeometry>(why);
     Random random(0);
     double q[kLoopSamples][6];
     Pose T[kLoopSamples];
@@ -551,10 +579,13 @@ Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
     }
     GeneralGeometry chosen = general_geometry(loops[best / 6], best % 6);
     chosen.seed = near_class_seed(arm, loops[best / 6]);
+    const std::string near = chosen.seed ? std::string(" (within 1e-6 of the ") + case_entry(chosen.seed->geometry).name +
+                                               " case, whose solutions on the arm moved onto it seed it)"
+                                         : std::string();
     return CaseMatch<GeneralGeometry>{chosen, loops[best / 6], "general-6r",
-                                      "general 6R arm: no three consecutive axes meet at one point or are parallel; "
-                                      "every solution by Raghavan-Roth elimination (a 24 x 24 eigenproblem), up to 16 "
-                                      "solutions",
+                                      "general 6R arm: no three consecutive axes meet at one point or are parallel "
+                                      "to rounding; every solution by Raghavan-Roth elimination (a 24 x 24 "
+                                      "eigenproblem)" + near + ", up to 16 solutions",
                                       true};
 }
 

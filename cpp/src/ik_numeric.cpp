@@ -1,13 +1,12 @@
 #include "armkit/ik_numeric.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
-#include <thread>
 #include <utility>
 #include <vector>
 
+#include "armkit/batch.hpp"
 #include "armkit/fk.hpp"
 #include "armkit/random.hpp"
 
@@ -180,11 +179,10 @@ void solve_batch(const NumericSolver& solver, const double* T, const double* q0,
                  std::uint64_t seed, int threads, double* q, bool* success, std::int64_t* iterations,
                  std::int64_t* restarts, double* position_error, double* orientation_error) {
     const std::size_t n = std::size_t(solver.chain.n);
-    // poses are handed out one at a time (solve times differ by restarts), each result
+    // a solve costs more than starting a thread (one pose per thread at least), its result
     // depending on its pose alone
-    std::atomic<std::size_t> next{0};
-    const auto work = [&] {
-        for (std::size_t i; (i = next.fetch_add(1)) < N;) {
+    parallel_for(N, threads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
             const NumericResult r = solve(solver, pose_from_matrix(T + 16 * i), q0 ? q0 + n * i : nullptr,
                                           item_seed(seed, i), q + n * i);
             success[i] = r.success;
@@ -193,14 +191,7 @@ void solve_batch(const NumericSolver& solver, const double* T, const double* q0,
             position_error[i] = r.position_error;
             orientation_error[i] = r.orientation_error;
         }
-    };
-    std::size_t count = threads > 0 ? std::size_t(threads) : std::max(1u, std::thread::hardware_concurrency());
-    count = std::max<std::size_t>(1, std::min(count, N));
-    std::vector<std::thread> pool;
-    pool.reserve(count - 1);
-    for (std::size_t t = 1; t < count; ++t) pool.emplace_back(work);
-    work();
-    for (auto& thread : pool) thread.join();
+    }, 1);
 }
 
 }  // namespace armkit

@@ -1,6 +1,9 @@
 #include "armkit/linalg.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include <Eigen/Dense>
 
 namespace armkit {
 
@@ -94,4 +97,53 @@ void damped_step(const double* J, int n, const double* e, const int* rows, int m
     }
 }
 
+double rate_damping(double sigma_min, double threshold, double max_damping) {
+    if (sigma_min >= threshold) return 0.0;  // also every sigma_min >= 0 when threshold <= 0
+    const double ratio = sigma_min / threshold;
+    return (1.0 - ratio * ratio) * max_damping * max_damping;
+}
+
+double limit_scale(const double* qd, const double* inverse_max_velocity, int n) {
+    double ratio = 0.0;
+    for (int i = 0; i < n; ++i) ratio = std::max(ratio, std::abs(qd[i]) * inverse_max_velocity[i]);
+    return ratio > 1.0 ? 1.0 / ratio : 1.0;
+}
+
+namespace {
+
+// Smallest eigenvalue of the Gram matrix of J (6 x n): J J^T (6 x 6, fixed size) for n >= 6.
+double smallest_gram_eigenvalue(const double* J, int n) {
+    const Eigen::Map<const Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>> A(J, 6, n);
+    if (n >= 6) {
+        const Eigen::Matrix<double, 6, 6> gram = A * A.transpose();
+        return Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(gram, Eigen::EigenvaluesOnly).eigenvalues()(0);
+    }
+    using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+    const Small gram = A.transpose() * A;
+    return Eigen::SelfAdjointEigenSolver<Small>(gram, Eigen::EigenvaluesOnly).eigenvalues()(0);
+}
+
+}  // namespace
+
+RateStepInfo rate_step(const double* J, int n, const double* twist, double threshold, double max_damping,
+                       const double* inverse_max_velocity, double* qd) {
+    RateStepInfo info;
+    const double smallest = smallest_gram_eigenvalue(J, n);
+    info.sigma_min = std::sqrt(std::max(smallest, 0.0));
+    info.damping = rate_damping(info.sigma_min, threshold, max_damping);
+    if (info.damping == 0.0) {  // no damping asked: an exactly singular J still gets the least-squares step
+        double trace = 0.0;
+        for (int k = 0; k < 6 * n; ++k) trace += J[k] * J[k];
+        if (smallest <= kGramRounding * trace) info.damping = kSingularDamping * trace;
+    }
+    static constexpr int kEveryRow[6] = {0, 1, 2, 3, 4, 5};
+    double free[kMaxJoints] = {};
+    damped_step(J, n, twist, kEveryRow, 6, free, info.damping, qd);
+    info.scale = inverse_max_velocity ? limit_scale(qd, inverse_max_velocity, n) : 1.0;
+    if (info.scale != 1.0)
+        for (int i = 0; i < n; ++i) qd[i] *= info.scale;
+    return info;
+}
+
 }  // namespace armkit
+

@@ -53,6 +53,21 @@ def positive_float(value: object, name: str, *, maximum: float = math.inf) -> fl
     return number
 
 
+def float_in_range(value: object, name: str, low: float, high: float, what: str) -> float:
+    """``value`` as a float in ``[low, high]`` (a real number: not a bool, not a string), or an
+    :class:`InputError` saying it expected ``what`` in that range.
+
+    >>> float_in_range("1e-4", "tol", 1e-12, 0.5, "a relative accuracy")
+    Traceback (most recent call last):
+    armkit.errors.InputError: tol: expected a relative accuracy from 1e-12 to 0.5, got '1e-4'
+    """
+    number = _real(value)
+    if number is None or not low <= number <= high:
+        raise InputError(f"{name}: expected {what} from {low:g} to {high:g}, got {value!r}", parameter=name,
+                         value=value)
+    return number
+
+
 def non_negative_float(value: object, name: str, *, infinite: bool = False) -> float:
     """``value`` as a float ``>= 0``, finite unless ``infinite`` allows ``inf`` ("no bound").
 

@@ -19,6 +19,7 @@ compiled core (``cpp/src/dynamics.cpp``); this module checks inputs and prepares
 from __future__ import annotations
 
 import copy
+from collections.abc import Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -26,18 +27,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core
-from armkit._params import positive_float, thread_count
+from armkit._params import float_in_range, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, RobotDefinitionError
 from armkit.inertial import Inertial
 from armkit.kinematics import non_finite_error
-from armkit.spatial.transforms import rot_z, trans_z
+from armkit.spatial.transforms import invert_transform, rot_z, trans_z
 
 if TYPE_CHECKING:  # armkit.robot imports this module lazily
     from armkit.robot import Robot
 
-__all__ = ["GRAVITY", "coriolis_torques", "forward_dynamics", "gravity_torques", "inverse_dynamics",
-           "locked_inertials", "mass_matrix", "with_estimated_inertia", "with_payload"]
+__all__ = ["GRAVITY", "MAX_DENSITY", "MIN_DENSITY", "coriolis_torques", "forward_dynamics", "gravity_torques",
+           "inverse_dynamics", "locked_inertials", "mass_matrix", "with_estimated_inertia", "with_payload"]
 
 
 def _read_only(values: list[float]) -> NDArray[np.float64]:
@@ -48,6 +49,12 @@ def _read_only(values: list[float]) -> NDArray[np.float64]:
 
 #: Default gravity [m/s^2] in the robot's world frame: 9.81 along -z.
 GRAVITY: NDArray[np.float64] = _read_only([0.0, 0.0, -9.81])
+#: Largest density ``with_estimated_inertia`` takes [kg/m^3]: about four times osmium's (22,600), so
+#: that a density in the wrong unit (g/m^3, 1e308) is an error, not a link of 1e305 kg.
+MAX_DENSITY = 1e5
+#: Smallest density it takes [kg/m^3]: a foam's is about 10; links of 1e-300 kg/m^3 would weigh
+#: nothing and forward dynamics would answer 1e306 rad/s^2.
+MIN_DENSITY = 1.0
 
 
 def missing_inertia(chain: Chain) -> str | None:
@@ -55,7 +62,7 @@ def missing_inertia(chain: Chain) -> str | None:
     return next((joint.name for joint in chain.joints if joint.inertial is None), None)
 
 
-def _model(chain: Chain) -> _core.Dynamics:
+def dynamics_model(chain: Chain) -> _core.Dynamics:
     """The chain's bodies in their joint frames, as the core takes them (made once per chain)."""
     return chain.derived(_make_model)
 
@@ -164,7 +171,7 @@ def inverse_dynamics(robot: Robot | Chain, q: ArrayLike, qd: ArrayLike | None = 
     [11.81]
     """
     chain = as_chain(robot)
-    model = _model(chain)
+    model = dynamics_model(chain)
     q, qd, qdd = _states(chain, ("qd", "qdd"), q=q, qd=qd, qdd=qdd)  # broadcast to one shape
     tau = np.empty(q.shape)
     _core.inverse_dynamics(model, q, qd, qdd, _gravity(gravity), tau, thread_count(threads))
@@ -203,7 +210,7 @@ def mass_matrix(robot: Robot | Chain, q: ArrayLike, *, threads: int | None = Non
     [[3.5]]
     """
     chain = as_chain(robot)
-    model = _model(chain)
+    model = dynamics_model(chain)
     (q,) = _states(chain, q=q)
     M = np.empty((*q.shape, chain.n))
     _core.mass_matrix(model, q, M, thread_count(threads))
@@ -233,7 +240,7 @@ def forward_dynamics(robot: Robot | Chain, q: ArrayLike, qd: ArrayLike, tau: Arr
     [2.0]
     """
     chain = as_chain(robot)
-    model = _model(chain)
+    model = dynamics_model(chain)
     q, qd, tau = _states(chain, q=q, qd=qd, tau=tau)
     qdd = np.empty(q.shape)
     bad = _core.forward_dynamics(model, q, qd, tau, _gravity(gravity), qdd, thread_count(threads))
@@ -328,7 +335,7 @@ def with_estimated_inertia(robot: Robot, density: float = 1000.0) -> Robot:
     Parameters
     ----------
     density : float
-        [kg/m^3], positive (1000: a light, partly hollow arm).
+        [kg/m^3], from :data:`MIN_DENSITY` to :data:`MAX_DENSITY` (1000: a light, partly hollow arm).
 
     Examples
     --------
@@ -339,9 +346,15 @@ def with_estimated_inertia(robot: Robot, density: float = 1000.0) -> Robot:
     """
     from armkit.export.physical import DENSITY, capsule_bodies
 
-    scale = positive_float(density, "density [kg/m^3]") / DENSITY
-    inertials = []
-    for joint, body in zip(robot.chain.joints, capsule_bodies(robot)[2], strict=True):
-        in_joint_frame = Inertial(body.mass * scale, body.com, body.inertia * scale)
-        inertials.append(in_joint_frame.moved(np.linalg.inv(joint.T_after)))
+    scale = float_in_range(density, "density [kg/m^3]", MIN_DENSITY, MAX_DENSITY, "a density") / DENSITY
+    return with_body_inertials(robot, capsule_bodies(robot)[2], scale)
+
+
+def with_body_inertials(robot: Robot, bodies: Sequence, scale: float = 1.0) -> Robot:
+    """A copy of ``robot`` whose links carry ``bodies``' masses and inertias (each body with
+    ``mass``, ``com`` and ``inertia`` in its joint's frame, as the MuJoCo export writes them),
+    scaled by ``scale`` and moved back into the link frames."""
+    inertials = [Inertial(body.mass * scale, body.com, body.inertia * scale)
+                 .moved(invert_transform(joint.T_after))
+                 for joint, body in zip(robot.chain.joints, bodies, strict=True)]
     return _with_inertials(robot, inertials)

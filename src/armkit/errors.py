@@ -139,7 +139,21 @@ def pair_text(contacts: list[tuple[str, str]], none: str = "no pair in contact")
 
 
 class ConvergenceError(ArmkitError):
-    """An iterative solver did not reach its tolerance within its budget."""
+    """An iterative solver did not reach its tolerance within its budget.
+
+    Attributes
+    ----------
+    rounds : int or None
+        The budget spent (iterations or rounds).
+    last_change : float
+        The solver's last relative change (``nan`` if it has none), what would have had to fall
+        below its tolerance.
+    """
+
+    def __init__(self, message: str, *, rounds: int | None = None, last_change: float = float("nan")) -> None:
+        super().__init__(message)
+        self.rounds = rounds
+        self.last_change = last_change
 
 
 class NoClosedFormError(ArmkitError):
@@ -149,7 +163,20 @@ class NoClosedFormError(ArmkitError):
 class PlanningError(ArmkitError):
     """No collision-free motion was found: no path within the time budget, or no timing of the path
     passed the collision check (see :func:`armkit.plan_path`; a colliding start or goal is a
-    :class:`CollisionError`)."""
+    :class:`CollisionError`).
+
+    Attributes
+    ----------
+    time_budget : float or None
+        The search's budget [s] when no path was found in it, else None.
+    segment : int or None
+        The path segment (1-based) whose timed motion left the checked path, else None.
+    """
+
+    def __init__(self, message: str, *, time_budget: float | None = None, segment: int | None = None) -> None:
+        super().__init__(message)
+        self.time_budget = time_budget
+        self.segment = segment
 
 
 class SolutionsLeftOffWarning(UserWarning):

@@ -152,10 +152,11 @@ def link_frames(robot: Robot | Chain, q: ArrayLike) -> NDArray[np.float64]:
     table (after joint ``i``), and ``n + 1`` is the tool.
     """
     chain = as_chain(robot)
-    return _link_frames(chain, _joint_values(chain, q))
+    return link_frames_at(chain, _joint_values(chain, q))
 
 
-def _link_frames(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
+def link_frames_at(chain: Chain, q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`link_frames` of joint values already checked (float64 ``(..., n)``, finite)."""
     frames, T_tool = _joint_frames(chain, q)
     base = np.broadcast_to(chain.T_base, (*q.shape[:-1], 1, 4, 4))
     links = frames @ np.stack([j.T_after for j in chain.joints])
@@ -182,17 +183,20 @@ def geometric_jacobian(robot: Robot | Chain, q: ArrayLike, frame: str = "base", 
 _IS_TOOL_FRAME = {"base": False, "tool": True}
 
 
-def _frame_error(frame: object) -> InputError:
-    return InputError(f"frame {frame!r}: expected 'base' or 'tool'")
+def is_tool_frame(frame: object) -> bool:
+    """Whether a Jacobian's ``frame`` (``"base"`` or ``"tool"``) is the tool frame; an
+    :class:`InputError` naming any other value."""
+    try:
+        return _IS_TOOL_FRAME[frame]  # type: ignore[index]
+    except (KeyError, TypeError):
+        raise InputError(f"frame {frame!r}: expected 'base' or 'tool'", parameter="frame",
+                         value=frame) from None
 
 
 def _geometric_jacobian(chain: Chain, q: ArrayLike, frame: str = "base",
                         threads: int = 0) -> NDArray[np.float64]:
     """:func:`geometric_jacobian` of a chain, ``threads`` checked."""
-    try:
-        tool = _IS_TOOL_FRAME[frame]
-    except (KeyError, TypeError):
-        raise _frame_error(frame) from None
+    tool = is_tool_frame(frame)
     try:
         return _core.jacobian(chain._core, q, tool, threads)
     except _core.RefusedJointValues as refused:

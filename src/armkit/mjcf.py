@@ -34,6 +34,7 @@ Refused, with one :class:`~armkit.errors.RobotDefinitionError`
 
 from __future__ import annotations
 
+import threading
 from pathlib import Path
 from typing import Any
 
@@ -41,12 +42,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit.chain import chain_from_frames
-from armkit.errors import ArmkitError, RobotDefinitionError
+from armkit.errors import ArmkitError, RobotDefinitionError, warn_at_caller
 from armkit.inertial import Inertial
 from armkit.poe import rotation_z_to
 from armkit.robot import Robot
 from armkit.spatial.rotations import matrix_from_quaternion_wxyz
-from armkit.spatial.transforms import rot_z, trans_z, transform_from
+from armkit.spatial.transforms import invert_transform, rot_z, trans_z, transform_from
 
 __all__ = ["load_mjcf", "robot_from_mjcf"]
 
@@ -89,11 +90,8 @@ def load_mjcf(path: str | Path, base: str | None = None, tip: str | None = None)
     path = Path(path)
     if not path.is_file():
         raise RobotDefinitionError(f"{path}: no such file")
-    try:
-        model = mujoco.MjModel.from_xml_path(str(path))
-    except ValueError as exc:  # MuJoCo's compiler errors
-        raise RobotDefinitionError(f"{path}: MuJoCo cannot compile it: {_one_line(exc)}") from exc
-    return robot_from_mjcf(model, str(path), base=base, tip=tip)
+    model, said = _compiled(mujoco, mujoco.MjModel.from_xml_path, str(path), str(path))
+    return _robot(mujoco, model, str(path), base, tip, said)
 
 
 def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None = None,
@@ -118,9 +116,16 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
     mujoco = _import_mujoco()
     if isinstance(model, str | bytes):
         try:
-            model = mujoco.MjModel.from_xml_string(model if isinstance(model, str) else model.decode())
-        except (ValueError, UnicodeDecodeError) as exc:
+            text = model if isinstance(model, str) else model.decode()
+        except UnicodeDecodeError as exc:
             raise RobotDefinitionError(f"{source}: MuJoCo cannot compile it: {_one_line(exc)}") from exc
+        model, said = _compiled(mujoco, mujoco.MjModel.from_xml_string, text, source)
+        return _robot(mujoco, model, source, base, tip, said)
+    return _robot(mujoco, model, source, base, tip, [])
+
+
+def _robot(mujoco: Any, model: Any, source: str, base: str | None, tip: str | None, said: list[str]) -> Robot:
+    """:func:`robot_from_mjcf` of a compiled model; ``said``: MuJoCo's warnings while compiling it."""
     bodies = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or f"body {b}"
               for b in range(model.nbody)]
     base_id = 0 if base is None else _body_id(bodies, base, "base", source)
@@ -129,6 +134,7 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
     kinds, before, after, limits, names, ids, frame_of = [], [], [], [], [], [], {}
     pending = np.eye(4)
     for body in path:
+        _check_finite(source, f"body {bodies[body]!r}", pos=model.body_pos[body], quat=model.body_quat[body])
         pending = pending @ _body_pose(model, body)
         for j in range(model.body_jntadr[body], model.body_jntadr[body] + model.body_jntnum[body]):
             name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint {j}"
@@ -138,12 +144,13 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
                     f"{source}, joint {name!r} of body {bodies[body]!r}: a {_KIND_NAMES[kind]} joint on the "
                     f"path from {bodies[base_id]!r} to {tip_name!r}; armkit reads hinge and slide joints "
                     f"(a floating arm: choose its first body as base=...)")
+            _check_finite(source, f"joint {name!r}", axis=model.jnt_axis[j], pos=model.jnt_pos[j])
             R = transform_from(rotation_z_to(model.jnt_axis[j]), np.zeros(3))
             P = transform_from(np.eye(3), model.jnt_pos[j])
             ref = float(model.qpos0[model.jnt_qposadr[j]])
             kinds.append("revolute" if kind == _HINGE else "prismatic")
             before.append(pending @ P @ R @ (rot_z(-ref) if kind == _HINGE else trans_z(-ref)))
-            after.append(R.T @ np.linalg.inv(P))
+            after.append(R.T @ invert_transform(P))
             if model.jnt_limited[j] and not np.isfinite(model.jnt_range[j]).all():
                 raise RobotDefinitionError(f"{source}, joint {name!r}: range {model.jnt_range[j].tolist()}; "
                                            f"expected two finite numbers")
@@ -163,9 +170,22 @@ def robot_from_mjcf(model: Any, source: str = "MJCF text", *, base: str | None =
                               max_acceleration=[_limit_numeric(mujoco, model, n, "max_acceleration", source)
                                                 for n in names],
                               max_torque=torque, inertials=_inertials(model, path, frame_of, len(kinds)))
+    if any("NaN" in text for text in said):  # e.g. a geom's mass, which MuJoCo then computes itself
+        raise RobotDefinitionError(f"{source}: MuJoCo warns that the XML contains a 'NaN' (in an attribute "
+                                   f"armkit does not name here, e.g. a geom's mass or size); write finite "
+                                   f"numbers")
     name = _model_name(model) or Path(source).stem
     return Robot(chain, name=name, source=source,
                  description=f"MJCF {Path(source).name}, {bodies[base_id]} to {tip_name}")
+
+
+def _check_finite(source: str, where: str, **attributes: NDArray[np.float64]) -> None:
+    """A :class:`RobotDefinitionError` naming the first of ``attributes`` of ``where`` that is not
+    finite (as MuJoCo compiled it)."""
+    for key, value in attributes.items():
+        if not np.isfinite(value).all():
+            raise RobotDefinitionError(f"{source}, {where}: {key} {np.asarray(value).tolist()}; expected "
+                                       f"finite numbers")
 
 
 def _limit_numeric(mujoco: Any, model: Any, joint: str, limit: str, source: str) -> float | None:
@@ -182,6 +202,31 @@ def _limit_numeric(mujoco: Any, model: Any, joint: str, limit: str, source: str)
         raise RobotDefinitionError(f"{source}, custom numeric {name!r}: expected one finite number > 0 (the "
                                    f"{limit} of joint {joint!r}), got data {shown}")
     return float(data[0])
+
+
+#: MuJoCo's warning handler is one for the process: a compile swaps it under this lock.
+_WARNING_HANDLER = threading.Lock()
+
+
+def _compiled(mujoco: Any, compile_xml: Any, xml: str, source: str) -> tuple[Any, list[str]]:
+    """``compile_xml(xml)`` and MuJoCo's warnings, with MuJoCo's compiler errors as
+    :class:`RobotDefinitionError` and its warnings as Python warnings naming ``source`` (MuJoCo
+    would otherwise print them and append them to a ``MUJOCO_LOG.TXT`` in the user's folder)."""
+    said: list[str] = []
+    with _WARNING_HANDLER:
+        previous = mujoco.get_mju_user_warning()
+        mujoco.set_mju_user_warning(said.append)
+        try:
+            model = compile_xml(xml)
+        except ValueError as exc:
+            warned = "".join(f"; MuJoCo warned: {text.strip()}" for text in dict.fromkeys(said))
+            raise RobotDefinitionError(f"{source}: MuJoCo cannot compile it: {_one_line(exc)}"
+                                       f"{warned}") from exc
+        finally:
+            mujoco.set_mju_user_warning(previous)
+    for text in dict.fromkeys(said):
+        warn_at_caller(UserWarning(f"{source}: MuJoCo warns: {text.strip()}"))
+    return model, said
 
 
 def _one_line(exc: Exception) -> str:

@@ -394,7 +394,7 @@ def _search(scene: Scene, q_start: NDArray[np.float64], goals: NDArray[np.float6
     if not paths:
         raise PlanningError(f"no collision-free path found within time_budget={time_budget:g} s "
                             f"(RRT-Connect, {time.monotonic() - started:.3g} s): give a larger time_budget, "
-                            f"or move the start or goal away from the obstacles")
+                            f"or move the start or goal away from the obstacles", time_budget=time_budget)
     vertices = min(paths, key=lambda v: float(np.linalg.norm(np.diff(v, axis=0), axis=1).sum()))
     return vertices[np.concatenate([[True], np.any(np.diff(vertices, axis=0) != 0, axis=1)])]  # no repeats
 
@@ -433,7 +433,8 @@ def _timed(scene: Scene, path: NDArray[np.float64], resolution: float, vmax: NDA
     for k in range(len(path) - 1):
         if not _on_segment(trajectory, k) or scene.path_collides(path[k], path[k + 1], resolution=resolution):
             raise PlanningError(f"the timed motion leaves its checked path on segment {k + 1} (to q = "
-                                f"{_show(path[k + 1])}); try another seed or a finer resolution")
+                                f"{_show(path[k + 1])}); try another seed or a finer resolution",
+                                segment=k + 1)
     return trajectory
 
 

@@ -23,7 +23,7 @@ from armkit._params import core_ready, thread_count, whole_number
 from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.inertial import Inertial
-from armkit.spatial.transforms import pose_from_transform, rot_z, trans_z
+from armkit.spatial.transforms import invert_transform, pose_from_transform, rot_z, trans_z
 
 if TYPE_CHECKING:  # the descriptions' modules import this one; matplotlib only when drawing
     from matplotlib.figure import Figure
@@ -42,6 +42,11 @@ def _solve_ik() -> Callable[..., NDArray[np.float64] | list[NDArray[np.float64]]
     from armkit.ik.solve import ik
 
     return ik
+
+
+#: The keywords :meth:`Robot.ik` handles itself (the deprecated ``all=`` and a held joint); the others go
+#: to :func:`armkit.ik.solve.ik`.
+_ROBOT_IK_OPTIONS = frozenset({"all", "free_joint", "free_value"})
 
 
 @dataclass(frozen=True)
@@ -76,7 +81,7 @@ def _with_base_inertials(chain: Chain, inertials: Sequence[Inertial | None] | No
     joints, T_base_link = [], np.eye(4)
     for joint, inertial, limit in zip(chain.joints, inertials, max_torque, strict=True):
         T_base_link = T_base_link @ joint.T_before @ joint.T_after
-        moved = None if inertial is None else inertial.moved(np.linalg.inv(T_base_link))
+        moved = None if inertial is None else inertial.moved(invert_transform(T_base_link))
         joints.append(replace(joint, inertial=moved, max_torque=limit))
     return Chain(tuple(joints), chain.T_base, chain.T_tool)
 
@@ -310,7 +315,7 @@ class Robot:
 
     def link_frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """Base, every DH link frame and tool: ``(..., n + 2, 4, 4)``."""
-        return kinematics._link_frames(self.chain, self._checked(q))
+        return kinematics.link_frames_at(self.chain, self._checked(q))
 
     def plot(self, q: ArrayLike, *, ax: Axes3D | None = None, frames: bool = False,
              joint_axes: bool = True, title: str | None = None) -> Figure:
@@ -334,10 +339,7 @@ class Robot:
     def jacobian(self, q: ArrayLike, frame: str = "base", *,
                  threads: int | None = None) -> NDArray[np.float64]:
         """Geometric Jacobian ``(..., 6, n)``, rows ``[v; w]``, in the ``"base"`` or ``"tool"`` frame."""
-        try:
-            tool = kinematics._IS_TOOL_FRAME[frame]
-        except (KeyError, TypeError):
-            raise kinematics._frame_error(frame) from None
+        tool = kinematics.is_tool_frame(frame)
         threads = 0 if threads is None else thread_count(threads)
         try:
             return _core.jacobian(self.chain._core, q, tool, threads)  # as fk
@@ -418,7 +420,7 @@ class Robot:
 
             return ik_free(self, scene, T_base_tool, all_solutions=all_solutions, near=near,
                            within_limits=within_limits, **options)
-        if options:
+        if not _ROBOT_IK_OPTIONS.isdisjoint(options):
             if "all" in options:
                 all_solutions = renamed_argument("Robot.ik", "all", "all_solutions", options.pop("all"),
                                                  all_solutions, False)
@@ -497,7 +499,7 @@ class Robot:
         array([ 0.   , 37.484,  0.249,  0.   ,  0.   ,  0.   ])
         """
         if gravity is None and threads is None:
-            tau = _core.inverse_dynamics_one(dynamics._model(self.chain), q, qd, qdd)
+            tau = _core.inverse_dynamics_one(dynamics.dynamics_model(self.chain), q, qd, qdd)
             if tau is not None:
                 return tau
         return dynamics.inverse_dynamics(self.chain, q, qd, qdd, threads=threads,
@@ -507,7 +509,7 @@ class Robot:
         """Joint-space mass matrices ``(..., n, n)`` at ``q`` ``(..., n)``; see
         :func:`armkit.dynamics.mass_matrix`."""
         if threads is None:
-            M = _core.mass_matrix_one(dynamics._model(self.chain), q)
+            M = _core.mass_matrix_one(dynamics.dynamics_model(self.chain), q)
             if M is not None:
                 return M
         return dynamics.mass_matrix(self.chain, q, threads=threads)
@@ -527,7 +529,7 @@ class Robot:
         """Joint accelerations ``(..., n)`` under torques ``tau`` ``(..., n)``; see
         :func:`armkit.dynamics.forward_dynamics`."""
         if gravity is None and threads is None:
-            qdd = _core.forward_dynamics_one(dynamics._model(self.chain), q, qd, tau)
+            qdd = _core.forward_dynamics_one(dynamics.dynamics_model(self.chain), q, qd, tau)
             if qdd is not None:
                 return qdd
         return dynamics.forward_dynamics(self.chain, q, qd, tau, threads=threads,

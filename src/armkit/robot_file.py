@@ -71,7 +71,6 @@ from __future__ import annotations
 import json
 import math
 import re
-import tomllib
 from dataclasses import replace
 from importlib import resources
 from pathlib import Path
@@ -80,19 +79,28 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from armkit._tables import (
+    ANGLE_UNITS,
+    LENGTH_UNITS,
+    check_table_keys,
+    shown_value,
+    table_choice,
+    table_number,
+    table_quantity,
+    table_transform,
+    table_vector,
+    toml_table,
+)
 from armkit.chain import MAX_VALUE, Chain, DHRow
-from armkit.errors import ArmkitError, InputError, RobotDefinitionError
+from armkit.errors import RobotDefinitionError
 from armkit.inertial import Inertial
 from armkit.poe import poe_from_chain
 from armkit.robot import Robot
-from armkit.spatial.rotations import euler_from_matrix, matrix_from_euler
-from armkit.spatial.transforms import check_transform, transform_from
+from armkit.spatial.rotations import euler_from_matrix
 from armkit.urdf import robot_from_urdf
 
 __all__ = ["builtin_robots", "load", "robot_from_dict", "robot_to_toml"]
 
-_LENGTH_UNITS = {"m": 1.0, "mm": 1e-3}
-_ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 _TOP_KEYS = {"name", "convention", "length_unit", "angle_unit", "description", "joints",
              "tool", "base"}
 _ROW_KEYS = {"alpha", "a", "d", "theta"}
@@ -100,7 +108,6 @@ _COMMON_JOINT_KEYS = {"type", "limits", "max_velocity", "max_acceleration", "nam
                       "max_torque", "radius"}
 _JOINT_KEYS = _ROW_KEYS | _COMMON_JOINT_KEYS
 _POE_KEYS = {"axis", "point"}
-_TRANSFORM_KEYS = {"xyz", "rpy", "matrix"}
 
 
 def builtin_robots() -> list[str]:
@@ -195,89 +202,23 @@ def _no_links(base: str | None, tip: str | None, source: str) -> None:
                                    f"and [tool])")
 
 
-def toml_table(data: bytes, source: str, what: str = "robot file",
-               error: type[ArmkitError] = RobotDefinitionError) -> dict[str, Any]:
-    """The TOML table of a file's bytes, or one ``error`` naming ``source`` (not UTF-8, not TOML)."""
-    try:
-        text = data.decode("utf-8-sig")  # a byte order mark (some Windows editors write one) is skipped
-    except UnicodeDecodeError as exc:
-        raise error(f"{source}: not UTF-8 text (byte {exc.start}); save the {what} as UTF-8") from exc
-    if not text.strip():
-        raise error(f"{source}: the file is empty; expected a {what}")
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise error(f"{source}: not valid TOML: {exc}") from exc
-    except RecursionError as exc:
-        raise error(f"{source}: arrays or tables nested too deeply to read") from exc
-
-
 def _load_text(data: bytes, source: str) -> Robot:
     parsed = toml_table(data, source)
     return robot_from_dict(parsed, source, require_units=True)
 
 
-# ------------------------------------------------------------------ values
-def _number(value: Any, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise RobotDefinitionError(f"{where}: expected a finite number, got {_shown(value)}")
-    return float(value)
-
-
-def _quantity(value: Any, where: str, unit: float) -> float:
-    """A length or angle in SI units, at most :data:`MAX_VALUE` in magnitude."""
-    number = _number(value, where) * unit
-    if not abs(number) <= MAX_VALUE:
-        raise RobotDefinitionError(f"{where}: {value!r} is {abs(number):.3g} in SI units (m or rad); "
-                                   f"expected at most {MAX_VALUE:g}")
-    return number
-
-
-def _shown(value: Any) -> str:
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
-
-
-def _vector(value: Any, where: str, unit: float, size: int = 3) -> NDArray[np.float64]:
-    if not isinstance(value, list) or len(value) != size:
-        raise RobotDefinitionError(f"{where}: expected {size} numbers, got {_shown(value)}")
-    return np.array([_quantity(v, where, unit) for v in value])
-
-
-def _choice(data: dict, key: str, options: dict | tuple, source: str, default: str | None) -> str:
-    value = data.get(key, default)
-    if value is None:
-        raise RobotDefinitionError(f"{source}: missing key {key!r} (one of {', '.join(options)})")
-    if not isinstance(value, str) or value not in options:
-        raise RobotDefinitionError(
-            f"{source}: {key} = {_shown(value)}; expected one of {', '.join(map(repr, options))}")
-    return value
-
-
-def _check_keys(table: Any, allowed: set[str], required: set[str], where: str) -> None:
-    if not isinstance(table, dict):
-        raise RobotDefinitionError(f"{where}: expected a table, got {_shown(table)}")
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise RobotDefinitionError(f"{where}: unknown key {unknown[0]!r}; expected keys: "
-                                   f"{', '.join(sorted(allowed))}")
-    missing = sorted(required - set(table))
-    if missing:
-        raise RobotDefinitionError(f"{where}: missing key {missing[0]!r}")
-
-
 def _text(value: Any, where: str) -> str:
     if not isinstance(value, str):
-        raise RobotDefinitionError(f"{where}: expected a string, got {_shown(value)}")
+        raise RobotDefinitionError(f"{where}: expected a string, got {shown_value(value)}")
     return value
 
 
 # ------------------------------------------------------------------ tables
 def _row(table: dict, where: str, joint: str | None, length: float, angle: float) -> DHRow:
-    return DHRow(alpha=_quantity(table["alpha"], f"{where}, key 'alpha'", angle),
-                 a=_quantity(table["a"], f"{where}, key 'a'", length),
-                 d=_quantity(table["d"], f"{where}, key 'd'", length),
-                 theta=_quantity(table["theta"], f"{where}, key 'theta'", angle),
+    return DHRow(alpha=table_quantity(table["alpha"], f"{where}, key 'alpha'", angle),
+                 a=table_quantity(table["a"], f"{where}, key 'a'", length),
+                 d=table_quantity(table["d"], f"{where}, key 'd'", length),
+                 theta=table_quantity(table["theta"], f"{where}, key 'theta'", angle),
                  joint=joint)
 
 
@@ -285,31 +226,9 @@ def _fixed_rows(rows: list, key: str, source: str, length: float, angle: float) 
     out = []
     for i, table in enumerate(rows):
         where = f"{source}, {key} row {i + 1}"
-        _check_keys(table, _ROW_KEYS, _ROW_KEYS, where)
+        check_table_keys(table, _ROW_KEYS, _ROW_KEYS, where)
         out.append(_row(table, where, None, length, angle))
     return out
-
-
-def _transform(table: dict, where: str, length: float, angle: float) -> NDArray[np.float64]:
-    """A ``[base]`` / ``[tool]`` table: ``xyz`` + ``rpy`` or ``matrix``, to SI."""
-    _check_keys(table, _TRANSFORM_KEYS, set(), where)
-    if "matrix" in table:
-        if set(table) != {"matrix"}:
-            raise RobotDefinitionError(f"{where}: give either matrix or xyz and rpy, not both")
-        rows = table["matrix"]
-        if not isinstance(rows, list) or len(rows) != 4 or not all(isinstance(r, list) and len(r) == 4
-                                                                   for r in rows):
-            raise RobotDefinitionError(f"{where}, key 'matrix': expected 4 rows of 4 numbers")
-        T = np.array([[_number(v, f"{where}, key 'matrix'") for v in row] for row in rows])
-        try:
-            T = check_transform(T, f"{where}, key 'matrix'")
-        except InputError as exc:
-            raise RobotDefinitionError(str(exc)) from exc
-        T[:3, 3] = _vector(T[:3, 3].tolist(), f"{where}, key 'matrix' (translation)", length)
-        return T
-    xyz = _vector(table.get("xyz", [0, 0, 0]), f"{where}, key 'xyz'", length)
-    rpy = _vector(table.get("rpy", [0, 0, 0]), f"{where}, key 'rpy'", angle)
-    return transform_from(matrix_from_euler(rpy, "xyz-fixed"), xyz)
 
 
 def _end(data: dict, key: str, source: str, length: float, angle: float,
@@ -319,11 +238,11 @@ def _end(data: dict, key: str, source: str, length: float, angle: float,
     if value is None:
         return [], None
     if isinstance(value, dict):
-        return [], _transform(value, f"{source}, [{key}]", length, angle)
+        return [], table_transform(value, f"{source}, [{key}]", length, angle)
     if isinstance(value, list) and not poe:
         return _fixed_rows(value, key, source, length, angle), None
     expected = f"a [{key}] table (xyz and rpy, or matrix)" + ("" if poe else f" or [[{key}]] DH rows")
-    raise RobotDefinitionError(f"{source}: {key} must be {expected}, got {_shown(value)}")
+    raise RobotDefinitionError(f"{source}: {key} must be {expected}, got {shown_value(value)}")
 
 
 def _joint_name(table: dict, where: str, index: int, seen: set[str]) -> str:
@@ -344,28 +263,28 @@ def robot_from_dict(data: dict, source: str = "robot description", require_units
     required keys.
     """
     required = {"convention", "joints"} | ({"length_unit", "angle_unit"} if require_units else set())
-    _check_keys(data, _TOP_KEYS, required, source)
-    convention = _choice(data, "convention", ("standard", "modified", "poe"), source, None)
-    length_unit = _choice(data, "length_unit", _LENGTH_UNITS, source, "m")
-    angle_unit = _choice(data, "angle_unit", _ANGLE_UNITS, source, "rad")
-    length, angle = _LENGTH_UNITS[length_unit], _ANGLE_UNITS[angle_unit]
+    check_table_keys(data, _TOP_KEYS, required, source)
+    convention = table_choice(data, "convention", ("standard", "modified", "poe"), source, None)
+    length_unit = table_choice(data, "length_unit", LENGTH_UNITS, source, "m")
+    angle_unit = table_choice(data, "angle_unit", ANGLE_UNITS, source, "rad")
+    length, angle = LENGTH_UNITS[length_unit], ANGLE_UNITS[angle_unit]
     poe = convention == "poe"
     joints = data["joints"]
     if not isinstance(joints, list) or not joints:
         raise RobotDefinitionError(f"{source}: 'joints' must be a non-empty array of tables "
-                                   f"([[joints]]), got {_shown(joints)}")
+                                   f"([[joints]]), got {shown_value(joints)}")
     rows, axes, points, kinds, limits, vmax, amax, names = [], [], [], [], [], [], [], []
     inertials, max_torque, radii = [], [], []
     seen: set[str] = set()
     for i, table in enumerate(joints):
         where = f"{source}, joint {i + 1}"
         keys = _POE_KEYS if poe else _ROW_KEYS
-        _check_keys(table, keys | _COMMON_JOINT_KEYS, keys, where)
-        kind = _choice(table, "type", ("revolute", "prismatic"), where, "revolute")
+        check_table_keys(table, keys | _COMMON_JOINT_KEYS, keys, where)
+        kind = table_choice(table, "type", ("revolute", "prismatic"), where, "revolute")
         unit = angle if kind == "revolute" else length
         if poe:
-            axes.append(_vector(table["axis"], f"{where}, key 'axis'", 1.0))
-            points.append(_vector(table["point"], f"{where}, key 'point'", length))
+            axes.append(table_vector(table["axis"], f"{where}, key 'axis'", 1.0))
+            points.append(table_vector(table["point"], f"{where}, key 'point'", length))
         else:
             rows.append(_row(table, where, kind, length, angle))
         kinds.append(kind)
@@ -413,19 +332,19 @@ def _inertial(table: dict, where: str, length: float) -> Inertial | None:
             if key in table:
                 raise RobotDefinitionError(f"{where}, key {key!r}: needs 'mass' [kg] too")
         return None
-    mass = _number(table["mass"], f"{where}, key 'mass'")
+    mass = table_number(table["mass"], f"{where}, key 'mass'")
     if not 0 <= mass <= MAX_VALUE:
         raise RobotDefinitionError(f"{where}, key 'mass': expected a mass from 0 to {MAX_VALUE:g} kg, "
                                    f"got {table['mass']!r}")
-    com = _vector(table.get("com", [0, 0, 0]), f"{where}, key 'com'", length)
+    com = table_vector(table.get("com", [0, 0, 0]), f"{where}, key 'com'", length)
     value, key = table.get("inertia", [0, 0, 0]), f"{where}, key 'inertia'"
     if isinstance(value, list) and len(value) == 3 and all(isinstance(row, list) for row in value):
-        inertia = np.array([_vector(row, key, length**2) for row in value])
+        inertia = np.array([table_vector(row, key, length**2) for row in value])
     elif isinstance(value, list) and len(value) == 3:
-        inertia = np.diag(_vector(value, key, length**2))
+        inertia = np.diag(table_vector(value, key, length**2))
     else:
         raise RobotDefinitionError(f"{key}: expected 3 numbers (the diagonal) or a 3x3 matrix "
-                                   f"[kg length_unit^2], got {_shown(value)}")
+                                   f"[kg length_unit^2], got {shown_value(value)}")
     try:
         return Inertial(mass, com, inertia)
     except RobotDefinitionError as exc:
@@ -436,8 +355,8 @@ def _limits(value: Any, where: str, unit: float) -> tuple[float, float] | None:
     if value is None:
         return None
     if not isinstance(value, list) or len(value) != 2:
-        raise RobotDefinitionError(f"{where}: expected [lower, upper], got {_shown(value)}")
-    lower, upper = (_quantity(v, where, unit) for v in value)
+        raise RobotDefinitionError(f"{where}: expected [lower, upper], got {shown_value(value)}")
+    lower, upper = (table_quantity(v, where, unit) for v in value)
     if not lower < upper:
         raise RobotDefinitionError(f"{where}: lower {value[0]} must be below upper {value[1]}")
     return lower, upper
@@ -446,7 +365,7 @@ def _limits(value: Any, where: str, unit: float) -> tuple[float, float] | None:
 def _positive(value: Any, where: str, unit: float) -> float | None:
     if value is None:
         return None
-    number = _number(value, where)
+    number = table_number(value, where)
     if number <= 0:
         raise RobotDefinitionError(f"{where}: expected a positive number, got {value!r}")
     return number * unit
@@ -461,6 +380,7 @@ def robot_to_toml(robot: Robot) -> str:
     ``convention = "poe"``: its joint lines at ``q = 0`` and the tool pose. Loading the
     text gives the same FK (to rounding) and the same joint names and limits.
 
+    >>> import tomllib
     >>> text = robot_to_toml(load("ur5").lock({"q1": 0.0}))
     >>> robot_from_dict(tomllib.loads(text)).n, 'convention = "poe"' in text
     (5, True)

@@ -25,24 +25,26 @@ inline std::size_t all_cores() {
     return cores;
 }
 
-// The threads parallel_pieces runs for N items with `threads` asked for (0: all cores).
-inline std::size_t batch_threads(std::size_t N, int threads) {
-    if (N < 2 * kItemsPerThread) return 1;  // the usual one-pose call: no thread, no core count
+// The threads parallel_pieces runs for N items with `threads` asked for (0: all cores), a
+// thread for every `per_thread` items at most (kItemsPerThread for cheap items; 1 where one
+// item costs more than starting a thread, as a numeric IK solve does).
+inline std::size_t batch_threads(std::size_t N, int threads, std::size_t per_thread = kItemsPerThread) {
+    if (N < 2 * per_thread) return 1;  // the usual one-pose call: no thread, no core count
     const std::size_t T = threads > 0 ? std::size_t(threads) : all_cores();
-    return std::max<std::size_t>(1, std::min(T, N / kItemsPerThread));
+    return std::max<std::size_t>(1, std::min(T, N / per_thread));
 }
 
 // Calls body(worker, begin, end) on consecutive pieces of [0, N), in up to `threads` threads
-// (0: all cores; worker < batch_threads(N, threads) names the thread, for scratch space of
-// its own). One thread runs body(0, 0, N) once.
+// (0: all cores; worker < batch_threads(N, threads, per_thread) names the thread, for scratch
+// space of its own). One thread runs body(0, 0, N) once.
 template <class Body>
-void parallel_pieces(std::size_t N, int threads, Body&& body) {
-    const std::size_t T = batch_threads(N, threads);
+void parallel_pieces(std::size_t N, int threads, Body&& body, std::size_t per_thread = kItemsPerThread) {
+    const std::size_t T = batch_threads(N, threads, per_thread);
     if (T == 1) {
         body(std::size_t(0), std::size_t(0), N);
         return;
     }
-    const std::size_t piece = std::max(kItemsPerThread / 2, N / (T * kPiecesPerThread) + 1);
+    const std::size_t piece = std::max(std::max<std::size_t>(1, per_thread / 2), N / (T * kPiecesPerThread) + 1);
     std::atomic<std::size_t> next{0};
     auto work = [&](std::size_t worker) {
         for (std::size_t begin = next.fetch_add(piece); begin < N; begin = next.fetch_add(piece))
@@ -57,8 +59,9 @@ void parallel_pieces(std::size_t N, int threads, Body&& body) {
 
 // Calls body(begin, end) on pieces of [0, N) in up to `threads` threads (0: all cores).
 template <class Body>
-void parallel_for(std::size_t N, int threads, Body&& body) {
-    parallel_pieces(N, threads, [&body](std::size_t, std::size_t begin, std::size_t end) { body(begin, end); });
+void parallel_for(std::size_t N, int threads, Body&& body, std::size_t per_thread = kItemsPerThread) {
+    parallel_pieces(
+        N, threads, [&body](std::size_t, std::size_t begin, std::size_t end) { body(begin, end); }, per_thread);
 }
 
 }  // namespace armkit

@@ -97,6 +97,20 @@ ARMKIT_INLINE void tool_poses_block(const Chain& chain, const double* q, double*
 // kFkBlock x 4 x 4), built for the baseline CPU and for AVX2 (armkit/simd.hpp; fk.cpp).
 void tool_poses_blocks(const Chain& chain, const double* q, double* out, std::size_t blocks);
 
+// The tool poses of count configurations q (count x n, row-major; count <= kMaxCandidates) into
+// F (count), kFkBlock at a time through tool_poses_blocks (the numbers of tool_pose of each): the
+// candidates of one IK pose in a block or two.
+inline void tool_poses(const Chain& chain, const double* q, int count, Pose* F) {
+    const int n = chain.n;
+    double block[kFkBlock * kMaxJoints] = {}, out[kFkBlock * 16];
+    for (int start = 0; start < count; start += kFkBlock) {
+        const int m = count - start < kFkBlock ? count - start : kFkBlock;
+        for (int a = 0; a < m * n; ++a) block[a] = q[start * n + a];
+        tool_poses_blocks(chain, block, out, 1);
+        for (int b = 0; b < m; ++b) F[start + b] = pose_from_matrix(out + 16 * b);
+    }
+}
+
 // The tool pose, and per joint the z axis of its joint frame and its origin before the
 // joint's motion (the start of the travel for a prismatic joint), base frame.
 inline Pose joint_axes(const Chain& chain, const double* q, Vec3* axes, Vec3* points) {

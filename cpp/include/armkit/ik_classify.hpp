@@ -29,8 +29,10 @@ ArmCase classify(const Chain& chain);
 
 // The rank of the chain's Jacobian at a generic configuration: the largest over
 // kRankSamples seeded random configurations inside the limits ([-1, 1] where a limit is
-// infinite), singular values below tol times the largest counting as zero.
-int generic_rank(const Chain& chain, double tol = kRankTolerance);
+// infinite), singular values below tol times the largest counting as zero. `joints` >= 0:
+// only the first `joints` joints move (the others at 0) and only their columns count;
+// `position_only`: only the tool point's rows (how many directions it can move in).
+int generic_rank(const Chain& chain, double tol = kRankTolerance, int joints = -1, bool position_only = false);
 
 // The per-pose loop's constants for the chosen case of `arm` (arm.chosen >= 0).
 ClosedForm closed_form_of(const Chain& chain, const ArmCase& arm);

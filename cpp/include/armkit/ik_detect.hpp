@@ -110,10 +110,19 @@ std::variant<PositionPlan, CaseReason> position_plan(const ArmLines& arm);
 // if not, why (what: the case, e.g. "the general solver").
 bool six_revolute(const ArmLines& arm, const std::string& what, CaseReason& why);
 
+// The three-parallel case's two sub-cases, by axes 5 and 6 (internal 4, 5) of its lines (axes
+// 2-4 parallel to lines.h[1] = hp): how far they are from meeting (their distance / scale; at
+// 0 its two-angle system has rank 1), and how far axis 6 is from turning parallel to hp about
+// axis 5 (the difference of the angles axis 5 makes with axis 6 and with hp [rad]; at 0 the
+// wrist aligns, a family). Near either, not at it, the class's quartic loses roots near an
+// aligned wrist, and detect_three_parallel leaves the arm to the general solver.
+void wrist_subcase_gaps(const ArmLines& lines, double& meeting, double& aligning);
+
 // The lines of a 6-joint arm near a class (its tests passing to arm.tolerance) moved onto
 // the class exactly, kind: "spherical" (axes 4-6 through their meeting point, and joints 1-3
-// onto their position case), "three-parallel" (axes 2-4 along axis 2) or "parallel-base"
-// (axes 1-3 along axis 1); each line moves by at most arm.tolerance (times the size).
+// onto their position case), "three-parallel" (axes 2-4 along axis 2, and axes 5, 6 onto the
+// sub-cases they are near, see wrist_subcase_gaps) or "parallel-base" (axes 1-3 along axis 1);
+// each line moves by at most arm.tolerance (times the size).
 // The result's tolerance is kClassTolerance. False where the lines are not near that class.
 bool snap_to_class(const ArmLines& arm, const char* kind, ArmLines& out);
 

@@ -124,9 +124,11 @@ inline void refine(const Chain& chain, const Pose& T, const Found& f, std::size_
 // whether it reproduces the pose. A rough candidate the case did not flag is flagged family
 // where, refined, it lies on one (on_a_family: near a family the case's equations are
 // ill-conditioned, and it may place a member anywhere along it without seeing the family).
-inline bool verify(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s, const double* near) {
+// F: its tool pose, if already computed (tool_poses for all of a pose's candidates at once).
+inline bool verify(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s, const double* near,
+                   const Pose* F = nullptr) {
     double* errors = f.errors_of(i, s);
-    pose_residual(T, tool_pose(chain, f.q_of(i, s)), errors[0], errors[1]);
+    pose_residual(T, F ? *F : tool_pose(chain, f.q_of(i, s)), errors[0], errors[1]);
     const bool rough = errors[0] > kRefineAbove || errors[1] > kRefineAbove;
     if (rough) refine(chain, T, f, i, s, near);
     const bool solution = errors[0] <= kSolutionTolerance && errors[1] <= kSolutionTolerance;
@@ -227,11 +229,14 @@ inline long long solve_poses(const ClosedForm& cf, const double* T, const double
                 double gap;
                 const bool inside = inside_and_distance(chain, q, reference, weights, gap);
                 distance[s] = inside || !within_limits ? seam_distance(chain, q, reference, weights, gap) : inf;
-            } else {
-                verify(chain, target, f, i, s, reference);
             }
         }
-        if (nearest) {
+        if (!nearest) {  // every candidate verified: their tool poses in blocks
+            Pose F[kMaxCandidates];
+            tool_poses(chain, f.q_of(i, 0), k, F);
+            for (int s = 0; s < k; ++s)
+                if (valid[s]) verify(chain, target, f, i, s, reference, &F[s]);
+        } else {
             int order[kMaxCandidates];
             stable_order(distance, k, order);
             double best = inf;  // the distance of the nearest kept candidate, once refined

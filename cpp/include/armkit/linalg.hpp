@@ -22,4 +22,27 @@ bool cholesky_solve(double* A, double* b, int k);
 void damped_step(const double* J, int n, const double* e, const int* rows, int m, const double* sides,
                  double damping, double* dq);
 
+// Resolved-rate control's damping lambda^2 for the Jacobian's smallest singular value:
+// (1 - (sigma_min / threshold)^2) max_damping^2 below threshold, else 0 (Nakamura and
+// Hanafusa 1986; Maciejewski and Klein 1988).
+double rate_damping(double sigma_min, double threshold, double max_damping);
+
+// The factor in (0, 1] that scales joint velocities qd (n) down together until every
+// |qd_i| * inverse_max_velocity_i <= 1.
+double limit_scale(const double* qd, const double* inverse_max_velocity, int n);
+
+struct RateStepInfo {
+    double sigma_min;  // smallest singular value of J
+    double damping;    // lambda^2 used
+    double scale;      // limit_scale applied (1 without limits)
+};
+
+// Resolved-rate control's joint velocities qd (n) for a twist (6) through J (6 x n,
+// row-major): sigma_min from the eigenvalues of the small Gram matrix (J J^T for n >= 6,
+// else J^T J), damped_step with every row and rate_damping(sigma_min) (kSingularDamping
+// trace(J^T J) where that is zero and J is singular to rounding, kGramRounding), then scaled
+// by limit_scale if inverse_max_velocity (n) is given (not null).
+RateStepInfo rate_step(const double* J, int n, const double* twist, double threshold, double max_damping,
+                       const double* inverse_max_velocity, double* qd);
+
 }  // namespace armkit

@@ -56,6 +56,14 @@ constexpr double kGoodLoop = 1e-8;
 //: at 1e-6, and the general solver's elimination may lose a root near a class (1 pose in
 //: ~1000 at 1e-11 .. 1e-7 measured, tests/test_ik_general.py).
 constexpr double kNearClass = 1e-6;
+//: A three-parallel arm within this of one of its class's sub-cases (axes 5 and 6 meeting, or
+//: able to turn axis 6 parallel to the block; wrist_subcase_gaps), not to kClassTolerance, is
+//: left to the general solver: near the sub-case the class's quartic has a near-double root in
+//: q5 close to an aligned wrist and loses it (a UR5 with joint 5's point moved or joint 6's axis
+//: turned: 60 of 480 poses at q5 = 1e-4 .. 1e-2 for moves of 1e-8 .. 1e-6, and at 1e-5 .. 1e-4
+//: still 6 of 384), the general solver, seeded within kNearClass, lists them all. The bar is the
+//: size of a calibration's corrections (issue 21: 1e-6 .. 1e-3).
+constexpr double kNearSubcase = 1e-3;
 //: A raw candidate of a loop counts as near a solution where its FK is within this of the
 //: pose (times the arm's size), and as another one where it is farther than this [rad] from
 //: the loop's others (detect_general): near a class raw roots are ~1e-4 off, and Newton takes
@@ -230,6 +238,12 @@ constexpr double kInfiniteEigenvalue = 1e-16;
 //: positive definite (a singular Jacobian and no damping): within about 1e-7 of the
 //: minimum-norm least-squares step on rank-deficient random Jacobians.
 constexpr double kSingularDamping = 1e-10;
+
+//: Smallest eigenvalue of a Gram matrix J J^T (or J^T J), relative to its trace, below which the
+//: resolved-rate step counts J as exactly singular and takes the kSingularDamping step: the
+//: eigenvalue is computed with an error of a few eps times the trace (seen: +4e-16 and +9e-18 of
+//: it at exact wrist singularities), so an undamped solve there would return rounding noise.
+constexpr double kGramRounding = 1e-13;
 
 // ------------------------------------------------------------------ time-optimal paths
 

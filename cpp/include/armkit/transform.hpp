@@ -1,6 +1,7 @@
 // Checks of user-given rigid transforms and the whole-turn wrap of revolute angles.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -27,8 +28,10 @@ inline double wrap_angle_into_limits(double q, double lower, double upper, doubl
     if (low <= q && q <= high && high - low < kTwoPi) return q;  // fits, and no other shift can
     const double turns_low = std::ceil((low - q) / kTwoPi);
     const double turns_high = std::floor((high - q) / kTwoPi);
-    double turns = std::nearbyint((reference - q) / kTwoPi);
-    if (turns_low <= turns_high) turns = std::fmin(std::fmax(turns, turns_low), turns_high);
+    double turns = nearest_integer((reference - q) / kTwoPi);
+    // clamped into [turns_low, turns_high] (NaN: turns_low, as fmax gives; std::min and max inline,
+    // where fmin and fmax are libm calls)
+    if (turns_low <= turns_high) turns = std::isnan(turns) ? turns_low : std::min(std::max(turns, turns_low), turns_high);
     return q + kTwoPi * turns;
 }
 

@@ -86,7 +86,22 @@ inline Pose inverse(const Pose& A) {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwoPi = 2.0 * kPi;
 
-// angle shifted by whole turns into [-pi, pi].
-inline double wrap_angle(double angle) { return angle - kTwoPi * std::nearbyint(angle / kTwoPi); }
+// x rounded to the nearest whole number, ties to even: std::nearbyint in the default rounding
+// mode, inline (the baseline x86-64 build has no rounding instruction, and nearbyint is a libm
+// call there). Below 2^52 adding and taking away 2^52 rounds |x| so; from 2^52 on (and inf,
+// NaN) x is its own value.
+inline double nearest_integer(double x) {
+    constexpr double kTwo52 = 4503599627370496.0;
+    const double magnitude = std::fabs(x);
+    if (!(magnitude < kTwo52)) return x;
+    return std::copysign((magnitude + kTwo52) - kTwo52, x);
+}
+
+// angle shifted by whole turns into [-pi, pi]. Below 3 in magnitude (inside [-pi, pi]) no turn
+// is taken off and the angle is its own value (+ 0.0 turns -0 into +0, as the subtraction does).
+inline double wrap_angle(double angle) {
+    if (std::fabs(angle) <= 3.0) return angle + 0.0;
+    return angle - kTwoPi * nearest_integer(angle / kTwoPi);
+}
 
 }  // namespace armkit

@@ -49,8 +49,10 @@ Matrix16 = tuple[(float,) * 16]
 POSITION_ONLY = (1.0, 1.0, 1.0, 0.0, 0.0, 0.0)
 
 
-def _target(pose: tuple[float, ...] | None, matrix: tuple[float, ...] | None,
-            position: tuple[float, ...] | None, convention: str, degrees: bool) -> np.ndarray:
+def target_from_options(pose: tuple[float, ...] | None, matrix: tuple[float, ...] | None,
+                        position: tuple[float, ...] | None, convention: str, degrees: bool) -> np.ndarray:
+    """The 4x4 target of ``--pose`` / ``--matrix`` / ``--position`` (exactly one given; a position
+    alone has the identity rotation), checked, angles in degrees if ``degrees``."""
     if sum(x is not None for x in (pose, matrix, position)) != 1:
         raise InputError("give the target as one of --pose X Y Z A B C, --matrix with 16 numbers "
                          "(row by row) or --position X Y Z (position only)")
@@ -185,7 +187,7 @@ def ik_command(
         raise InputError("--euler quat is an output format (armkit fk); give the target as --pose with "
                          "angles in a convention such as xyz-fixed, or as --matrix")
     convention = parse_convention(euler)
-    T = _target(pose, matrix, position, convention, deg)
+    T = target_from_options(pose, matrix, position, convention, deg)
     structure = analyze_structure(arm.chain)
     closed = structure.closed_form
     if self_motion_plot is not None and free_joint is None:

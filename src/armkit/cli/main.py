@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import sys
+import warnings
 
 from rich.markup import escape
 
 from armkit.cli import dynamics, ik, kinematics, lab, motion, robots, sim, trajectory, view  # noqa: F401  (register)
 from armkit.cli import plan as _plan  # noqa: F401  (registers armkit plan)
 from armkit.cli import workspace as _workspace  # noqa: F401  (registers armkit workspace)
-from armkit.cli.app import app, err_console
+from armkit.cli.app import app, err_console, warn
 from armkit.errors import ArmkitError
 
 __all__ = ["main"]
@@ -24,7 +25,9 @@ def main(argv: list[str] | None = None) -> int:
     prints one line and returns 130, the shell's code for a run ended by SIGINT.
     """
     try:
-        app(args=argv, prog_name="armkit")
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning  # one 'warning:' line, not Python's two with a source line
+            app(args=argv, prog_name="armkit")
     except SystemExit as exc:
         if _caused_by_interrupt(exc):  # Typer turns Ctrl-C into a silent exit 130
             return _interrupted()
@@ -36,6 +39,12 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         return _interrupted()
     return 0
+
+
+def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                  file: object = None, line: str | None = None) -> None:
+    """A Python warning as the CLI's one yellow ``warning:`` line on stderr."""
+    warn(str(message))
 
 
 #: Exit code of a run interrupted by Ctrl-C (128 + SIGINT), as shells report it.

@@ -25,7 +25,7 @@ from armkit.cli.app import (
     reject_unknown_options,
     to_si,
 )
-from armkit.cli.ik import _target
+from armkit.cli.ik import target_from_options
 from armkit.cli.scene_option import PackagePathOpt, SceneOpt, load_scene_option
 from armkit.cli.trajectory import (
     ForceOpt,
@@ -35,10 +35,10 @@ from armkit.cli.trajectory import (
     OutOpt,
     PlotOpt,
     RateOpt,
-    _check_output,
-    _joint_scale,
-    _limit_option,
-    _summary,
+    check_output_file,
+    joint_scale,
+    limit_option,
+    trajectory_summary,
 )
 from armkit.errors import CollisionError, InputError, JointLimitError, pair_text
 from armkit.robot import Robot
@@ -130,9 +130,9 @@ def plan_command(
     from armkit.trajectory.export import write_csv, write_npz
     from armkit.trajectory.plan import planning_limits
 
-    _check_output(out, (".csv", ".npz"), force, "--out")
-    _check_output(plot, (".png", ".svg", ".pdf"), force, "--plot")
-    _check_output(gif, (".gif",), force, "--gif")
+    check_output_file(out, (".csv", ".npz"), force, "--out")
+    check_output_file(plot, (".png", ".svg", ".pdf"), force, "--plot")
+    check_output_file(gif, (".gif",), force, "--gif")
     if not rate > 0:
         raise InputError(f"--rate: expected a positive sampling rate (Hz), got {rate:g}")
     if scene is None:
@@ -147,9 +147,10 @@ def plan_command(
             raise JointLimitError(f"{option}: {'; '.join(outside)}", joints[option],
                                   **arm.chain.limit_fields(joints[option]))
     q_start = arm.home if joints["--from"] is None else joints["--from"]
-    target = joints["--to"] if to_pose is None else _target(to_pose, None, None, parse_convention(euler), deg)
-    limits = planning_limits(arm, _limit_option(max_velocity, arm, deg, "--max-velocity"),
-                             _limit_option(max_acceleration, arm, deg, "--max-acceleration"))
+    target = (joints["--to"] if to_pose is None
+              else target_from_options(to_pose, None, None, parse_convention(euler), deg))
+    limits = planning_limits(arm, limit_option(max_velocity, arm, deg, "--max-velocity"),
+                             limit_option(max_acceleration, arm, deg, "--max-acceleration"))
     world = load_scene_option(arm, scene, package_path)
     try:
         traj = plan_path(world, q_start, target, time_budget=time_budget, seed=seed, resolution=resolution,
@@ -160,7 +161,7 @@ def plan_command(
         option = "--from" if np.array_equal(exc.q, q_start) else "--to"
         if option == "--from" and joints["--from"] is None:
             option = "the start (the home configuration: no --from given)"
-        scale, units = _joint_scale(arm, deg)
+        scale, units = joint_scale(arm, deg)
         shown = " ".join(f"{fmt_number(v, 4)} {unit}" for v, unit in zip(exc.q * scale, units, strict=True))
         raise CollisionError(f"{option} {shown}: the arm collides there ({pair_text(exc.contacts)})", q=exc.q,
                              contacts=exc.contacts) from None
@@ -192,7 +193,7 @@ def plan_command(
                     "peak_acceleration": "rad/s^2, m/s^2", "max_acceleration": "rad/s^2, m/s^2"})
         return
     console.print(_waypoint_table(arm, traj.waypoint_times, traj.waypoints, deg))
-    console.print(_summary(arm, traj, limits, deg))
+    console.print(trajectory_summary(arm, traj, limits, deg))
     console.print(f"collision-free at {resolution:g} m resolution; smallest clearance "
                   f"{fmt_number(clearance, 4)} m (sampled at {check.t.size / traj.duration:.4g} Hz)",
                   markup=False)
@@ -202,7 +203,7 @@ def plan_command(
 
 def _waypoint_table(robot: Robot, times: np.ndarray, waypoints: np.ndarray, degrees: bool) -> Table:
     """The vertices of the planned path, with the times the motion passes them."""
-    scale, units = _joint_scale(robot, degrees)
+    scale, units = joint_scale(robot, degrees)
     table = Table(title=escape(f"{robot.name}: collision-free path, {len(waypoints)} waypoints, "
                                f"{times[-1]:.4g} s"))
     table.add_column("#", justify="right")

@@ -60,7 +60,9 @@ MaxAccelerationOpt = Annotated[str | None, typer.Option(
          "joint, comma-separated (rad/s², m/s²; deg/s² with --deg).", show_default=False)]
 
 
-def _check_output(path: Path | None, suffixes: tuple[str, ...], force: bool, what: str) -> None:
+def check_output_file(path: Path | None, suffixes: tuple[str, ...], force: bool, what: str) -> None:
+    """``path`` (an option ``what``'s value, None if not given) ends in one of ``suffixes`` and
+    may be written (:func:`armkit._io.check_output_path`, overwritten only with ``--force``)."""
     if path is None:
         return
     if path.suffix.lower() not in suffixes:
@@ -85,7 +87,7 @@ def _durations(values: list[str] | None, durations: bool, times: bool, auto: boo
     return numbers if durations else durations_from_times(numbers)
 
 
-def _joint_scale(robot: Robot, degrees: bool) -> tuple[np.ndarray, list[str]]:
+def joint_scale(robot: Robot, degrees: bool) -> tuple[np.ndarray, list[str]]:
     """Per joint: the factor from SI to the shown unit, and the unit (deg with ``--deg``, rad, m)."""
     revolute = ~np.asarray(robot.chain.prismatic)
     scale = np.where(revolute & degrees, 180 / np.pi, 1.0)
@@ -106,15 +108,16 @@ def _limit_cells(peak: float, limit: float, scale: float, unit: str, significant
     return [f"{number(peak * scale)} {unit}", f"{number(limit * scale)} {unit}", fmt_number(peak / limit, 3)]
 
 
-def _summary(robot: Robot, traj: JointTrajectory, limits: tuple[np.ndarray, np.ndarray],
-             degrees: bool) -> Table:
+def trajectory_summary(robot: Robot, traj: JointTrajectory, limits: tuple[np.ndarray, np.ndarray],
+                       degrees: bool) -> Table:
+    """The table ``armkit traj`` and ``armkit plan`` print: per joint its peaks against the limits."""
     table = Table(title=escape(f"{robot.name}: {traj.durations.size} segments, "
                                f"{traj.duration:.4g} s"),
                   caption="peaks computed exactly from the polynomials; ratio = peak / limit; "
                           "none: neither the robot file nor --max-velocity/--max-acceleration gives a limit")
     for column in ("joint", "peak |qd|", "limit", "ratio", "peak |qdd|", "limit", "ratio"):
         table.add_column(column, justify="right")
-    scale, units = _joint_scale(robot, degrees)
+    scale, units = joint_scale(robot, degrees)
     for j, name in enumerate(robot.joint_names):
         table.add_row(escape(name),
                       *_limit_cells(traj.peak_velocity[j], limits[0][j], scale[j], f"{units[j]}/s"),
@@ -136,7 +139,7 @@ def _torque_table(robot: Robot, torques: TrajectoryTorques, rate_hz: float) -> T
 
 
 def _waypoint_table(robot: Robot, traj: JointTrajectory, degrees: bool) -> Table:
-    scale, units = _joint_scale(robot, degrees)
+    scale, units = joint_scale(robot, degrees)
     table = Table(title="Waypoints: IK solutions, each nearest the previous")
     table.add_column("#", justify="right")
     table.add_column(escape("t [s]"), justify="right")
@@ -165,7 +168,7 @@ def _unlimited_warning(robot: Robot, limits: tuple[np.ndarray, np.ndarray]) -> s
             f"to the robot file, or give --durations)")
 
 
-def _limit_option(text: str | None, robot: Robot, degrees: bool, option: str) -> np.ndarray | None:
+def limit_option(text: str | None, robot: Robot, degrees: bool, option: str) -> np.ndarray | None:
     """``--max-velocity``/``--max-acceleration``: one value or one per joint, comma-separated, in
     SI units (revolute joints in deg/s, deg/s² with ``--deg``); None if not given."""
     if text is None:
@@ -225,9 +228,9 @@ def traj_command(
     --durations 10 10 10 --plot pva.png
     """
     segment_durations = _durations(duration_values, durations, times, auto_time)
-    _check_output(out, (".csv", ".npz"), force, "--out")
+    check_output_file(out, (".csv", ".npz"), force, "--out")
     for path, what in ((plot, "--plot"), (plot_path, "--plot-path")):
-        _check_output(path, (".png", ".svg", ".pdf"), force, what)
+        check_output_file(path, (".png", ".svg", ".pdf"), force, what)
     if not rate > 0:
         raise InputError(f"--rate: expected a positive sampling rate (Hz), got {rate:g}")
     arm = with_inertia_options(load_robot(robot, base, tip, lock), estimate_inertia, None)
@@ -246,8 +249,8 @@ def traj_command(
     if not poses:
         joint_waypoints(arm, rows, deg)  # a waypoint outside a limit is said in the units typed
 
-    limits = planning_limits(arm, _limit_option(max_velocity, arm, deg, "--max-velocity"),
-                             _limit_option(max_acceleration, arm, deg, "--max-acceleration"))
+    limits = planning_limits(arm, limit_option(max_velocity, arm, deg, "--max-velocity"),
+                             limit_option(max_acceleration, arm, deg, "--max-acceleration"))
     traj = plan_trajectory(arm, rows, segment_durations, poses=poses, convention=euler,
                            max_velocity=limits[0], max_acceleration=limits[1])
     samples = traj.sample(rate) if out is not None else None
@@ -289,7 +292,7 @@ def traj_command(
         return
     if poses:
         console.print(_waypoint_table(arm, traj, deg))
-    console.print(_summary(arm, traj, limits, deg))
+    console.print(trajectory_summary(arm, traj, limits, deg))
     if torque_samples is not None:
         console.print(_torque_table(arm, torque_samples, TORQUE_RATE_HZ))
     final = ", ".join(f"{d:.4g}" for d in traj.durations)

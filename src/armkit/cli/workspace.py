@@ -32,6 +32,26 @@ INTERRUPTED = 130
 LOCAL_CLUSTER = "local"
 
 
+def _check_store_name(out: Path) -> None:
+    """``--out`` names a folder to be (or a store there): not empty, not an existing file, not a
+    file format's name."""
+    if not out.name:
+        raise InputError(f"--out: expected a folder name for the Zarr store, e.g. maps.zarr "
+                         f"(got {str(out)!r})")
+    if out.is_file():
+        raise InputError(f"--out {out}: a file of that name exists, and a Zarr store is a folder; "
+                         f"give another name, e.g. {out.with_name(out.stem + '-maps.zarr')}")
+    if out.suffix.lower() in _FILE_SUFFIXES and not out.is_dir():
+        raise InputError(f"--out {out}: a Zarr store is a folder, and {out.name!r} names a file; call it "
+                         f"e.g. {out.with_name(out.stem.removesuffix('.zarr') + '.zarr')}")
+
+
+#: Endings of file formats a user may give as --out by mistake (a Zarr store is a folder; other
+#: dotted names, such as maps_res0.05, are folder names).
+_FILE_SUFFIXES = frozenset({".txt", ".csv", ".json", ".npz", ".npy", ".h5", ".hdf5", ".png", ".svg", ".pdf",
+                            ".html", ".zip", ".gif", ".toml", ".yaml", ".yml", ".xml", ".urdf", ".pkl"})
+
+
 def _count(text: str, option: str, minimum: int = 1) -> int:
     """A count such as ``1e8`` or ``250000`` as an int, at least ``minimum``."""
     try:
@@ -192,6 +212,8 @@ def _run(*, robot, resolution, samples, method, seed, chunk_size, orientations, 
         raise InputError("--scene: with the maps only (not with --sweep or --dataset)")
     if resume and out is None:
         raise InputError("--resume needs --out: the store to continue")
+    if out is not None:
+        _check_store_name(out)
     engine, cluster = _engine(dask, threads)
     common = {"seed": seed, "method": method, "engine": engine, "resume": resume, "overwrite": force,
               "progress": not quiet and not json_output}

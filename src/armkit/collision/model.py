@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from armkit.collision.shapes import Box, Cylinder, Mesh, Obstacle, Sphere
 from armkit.errors import ArmkitError, InputError
-from armkit.export.mjcf import _numbers, _pose, add_capsule_geoms, mjcf_element
+from armkit.export.mjcf import add_capsule_geoms, mjcf_element, mjcf_numbers, mjcf_pose
 from armkit.export.physical import capsule_bodies
 from armkit.robot import Robot
 from armkit.urdf import find_mesh_file, mesh_search_folders
@@ -107,7 +107,7 @@ def resolve_mesh(filename: str, relative_to: Path | None, package_paths: Sequenc
 
 def _geom(parent: ET.Element, kind: str, size: Sequence[float], T: NDArray[np.float64], types: dict,
           **extra: str) -> None:
-    ET.SubElement(parent, "geom", type=kind, size=_numbers(np.asarray(size, dtype=float)), **_pose(T),
+    ET.SubElement(parent, "geom", type=kind, size=mjcf_numbers(np.asarray(size, dtype=float)), **mjcf_pose(T),
                   **types, **extra)
 
 
@@ -124,8 +124,8 @@ def _add_box(root: ET.Element, body: ET.Element, size: Sequence[float], T: NDArr
     name = f"{BOX_MESH}{len(assets)}"
     half = np.asarray(size, dtype=float) / 2
     corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * half
-    ET.SubElement(assets, "mesh", name=name, vertex=_numbers(corners.ravel()))
-    ET.SubElement(body, "geom", name=name, type="mesh", mesh=name, **_pose(T), **types)
+    ET.SubElement(assets, "mesh", name=name, vertex=mjcf_numbers(corners.ravel()))
+    ET.SubElement(body, "geom", name=name, type="mesh", mesh=name, **mjcf_pose(T), **types)
 
 
 def _assets(root: ET.Element) -> ET.Element:
@@ -140,8 +140,9 @@ def _add_mesh(root: ET.Element, body: ET.Element, path: Path, scale: Sequence[fl
               T: NDArray[np.float64], types: dict) -> None:
     assets = _assets(root)
     name = f"mesh{len(assets)}"
-    ET.SubElement(assets, "mesh", name=name, file=str(path), scale=_numbers(np.asarray(scale, dtype=float)))
-    ET.SubElement(body, "geom", type="mesh", mesh=name, **_pose(T), **types)
+    ET.SubElement(assets, "mesh", name=name, file=str(path),
+                  scale=mjcf_numbers(np.asarray(scale, dtype=float)))
+    ET.SubElement(body, "geom", type="mesh", mesh=name, **mjcf_pose(T), **types)
 
 
 def _add_obstacle(root: ET.Element, body: ET.Element, obstacle: Obstacle, relative_to: Path | None) -> None:
@@ -224,10 +225,12 @@ def build_xml(robot: Robot, parts: Parts, obstacles: Sequence[Obstacle], floor: 
         if geom.get("contype") is None:
             geom.attrib.update(_ROBOT_TYPES)
     if floor is not None:
-        floor_body = ET.SubElement(world, "body", name="armkit_floor", pos=_numbers(np.array([0, 0, floor])))
+        floor_body = ET.SubElement(world, "body", name="armkit_floor",
+                                   pos=mjcf_numbers(np.array([0, 0, floor])))
         _geom(floor_body, "plane", [0, 0, 1], np.eye(4), _WORLD_TYPES, rgba="0.8 0.8 0.8 1")
     for k, obstacle in enumerate(obstacles):
-        body = ET.SubElement(world, "body", name=f"armkit_obstacle{k}", **_pose(np.asarray(obstacle.pose)))
+        body = ET.SubElement(world, "body", name=f"armkit_obstacle{k}",
+                             **mjcf_pose(np.asarray(obstacle.pose)))
         _add_obstacle(root, body, obstacle, relative_to)
     return root
 

@@ -38,21 +38,21 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from armkit._tables import (
+    ANGLE_UNITS,
+    LENGTH_UNITS,
+    check_table_keys,
+    shown_value,
+    table_choice,
+    table_quantity,
+    table_transform,
+    table_vector,
+    toml_table,
+)
 from armkit.collision.scene import DEFAULT_SAMPLES, MAX_SAMPLES, Scene
 from armkit.collision.shapes import Box, Cylinder, Mesh, Obstacle, Sphere
 from armkit.errors import InputError, RobotDefinitionError
 from armkit.robot import Robot
-from armkit.robot_file import (
-    _ANGLE_UNITS,
-    _LENGTH_UNITS,
-    _check_keys,
-    _choice,
-    _quantity,
-    _shown,
-    _transform,
-    _vector,
-    toml_table,
-)
 
 __all__ = ["load_scene", "scene_from_dict"]
 
@@ -97,28 +97,28 @@ def scene_from_dict(data: dict[str, Any], robot: Robot, source: str = "scene", *
     """A :class:`Scene` from the parsed contents of a scene file; relative paths start at ``folder``."""
     folder = Path.cwd() if folder is None else folder
     try:
-        _check_keys(data, _TOP_KEYS, {"length_unit", "angle_unit"}, source)
-        length = _LENGTH_UNITS[_choice(data, "length_unit", _LENGTH_UNITS, source, None)]
-        angle = _ANGLE_UNITS[_choice(data, "angle_unit", _ANGLE_UNITS, source, None)]
+        check_table_keys(data, _TOP_KEYS, {"length_unit", "angle_unit"}, source)
+        length = LENGTH_UNITS[table_choice(data, "length_unit", LENGTH_UNITS, source, None)]
+        angle = ANGLE_UNITS[table_choice(data, "angle_unit", ANGLE_UNITS, source, None)]
         floor = data.get("floor", 0.0)
         if floor is not False:
-            floor = _quantity(floor, f"{source}, key 'floor' (a height, or false for none)", length)
+            floor = table_quantity(floor, f"{source}, key 'floor' (a height, or false for none)", length)
         radius = data.get("link_radius")
         if radius is not None:
             where = f"{source}, key 'link_radius'"
-            radius = _vector(radius, where, length, len(radius)) if isinstance(radius, list) \
-                else _quantity(radius, where, length)
-        geometry = _choice(data, "geometry", ("auto", "capsules", "urdf"), source, "auto")
+            radius = table_vector(radius, where, length, len(radius)) if isinstance(radius, list) \
+                else table_quantity(radius, where, length)
+        geometry = table_choice(data, "geometry", ("auto", "capsules", "urdf"), source, "auto")
         paths = _strings(data.get("package_paths", []), f"{source}, key 'package_paths'")
         obstacles = [obstacle for kind in ("box", "sphere", "cylinder", "mesh")
                      for obstacle in _obstacles(data.get(kind, []), kind, source, folder, length, angle)]
         self_collision = data.get("self_collision", {})
         where = f"{source}, [self_collision]"
-        _check_keys(self_collision, _SELF_KEYS, set(), where)
+        check_table_keys(self_collision, _SELF_KEYS, set(), where)
         samples = self_collision.get("samples", DEFAULT_SAMPLES)
         if isinstance(samples, bool) or not isinstance(samples, int) or not 0 <= samples <= MAX_SAMPLES:
             raise InputError(f"{where}, key 'samples': expected a whole number from 0 to {MAX_SAMPLES:,}, "
-                             f"got {_shown(samples)}")
+                             f"got {shown_value(samples)}")
         disabled = _pairs(self_collision.get("disabled", []), f"{where}, key 'disabled'")
         enabled = _pairs(self_collision.get("enabled", []), f"{where}, key 'enabled'")
     except RobotDefinitionError as exc:  # the robot-file helpers' errors: here a bad input file
@@ -134,21 +134,21 @@ def scene_from_dict(data: dict[str, Any], robot: Robot, source: str = "scene", *
 
 def _strings(value: Any, where: str) -> list[str]:
     if not isinstance(value, list) or not all(isinstance(v, str) and v for v in value):
-        raise InputError(f"{where}: expected a list of non-empty strings, got {_shown(value)}")
+        raise InputError(f"{where}: expected a list of non-empty strings, got {shown_value(value)}")
     return value
 
 
 def _pairs(value: Any, where: str) -> list[tuple[str, str]]:
     if not isinstance(value, list) or not all(isinstance(pair, list) and len(pair) == 2 and
                                               all(isinstance(name, str) for name in pair) for pair in value):
-        raise InputError(f"{where}: expected a list of [part, part] name pairs, got {_shown(value)}")
+        raise InputError(f"{where}: expected a list of [part, part] name pairs, got {shown_value(value)}")
     return [(a, b) for a, b in value]
 
 
 def _obstacles(tables: Any, kind: str, source: str, folder: Path, length: float,
                angle: float) -> list[Obstacle]:
     if not isinstance(tables, list):
-        raise InputError(f"{source}: {kind} must be [[{kind}]] tables, got {_shown(tables)}")
+        raise InputError(f"{source}: {kind} must be [[{kind}]] tables, got {shown_value(tables)}")
     out: list[Obstacle] = []
     for i, table in enumerate(tables):
         where = f"{source}, [[{kind}]] number {i + 1}"
@@ -162,24 +162,25 @@ def _obstacles(tables: Any, kind: str, source: str, folder: Path, length: float,
 
 def _obstacle(table: Any, kind: str, where: str, folder: Path, length: float, angle: float) -> Obstacle:
     allowed = _PLACE_KEYS | _SHAPE_KEYS[kind] | _OPTIONAL_KEYS.get(kind, set())
-    _check_keys(table, allowed, _SHAPE_KEYS[kind], where)
+    check_table_keys(table, allowed, _SHAPE_KEYS[kind], where)
     if "matrix" in table and ({"xyz", "rpy"} & set(table)):
         raise InputError(f"{where}: give either matrix or xyz and rpy, not both")
-    T = _transform({k: table[k] for k in ("xyz", "rpy", "matrix") if k in table}, where, length, angle)
+    T = table_transform({k: table[k] for k in ("xyz", "rpy", "matrix") if k in table}, where, length, angle)
     name = table.get("name")
     if name is not None and (not isinstance(name, str) or not name.strip()):
-        raise InputError(f"{where}, key 'name': expected a non-empty string, got {_shown(name)}")
+        raise InputError(f"{where}, key 'name': expected a non-empty string, got {shown_value(name)}")
 
     def size(key: str, what: str) -> float:
-        value = _quantity(table[key], f"{where}, key {key!r}", length)
+        value = table_quantity(table[key], f"{where}, key {key!r}", length)
         if not value > 0:
-            raise InputError(f"{where}, key {key!r}: expected {what} > 0, got {_shown(table[key])}")
+            raise InputError(f"{where}, key {key!r}: expected {what} > 0, got {shown_value(table[key])}")
         return value
 
     if kind == "box":
-        edges = _vector(table["size"], f"{where}, key 'size' (full edge lengths)", length)
+        edges = table_vector(table["size"], f"{where}, key 'size' (full edge lengths)", length)
         if not (edges > 0).all():
-            raise InputError(f"{where}, key 'size': expected 3 edge lengths > 0, got {_shown(table['size'])}")
+            raise InputError(f"{where}, key 'size': expected 3 edge lengths > 0, "
+                             f"got {shown_value(table['size'])}")
         return Box(edges, T, name=name)
     elif kind == "sphere":
         return Sphere(size("radius", "a radius"), T[:3, 3], name=name)
@@ -188,9 +189,9 @@ def _obstacle(table: Any, kind: str, where: str, folder: Path, length: float, an
     else:
         path = table["path"]
         if not isinstance(path, str) or not path.strip():
-            raise InputError(f"{where}, key 'path': expected a file name, got {_shown(path)}")
+            raise InputError(f"{where}, key 'path': expected a file name, got {shown_value(path)}")
         scale = table.get("scale", 1.0)
-        scale = _vector(scale, f"{where}, key 'scale'", 1.0) if isinstance(scale, list) \
-            else _quantity(scale, f"{where}, key 'scale'", 1.0)
+        scale = table_vector(scale, f"{where}, key 'scale'", 1.0) if isinstance(scale, list) \
+            else table_quantity(scale, f"{where}, key 'scale'", 1.0)
         resolved = Path(path).expanduser()
         return Mesh(resolved if resolved.is_absolute() else folder / resolved, T, scale=scale, name=name)

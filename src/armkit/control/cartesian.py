@@ -27,7 +27,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit._deprecation import renamed_argument
 from armkit._time import even_time_grid
-from armkit.control.motions import DEFAULT_DT, _check_positive, _check_start, track_poses
+from armkit.control._checks import check_positive, check_start
+from armkit.control.motions import DEFAULT_DT, track_poses
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError, UnreachableError
 from armkit.robot import Robot
@@ -227,17 +228,17 @@ def cartesian_line(robot: Robot, q0: ArrayLike, T_goal: ArrayLike, duration: flo
     >>> line.q.shape, bool(np.allclose(robot.fk(line.q[-1]), T_goal))
     ((101, 6), True)
     """
-    q0 = _check_start(robot, q0)
+    q0 = check_start(robot, q0)
     T_goal = check_transform(T_goal, "T_goal")
-    duration = _check_positive(duration, "duration", "s")
+    duration = check_positive(duration, "duration", "s")
     rate_hz = renamed_argument("cartesian_line", "rate", "rate_hz", rate, rate_hz, 100.0)
-    rate_hz = _check_positive(rate_hz, "rate_hz", "Hz")
+    rate_hz = check_positive(rate_hz, "rate_hz", "Hz")
     t = even_time_grid(duration, 1.0 / rate_hz)
     poses, twists, twist_rates = line_poses(robot.fk(q0), T_goal, t, duration)
     if method == "ik":
-        q = _by_ik(robot, q0, poses, t, _check_positive(max_joint_step, "max_joint_step", "rad or m"))
+        q = _by_ik(robot, q0, poses, t, check_positive(max_joint_step, "max_joint_step", "rad or m"))
     elif method == "closed-loop":
-        q = _by_closed_loop(robot, q0, poses, t, duration, _check_positive(dt, "dt", "s"))
+        q = _by_closed_loop(robot, q0, poses, t, duration, check_positive(dt, "dt", "s"))
     else:
         raise InputError(f"method {method!r}: expected 'ik' or 'closed-loop'")
     qd, qdd = _joint_rates(robot, q, twists, twist_rates)

@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from armkit._deprecation import deprecated_property, renamed_argument
 from armkit._time import even_time_grid
 from armkit.chain import Chain
+from armkit.control._checks import check_positive, check_start
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError
 from armkit.kinematics import pose_error
@@ -141,24 +142,6 @@ class MotionResult:
         return TrajectoryTorques(self.t, tau, np.abs(tau).max(axis=0))
 
 
-def _check_start(robot: Robot, q0: ArrayLike) -> NDArray[np.float64]:
-    q0 = robot.check_q(q0, "q0")
-    if q0.ndim != 1:
-        raise InputError(f"q0: expected one configuration of {robot.n} values, got shape {q0.shape}")
-    robot.check_limits(q0)
-    return q0
-
-
-def _check_positive(value: float, name: str, unit: str) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name}: expected a number [{unit}], got {value!r}") from exc
-    if not (np.isfinite(value) and value > 0):
-        raise InputError(f"{name} = {value}: expected a positive finite number [{unit}]")
-    return value
-
-
 def _check_vector(value: ArrayLike, name: str, unit: str) -> NDArray[np.float64]:
     try:
         v = np.asarray(value, dtype=float)
@@ -193,8 +176,9 @@ def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
         return (f"{text}: an arm with {n} joints cannot follow every pose path (the motion holds or "
                 f"turns the tool's orientation as well as moving its point)")
     if sigma[-1] < control.threshold:
-        return (f"{text}: the arm ended at a singularity (smallest singular value {sigma[-1]:.3g}), "
-                f"e.g. fully stretched: the target is probably out of reach")
+        return (f"{text}: the arm ended near a singularity (smallest singular value {sigma[-1]:.3g}, below "
+                f"the damping threshold {control.threshold:g}): either the target is out of reach (e.g. the "
+                f"arm fully stretched) or the damping held the arm back there; a longer duration tells which")
     if scale.min() < 1.0:
         return (f"{text}: the joint velocity limits held it back (velocities scaled down to "
                 f"{scale.min():.0%} at the worst step); allow a longer duration")
@@ -232,14 +216,14 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     -------
     MotionResult
     """
-    q = _check_start(robot, q0)
+    q = check_start(robot, q0)
     t = np.asarray(t, dtype=float)
     reference = np.asarray(reference, dtype=float)
     if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
         raise InputError(f"t: expected at least 2 finite increasing times, got {t!r}")
     if reference.shape != (t.size, 4, 4) or not np.all(np.isfinite(reference)):
         raise InputError(f"reference: expected {t.size} finite 4x4 poses, got shape {reference.shape}")
-    gain = _check_positive(gain, "gain", "1/s")
+    gain = check_positive(gain, "gain", "1/s")
     if gain * np.diff(t).max() > 1.0:
         raise InputError(f"gain = {gain:g} 1/s with a control period up to {np.diff(t).max():g} s: "
                          f"expected gain * dt <= 1 (a stable loop); shorten dt or lower the gain")
@@ -255,7 +239,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
         poses[k] = T
         dt = t[k + 1] - t[k]
         feedforward = pose_error(reference[k + 1], reference[k]) / dt
-        rate = control._solve(J, feedforward + gain * pose_error(reference[k], T))
+        rate = control.solve(J, feedforward + gain * pose_error(reference[k], T))
         sigma[k], scale[k] = rate.sigma_min, rate.scale
         fraction, joint = _limit_stop(robot.chain, q, rate.qd * dt)
         qds[k] = rate.qd * fraction
@@ -274,7 +258,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
             break
     T, J = control.kernel.fk_jacobian(q)
     poses[last] = T
-    sigma[last] = control._solve(J, np.zeros(6)).sigma_min
+    sigma[last] = control.solve(J, np.zeros(6)).sigma_min
     sl = slice(0, last + 1)
     # hypot, not norm: a target 1e160 m or farther is that far away, not inf
     errors = (float(np.hypot.reduce(T[:3, 3] - reference[-1, :3, 3])),
@@ -330,10 +314,10 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     >>> bool(result.position_error < 1e-6)
     True
     """
-    q0 = _check_start(robot, q0)
+    q0 = check_start(robot, q0)
     displacement = _check_vector(displacement, "displacement", "m")
-    duration = _check_positive(duration, "duration", "s")
-    dt = _check_positive(dt, "dt", "s")
+    duration = check_positive(duration, "duration", "s")
+    dt = check_positive(dt, "dt", "s")
     T0 = robot.fk(q0)
     if frame == "tool":
         displacement = T0[:3, :3] @ displacement
@@ -360,7 +344,7 @@ def _turn(angle: float | None, speed: float | None,
         if value is not None and not (np.isfinite(value) and value != 0):
             raise InputError(f"{name} = {value}: expected a non-zero finite number")
     if duration is not None:
-        duration = _check_positive(duration, "duration", "s")
+        duration = check_positive(duration, "duration", "s")
     if angle is not None and speed is not None:
         if np.sign(angle) != np.sign(speed) and speed < 0:
             raise InputError(f"angle {angle:g} rad and angular_velocity {speed:g} rad/s have opposite signs; "
@@ -426,7 +410,7 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     >>> bool(result.max_position_error < 1e-4), result.success
     (True, True)
     """
-    q0 = _check_start(robot, q0)
+    q0 = check_start(robot, q0)
     axis = _check_vector(axis, "axis", "unitless direction")
     norm = np.linalg.norm(axis)
     if norm < 1e-12:
@@ -435,7 +419,7 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     angular_velocity = renamed_argument("rotate_about_tool_point", "rate", "angular_velocity", rate,
                                         angular_velocity, None)
     signed_angle, total_time, constant_rate = _turn(angle, angular_velocity, duration)
-    dt = _check_positive(dt, "dt", "s")
+    dt = check_positive(dt, "dt", "s")
     T0 = robot.fk(q0)
     if frame == "tool":
         axis = T0[:3, :3] @ axis

@@ -17,11 +17,14 @@ velocities stay bounded (``|qd| <= |twist| / (2 lambda)``). Finally, if a joint 
 would exceed its limit (:attr:`armkit.Robot.max_velocity`), all of them are scaled down
 by the same factor, which keeps the direction of motion.
 
-``sigma_min`` comes from the eigenvalues of the small Gram matrix (LAPACK ``dsyev``),
+The step is computed in the core (``rate_step`` beside the numeric IK's damped least-squares
+step, which it calls): ``sigma_min`` comes from the eigenvalues of the small Gram matrix,
 which is cheaper than an SVD of ``J`` and accurate to about ``1e-8`` near zero, more than
-the damping needs. :class:`ResolvedRate` evaluates FK and the Jacobian with the shared
-single-configuration :class:`armkit.kinematics.ChainKernel`, so one step of a 6-joint arm
-takes about 20 microseconds (``benchmarks/bench_control.py``).
+the damping needs. With no damping asked (``threshold = 0``) at an exact singularity (the
+smallest Gram eigenvalue within rounding of zero, ``1e-13 trace(J^T J)``) the step is the
+least-squares one: a damping of ``1e-10 trace(J^T J)``, within about 1e-7 of ``pinv(J) @ twist``.
+:class:`ResolvedRate` evaluates the Jacobian with the shared single-configuration
+:class:`armkit.kinematics.ChainKernel` (``benchmarks/bench_control.py`` times one step).
 """
 
 from __future__ import annotations
@@ -30,8 +33,10 @@ from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.linalg import lapack
 
+from armkit import _core
+from armkit._params import float_array, float_in_range
+from armkit.chain import MAX_VALUE
 from armkit.errors import InputError
 from armkit.kinematics import ChainKernel
 from armkit.robot import Robot
@@ -75,14 +80,24 @@ def damping(sigma_min: ArrayLike, threshold: float = DEFAULT_THRESHOLD,
     >>> damping([0.0, 0.02, 0.04, 0.1], threshold=0.04, max_damping=0.04)
     array([0.0016, 0.0012, 0.    , 0.    ])
     """
-    return np.vectorize(_damping, otypes=[float])(np.asarray(sigma_min, dtype=float), threshold, max_damping)
+    threshold, max_damping = _checked_law(threshold, max_damping)
+    sigma = float_array(sigma_min, "sigma_min", "singular values >= 0")
+    if not (sigma >= 0).all() or not np.isfinite(sigma).all():
+        raise InputError(f"sigma_min: expected finite singular values >= 0, got {sigma.tolist()}",
+                         parameter="sigma_min", value=sigma_min)
+    rate_damping = np.vectorize(_core.rate_damping, otypes=[float])
+    return rate_damping(sigma, threshold, max_damping)
 
 
-def _damping(sigma_min: float, threshold: float, max_damping: float) -> float:
-    """:func:`damping` of one value, in plain floats (the control step calls it directly)."""
-    if sigma_min >= threshold:  # also every sigma_min >= 0 when threshold <= 0
-        return 0.0
-    return (1.0 - (sigma_min / threshold) ** 2) * max_damping**2
+#: Largest threshold and max_damping the damping law takes: a singular value or a damping of a
+#: million (m or rad per joint unit) is no arm's; larger ones overflow lambda^2.
+_LARGEST_LAW = 1e6
+
+
+def _checked_law(threshold: object, max_damping: object) -> tuple[float, float]:
+    """The damping law's ``threshold`` and ``max_damping``, each a real number from 0 to 1e6."""
+    return (float_in_range(threshold, "threshold", 0.0, _LARGEST_LAW, "a smallest singular value"),
+            float_in_range(max_damping, "max_damping", 0.0, _LARGEST_LAW, "a damping"))
 
 
 def scale_to_limits(qd: ArrayLike, max_velocity: ArrayLike) -> tuple[NDArray[np.float64], float]:
@@ -106,18 +121,27 @@ def scale_to_limits(qd: ArrayLike, max_velocity: ArrayLike) -> tuple[NDArray[np.
     --------
     >>> scale_to_limits([2.0, 0.5], [1.0, 1.0])
     (array([1.  , 0.25]), 0.5)
+    >>> scale_to_limits([2.0, 0.5], 1.0)  # one limit for every joint
+    (array([1.  , 0.25]), 0.5)
     """
-    qd = np.asarray(qd, dtype=float)
-    inverse_max_velocity = 1.0 / np.asarray(max_velocity, dtype=float)
-    rows = qd.reshape(-1, qd.shape[-1])
-    scale = np.array([_limit_scale(row, inverse_max_velocity) for row in rows]).reshape(qd.shape[:-1])
+    qd = float_array(qd, "qd", "joint velocities (n,) or a batch (..., n)")
+    limits = float_array(max_velocity, "max_velocity", "one limit or one per joint")
+    if not np.isfinite(qd).all():
+        raise InputError(f"qd: expected finite joint velocities, got {qd.tolist()}", parameter="qd", value=qd)
+    if not (limits > 0).all():  # inf: no limit; NaN, 0 and negative ones refused
+        raise InputError(f"max_velocity: expected limits > 0 (inf for none), got {limits.tolist()}",
+                         parameter="max_velocity", value=max_velocity)
+    if qd.ndim == 0 or qd.shape[-1] == 0:
+        raise InputError(f"qd: expected joint velocities (n,) or a batch (..., n), got {qd!r}",
+                         parameter="qd", value=qd)
+    if limits.ndim > 1 or limits.size not in (1, qd.shape[-1]):
+        raise InputError(f"max_velocity: expected one limit or one per joint ({qd.shape[-1]}), got shape "
+                         f"{limits.shape}", parameter="max_velocity", value=max_velocity)
+    with np.errstate(over="ignore"):  # a limit of 1e-320: its inverse is inf, the scale 0
+        inverse_max_velocity = np.ascontiguousarray(np.broadcast_to(1.0 / limits, qd.shape[-1:]))
+    rows = np.ascontiguousarray(qd.reshape(-1, qd.shape[-1]))
+    scale = np.array([_core.limit_scale(row, inverse_max_velocity) for row in rows]).reshape(qd.shape[:-1])
     return qd * scale[..., None], (float(scale) if scale.ndim == 0 else scale)
-
-
-def _limit_scale(qd: NDArray[np.float64], inverse_max_velocity: NDArray[np.float64]) -> float:
-    """:func:`scale_to_limits`' factor for one ``(n,)`` row (the control step calls it directly)."""
-    ratio = float((np.abs(qd) * inverse_max_velocity).max())
-    return 1.0 / ratio if ratio > 1.0 else 1.0
 
 
 class RateStep(NamedTuple):
@@ -173,12 +197,10 @@ class ResolvedRate:
 
     def __init__(self, robot: Robot, *, threshold: float = DEFAULT_THRESHOLD,
                  max_damping: float = DEFAULT_MAX_DAMPING, limit_velocity: bool = True) -> None:
-        for label, value in (("threshold", threshold), ("max_damping", max_damping)):
-            if not (np.isfinite(value) and value >= 0):
-                raise InputError(f"{label} = {value}: expected a finite number >= 0")
+        threshold, max_damping = _checked_law(threshold, max_damping)
         self.robot = robot
-        self.threshold = float(threshold)
-        self.max_damping = float(max_damping)
+        self.threshold = threshold
+        self.max_damping = max_damping
         self.limit_velocity = bool(limit_velocity)
         self._n = robot.n
         self._inverse_max_velocity = 1.0 / robot.max_velocity
@@ -186,23 +208,34 @@ class ResolvedRate:
         self.kernel = ChainKernel(robot)
 
     # ------------------------------------------------------------------ fast path
-    def _solve(self, J: NDArray[np.float64], twist: NDArray[np.float64]) -> RateStep:
-        """DLS joint velocities for a base-frame twist, then velocity scaling."""
-        wide = self._n >= 6
-        gram = J.dot(J.T) if wide else J.T.dot(J)
-        sigma_min = float(np.sqrt(max(lapack.dsyev(gram, compute_v=0)[0][0], 0.0)))
-        lam2 = _damping(sigma_min, self.threshold, self.max_damping)
-        if lam2:
-            gram = gram + lam2 * np.eye(gram.shape[0])
-        rhs = twist if wide else J.T @ twist
-        x, info = lapack.dposv(gram, rhs)[1:]
-        if info != 0:  # exactly singular and no damping asked (threshold 0): least squares
-            x = np.linalg.lstsq(gram, rhs, rcond=None)[0]
-        qd = J.T @ x if wide else x
-        scale = _limit_scale(qd, self._inverse_max_velocity) if self.limit_velocity else 1.0
-        if scale != 1.0:
-            qd = qd * scale
-        return RateStep(qd, sigma_min, lam2, scale)
+    def solve(self, J: NDArray[np.float64], twist: NDArray[np.float64]) -> RateStep:
+        """One control step through a given base-frame Jacobian, without input checks: DLS joint
+        velocities for a base-frame twist (in the core), then velocity scaling.
+
+        Parameters
+        ----------
+        J : (6, n) array
+            C-ordered float64 Jacobian at the current configuration (:meth:`armkit.Robot.jacobian`).
+        twist : (6,) array
+            C-ordered float64 ``[v; w]`` of the tool origin in the base frame [m/s, rad/s].
+
+        Returns
+        -------
+        RateStep
+            Joint velocities, ``sigma_min``, the damping used and the velocity scale.
+
+        Examples
+        --------
+        >>> import armkit
+        >>> robot = armkit.load("ur5")
+        >>> q = np.array([0.1, -1.2, 1.4, -0.3, 1.1, 0.2])
+        >>> step = ResolvedRate(robot).solve(robot.jacobian(q), np.array([0.01, 0, 0, 0, 0, 0]))
+        >>> bool(np.allclose(robot.jacobian(q) @ step.qd, [0.01, 0, 0, 0, 0, 0])), step.scale
+        (True, 1.0)
+        """
+        qd = np.empty(self._n)
+        limits = self._inverse_max_velocity if self.limit_velocity else None
+        return RateStep(qd, *_core.rate_step(J, twist, self.threshold, self.max_damping, limits, qd))
 
     def step(self, q: NDArray[np.float64], twist: NDArray[np.float64]) -> RateStep:
         """One control step without input checks: ``q`` float64 ``(n,)``, base-frame twist ``(6,)``.
@@ -214,7 +247,7 @@ class ResolvedRate:
         twist : (6,) array
             ``[v; w]`` of the tool origin in the base frame [m/s, rad/s].
         """
-        return self._solve(self.kernel.jacobian(q), twist)
+        return self.solve(self.kernel.jacobian(q), twist)
 
     # ------------------------------------------------------------------ checked API
     def joint_velocity(self, q: ArrayLike, twist: ArrayLike, frame: str = "base") -> NDArray[np.float64]:
@@ -238,7 +271,7 @@ class ResolvedRate:
             twist = np.concatenate((T[:3, :3] @ twist[:3], T[:3, :3] @ twist[3:]))
         elif frame != "base":
             raise InputError(f"frame {frame!r}: expected 'base' or 'tool'")
-        return self._solve(J, twist).qd
+        return self.solve(J, twist).qd
 
 
 def check_twist(twist: ArrayLike, name: str = "twist") -> NDArray[np.float64]:
@@ -252,6 +285,9 @@ def check_twist(twist: ArrayLike, name: str = "twist") -> NDArray[np.float64]:
                          f"got shape {twist.shape}")
     if not np.all(np.isfinite(twist)):
         raise InputError(f"{name}: contains NaN or infinite values: {twist.tolist()}")
+    if not np.all(np.abs(twist) <= MAX_VALUE):
+        raise InputError(f"{name}: expected components from {-MAX_VALUE:g} to {MAX_VALUE:g} (m/s, rad/s), "
+                         f"got {twist.tolist()}", parameter=name, value=twist)
     return twist
 
 

@@ -44,21 +44,23 @@ _COLORS = ("0.85 0.45 0.12 1", "0.20 0.40 0.75 1")  # alternate link colours
 _HOUSING_COLOR = "0.25 0.25 0.28 1"
 
 
-def _numbers(values: NDArray[np.float64]) -> str:
+def mjcf_numbers(values: NDArray[np.float64]) -> str:
+    """Numbers as an MJCF attribute: space-separated, each to its full precision (``repr``)."""
     return " ".join(repr(float(v)) for v in np.ravel(values))
 
 
-def _pose(T: NDArray[np.float64]) -> dict[str, str]:
-    return {"pos": _numbers(T[:3, 3]), "quat": _numbers(quaternion_wxyz_from_matrix(T[:3, :3]))}
+def mjcf_pose(T: NDArray[np.float64]) -> dict[str, str]:
+    """A 4x4 pose as MJCF ``pos`` and ``quat`` (w, x, y, z) attributes."""
+    return {"pos": mjcf_numbers(T[:3, 3]), "quat": mjcf_numbers(quaternion_wxyz_from_matrix(T[:3, :3]))}
 
 
 def _add_inertial(body: ET.Element, shape: BodyShape) -> None:
     eigenvalues, axes = np.linalg.eigh(shape.inertia)
     if np.linalg.det(axes) < 0:
         axes[:, 0] = -axes[:, 0]
-    ET.SubElement(body, "inertial", pos=_numbers(shape.com),
-                  quat=_numbers(quaternion_wxyz_from_matrix(axes)), mass=repr(shape.mass),
-                  diaginertia=_numbers(np.maximum(eigenvalues, 1e-12)))
+    ET.SubElement(body, "inertial", pos=mjcf_numbers(shape.com),
+                  quat=mjcf_numbers(quaternion_wxyz_from_matrix(axes)), mass=repr(shape.mass),
+                  diaginertia=mjcf_numbers(np.maximum(eigenvalues, 1e-12)))
 
 
 def add_capsule_geoms(body: ET.Element, shape: BodyShape, radius: float, color: str,
@@ -69,7 +71,7 @@ def add_capsule_geoms(body: ET.Element, shape: BodyShape, radius: float, color: 
         ET.SubElement(body, "geom", type="sphere", size=repr(1.5 * radius), rgba=_HOUSING_COLOR)
     for start, end in shape.segments:
         ET.SubElement(body, "geom", type="capsule", size=repr(radius),
-                      fromto=_numbers(np.concatenate([start, end])), rgba=color)
+                      fromto=mjcf_numbers(np.concatenate([start, end])), rgba=color)
 
 
 def mjcf_from_robot(robot: Robot, *, gravity: bool = True,
@@ -128,11 +130,11 @@ def mjcf_element(robot: Robot, *, gravity: bool = True, model: PhysicalModel | N
     parent = world
     actuators = ET.Element("actuator")
     for i, joint in enumerate(robot.chain.joints):
-        body = ET.SubElement(parent, "body", name=f"link{i + 1}", **_pose(model.T_parent_body[i]))
+        body = ET.SubElement(parent, "body", name=f"link{i + 1}", **mjcf_pose(model.T_parent_body[i]))
         attributes = {"name": joint.name, "type": "slide" if joint.kind == "prismatic" else "hinge",
                       "axis": "0 0 1", "armature": repr(float(model.armature[i]))}
         if np.isfinite(joint.lower) and np.isfinite(joint.upper):
-            attributes["range"] = _numbers(np.array([joint.lower, joint.upper]))
+            attributes["range"] = mjcf_numbers(np.array([joint.lower, joint.upper]))
         ET.SubElement(body, "joint", **attributes)
         _add_inertial(body, model.bodies[i])
         add_capsule_geoms(body, model.bodies[i], model.radius, _COLORS[i % 2], housing=True)
@@ -143,7 +145,7 @@ def mjcf_element(robot: Robot, *, gravity: bool = True, model: PhysicalModel | N
         parent = body
     # A fixed child body carries the tool frame: MuJoCo would treat a site offset within about
     # 1e-6 of the identity as no offset at all ("same frame"), a body offset it never drops.
-    tool = ET.SubElement(parent, "body", name="tool", **_pose(model.T_last_tool))
+    tool = ET.SubElement(parent, "body", name="tool", **mjcf_pose(model.T_last_tool))
     ET.SubElement(tool, "site", name="tool", size=repr(model.radius), rgba="0.1 0.7 0.2 1")
     root.append(actuators)
     _add_limit_numerics(root, robot)

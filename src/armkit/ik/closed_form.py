@@ -91,11 +91,11 @@ class ClosedFormSolutions:
 
 
 # ------------------------------------------------------------- preparation
-def case_chain(poe) -> _core.CaseChain:
-    """The joint lines a case geometry starts from: ``poe``'s axes, points and joint kinds (for
-    building a case's geometry by hand, as tests do)."""
-    return _core.CaseChain(np.ascontiguousarray(poe.axes), np.ascontiguousarray(poe.points),
-                           np.ascontiguousarray(poe.prismatic, dtype=bool))
+def case_chain(axes: ArrayLike, points: ArrayLike, prismatic: ArrayLike) -> _core.CaseChain:
+    """The joint lines a case geometry starts from: axes ``(n, 3)``, points ``(n, 3)`` and joint
+    kinds ``(n,)`` (for building a case's geometry by hand, as tests do)."""
+    return _core.CaseChain(np.ascontiguousarray(axes, dtype=float), np.ascontiguousarray(points, dtype=float),
+                           np.ascontiguousarray(prismatic, dtype=bool))
 
 
 class ClosedFormSolver:

@@ -110,21 +110,25 @@ class Found(NamedTuple):
         return self.errors[..., 1]
 
 
+#: What :func:`verified_solutions` returns: the fields of a :class:`Found` and a count.
+FoundArrays = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], NDArray[np.int64], int]
+
+
 def verified_solutions(solver: ClosedFormSolver, T: NDArray[np.float64], near: NDArray[np.float64] | None,
                        weights: NDArray[np.float64] | None, within_limits: bool = False,
-                       nearest: bool = False, threads: int = 0) -> tuple[Found, int]:
+                       nearest: bool = False, threads: int = 0) -> FoundArrays:
     """The verified closed-form solutions of the targets ``T`` ``(..., 4, 4)``, nearest first,
     in one core call for any number of poses.
 
     ``T`` exactly rigid (as :func:`armkit.spatial.check_transform` returns it), ``near``
     ``(N, n)`` or ``(n,)`` (None: zeros) and ``weights`` ``(n,)`` (None: ones), all C-ordered
-    float64. Per pose, the usable candidates come first, nearest to ``near`` first (see
-    :class:`Found`); ``count`` is zero for a pose without any; the second value is the number
-    of such poses. ``nearest``: only the first is wanted.
+    float64. Returns the fields of a :class:`Found` (``q``, ``errors``, ``flags``, ``count``;
+    the caller wraps them in one where it reads more than ``q`` and ``count``: a Python object
+    fewer on the way of one pose) and the number of poses without a usable candidate. Per pose,
+    the usable candidates come first, nearest to ``near`` first; ``count`` is zero for a pose
+    without any. ``nearest``: only the first is wanted.
     """
-    q, errors, flags, count, empty = _core.solve(solver.core, T, near, weights, within_limits, nearest,
-                                                 threads)
-    return Found(q, errors, flags, count), empty
+    return _core.solve(solver.core, T, near, weights, within_limits, nearest, threads)
 
 
 def with_turn_copies(chain: Chain, found: Found, near: NDArray[np.float64] | None,

@@ -34,6 +34,7 @@ from armkit.ik.cases import PointGeometry, solve_pose
 from armkit.ik.numeric import wrap_into_limits
 from armkit.ik.pipeline import Found, left_off_warning, with_turn_copies
 from armkit.ik.results import SOLUTION_TOLERANCE, IKSolutions
+from armkit.ik.structure import generic_rank
 from armkit.kinematics import fk, geometric_jacobian
 
 if TYPE_CHECKING:
@@ -74,7 +75,7 @@ _NO_POSITION_CASE = ("joints 1-3 have no closed-form position solution here (two
 def _make_plan(chain: Chain) -> str | NoClosedFormError:
     if chain.n < 3:
         return NoClosedFormError(f"position IK in closed form needs 3 joints; this arm has {chain.n}")
-    rank = _position_rank(chain)
+    rank = generic_rank(chain, joints=3, position_only=True)
     if rank < 3:
         return NoClosedFormError(f"joints 1-3 move the tool point in only {rank} independent directions at "
                                  f"every configuration tried (e.g. axes 1-3 meet at one point, or two are "
@@ -82,17 +83,6 @@ def _make_plan(chain: Chain) -> str | NoClosedFormError:
                                  f"closed form here; use numeric IK with mask=[1, 1, 1, 0, 0, 0]")
     geometry, _, clause = _core.detect_point(chain._core, (0.0, 0.0, 0.0))  # the case is the lines'
     return NoClosedFormError(_NO_POSITION_CASE) if geometry is None else clause
-
-
-def _position_rank(chain: Chain, tries: int = 4) -> int:
-    """The largest rank of the tool point's Jacobian in joints 1-3 over a few random
-    configurations (joints 4..n at 0)."""
-    rng = np.random.default_rng(0)
-    q = np.zeros((tries, chain.n))
-    q[:, :3] = rng.uniform(-np.pi, np.pi, (tries, 3))
-    J = geometric_jacobian(chain, q)[:, :3, :3]
-    S = np.linalg.svd(J, compute_uv=False)
-    return int((S > _core.RANK_TOLERANCE * (1.0 + np.abs(fk(chain, q)[:, :3, 3]).max())).sum(axis=1).max())
 
 
 def _geometry(chain: Chain, tail: NDArray[np.float64]) -> tuple[PointGeometry, NDArray[np.float64]]:
@@ -149,6 +139,32 @@ def _wrap_first_three(chain: Chain, q: NDArray[np.float64], near: NDArray[np.flo
     return wrapped
 
 
+#: A position farther from the base than this many times the arm's whole length is out of reach
+#: without solving; its distance from the base is then the distance to the closest reachable
+#: point to 1e-6 relative.
+_FAR = 1e6
+#: Largest distance [m] from the base the subproblems can take: their squares overflow near 1e154.
+_LARGEST_DISTANCE = 1e150
+
+
+def _refuse_far(chain: Chain, p: NDArray[np.float64]) -> None:
+    """:class:`UnreachableError` for a position beyond :data:`_FAR` whole arm lengths (prismatic
+    joints' travel included) from the base; :class:`InputError` beyond :data:`_LARGEST_DISTANCE`
+    for an arm whose unlimited prismatic joints might reach it."""
+    travel = np.abs(chain.lower[chain.prismatic]).sum() + np.abs(chain.upper[chain.prismatic]).sum()
+    whole = chain.link_length + travel
+    scale = max(float(np.abs(p).max()), 1.0)  # |p| without overflow
+    distance = float(np.linalg.norm(p / scale)) * scale
+    shown = ", ".join(f"{v:.6g}" for v in p)
+    if np.isfinite(whole) and distance > _FAR * (1.0 + whole):
+        raise UnreachableError(f"tool position [{shown}] m is out of reach: {distance:.3g} m from the base, "
+                               f"over a million times the arm's whole length ({whole:.3g} m)", distance)
+    if distance > _LARGEST_DISTANCE:
+        raise InputError(f"position [{shown}] m: {distance:.3g} m from the base; position IK takes targets "
+                         f"up to {_LARGEST_DISTANCE:g} m away (the subproblems' squares overflow beyond)",
+                         parameter="position", value=p)
+
+
 def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copies: bool
            ) -> tuple[IKSolutions, float]:
     """:func:`ik_position_solutions`, and the distance [m] of the closest candidate (valid or not:
@@ -159,6 +175,8 @@ def _solve(chain: Chain, position: ArrayLike, near: ArrayLike | None, turn_copie
     near = np.zeros(chain.n) if near is None else float_array(near, "near", f"{chain.n} finite joint values")
     if near.shape != (chain.n,) or not np.isfinite(near).all():
         raise InputError(f"near: expected {chain.n} finite joint values, got {near.tolist()}")
+    _plan(chain)  # an arm without a position closed form says so first
+    _refuse_far(chain, p)
     geometry, sign = _geometry(chain, near[3:])
     q3, valid, family = solve_pose(geometry, np.eye(3), p)
     q = np.tile(near, (len(q3), 1))

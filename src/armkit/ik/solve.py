@@ -29,7 +29,7 @@ from armkit._deprecation import renamed_argument
 from armkit._params import float_array, thread_count
 from armkit.chain import Chain, as_chain
 from armkit.errors import InputError, NoClosedFormError, SolutionsLeftOffWarning, warn_at_caller
-from armkit.ik.closed_form import ClosedFormSolver, solver_or_reason
+from armkit.ik.closed_form import solver_or_reason
 from armkit.ik.messages import Labels, numeric_failure, outside_limits
 from armkit.ik.numeric import numeric_ik, wrap_into_limits
 from armkit.ik.pipeline import (
@@ -133,11 +133,6 @@ class _Targets:
         """The reference configuration of every pose, ``(N, n)`` (a read-only view)."""
         return np.broadcast_to(np.zeros(n) if self.near is None else self.near, (self.poses, n))
 
-    def solve(self, solver: ClosedFormSolver, within_limits: bool = False, nearest: bool = False,
-              threads: int = 0) -> tuple[Found, int]:
-        """:func:`~armkit.ik.pipeline.verified_solutions` of these targets (one core call)."""
-        return verified_solutions(solver, self.T, self.near, self.weights, within_limits, nearest, threads)
-
     def with_turn_copies(self, chain: Chain, found: Found, threads: int = 0) -> Found:
         """``found``'s usable solutions with their whole-turn copies inside the limits
         (:func:`~armkit.ik.pipeline.with_turn_copies`, one core call), refused as soon as a batch
@@ -228,7 +223,10 @@ def ik_solutions(robot: Robot | Chain, T_base_tool: ArrayLike, *, near: ArrayLik
     solver = solver_or_reason(chain)
     if isinstance(solver, NoClosedFormError):
         raise solver
-    c, _ = targets.solve(solver, threads=threads)  # outside the limits too: the kept ones are counted
+    # outside the limits too: the kept ones are counted
+    q, errors, flags, count, _ = verified_solutions(solver, targets.T, targets.near, targets.weights, False,
+                                                    False, threads)
+    c = Found(q, errors, flags, count)
     if turn_copies and chain.spans_turns:
         c = targets.with_turn_copies(chain, c, threads)
     if not targets.batch:
@@ -335,14 +333,15 @@ def ik(robot: Robot | Chain, T_base_tool: ArrayLike, *, all_solutions: bool = Fa
         q = np.stack([_numeric_one(chain, T[i], near_rows[i], within_limits, labels[i], numeric_options)
                       for i in range(len(T))])
         return q.reshape(*batch, chain.n)
-    c, empty = targets.solve(solver, within_limits, nearest=not all_solutions, threads=threads)
-    if empty:
-        numeric_fallback(chain, c, targets.T.reshape(-1, 4, 4), targets.near_rows(chain.n),
-                         Labels(targets.poses if batch else 0), within_limits)
+    q, errors, flags, count, empty = verified_solutions(solver, targets.T, targets.near, targets.weights,
+                                                        within_limits, not all_solutions, threads)
+    if empty:  # in place: a pose the closed form misses but numeric IK reaches gets that solution
+        numeric_fallback(chain, Found(q, errors, flags, count), targets.T.reshape(-1, 4, 4),
+                         targets.near_rows(chain.n), Labels(targets.poses if batch else 0), within_limits)
     if not all_solutions:
-        return c.q[:, 0].reshape(*batch, chain.n)
+        return q[:, 0].reshape(*batch, chain.n)
     if turn_copies and chain.spans_turns:
-        c = targets.with_turn_copies(chain, c, threads)
+        q, _, _, count = targets.with_turn_copies(chain, Found(q, errors, flags, count), threads)
     if not batch:
-        return c.q[0, :c.count[0]]
-    return [q[:k] for q, k in zip(c.q, c.count.tolist(), strict=True)]
+        return q[0, :count[0]]
+    return [rows[:k] for rows, k in zip(q, count.tolist(), strict=True)]

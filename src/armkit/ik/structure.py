@@ -19,6 +19,8 @@ planar-2r/3r        2 or 3 parallel revolute axes (optionally one prismatic)   2
 rank-deficient      the Jacobian has rank < min(6, n) everywhere (collinear    0
                     axes, or axes that only ever span 5 directions)
 general-6r          any other 6R arm (the general solver, the registry's last) 16
+near-class          6 joints with a prismatic one, within 1e-6 of a class      16
+                    (the class's solutions carried onto the real arm)
 none                anything else (redundant arms, a prismatic 6-joint arm...) 0
 ==================  =========================================================  ========
 
@@ -45,14 +47,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armkit import _core
+from armkit._params import whole_number
 from armkit.chain import Chain, as_chain
-from armkit.kinematics import joint_frames
 
 if TYPE_CHECKING:
     from armkit.robot import Robot
 
 __all__ = ["CLASS_TOLERANCE", "ArmStructure", "PoeChain", "SolverPlan", "analyze_structure", "arm_case",
-           "generic_rank", "plan_closed_form", "poe_from_chain"]
+           "generic_rank", "plan_closed_form"]
 
 #: Axes count as parallel where the sine of their angle is at most this, and as meeting where
 #: they pass within this times ``1 +`` the arm's size [m] (the core's ``kClassTolerance``, with
@@ -69,7 +71,9 @@ class ArmStructure:
     kind : str
         ``"spherical-wrist"``, ``"spherical-base"``, ``"three-parallel"``, ``"scara"``,
         ``"planar-2r"``, ``"planar-3r"``, ``"general-6r"`` (any other 6R arm: every
-        solution by elimination), ``"rank-deficient"`` (fewer independent
+        solution by elimination), ``"near-class"`` (a 6-joint arm with a prismatic joint
+        within 1e-6 of a class: the class's solutions, Newton-polished onto the real arm),
+        ``"rank-deficient"`` (fewer independent
         directions of motion than joints, up to 6) or ``"none"``.
     closed_form : bool
         Whether :func:`armkit.ik.closed_form_ik` solves this chain.
@@ -138,26 +142,23 @@ class SolverPlan:
     point: NDArray[np.float64] | None = None
 
 
-def poe_from_chain(chain: Chain) -> PoeChain:
-    """Screw axes ``(n, 3)``, points ``(n, 3)`` and ``M = T(0)`` of a chain, base frame."""
-    frames, M = joint_frames(chain, np.zeros(chain.n))
-    return PoeChain(frames[:, :3, 2].copy(), frames[:, :3, 3].copy(), chain.prismatic.copy(),
-                    M, np.arange(chain.n), np.ones(chain.n))
-
-
-def generic_rank(chain: Chain, tol: float = _core.RANK_TOLERANCE) -> int:
+def generic_rank(chain: Chain, tol: float = _core.RANK_TOLERANCE, *, joints: int | None = None,
+                 position_only: bool = False) -> int:
     """The rank of the chain's Jacobian at a generic configuration: the number of
     independent directions [v; w] its joints can move the tool in, at most ``min(6, n)``.
 
     The largest rank over a few seeded random configurations inside the limits (a rank
     reached anywhere is reached almost everywhere); singular values below ``tol`` times
-    the largest count as zero (computed in the core).
+    the largest count as zero (computed in the core). ``joints``: only the first ``joints``
+    joints move (the others stay at 0) and only their columns count; ``position_only``: the
+    directions the tool point can move in (rows ``v`` only).
 
     >>> import armkit
     >>> generic_rank(armkit.load("ur5").chain), generic_rank(armkit.load("grb400-scara").chain)
     (6, 4)
     """
-    return int(_core.generic_rank(chain._core, float(tol)))
+    moving = -1 if joints is None else whole_number(joints, "joints", minimum=1, maximum=chain.n)
+    return int(_core.generic_rank(chain._core, float(tol), moving, bool(position_only)))
 
 
 def arm_case(chain: Chain) -> _core.ArmCase:

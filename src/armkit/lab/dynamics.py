@@ -7,8 +7,7 @@ import mujoco
 import numpy as np
 
 from armkit._format import fmt_significant
-from armkit.dynamics import _with_inertials, missing_inertia
-from armkit.inertial import Inertial
+from armkit.dynamics import missing_inertia, with_body_inertials
 from armkit.lab.context import LabContext, fmt, fmt_error
 from armkit.lab.motion import experiment_waypoints, save_figure
 from armkit.lab.report import Section, Table
@@ -27,10 +26,7 @@ AGREEMENT = 1e-9
 def simulated_robot(ctx: LabContext) -> Robot:
     """``ctx.robot`` with the inertials of the bodies its MuJoCo model has (its own, made simulatable,
     or the capsules' when it has none), moved back into the link frames."""
-    robot = ctx.robot
-    inertials = [Inertial(body.mass, body.com, body.inertia).moved(np.linalg.inv(joint.T_after))
-                 for joint, body in zip(robot.chain.joints, ctx.sim.physical.bodies, strict=True)]
-    return _with_inertials(robot, inertials)
+    return with_body_inertials(ctx.robot, ctx.sim.physical.bodies)
 
 
 def dynamics_experiment(ctx: LabContext) -> Section:

@@ -1,10 +1,11 @@
-"""The numbers the seed reports publish, as printed (see shared/reference/SEED_ROBOTS.md).
+"""The numbers the seed reports publish, as printed (the lab reports armkit grew from, not shipped
+with it; README's "Notes on the seed reports" says where their numbers and armkit's differ).
 
 Report 000 (PROBOT Anno, Gazebo), report 003 (ZJU-I, CoppeliaSim), report 004 (GRB400
 SCARA, real arm). Poses of report 000 are ``[x, y, z, roll, pitch, yaw]`` in metres and
 radians, angles X-Y-Z *fixed* (``"xyz-fixed"``); report 003 uses X-Y'-Z' *Euler* angles in
 degrees (``"xyz-euler"``); report 004 millimetres and degrees. The reports print 1.57
-where they computed with pi/2; the targets below use pi/2 (see SEED_ROBOTS.md).
+where they computed with pi/2; the targets below use pi/2 (README, "Notes on the seed reports").
 """
 
 from __future__ import annotations

@@ -8,9 +8,10 @@ from numpy.typing import ArrayLike, NDArray
 from armkit.dynamics import missing_inertia
 from armkit.errors import InputError, JointLimitError
 from armkit.robot import Robot
+from armkit.trajectory._checks import check_tol, per_joint_limits
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.min_jerk import min_jerk
-from armkit.trajectory.timing import _limits, stretch_to_limits
+from armkit.trajectory.timing import stretch_to_limits
 from armkit.trajectory.topp import slowed_to_torque_limits, time_optimal, torque_constraint
 from armkit.trajectory.waypoints import joint_waypoints, joint_waypoints_from_poses
 
@@ -42,9 +43,10 @@ def planning_limits(robot: Robot, max_velocity: ArrayLike | None = None,
     >>> planning_limits(robot, max_acceleration=2.0)[1].tolist()
     [2.0, 2.0, 2.0, 2.0, 2.0, 2.0]
     """
-    vmax = robot.max_velocity if max_velocity is None else _limits(max_velocity, robot.n, "max_velocity")
+    vmax = (robot.max_velocity if max_velocity is None
+            else per_joint_limits(max_velocity, robot.n, "max_velocity"))
     amax = (robot.max_acceleration if max_acceleration is None
-            else _limits(max_acceleration, robot.n, "max_acceleration"))
+            else per_joint_limits(max_acceleration, robot.n, "max_acceleration"))
     return np.array(vmax, dtype=float), np.array(amax, dtype=float)
 
 
@@ -115,12 +117,7 @@ def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | N
     >>> bool((traj.peak_velocity <= robot.max_velocity).all())
     True
     """
-    try:
-        tol_ok = 0.0 < float(tol) < 1.0
-    except (TypeError, ValueError):
-        tol_ok = False
-    if not tol_ok:
-        raise InputError(f"tol: expected a relative accuracy between 0 and 1 (e.g. 1e-4), got {tol!r}")
+    tol = check_tol(tol)
     vmax, amax = planning_limits(robot, max_velocity, max_acceleration)
     q = (joint_waypoints_from_poses(robot, waypoints, convention, q_start) if poses else waypoints)
     q = joint_waypoints(robot, q)
@@ -138,7 +135,7 @@ def plan_trajectory(robot: Robot, waypoints: ArrayLike, durations: ArrayLike | N
     elif not fit_limits:
         trajectory = min_jerk(q, durations, position_limits=inside)
     else:
-        trajectory = (stretch_to_limits(q, durations, vmax, amax, tol=float(tol), position_limits=inside)
+        trajectory = (stretch_to_limits(q, durations, vmax, amax, tol=tol, position_limits=inside)
                       if limited else min_jerk(q, durations, position_limits=inside))
         if use_torques:
             slowed = slowed_to_torque_limits(trajectory, robot)

@@ -40,36 +40,24 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import minimize
 
+from armkit._params import whole_number
 from armkit.errors import ConvergenceError, InputError
-from armkit.trajectory._checks import check_durations, check_finite, check_waypoints
+from armkit.trajectory._checks import (
+    LIMIT_MARGIN,
+    check_durations,
+    check_tol,
+    check_waypoints,
+    checked_limits,
+    per_joint_limits,
+)
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.min_jerk import min_jerk, rest_points
 
 __all__ = ["auto_time", "limit_ratio", "limit_ratios", "stretch_to_limits"]
 
-#: Relative margin added to the exact uniform factor against rounding.
-_MARGIN = 1e-12
 #: Fits repeated with the rest points a fit's durations add (position limits), before the
 #: result is slowed uniformly instead (see ``_inside``).
 _REFITS = 1
-
-
-def _as_float(value: ArrayLike, name: str) -> NDArray[np.float64]:
-    """``value`` as float64 (``inf`` allowed, meaning no limit), or :class:`InputError`."""
-    try:
-        return np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name}: expected numbers, got {value!r}") from exc
-
-
-def _limits(value: ArrayLike, n: int, name: str) -> NDArray[np.float64]:
-    limits = np.asarray(_as_float(value, name), dtype=float)
-    if limits.ndim > 1 or limits.size not in (1, n):
-        raise InputError(f"{name}: expected one limit or {n} limits (one per joint), got {limits.tolist()}")
-    limits = np.broadcast_to(limits, (n,))
-    if np.any(np.isnan(limits)) or np.any(limits <= 0):
-        raise InputError(f"{name}: expected positive limits (inf for none), got {limits.tolist()}")
-    return limits
 
 
 def limit_ratios(trajectory: JointTrajectory, max_velocity: ArrayLike,
@@ -79,8 +67,8 @@ def limit_ratios(trajectory: JointTrajectory, max_velocity: ArrayLike,
     A ratio above 1 is a violated limit; joints with an infinite limit give 0.
     """
     n = trajectory.n
-    vmax = _limits(max_velocity, n, "max_velocity")
-    amax = _limits(max_acceleration, n, "max_acceleration")
+    vmax = per_joint_limits(max_velocity, n, "max_velocity")
+    amax = per_joint_limits(max_acceleration, n, "max_acceleration")
     return trajectory.segment_peaks(1) / vmax, trajectory.segment_peaks(2) / amax
 
 
@@ -113,18 +101,24 @@ def _shorten(spline, durations, lower, vmax, amax, tol, max_rounds):
             durations[i] = hi
         if np.all(before - durations <= tol * before):
             return durations
+    change = float(np.max((before - durations) / before))
     raise ConvergenceError(f"segment durations still shortening after {max_rounds} rounds "
-                           f"(last change {np.max((before - durations) / before):.2g} relative)")
+                           f"(last change {change:.2g} relative)", rounds=max_rounds, last_change=change)
+
+
+def _descent_settings(tol: object, max_rounds: object) -> tuple[float, int]:
+    """The coordinate descent's ``tol`` and ``max_rounds`` (at least one), checked."""
+    return check_tol(tol), whole_number(max_rounds, "max_rounds", minimum=1)
 
 
 def _feasible_start(spline, start, lower, vmax, amax):
     """``start`` scaled uniformly onto the limits, then raised to ``lower`` (re-scaled if that broke them).
 
-    The factor carries ``1 + _MARGIN`` so that rounding never leaves a ratio a hair above 1.
+    The factor carries ``1 + LIMIT_MARGIN`` so that rounding never leaves a ratio a hair above 1.
     """
-    k = limit_ratio(spline(start), vmax, amax) * (1 + _MARGIN)
+    k = limit_ratio(spline(start), vmax, amax) * (1 + LIMIT_MARGIN)
     durations = np.maximum(start * k, lower)
-    k = limit_ratio(spline(durations), vmax, amax) * (1 + _MARGIN)
+    k = limit_ratio(spline(durations), vmax, amax) * (1 + LIMIT_MARGIN)
     return durations * max(1.0, k)
 
 
@@ -158,18 +152,6 @@ def _fit(spline, starts, lower, requested, vmax, amax, tol, max_rounds, refine):
     return JointTrajectory(final.durations, final.coefficients, final.waypoints, requested)
 
 
-def _checked_limits(waypoints, max_velocity, max_acceleration):
-    n = waypoints.shape[1]
-    vmax = _limits(max_velocity, n, "max_velocity")
-    amax = _limits(max_acceleration, n, "max_acceleration")
-    if np.all(np.isinf(vmax)) and np.all(np.isinf(amax)):
-        raise InputError("max_velocity, max_acceleration: no finite limit to fit the durations to; give "
-                         "limits (robot file keys max_velocity / max_acceleration, plan_trajectory's "
-                         "max_velocity= / max_acceleration=, armkit traj --max-velocity / "
-                         "--max-acceleration) or durations")
-    return vmax, amax
-
-
 def _inside(fit, waypoints: NDArray[np.float64], durations: NDArray[np.float64],
             position_limits: ArrayLike | None, vmax: NDArray[np.float64],
             amax: NDArray[np.float64]) -> JointTrajectory:
@@ -193,7 +175,7 @@ def _inside(fit, waypoints: NDArray[np.float64], durations: NDArray[np.float64],
             return fitted
         rest = more
     held = min_jerk(waypoints, fitted.durations, rest=more)
-    k = max(1.0, limit_ratio(held, vmax, amax) * (1 + _MARGIN))
+    k = max(1.0, limit_ratio(held, vmax, amax) * (1 + LIMIT_MARGIN))
     final = min_jerk(waypoints, fitted.durations * k, rest=more)
     return JointTrajectory(final.durations, final.coefficients, final.waypoints, fitted.requested_durations)
 
@@ -235,7 +217,8 @@ def stretch_to_limits(waypoints: ArrayLike, durations: ArrayLike, max_velocity: 
     """
     waypoints = check_waypoints(waypoints)
     requested = check_durations(durations, waypoints.shape[0] - 1)
-    vmax, amax = _checked_limits(waypoints, max_velocity, max_acceleration)
+    vmax, amax = checked_limits(waypoints, max_velocity, max_acceleration)
+    tol, max_rounds = _descent_settings(tol, max_rounds)
     as_requested = min_jerk(waypoints, requested, position_limits=position_limits)
     if limit_ratio(as_requested, vmax, amax) <= 1.0:
         return as_requested
@@ -265,13 +248,13 @@ def auto_time(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration: A
     2.403
     """
     waypoints = check_waypoints(waypoints)
-    vmax, amax = _checked_limits(waypoints, max_velocity, max_acceleration)
+    vmax, amax = checked_limits(waypoints, max_velocity, max_acceleration)
     step = np.abs(np.diff(waypoints, axis=0))
     guess = (step / vmax + np.sqrt(step / amax)).max(axis=1)
     if not np.all(np.isfinite(guess)) or guess.max() == 0:
         raise InputError("auto_time: needs finite limits and waypoints that move")
     guess = np.maximum(guess, 1e-6 * guess.sum())
     lower = np.maximum((step / vmax).max(axis=1), 1e-6 * guess.sum())
-    tol = float(check_finite(tol, "tol"))
+    tol, max_rounds = _descent_settings(tol, max_rounds)
     return _inside(lambda spline: _fit(spline, [guess], lower, guess, vmax, amax, tol, max_rounds, refine),
                    waypoints, guess, position_limits, vmax, amax)

@@ -48,11 +48,18 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armkit.errors import InputError
-from armkit.trajectory._checks import check_finite, check_waypoints
+from armkit.trajectory._checks import (
+    LIMIT_MARGIN,
+    MAX_DURATION,
+    MIN_DURATION,
+    check_finite,
+    check_waypoints,
+    checked_limits,
+)
 from armkit.trajectory.joint_trajectory import JointTrajectory
 from armkit.trajectory.min_jerk import min_jerk
 from armkit.trajectory.polynomial import quintic_coefficients
-from armkit.trajectory.timing import _MARGIN, _checked_limits, limit_ratio
+from armkit.trajectory.timing import limit_ratio
 
 if TYPE_CHECKING:
     from armkit.robot import Robot
@@ -218,21 +225,36 @@ def geometric_path(waypoints: ArrayLike, max_velocity: ArrayLike, max_accelerati
     (:func:`~armkit.trajectory.min_jerk.min_jerk`). Parameters as in :func:`time_optimal`.
     """
     waypoints = check_waypoints(waypoints)
-    vmax, amax = _checked_limits(waypoints, max_velocity, max_acceleration)
+    vmax, amax = checked_limits(waypoints, max_velocity, max_acceleration)
     step = np.abs(np.diff(waypoints, axis=0))
     if (repeated := np.flatnonzero(step.max(axis=1) == 0)).size:
         k = int(repeated[0]) + 1
         raise InputError(f"waypoints {k} and {k + 1} are the same ({waypoints[k].tolist()}): a path through "
                          f"waypoints needs each to differ from the previous one; drop the repeat")
-    with np.errstate(invalid="ignore"):                 # inf / inf: a joint with neither limit
-        cruising = step / vmax + vmax / amax
+    with np.errstate(invalid="ignore", over="ignore"):  # inf / inf: a joint with neither limit; overflow:
+        cruising = step / vmax + vmax / amax            # limits too small (refused below)
         rest_to_rest = np.where(step * amax >= vmax**2, cruising, 2.0 * np.sqrt(step / amax))
-    rest_to_rest = np.where(np.isfinite(rest_to_rest), rest_to_rest, step / vmax)   # no acceleration limit
-    nominal = np.nan_to_num(rest_to_rest, nan=0.0, posinf=0.0).max(axis=1)
+        rest_to_rest = np.where(np.isnan(rest_to_rest), step / vmax, rest_to_rest)  # no acceleration limit
+    nominal = np.nan_to_num(rest_to_rest, nan=0.0, posinf=np.inf).max(axis=1)
     if (free := np.flatnonzero(nominal == 0)).size:
         k = int(free[0]) + 1
         raise InputError(f"waypoints {k} to {k + 1}: only joints without a finite max_velocity or "
                          f"max_acceleration move, so no timing is fastest; give them limits")
+    if (slow := np.flatnonzero(~(nominal <= MAX_DURATION))).size:
+        k = int(slow[0])
+        joint = int(np.argmax(np.nan_to_num(rest_to_rest[k], nan=0.0, posinf=np.inf)))
+        takes = (f"at least {nominal[k]:.3g} s" if np.isfinite(nominal[k])
+                 else "more seconds than a float holds")
+        raise InputError(f"waypoints {k + 1} to {k + 2}: at joint {joint + 1}'s limits (max_velocity "
+                         f"{vmax[joint]:.3g}, max_acceleration {amax[joint]:.3g}) the move takes "
+                         f"{takes}, longer than a trajectory's longest segment "
+                         f"({MAX_DURATION:g} s): are the limits in SI units (rad/s, rad/s^2)?")
+    if (quick := np.flatnonzero(nominal < MIN_DURATION)).size:
+        k = int(quick[0])
+        raise InputError(f"waypoints {k + 1} to {k + 2}: at the limits (max_velocity {vmax.max():.3g}, "
+                         f"max_acceleration {amax.max():.3g} at most) the move takes {nominal[k]:.3g} s, "
+                         f"shorter than a trajectory's shortest segment ({MIN_DURATION:g} s): are the limits "
+                         f"in SI units (rad/s, rad/s^2), and the waypoints apart?")
     if np.all(np.isinf(amax)):   # timed uniformly by time_optimal, at rest at both ends; durations
         # as the square root of the time at the velocity limit ("centripetal"): a long segment next to
         # a short one would otherwise make the spline overshoot (as time at an acceleration limit does)
@@ -296,9 +318,9 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
         raise InputError(f"smoothing: expected a fraction in (0, 1] of the time between waypoints, got "
                          f"{smoothing:g}")
     path = geometric_path(waypoints, max_velocity, max_acceleration, position_limits=position_limits)
-    vmax, amax = _checked_limits(path.waypoints, max_velocity, max_acceleration)
+    vmax, amax = checked_limits(path.waypoints, max_velocity, max_acceleration)
     if np.all(np.isinf(amax)) and not constraints:
-        return _scaled(path, limit_ratio(path, vmax, amax) * (1 + _MARGIN))
+        return _scaled(path, limit_ratio(path, vmax, amax) * (1 + LIMIT_MARGIN))
     per_segment = max(GRID_PER_SEGMENT, -(-GRID_TOTAL // path.durations.size))
     fractions = np.arange(per_segment) / per_segment
     s = np.append(path.waypoint_times[:-1, None] + path.durations[:, None] * fractions, path.duration)
@@ -309,7 +331,7 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
     constraint = LinearConstraint(*(
         np.concatenate([np.broadcast_to(getattr(row, name), np.shape(row.a)) for row in rows], axis=1)
         for name in ("a", "b", "c", "lo", "hi")))
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore"):  # inf: no bound from the velocity limits there
         x_max = np.min((vmax / np.abs(dq)) ** 2, axis=1)
     result = parameterize(s, constraint, x_max)
     if not result.success:
@@ -329,7 +351,7 @@ def time_optimal(waypoints: ArrayLike, max_velocity: ArrayLike, max_acceleration
     h = np.diff(knots)
     coefficients = quintic_coefficients(q[:-1], q[1:], h[:, None], qd[:-1], qd[1:], qdd[:-1], qdd[1:])
     fitted = JointTrajectory(h, coefficients, path.waypoints, segment_pieces=pieces)
-    k = limit_ratio(fitted, vmax, amax) * (1 + _MARGIN)
+    k = limit_ratio(fitted, vmax, amax) * (1 + LIMIT_MARGIN)
     if constraints:       # never faster than the profile that met them: slower keeps a torque between
         k = max(k, 1.0)   # its value at rest and along the profile
     return _scaled(fitted, k)

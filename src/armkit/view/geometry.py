@@ -20,7 +20,7 @@ __all__ = ["ArmPlacement", "arm_placement", "arm_size", "ellipsoid_axes", "label
            "unit_cylinder", "unit_sphere"]
 
 #: Segments shorter than this [m] are not drawn (coincident frame origins).
-_SHORTEST_SEGMENT = 1e-6
+SHORTEST_SEGMENT = 1e-6
 
 
 class ArmPlacement(NamedTuple):
@@ -62,7 +62,7 @@ def rotations_z_to(directions: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.stack([x, np.cross(z, x), z], axis=-1)
 
 
-def _path(T_joints: NDArray[np.float64], T_tool: NDArray[np.float64]) -> NDArray[np.float64]:
+def centre_line(T_joints: NDArray[np.float64], T_tool: NDArray[np.float64]) -> NDArray[np.float64]:
     """The drawn centre line: floor origin, each joint origin, tool origin, with a corner where an
     offset has a part along the previous joint's axis (a DH ``d``) and a part across it (an ``a``)."""
     frames = [np.eye(4), *T_joints, T_tool]
@@ -89,10 +89,10 @@ def arm_placement(robot: Robot, q: NDArray[np.float64], radius: float) -> ArmPla
     (True, [0.0, 0.0, 1.0])
     """
     T_joints, T_tool = kinematics.joint_frames(robot, q)
-    path = _path(T_joints, T_tool)
+    path = centre_line(T_joints, T_tool)
     starts, ends = path[:-1], path[1:]
     lengths = np.linalg.norm(ends - starts, axis=-1)
-    keep = lengths > _SHORTEST_SEGMENT
+    keep = lengths > SHORTEST_SEGMENT
     starts, ends, lengths = starts[keep], ends[keep], lengths[keep]
     R_links = rotations_z_to(ends - starts) if len(starts) else np.zeros((0, 3, 3))
     axes = T_joints[:, :3, 2]

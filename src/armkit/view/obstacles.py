@@ -9,7 +9,7 @@ from numpy.typing import NDArray
 
 from armkit import kinematics
 from armkit.spatial.rotations import quaternion_wxyz_from_matrix
-from armkit.view.geometry import _SHORTEST_SEGMENT, _path
+from armkit.view.geometry import SHORTEST_SEGMENT, centre_line
 
 if TYPE_CHECKING:
     from armkit.collision.scene import Scene
@@ -57,8 +57,8 @@ def colour_contacts(arm: ArmDrawing, meshes: MeshDrawing | None, scene: Scene, q
     n = scene.robot.n
     colliding = np.array([part in touching for part in scene.parts[:n + 1]])  # base, links
     T_joints, T_tool = kinematics.joint_frames(scene.robot, q)
-    path = _path(T_joints, T_tool)
-    keep = np.linalg.norm(path[1:] - path[:-1], axis=-1) > _SHORTEST_SEGMENT
+    path = centre_line(T_joints, T_tool)
+    keep = np.linalg.norm(path[1:] - path[:-1], axis=-1) > SHORTEST_SEGMENT
     owner = np.repeat(np.arange(n + 1), 2)[keep]  # frame k to k + 1 belongs to part k
     colours = np.array([link] * int(keep.sum()) + [joint] * n, dtype=np.uint8)
     colours[:int(keep.sum())][colliding[owner]] = COLLIDING

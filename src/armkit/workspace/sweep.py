@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from armkit.chain import MAX_VALUE
 from armkit.errors import InputError
 from armkit.robot import Robot
 from armkit.workspace.budget import check_memory
@@ -40,6 +41,8 @@ from armkit.workspace.store import create_store, store_lock
 __all__ = ["Sweep", "parse_sweep", "robot_with", "sweep"]
 
 PARAMETERS = ("alpha", "a", "d", "theta")
+#: Most values a sweep takes: each is a whole workspace run (and a map in the report).
+MAX_SWEEP_VALUES = 1000
 _SPEC = re.compile(r"^\s*(alpha|theta|a|d)(\d+)\s*=\s*([^:]+):([^:]+):(\d+)\s*$")
 
 
@@ -56,11 +59,16 @@ def parse_sweep(text: str) -> tuple[str, int, NDArray[np.float64]]:
                          f"{', '.join(PARAMETERS)}, e.g. 'a2=0.2:0.4:5' (SI units)")
     name, row, start, stop, count = match.groups()
     try:
-        values = np.linspace(float(start), float(stop), int(count))
+        ends = float(start), float(stop)
     except ValueError as exc:
         raise InputError(f"sweep {text!r}: {start!r} or {stop!r} is not a number") from exc
-    if len(values) < 1:
-        raise InputError(f"sweep {text!r}: expected at least one value")
+    if not (np.abs(ends) <= MAX_VALUE).all():
+        raise InputError(f"sweep {text!r}: expected finite START and STOP from {-MAX_VALUE:g} to "
+                         f"{MAX_VALUE:g} (m or rad), got {start.strip()} and {stop.strip()}")
+    if not 1 <= int(count) <= MAX_SWEEP_VALUES:
+        raise InputError(f"sweep {text!r}: expected COUNT from 1 to {MAX_SWEEP_VALUES} (each value is a "
+                         f"whole workspace run), got {count}")
+    values = np.linspace(*ends, int(count))
     return name, int(row), values
 
 

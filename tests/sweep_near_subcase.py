@@ -1,0 +1,72 @@
+"""Sweep a UR5 with one joint line moved against a many-seed numeric search, near its wrist singularity.
+
+For every size of the move, every joint, its axis turned or its point moved (two random
+directions each), and every q5 of the poses (a random configuration with that q5, either
+sign): the listing ``robot.ik(T, all_solutions=True, within_limits=False)`` must hold the
+generating configuration and every solution armkit's Levenberg-Marquardt finds from 24
+random seeds (the singular sweeps' search), and reproduce the pose to 1e-9. Prints each
+failing pose and the count per case and size::
+
+    python tests/sweep_near_subcase.py                               # moves 1e-9 .. 1e-6, q5 1e-4 .. 1e-2
+    python tests/sweep_near_subcase.py --moves 1e-5,1e-4,1e-3 --q5 1e-7,1e-6,1e-5 --seed 5
+"""
+
+import argparse
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from test_ik_general import line_moved  # noqa: E402
+from test_ik_singular_sweeps import numeric_solutions  # noqa: E402
+
+import armkit  # noqa: E402
+from armkit.ik.structure import analyze_structure  # noqa: E402
+
+
+def _gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.abs(np.angle(np.exp(1j * (a - b)))).max(axis=-1)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--moves", default="1e-9,1e-8,7e-8,1e-7,1e-6", help="sizes of the move [rad or m]")
+    parser.add_argument("--q5", default="1e-4,1e-3,0.0077,1e-2", help="q5 of the poses [rad]")
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args()
+    rng = np.random.default_rng(args.seed)
+    failed, total, per_case = 0, 0, {}
+    for move in [float(m) for m in args.moves.split(",")]:
+        for joint in range(6):
+            for turn in (True, False):
+                for _ in range(2):
+                    robot = line_moved("ur5", joint, turn, rng.normal(size=3), move)
+                    case = analyze_structure(robot).case
+                    for q5 in [float(v) for v in args.q5.split(",")]:
+                        q0 = rng.uniform(-np.pi, np.pi, 6)
+                        q0[4] = q5 * rng.choice([-1.0, 1.0])
+                        T = robot.fk(q0)
+                        total += 1
+                        line = "axis" if turn else "point"
+                        where = f"move {move:g}, joint {joint + 1} {line}, case {case}, q5 {q5:g}"
+                        try:
+                            listed = robot.ik(T, all_solutions=True, within_limits=False)
+                        except armkit.ArmkitError as error:
+                            print(f"{where}: {type(error).__name__}: {error}", flush=True)
+                            failed += 1
+                            per_case[case, move] = per_case.get((case, move), 0) + 1
+                            continue
+                        assert np.abs(robot.fk(listed) - T).max() <= 1e-9, where
+                        found = [q0, *numeric_solutions(robot, T, rng)]
+                        missed = [s for s in found if _gap(listed, s).min() > 1e-6]
+                        if missed:
+                            print(f"{where}: {len(listed)} listed, {len(missed)} not", flush=True)
+                            failed += 1
+                            per_case[case, move] = per_case.get((case, move), 0) + 1
+    print(f"{failed} of {total} poses miss a solution; per (case, move): {per_case}")
+
+
+if __name__ == "__main__":
+    main()
