@@ -382,15 +382,10 @@ def test_a_prismatic_arm_far_from_every_class_says_to_use_numeric_ik():
         robot.ik(robot.fk(robot.random_q(rng=rng)), all_solutions=True)
 
 
-#: Near-class prismatic arms list their class's solutions carried over by Newton.
-CARRIED_OVER = pytest.mark.xfail(strict=True, reason=(
-    "at poses much nearer the wrist singularity than the arm is to its class (q5 = 1e-5 .. 1e-7, lines "
-    "moved by 1e-8) a row meets the 1e-9 bar 1e-3 off its root along the weakest direction (two roots "
-    "nearly meet there: Newton does not get closer), or goes to another root (docs/ik.md)"))
-
-
-@CARRIED_OVER
 def test_a_stanford_arm_near_its_class_at_a_pose_very_near_its_wrist_singularity():
+    # much nearer the wrist singularity than the arm is to its class (q5 = 1e-5 .. 1e-7, lines moved
+    # by 1e-8): Newton stalled 1e-3 off a root beside a near-double one; the weak-direction search
+    # (cpp/include/armkit/double_root.hpp) takes it there
     rng = np.random.default_rng(3)
     robot = calibrated("stanford", 1e-8, rng)
     assert analyze_structure(robot).kind == "near-class"

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "armkit/double_root.hpp"
 #include "armkit/fk.hpp"
 #include "armkit/ik_family.hpp"
 
@@ -15,7 +16,7 @@ void joint_motion(const ClosedForm& cf, const Pose& T, Mat3& R, Vec3& t) {
     t = G.position();
 }
 
-void newton(const Chain& chain, const Pose& T, double* q, int steps, double stop) {
+bool newton(const Chain& chain, const Pose& T, double* q, int steps, double stop) {
     const int n = chain.n;
     static constexpr int rows[6] = {0, 1, 2, 3, 4, 5};  // every task row
     const double free[kMaxJoints] = {};                  // no joint held at a bound
@@ -25,10 +26,11 @@ void newton(const Chain& chain, const Pose& T, double* q, int steps, double stop
         const Pose F = joint_axes(chain, q, axes, points);
         jacobian_from_axes(F, axes, points, chain.prismatic.data(), n, J);
         pose_error(T, F, e);
-        if (stop > 0.0 && std::all_of(e, e + 6, [stop](double v) { return std::fabs(v) <= stop; })) return;
+        if (stop > 0.0 && std::all_of(e, e + 6, [stop](double v) { return std::fabs(v) <= stop; })) return true;
         damped_step(J, n, e, rows, 6, free, kNewtonDamping, dq);
         for (int j = 0; j < n; ++j) q[j] += dq[j];
     }
+    return false;
 }
 
 double fk_difference(const Chain& chain, const Pose& T, const double* q) {
@@ -177,8 +179,33 @@ void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bo
     }
 }
 
+// Each candidate whose polish stalled short of cf.polish_stop (stalled, cf.k; valid or not
+// after the FK check) replaced by the nearest root the weak-direction search finds beside it
+// (near_double_roots), and the other root of the pair put into the last row that is neither
+// valid nor stalled, where there is one.
+void split_near_double_roots(const ClosedForm& cf, const Pose& T, double* q, bool* valid, const bool* stalled) {
+    const int n = cf.chain.n;
+    for (int s = 0; s < cf.k; ++s) {
+        if (!stalled[s]) continue;
+        double roots[kDoubleRoots * 6];
+        const int found = near_double_roots(cf.chain, T, q + s * n, case_chain(cf.geometry).size, roots);
+        for (int r = 0; r < found; ++r) {
+            int row = s;
+            if (r > 0) {
+                row = cf.k - 1;
+                while (row >= 0 && (row == s || valid[row] || stalled[row])) --row;
+                if (row < 0) break;
+            }
+            const double* root = roots + 6 * r;
+            for (int j = 0; j < n; ++j) q[row * n + j] = cf.chain.prismatic[j] ? root[j] : wrap_angle(root[j]);
+            valid[row] = true;
+        }
+    }
+}
+
 void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family) {
     const int k = cf.k, n = cf.chain.n;
+    bool stalled[kMaxCandidates] = {};
     double q_int[kMaxCandidates * kMaxJoints];
     Mat3 R;
     Vec3 t;
@@ -192,11 +219,13 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
         }
         for (int j = 0; j < n; ++j) finite = finite && std::isfinite(qs[j]);
         valid[s] = valid[s] && finite;
-        if (cf.polish && valid[s]) newton(cf.chain, T, qs, cf.polish_steps, cf.polish_stop);
+        if (cf.polish && valid[s])
+            stalled[s] = !newton(cf.chain, T, qs, cf.polish_steps, cf.polish_stop) && cf.polish_stop > 0.0;
         for (int j = 0; j < n; ++j)
             if (!cf.chain.prismatic[j]) qs[j] = wrap_angle(qs[j]);
         if (cf.verify && valid[s]) valid[s] = fk_difference(cf.chain, T, qs) <= cf.verify_tolerance;
     }
+    if (cf.polish) split_near_double_roots(cf, T, q, valid, stalled);
     take_exact_candidates(cf, T, q, valid, family);
     bool duplicate[kMaxCandidates];
     mark_duplicates(q, k, n, valid, cf.chain.prismatic.data(), duplicate);
