@@ -16,7 +16,7 @@ void joint_motion(const ClosedForm& cf, const Pose& T, Mat3& R, Vec3& t) {
     t = G.position();
 }
 
-bool newton(const Chain& chain, const Pose& T, double* q, int steps, double stop) {
+void newton(const Chain& chain, const Pose& T, double* q, int steps, double stop) {
     const int n = chain.n;
     static constexpr int rows[6] = {0, 1, 2, 3, 4, 5};  // every task row
     const double free[kMaxJoints] = {};                  // no joint held at a bound
@@ -26,11 +26,10 @@ bool newton(const Chain& chain, const Pose& T, double* q, int steps, double stop
         const Pose F = joint_axes(chain, q, axes, points);
         jacobian_from_axes(F, axes, points, chain.prismatic.data(), n, J);
         pose_error(T, F, e);
-        if (stop > 0.0 && std::all_of(e, e + 6, [stop](double v) { return std::fabs(v) <= stop; })) return true;
+        if (stop > 0.0 && std::all_of(e, e + 6, [stop](double v) { return std::fabs(v) <= stop; })) return;
         damped_step(J, n, e, rows, 6, free, kNewtonDamping, dq);
         for (int j = 0; j < n; ++j) q[j] += dq[j];
     }
-    return false;
 }
 
 double fk_difference(const Chain& chain, const Pose& T, const double* q) {
@@ -179,8 +178,8 @@ void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bo
     }
 }
 
-// Each candidate whose polish stalled short of cf.polish_stop (stalled, cf.k; valid or not
-// after the FK check) replaced by the nearest root the weak-direction search finds beside it
+// Each polished candidate that Newton left short of rounding (stalled, cf.k: FK misses the pose
+// by more than kDoubleRootExact; valid or not after the FK check) replaced by the nearest root the weak-direction search finds beside it
 // (near_double_roots), and the other root of the pair put into the last row that is neither
 // valid nor stalled, where there is one.
 void split_near_double_roots(const ClosedForm& cf, const Pose& T, double* q, bool* valid, const bool* stalled) {
@@ -219,11 +218,14 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
         }
         for (int j = 0; j < n; ++j) finite = finite && std::isfinite(qs[j]);
         valid[s] = valid[s] && finite;
-        if (cf.polish && valid[s])
-            stalled[s] = !newton(cf.chain, T, qs, cf.polish_steps, cf.polish_stop) && cf.polish_stop > 0.0;
+        if (cf.polish && valid[s]) newton(cf.chain, T, qs, cf.polish_steps, cf.polish_stop);
         for (int j = 0; j < n; ++j)
             if (!cf.chain.prismatic[j]) qs[j] = wrap_angle(qs[j]);
-        if (cf.verify && valid[s]) valid[s] = fk_difference(cf.chain, T, qs) <= cf.verify_tolerance;
+        if (cf.verify && valid[s]) {
+            const double residual = fk_difference(cf.chain, T, qs);
+            valid[s] = residual <= cf.verify_tolerance;
+            stalled[s] = cf.polish && residual > kDoubleRootExact * case_chain(cf.geometry).size;
+        }
     }
     if (cf.polish) split_near_double_roots(cf, T, q, valid, stalled);
     take_exact_candidates(cf, T, q, valid, family);

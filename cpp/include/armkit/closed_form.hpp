@@ -45,8 +45,8 @@ constexpr int kGeneralNewtonSteps = 8;
 // candidate q (n), in place, stopping early where the pose error is at most `stop` [m,
 // rad]. Where a quartic root meets another singularity (a double root near an aligned
 // wrist) a candidate may carry errors of ~1e-7; two steps bring it to rounding level, and
-// the FK check then decides. True where it stopped there (never with stop = 0).
-bool newton(const Chain& chain, const Pose& T, double* q, int steps, double stop = 0.0);
+// the FK check then decides.
+void newton(const Chain& chain, const Pose& T, double* q, int steps, double stop = 0.0);
 
 // Whether configurations a and b (chain.n) differ by at most gap in every joint (revolute ones
 // modulo 2 pi).

@@ -169,16 +169,17 @@ constexpr double kPolished = 1e-15;
 //: quadratic convergence, large enough to step across a singular Jacobian.
 constexpr double kNewtonDamping = 1e-14;
 
-//: A polished candidate that Newton left short of kPolished is searched for the two roots of a
-//: near-double root (double_root.hpp) where its Jacobian's smallest singular value is at most
-//: this fraction of the largest: Newton's normal equations carry the weak direction's step with
-//: a relative error of eps / ratio^2 (1e-8 at 1e-4), and its damping (kNewtonDamping) holds the
-//: step back below ~1e-7; the stalled candidates seen sat at 1.5e-8, regular ones near a wrist
-//: singularity at 3e-5 .. 1e-4 (they converge, and are not searched).
+//: A polished candidate that Newton left short of rounding (kDoubleRootExact) is searched for the
+//: two roots of a near-double root (double_root.hpp) where its Jacobian's smallest singular value
+//: is at most this fraction of the largest: Newton's normal equations carry the weak direction's
+//: step with a relative error of eps / ratio^2 (1e-8 at 1e-4), and its damping (kNewtonDamping)
+//: holds the step back below ~1e-7; the stalled candidates seen sat at 1.5e-8, regular ones near
+//: a wrist singularity at 3e-5 .. 1e-4 (they converge, and are not searched).
 constexpr double kNearDoubleRoot = 1e-4;
-//: ... and a root it finds is kept where FK reproduces the pose to this (entries of the top three
-//: rows, times the arm's size): rounding, as a regular solution (~1e-15 .. 1e-14); the point
-//: where Newton stalled between the two roots missed by 9e-14.
+//: A root the search finds is kept where FK reproduces the pose to this (entries of the top three
+//: rows, times the arm's size), and a polished candidate that misses by more is searched:
+//: rounding, as a regular solution (~1e-15 .. 1e-14); the point where Newton stalled between two
+//: roots missed by 9e-14.
 constexpr double kDoubleRootExact = 1e-14;
 
 // ------------------------------------------------------------- refinement (ik_solve)
