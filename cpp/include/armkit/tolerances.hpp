@@ -241,6 +241,11 @@ constexpr double kCompanionCondition = 1e-10;
 //: matrix's largest entry: rounding leaves ~1e-15 (random arms); beyond, the whole 24 x 24
 //: matrix goes to the eigensolver.
 constexpr double kSpuriousSplit = 1e-12;
+//: The null vector of M(x3) at a root comes from LU with partial pivoting where its smallest
+//: pivot is at most this fraction of the next smallest (a clear rank deficiency: at a root found
+//: to 1e-12 .. 1e-4 the smallest is that small against pivots of the matrix's size), else from
+//: full-pivot LU, which reveals the rank where partial pivoting may not (ik_general.cpp).
+constexpr double kNullPivotGap = 1e-2;
 //: A QZ eigenvalue alpha / beta with |beta| below this times |alpha| is at infinity
 //: (rounding of beta relative to alpha).
 constexpr double kInfiniteEigenvalue = 1e-16;
