@@ -178,10 +178,11 @@ void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bo
     }
 }
 
-// Each polished candidate that Newton left short of rounding (stalled, cf.k: FK misses the pose
-// by more than kDoubleRootExact; valid or not after the FK check) replaced by the nearest root the weak-direction search finds beside it
-// (near_double_roots), and the other root of the pair put into the last row that is neither
-// valid nor stalled, where there is one.
+// Each polished candidate that Newton left short of rounding, near the pose (stalled, cf.k: FK
+// misses it by more than kDoubleRootExact, by at most kNearlyExact times the FK check's
+// tolerance; valid or not after that check), replaced by the nearest root the weak-direction
+// search finds beside it (near_double_roots), and the other root of the pair put into the last
+// row that is neither valid nor stalled, where there is one.
 void split_near_double_roots(const ClosedForm& cf, const Pose& T, double* q, bool* valid, const bool* stalled) {
     const int n = cf.chain.n;
     for (int s = 0; s < cf.k; ++s) {
@@ -224,7 +225,8 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
         if (cf.verify && valid[s]) {
             const double residual = fk_difference(cf.chain, T, qs);
             valid[s] = residual <= cf.verify_tolerance;
-            stalled[s] = cf.polish && residual > kDoubleRootExact * case_chain(cf.geometry).size;
+            stalled[s] = cf.polish && residual > kDoubleRootExact * case_chain(cf.geometry).size &&
+                         residual <= kNearlyExact * cf.verify_tolerance;
         }
     }
     if (cf.polish) split_near_double_roots(cf, T, q, valid, stalled);
