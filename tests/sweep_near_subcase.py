@@ -1,4 +1,5 @@
-"""Sweep a UR5 with one joint line moved against a many-seed numeric search, near its wrist singularity.
+"""Sweep a built-in arm (UR5 by default) with one joint line moved against a many-seed numeric search,
+near its wrist singularity.
 
 For every size of the move, every joint, its axis turned or its point moved (two random
 directions each), and every q5 of the poses (a random configuration with that q5, either
@@ -9,6 +10,7 @@ failing pose and the count per case and size::
 
     python tests/sweep_near_subcase.py                               # moves 1e-9 .. 1e-6, q5 1e-4 .. 1e-2
     python tests/sweep_near_subcase.py --moves 1e-5,1e-4,1e-3 --q5 1e-7,1e-6,1e-5 --seed 5
+    python tests/sweep_near_subcase.py --arm stanford --moves 1e-9,1e-8,1e-7 --q5 1e-7,1e-6,1e-5
 """
 
 import argparse
@@ -35,6 +37,7 @@ def main() -> None:
     parser.add_argument("--moves", default="1e-9,1e-8,7e-8,1e-7,1e-6", help="sizes of the move [rad or m]")
     parser.add_argument("--q5", default="1e-4,1e-3,0.0077,1e-2", help="q5 of the poses [rad]")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--arm", default="ur5", help="the built-in arm whose lines are moved")
     args = parser.parse_args()
     rng = np.random.default_rng(args.seed)
     failed, total, per_case = 0, 0, {}
@@ -42,7 +45,7 @@ def main() -> None:
         for joint in range(6):
             for turn in (True, False):
                 for _ in range(2):
-                    robot = line_moved("ur5", joint, turn, rng.normal(size=3), move)
+                    robot = line_moved(args.arm, joint, turn, rng.normal(size=3), move)
                     case = analyze_structure(robot).case
                     for q5 in [float(v) for v in args.q5.split(",")]:
                         q0 = rng.uniform(-np.pi, np.pi, 6)

@@ -68,7 +68,7 @@ Found found_of(const ClosedForm& cf, std::size_t N, Out& q, Out& errors, OutBool
     if (k > std::size_t(kMaxCandidates) || q.size() != N * k * n || errors.size() != N * k * 2 ||
         flags.size() != N * k * kFlags || count.size() != N)
         throw std::invalid_argument("expected outputs q (N, k, n), errors (N, k, 2), flags (N, k, 4), count (N,)");
-    return Found{int(k), cf.chain.n, q.data(), errors.data(), flags.data(), count.data()};
+    return Found{int(k), cf.chain.n, q.data(), errors.data(), flags.data(), count.data(), case_chain(cf.geometry).size};
 }
 
 // The reference configurations (N, n) or (n,) (stride 0), or zeros; the weights (n,), or ones.
@@ -123,7 +123,7 @@ nb::tuple solve(const ClosedForm& cf, nb::handle T, nb::handle near, nb::handle 
     std::int64_t* count;
     nb::object q_out = new_array(3, q_shape, q), errors_out = new_array(3, errors_shape, errors);
     nb::object flags_out = new_array(3, flags_shape, flags), count_out = new_array(1, &N_, count);
-    const Found f{int(k), int(n), q, errors, flags, count};
+    const Found f{int(k), int(n), q, errors, flags, count, case_chain(cf.geometry).size};
     std::atomic<long long> empty{0};
     {
         std::optional<nb::gil_scoped_release> release;  // for a batch: one pose takes less than a release

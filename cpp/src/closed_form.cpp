@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "armkit/double_root.hpp"
 #include "armkit/fk.hpp"
 #include "armkit/ik_family.hpp"
 
@@ -173,8 +174,34 @@ void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bo
     }
 }
 
+// Each polished candidate that Newton left short of rounding, near the pose (stalled, cf.k: FK
+// misses it by more than kDoubleRootExact, by at most kNearlyExact times the FK check's
+// tolerance; valid or not after that check), replaced by the nearest root the weak-direction
+// search finds beside it (near_double_roots), and the other root of the pair put into the last
+// row that is neither valid nor stalled, where there is one.
+void split_near_double_roots(const ClosedForm& cf, const Pose& T, double* q, bool* valid, const bool* stalled) {
+    const int n = cf.chain.n;
+    for (int s = 0; s < cf.k; ++s) {
+        if (!stalled[s]) continue;
+        double roots[kDoubleRoots * 6];
+        const int found = near_double_roots(cf.chain, T, q + s * n, case_chain(cf.geometry).size, roots);
+        for (int r = 0; r < found; ++r) {
+            int row = s;
+            if (r > 0) {
+                row = cf.k - 1;
+                while (row >= 0 && (row == s || valid[row] || stalled[row])) --row;
+                if (row < 0) break;
+            }
+            const double* root = roots + 6 * r;
+            for (int j = 0; j < n; ++j) q[row * n + j] = cf.chain.prismatic[j] ? root[j] : wrap_angle(root[j]);
+            valid[row] = true;
+        }
+    }
+}
+
 void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family) {
     const int k = cf.k, n = cf.chain.n;
+    bool stalled[kMaxCandidates] = {};
     double q_int[kMaxCandidates * kMaxJoints];
     Mat3 R;
     Vec3 t;
@@ -191,8 +218,14 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
         if (cf.polish && valid[s]) newton(cf.chain, T, qs, cf.polish_steps, cf.polish_stop);
         for (int j = 0; j < n; ++j)
             if (!cf.chain.prismatic[j]) qs[j] = wrap_angle(qs[j]);
-        if (cf.verify && valid[s]) valid[s] = fk_difference(cf.chain, T, qs) <= cf.verify_tolerance;
+        if (cf.verify && valid[s]) {
+            const double residual = fk_difference(cf.chain, T, qs);
+            valid[s] = residual <= cf.verify_tolerance;
+            stalled[s] = cf.polish && residual > kDoubleRootExact * case_chain(cf.geometry).size &&
+                         residual <= kNearlyExact * cf.verify_tolerance;
+        }
     }
+    if (cf.polish) split_near_double_roots(cf, T, q, valid, stalled);
     take_exact_candidates(cf, T, q, valid, family);
     // duplicates, close singular candidates and one solution twice are pairs within kSplitRoots:
     // a regular pose has none, and one scan tells

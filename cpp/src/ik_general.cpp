@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
@@ -75,42 +76,93 @@ double sixth_angle(const Vec3* h, const Mat3& R, const double* q) {
 }
 
 
-// A vector z (12) with A z = 0 for a singular A: full-pivot LU, P A Q = L U, then U w = 0
-// with w_11 = 1 by back substitution, z = Q w.
-void null_vector(const Mat12& A, Eigen::Matrix<double, 12, 1>& z) {
-    const Eigen::FullPivLU<Mat12> lu(A);
-    const Mat12& U = lu.matrixLU();
-    Eigen::Matrix<double, 12, 1> w;
-    w(11) = 1.0;
-    for (int i = 10; i >= 0; --i) {
+// A vector z (12) with A z = 0 for a singular A. LU with partial pivoting, P A = L U: where its
+// smallest pivot U(k, k) is at most kNullPivotGap of the next smallest, it stands for the zero
+// one, and z_k = 1, z_j = 0 for j > k, the rows above by back substitution (A z = P^T L U(k, k)
+// e_k: the pivot's size, |L| <= 1). Else (partial pivoting need not reveal the rank) full-pivot
+// LU, P A Q = L U, then U w = 0 with w_11 = 1, z = Q w. The partial one is a quarter of the cost.
+void back_substitute(const Mat12& U, int k, Eigen::Matrix<double, 12, 1>& w) {
+    w.setZero();
+    w(k) = 1.0;
+    for (int i = k - 1; i >= 0; --i) {
         double s = 0.0;
-        for (int k = i + 1; k < 12; ++k) s += U(i, k) * w(k);
+        for (int j = i + 1; j <= k; ++j) s += U(i, j) * w(j);
         w(i) = U(i, i) != 0.0 ? -s / U(i, i) : 0.0;
     }
-    z = lu.permutationQ() * w;
+}
+
+void null_vector(const Mat12& A, Eigen::Matrix<double, 12, 1>& z) {
+    const Eigen::PartialPivLU<Mat12> partial(A);
+    const Mat12& LU = partial.matrixLU();
+    int k = 0;
+    double smallest = std::fabs(LU(0, 0)), next = std::numeric_limits<double>::infinity();
+    for (int i = 1; i < 12; ++i) {
+        const double pivot = std::fabs(LU(i, i));
+        if (pivot < smallest) next = smallest, smallest = pivot, k = i;
+        else next = std::min(next, pivot);
+    }
+    if (next > 0.0 && smallest <= kNullPivotGap * next) {
+        back_substitute(LU, k, z);
+        return;
+    }
+    const Eigen::FullPivLU<Mat12> full(A);
+    Eigen::Matrix<double, 12, 1> w;
+    back_substitute(full.matrixLU(), 11, w);
+    z = full.permutationQ() * w;
+}
+
+using Mat16 = Eigen::Matrix<double, 16, 16>;
+using Mat12x24 = Eigen::Matrix<double, 12, 24>;
+
+// The companion matrix C = [0 I; K] of the pencil restricted to the complement of its
+// eigenvalues +-i (the spurious roots, see spurious_bases), into A; false where they do not
+// split off to kSpuriousSplit (then C keeps them). With Q = [Q1 Q2] (Q1 spanning their real
+// invariant subspace) Q^T C Q = [* *; 0 A], A = Q2^T C Q2: an orthogonal similarity, no digits
+// lost, and 16 x 16 for the eigensolver instead of 24 x 24.
+bool without_spurious_roots(const Mat12x24& K, const double* basis, Mat16& A) {
+    const Eigen::Map<const Mat24> Q(basis);
+    const Mat12x24 KQ = K * Q;
+    // C Q = [Q's bottom rows; K Q]
+    const Eigen::Matrix<double, 16, 8> leak = Q.topRightCorner<12, 16>().transpose() * Q.bottomLeftCorner<12, 8>() +
+                                              Q.bottomRightCorner<12, 16>().transpose() * KQ.leftCols<8>();
+    if (!(leak.cwiseAbs().maxCoeff() <= kSpuriousSplit * std::max(1.0, K.cwiseAbs().maxCoeff()))) return false;
+    A.noalias() = Q.topRightCorner<12, 16>().transpose() * Q.bottomRightCorner<12, 16>();
+    A.noalias() += Q.bottomRightCorner<12, 16>().transpose() * KQ.rightCols<16>();
+    return true;
 }
 
 // The real roots of det(M0 + M1 x + M2 x^2) as angles t = 2 atan(x) (x = infinity: t = pi)
 // into t (at most kGeneralRoots, the most nearly real first); returns their number. A
-// companion matrix of the better conditioned of M2 (roots x) and M0 (roots 1 / x) goes to
-// Eigen's real Schur eigenvalue solver; where both are nearly singular, Eigen's QZ takes
-// the pencil itself.
-int half_angle_roots(const Mat12 (&M)[3], double* t) {
+// companion matrix of the better conditioned of M2 (roots x) and M0 (roots 1 / x), without
+// the spurious roots +-i where the arm has their subspace (spurious: per arm, see
+// spurious_bases; null: none), goes to Eigen's real Schur eigenvalue solver; where both are
+// nearly singular, Eigen's QZ takes the pencil itself.
+int half_angle_roots(const Mat12 (&M)[3], const double (*spurious)[24 * 24], double* t) {
     const Eigen::PartialPivLU<Mat12> lead(M[2]), trail(M[0]);
     const double rc_lead = lead.rcond(), rc_trail = trail.rcond();
     std::complex<double> x[24];  // eigenvalues, as x = tan(t / 2) or as 1 / x
+    int eigenvalues = 24;
     bool inverted = false;
     if (std::max(rc_lead, rc_trail) >= kCompanionCondition) {
         inverted = rc_trail > rc_lead;
         const Eigen::PartialPivLU<Mat12>& lu = inverted ? trail : lead;
-        const Mat12& low = inverted ? M[2] : M[0];
-        Mat24 C = Mat24::Zero();
-        C.topRightCorner<12, 12>().setIdentity();
-        C.bottomLeftCorner<12, 12>() = -lu.solve(low);
-        C.bottomRightCorner<12, 12>() = -lu.solve(M[1]);
-        const Eigen::EigenSolver<Mat24> eig(C, false);
-        if (eig.info() != Eigen::Success) return 0;
-        for (int r = 0; r < 24; ++r) x[r] = eig.eigenvalues()(r);
+        Mat12x24 K;  // C's bottom rows
+        K.leftCols<12>() = -lu.solve(inverted ? M[2] : M[0]);
+        K.rightCols<12>() = -lu.solve(M[1]);
+        Mat16 A;
+        if (spurious && without_spurious_roots(K, spurious[inverted], A)) {
+            const Eigen::EigenSolver<Mat16> eig(A, false);
+            if (eig.info() != Eigen::Success) return 0;
+            eigenvalues = 16;
+            for (int r = 0; r < 16; ++r) x[r] = eig.eigenvalues()(r);
+        } else {
+            Mat24 C = Mat24::Zero();
+            C.topRightCorner<12, 12>().setIdentity();
+            C.bottomRows<12>() = K;
+            const Eigen::EigenSolver<Mat24> eig(C, false);
+            if (eig.info() != Eigen::Success) return 0;
+            for (int r = 0; r < 24; ++r) x[r] = eig.eigenvalues()(r);
+        }
     } else {
         Mat24 A = Mat24::Zero(), B = Mat24::Zero();
         A.topRightCorner<12, 12>().setIdentity();
@@ -129,7 +181,7 @@ int half_angle_roots(const Mat12 (&M)[3], double* t) {
     }
     int order[24], count = 0;
     double imag[24];
-    for (int r = 0; r < 24; ++r) {
+    for (int r = 0; r < eigenvalues; ++r) {
         imag[r] = std::fabs(x[r].imag()) / std::max(1.0, std::abs(x[r]));
         if (imag[r] <= kRealRoot && x[r].imag() >= 0.0 && std::isfinite(x[r].real())) order[count++] = r;
     }
@@ -167,13 +219,59 @@ void left_side(const Vec3* h, const Vec3* p, double (&left)[kQuantities][3][3][3
                 }
 }
 
+// The orthogonal bases Q (24 x 24, column-major) whose first eight columns span the real
+// invariant subspace of the companion matrix for its eigenvalues y = +-i: bases[0] for y = x3,
+// bases[1] for y = 1 / x3. det M(x3) holds the spurious factor (1 + x3^2)^4, semisimple: M(i)
+// has a null space of four dimensions, and it depends on the arm alone, since at x3 = i the
+// factor 1 + x3^2 of the constant term (the only one holding the pose) vanishes: every
+// quantity of the left side, as a row over the monomials x4^a x5^b and times x4, annihilates
+// it (28 rows; a real 56 x 24 system of rank 16 for v = a + i b). The companion's eigenvectors
+// are [u; i u] with u = v for y = x3 and u = conj(v) for y = 1 / x3 (P(y) = y^2 M(1 / y)):
+// real parts [a; -b] and [a; b].
+void spurious_bases(const double (&left)[kQuantities][3][3][3], double (&bases)[2][24 * 24]) {
+    Eigen::Matrix<double, 56, 24> L = Eigen::Matrix<double, 56, 24>::Zero();
+    for (int z = 0; z < kQuantities; ++z)
+        for (int p4 = 0; p4 < 3; ++p4)
+            for (int p5 = 0; p5 < 3; ++p5) {
+                // at x3 = i: (1 + x3^2, 1 - x3^2, 2 x3) = (0, 2, 2 i) on (1, cos, sin) of t3
+                double re = 0.0, im = 0.0;
+                for (int j = 0; j < 3; ++j)
+                    for (int k = 0; k < 3; ++k) {
+                        const double w = 2.0 * kHalfAngle[p4][j] * kHalfAngle[p5][k];
+                        re += w * left[z][1][j][k];
+                        im += w * left[z][2][j][k];
+                    }
+                for (int times = 0; times < 2; ++times) {  // the quantity, and times x4
+                    const int row = 2 * z + times, col = 3 * (p4 + times) + p5;
+                    L(row, col) = re, L(row, 12 + col) = -im;
+                    L(28 + row, col) = im, L(28 + row, 12 + col) = re;
+                }
+            }
+    // the null space from the LU (P L Q = L U, U's rows past 16 ~0): U11 w = -U12, [a; b] = Q [w; I]
+    const Eigen::FullPivLU<Eigen::Matrix<double, 56, 24>> lu(L);
+    const auto U = lu.matrixLU().topRows<24>();
+    Eigen::Matrix<double, 24, 8> X;
+    X.bottomRows<8>().setIdentity();
+    X.topRows<16>() = -U.topLeftCorner<16, 16>().triangularView<Eigen::Upper>().solve(U.topRightCorner<16, 8>());
+    X = lu.permutationQ() * X;
+    for (int inverted = 0; inverted < 2; ++inverted) {
+        Eigen::Matrix<double, 24, 8> Y = X;
+        if (!inverted) Y.bottomRows<12>() *= -1.0;
+        Eigen::Map<Mat24> Q(bases[inverted]);
+        Q = Eigen::HouseholderQR<Eigen::Matrix<double, 24, 8>>(Y).householderQ();
+    }
+}
+
 }  // namespace
 
 void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g) {
     std::copy(h, h + 6, g.h);
     std::copy(p, p + 6, g.p);
     g.shift = shift;
-    if (shift == 0) left_side(h, p, g.left);
+    if (shift == 0) {
+        left_side(h, p, g.left);
+        spurious_bases(g.left, g.spurious);
+    }
 }
 
 int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
@@ -205,8 +303,10 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
         for (int m = 1; m < 9; ++m) Q(z, m - 1) = right[z][m / 3][m % 3];
     }
     const Eigen::ColPivHouseholderQR<Mat14x8> qr(Q);
-    const Eigen::Matrix<double, kQuantities, kQuantities> basis_q = qr.householderQ();
-    const Eigen::Matrix<double, 6, kQuantities> N = basis_q.rightCols<6>().transpose();  // N Q = 0
+    Eigen::Matrix<double, kQuantities, 6> basis_q = Eigen::Matrix<double, kQuantities, 6>::Zero();
+    basis_q.bottomRows<6>().setIdentity();
+    basis_q.applyOnTheLeft(qr.householderQ());  // the last 6 columns of the QR's Q
+    const Eigen::Matrix<double, 6, kQuantities> N = basis_q.transpose();  // N Q = 0
 
     // 6 equations over (1, cos, sin)^3, then over powers of x3, x4, x5 (times the denominators)
     double E[6][3][3][3];
@@ -220,21 +320,31 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
                 }
     Mat12 M[3];
     for (auto& m : M) m.setZero();
-    for (int e = 0; e < 6; ++e)
+    for (int e = 0; e < 6; ++e) {
+        // kHalfAngle on t5, then t4, then t3 (one joint at a time)
+        double a[3][3][3], b[3][3][3];
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                for (int p5 = 0; p5 < 3; ++p5)
+                    a[i][j][p5] = kHalfAngle[p5][0] * E[e][i][j][0] + kHalfAngle[p5][1] * E[e][i][j][1] +
+                                  kHalfAngle[p5][2] * E[e][i][j][2];
+        for (int i = 0; i < 3; ++i)
+            for (int p4 = 0; p4 < 3; ++p4)
+                for (int p5 = 0; p5 < 3; ++p5)
+                    b[i][p4][p5] = kHalfAngle[p4][0] * a[i][0][p5] + kHalfAngle[p4][1] * a[i][1][p5] +
+                                   kHalfAngle[p4][2] * a[i][2][p5];
         for (int p3 = 0; p3 < 3; ++p3)
             for (int p4 = 0; p4 < 3; ++p4)
                 for (int p5 = 0; p5 < 3; ++p5) {
-                    double s = 0.0;
-                    for (int i = 0; i < 3; ++i)
-                        for (int j = 0; j < 3; ++j)
-                            for (int k = 0; k < 3; ++k)
-                                s += kHalfAngle[p3][i] * kHalfAngle[p4][j] * kHalfAngle[p5][k] * E[e][i][j][k];
+                    const double s = kHalfAngle[p3][0] * b[0][p4][p5] + kHalfAngle[p3][1] * b[1][p4][p5] +
+                                     kHalfAngle[p3][2] * b[2][p4][p5];
                     for (int shift = 0; shift < 2; ++shift) M[p3](e + 6 * shift, (p4 + shift) * 3 + p5) = s;
                 }
+    }
 
     // det(M0 + M1 x + M2 x^2) = 0: the roots x3 = tan(t3 / 2) as angles t3
     double roots[24];
-    const int count = half_angle_roots(M, roots);
+    const int count = half_angle_roots(M, g.shift == 0 ? g.spurious : nullptr, roots);
 
     int found = 0;
     for (int c = 0; c < count; ++c) {

@@ -16,10 +16,11 @@
 // tangents x_i they are quadratic in each x_i, and the 6 equations and their multiples by
 // x4 are a 12 x 12 matrix polynomial M(x3) = M0 + M1 x3 + M2 x3^2 acting on the monomials
 // x4^i x5^j (i <= 3, j <= 2). det M(x3) = 0 is a 24 x 24 companion eigenproblem (Eigen's
-// real Schur solver; Eigen's QZ on the pencil where M2 and M0 are both nearly singular: no
-// home-made eigen solver); the null vector of M(x3) gives x4 and x5, the right side's
-// least-squares solution gives q1, q2, and q6 follows from the rotation left over. The
-// roots x3 = +-i (four each) are spurious; at most 16 real roots remain.
+// QZ on the pencil where M2 and M0 are both nearly singular: no home-made eigen solver); the
+// null vector of M(x3) gives x4 and x5, the right side's least-squares solution gives q1, q2,
+// and q6 follows from the rotation left over. The roots x3 = +-i (four each) are spurious:
+// their invariant subspace depends on the arm alone, so a basis made once per arm splits
+// them off and Eigen's real Schur solver works on the 16 x 16 rest; at most 16 real roots.
 //
 // The joint angles are measured from offsets (kGeneralOffsets), so that no root of a
 // generic pose lies at a half-angle tangent of infinity. Candidates are rough (1e-12 ..
@@ -45,6 +46,7 @@ struct GeneralSixR {
     Vec3 h[6], p[6];                      // axes and points at q = 0 (internal joint order)
     int shift = 0;                        // the loop starts at joint shift + 1 (see general_six_r)
     double left[kQuantities][3][3][3];    // shift 0: left side over (1, cos, sin) of t3, t4, t5
+    double spurious[2][24 * 24];          // shift 0: bases splitting off the roots x3 = +-i
 };
 
 // The arm's constants from its axes h and points p (6 each) and the loop's shift (0 .. 5).
@@ -66,7 +68,7 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
 struct ClassSeed;
 
 // The general case of the registry (ik_cases.hpp), the last: any 6R arm, the elimination's
-// constants made once and shared by copies (3 KB: not carried by any other case); for an arm
+// constants made once and shared by copies (12 KB: not carried by any other case); for an arm
 // near a class, that class's seed.
 struct GeneralGeometry : CaseChain {
     std::shared_ptr<const GeneralSixR> arm;

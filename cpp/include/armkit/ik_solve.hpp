@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "armkit/closed_form.hpp"
+#include "armkit/double_root.hpp"
 #include "armkit/fk.hpp"
 #include "armkit/ik_family.hpp"
 #include "armkit/tolerances.hpp"
@@ -24,13 +25,15 @@ enum FoundFlag : int { kValid = 0, kKeep = 1, kInside = 2, kFamily = 3, kFlags =
 //   q (N, k, n) joint values; errors (N, k, 2) FK residual [m, rad] (NaN: not verified);
 //   flags (N, k, 4): valid (a solution of the closed form), keep (also reproduces the
 //   pose to kSolutionTolerance), inside (the limits), family (as the closed form flags
-//   it); count (N): the usable candidates (kept, and inside if asked), sorted first.
+//   it); count (N): the usable candidates (kept, and inside if asked), sorted first;
+//   size: the arm's (1 + its largest coordinate [m]), for the bars relative to it.
 struct Found {
     int k = 0, n = 0;
     double* q = nullptr;
     double* errors = nullptr;
     bool* flags = nullptr;
     std::int64_t* count = nullptr;
+    double size = 1.0;
 
     double* q_of(std::size_t i, int s) const { return q + (i * k + s) * n; }
     double* errors_of(std::size_t i, int s) const { return errors + (i * k + s) * 2; }
@@ -99,11 +102,34 @@ inline void rank_pose(const Chain& chain, const Found& f, std::size_t i, const d
     }
 }
 
+// The configuration q (n), a solution of pose i's target T, as a valid candidate of pose i in
+// its last invalid row (wrapped into the limits towards near, with its residuals), where there
+// is one: the twin of a near-double root that the case's equations lost (rank_pose then keeps
+// it, drop_twins drops it where it is listed already).
+inline void add_candidate(const Chain& chain, const Pose& T, const Found& f, std::size_t i, const double* q,
+                          const double* near) {
+    int row = f.k - 1;
+    while (row >= 0 && f.flags_of(i, row)[kValid]) --row;
+    if (row < 0) return;
+    double* out = f.q_of(i, row);
+    for (int j = 0; j < f.n; ++j)
+        out[j] = chain.prismatic[j] ? q[j] : wrap_angle_into_limits(q[j], chain.lower[j], chain.upper[j], near[j]);
+    double* errors = f.errors_of(i, row);
+    pose_residual(T, tool_pose(chain, out), errors[0], errors[1]);
+    bool* flags = f.flags_of(i, row);
+    flags[kValid] = true;
+    flags[kFamily] = false;
+}
+
 // Candidate s of pose i, with its residuals in f above kRefineAbove: Levenberg-Marquardt
 // steps onto the solution set (project_onto_solutions), taken where they lower the residual
 // without moving a joint further than kRefineMove (kRefineFamilyMove for a family's
-// representative), revolute joints wrapped into the limits again (towards near: a joint the
-// steps moved across a limit it stood on, by rounding, goes to the other end if that is nearer).
+// representative); where it is still rough, the nearest root of the weak-direction search
+// (near_double_roots: the Jacobian nearly singular there, the row off its root along the weakest
+// direction, as far as 3e-2 beside an aligned wrist, where the steps stall; the other root of
+// the pair, where the search finds one, goes into a free row: add_candidate). Revolute joints are
+// wrapped into the limits again (towards near: a joint the steps moved across a limit it stood
+// on, by rounding, goes to the other end if that is nearer).
 inline void refine(const Chain& chain, const Pose& T, const Found& f, std::size_t i, int s, const double* near) {
     double* errors = f.errors_of(i, s);
     double* q = f.q_of(i, s);
@@ -114,10 +140,21 @@ inline void refine(const Chain& chain, const Pose& T, const Found& f, std::size_
     pose_residual(T, tool_pose(chain, moved), position, angle);
     for (int j = 0; j < f.n; ++j) far = std::fmax(far, std::fabs(moved[j] - q[j]));
     const double reach = f.flags_of(i, s)[kFamily] ? kRefineFamilyMove : kRefineMove;
-    if (!(position + angle < errors[0] + errors[1] && far < reach)) return;
+    const bool taken = position + angle < errors[0] + errors[1] && far < reach;
+    if (!taken) std::copy(q, q + f.n, moved);
+    double roots[kDoubleRoots * 6];
+    const int found = !taken || position > kRefineAbove || angle > kRefineAbove
+                          ? near_double_roots(chain, T, moved, f.size, roots) : 0;
+    if (found > 0) {
+        std::copy(roots, roots + 6, moved);
+        pose_residual(T, tool_pose(chain, moved), position, angle);
+    } else if (!taken) {
+        return;
+    }
     for (int j = 0; j < f.n; ++j)
         q[j] = chain.prismatic[j] ? moved[j] : wrap_angle_into_limits(moved[j], chain.lower[j], chain.upper[j], near[j]);
     errors[0] = position, errors[1] = angle;
+    if (found > 1) add_candidate(chain, T, f, i, roots + 6, near);
 }
 
 // FK residuals of candidate s of pose i (target T) into f, refined if rough (see refine);

@@ -175,6 +175,19 @@ constexpr double kPolished = 1e-15;
 //: quadratic convergence, large enough to step across a singular Jacobian.
 constexpr double kNewtonDamping = 1e-14;
 
+//: A polished candidate that Newton left short of rounding (kDoubleRootExact) is searched for the
+//: two roots of a near-double root (double_root.hpp) where its Jacobian's smallest singular value
+//: is at most this fraction of the largest: Newton's normal equations carry the weak direction's
+//: step with a relative error of eps / ratio^2 (1e-8 at 1e-4), and its damping (kNewtonDamping)
+//: holds the step back below ~1e-7; the stalled candidates seen sat at 1.5e-8, regular ones near
+//: a wrist singularity at 3e-5 .. 1e-4 (they converge, and are not searched).
+constexpr double kNearDoubleRoot = 1e-4;
+//: A root the search finds is kept where FK reproduces the pose to this (entries of the top three
+//: rows, times the arm's size), and a polished candidate that misses by more is searched:
+//: rounding, as a regular solution (~1e-15 .. 1e-14); the point where Newton stalled between two
+//: roots missed by 9e-14.
+constexpr double kDoubleRootExact = 1e-14;
+
 // ------------------------------------------------------------- refinement (ik_solve)
 
 //: Candidates with a larger FK residual [m or rad] are rough: refined (see refine).
@@ -229,6 +242,16 @@ constexpr double kRealRoot = 1e-4;
 //: The companion matrix needs the leading (or trailing) coefficient matrix inverted; below
 //: this reciprocal condition number of both the pencil goes to QZ instead.
 constexpr double kCompanionCondition = 1e-10;
+//: The spurious roots x3 = +-i split off the companion matrix (ik_general.cpp,
+//: without_spurious_roots) where the arm's basis for them leaks at most this times the
+//: matrix's largest entry: rounding leaves ~1e-15 (random arms); beyond, the whole 24 x 24
+//: matrix goes to the eigensolver.
+constexpr double kSpuriousSplit = 1e-12;
+//: The null vector of M(x3) at a root comes from LU with partial pivoting where its smallest
+//: pivot is at most this fraction of the next smallest (a clear rank deficiency: at a root found
+//: to 1e-12 .. 1e-4 the smallest is that small against pivots of the matrix's size), else from
+//: full-pivot LU, which reveals the rank where partial pivoting may not (ik_general.cpp).
+constexpr double kNullPivotGap = 1e-2;
 //: A QZ eigenvalue alpha / beta with |beta| below this times |alpha| is at infinity
 //: (rounding of beta relative to alpha).
 constexpr double kInfiniteEigenvalue = 1e-16;
