@@ -154,7 +154,7 @@ nb::object solve_one(const ClosedForm& cf, nb::handle T, nb::handle near, bool w
     double q[kMaxCandidates * kMaxJoints], errors[kMaxCandidates * 2];
     bool flags[kMaxCandidates * kFlags];
     std::int64_t count = 0;
-    const Found f{k, n, q, errors, flags, &count};
+    const Found f{k, n, q, errors, flags, &count, case_chain(cf.geometry).size};
     solve_poses(cf, static_cast<const double*>(PyArray_DATA(target)), ref.near, 0, ref.weights, within_limits,
                 nearest, f, 0, 1);
     if (count <= 0) return nb::none();

@@ -49,10 +49,6 @@ constexpr int kGeneralNewtonSteps = 8;
 // the FK check then decides.
 void newton(const Chain& chain, const Pose& T, double* q, int steps, double stop = 0.0);
 
-// Whether configurations a and b (chain.n) differ by at most gap in every joint (revolute ones
-// modulo 2 pi).
-bool within(const Chain& chain, const double* a, const double* b, double gap);
-
 // max |fk(q) - T| over the top three rows.
 double fk_difference(const Chain& chain, const Pose& T, const double* q);
 
