@@ -150,6 +150,8 @@ SOLVE_J = PROBOT.jacobian(np.array([0.1, 0.5, 0.4, 0.2, 0.7, 0.3]))
     (SOLVE_J[:, :5].copy(), np.zeros(6),
      r"J: expected a float64 array of shape \(6, 6\), got shape \(6, 5\)"),
     (SOLVE_J.tolist(), np.zeros(6), r"J: expected a float64 array of shape \(6, 6\), got list \(solve takes"),
+    (SOLVE_J.astype(object), np.zeros(6),
+     r"J: expected a float64 array of shape \(6, 6\), got shape \(6, 6\), dtype object"),
     (SOLVE_J, [0.0] * 6, r"twist: expected a float64 array of shape \(6,\), got list"),
     (SOLVE_J, np.array([1e308, -1e308, 1e308, 0.0, 0.0, 0.0]),
      r"twist: expected components from -1e\+06 to 1e\+06"),

@@ -129,3 +129,15 @@ def test_a_joint_value_too_large_for_degrees_is_named_in_radians():
     chain = armkit.load("ur5").chain
     message = chain.limit_violations(np.array([1e307, 0, 0, 0, 0, 0]), degrees=True)[0]
     assert message.startswith("joint q1 = 1e+307 rad is outside its limits [-6.28319, 6.28319] rad"), message
+
+
+@pytest.mark.parametrize("q", [["0"] * 6, [True] * 6, [None] * 6, ["0.1", 0, 0, 0, 0, 0]])
+def test_joint_values_that_are_not_numbers_are_refused(q):
+    """Text, bools and None are not joint values (np.asarray(q, dtype=float) took "0" as 0.0)."""
+    robot = armkit.load("ur5")
+    with pytest.raises(InputError, match=r"q: expected 6 numbers, got \["):
+        robot.check_q(q)
+    with pytest.raises(InputError, match=r"q: expected 6 numbers"):
+        robot.fk(q)
+    with pytest.raises(InputError, match=r"near: expected 6 numbers"):
+        robot.ik(robot.fk(np.zeros(6)), near=q)

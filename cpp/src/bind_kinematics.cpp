@@ -125,14 +125,23 @@ long long jacobians_into(const Chain& chain, const double* qs, std::size_t N, bo
 }
 
 // q as the core reads it, with its last axis n joint values: q itself if it already is a
-// float64_array, else converted as numpy.asarray(q, dtype=float) would; an invalid object if it
-// cannot be (the caller's checks then say why).
+// float64_array, else converted as numpy.asarray(q, dtype=float) would (numbers only: text,
+// bools and complex numbers are not joint values); an invalid object if it cannot be (the
+// caller's checks then say why).
 nb::object joint_values(nb::handle q, int n) {
     nb::object values;
     if (float64_array(q)) {
         values = nb::borrow(q);
     } else {
-        PyObject* converted = PyArray_FromAny(q.ptr(), PyArray_DescrFromType(NPY_DOUBLE), 0, 0,
+        PyObject* raw = PyArray_FromAny(q.ptr(), nullptr, 0, 0, NPY_ARRAY_ENSUREARRAY, nullptr);
+        if (!raw) {
+            PyErr_Clear();
+            return nb::object();
+        }
+        const nb::object as_given = nb::steal(raw);
+        const char kind = PyArray_DESCR(reinterpret_cast<PyArrayObject*>(raw))->kind;
+        if (kind != 'i' && kind != 'u' && kind != 'f' && kind != 'O') return nb::object();
+        PyObject* converted = PyArray_FromAny(raw, PyArray_DescrFromType(NPY_DOUBLE), 0, 0,
                                               NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED | NPY_ARRAY_ENSUREARRAY |
                                                   NPY_ARRAY_FORCECAST,
                                               nullptr);

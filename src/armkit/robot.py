@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armkit import _core, dynamics, kinematics
 from armkit._deprecation import renamed_argument
-from armkit._params import core_ready, thread_count, whole_number
+from armkit._params import core_ready, real_array, thread_count, whole_number
 from armkit.chain import MAX_VALUE, Chain, DHConvention, DHRow, JointKind, chain_from_dh
 from armkit.errors import InputError, JointLimitError
 from armkit.inertial import Inertial
@@ -247,10 +247,7 @@ class Robot:
     # ----------------------------------------------------------------- checks
     def check_q(self, q: ArrayLike, name: str = "q") -> NDArray[np.float64]:
         """Return ``q`` as float64 ``(..., n)``, or raise :class:`InputError` saying why not."""
-        try:
-            q = np.asarray(q, dtype=float)
-        except (TypeError, ValueError) as exc:
-            raise InputError(f"{name}: expected {self.n} numbers, got {q!r}") from exc
+        q = real_array(q, name, f"{self.n} numbers")  # text, bools, None refused
         if q.ndim == 0 or q.shape[-1] != self.n:
             got = {0: "a scalar", 1: f"{q.size}"}.get(q.ndim, f"an array of shape {q.shape}")
             raise InputError(f"{name}: expected {self.n} joint values, got {got} "

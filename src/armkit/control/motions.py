@@ -241,7 +241,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     if reference.shape != (t.size, 4, 4):
         raise InputError(f"reference: expected {t.size} finite 4x4 poses, got shape {reference.shape}")
     gain = check_positive(gain, "gain", "1/s")
-    _check_period(float(np.diff(t).max()), gain, "the longest step of t")
+    _check_period(float(np.diff(t).max()), gain, "the longest step of t", "t")
     control = ResolvedRate(robot) if control is None else control
     N, n = t.size, robot.n
     qs, qds = np.zeros((N, n)), np.zeros((N, n))
@@ -338,7 +338,7 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     given = _check_vector(displacement, "displacement", "m")
     duration = _motion_duration(check_positive(duration, "duration", "s"), "the move")
     dt = check_positive(dt, "dt", "s")
-    _check_period(dt, check_positive(gain, "gain", "1/s"), "dt")
+    _check_period(dt, check_positive(gain, "gain", "1/s"), "dt", "dt")
     T0 = robot.fk(q0)
     if frame == "tool":
         displacement = T0[:3, :3] @ given
@@ -355,13 +355,13 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits)
 
 
-def _check_period(period: float, gain: float, name: str) -> None:
-    """An :class:`InputError` naming ``name`` unless the control period ``period`` [s] and the
-    feedback ``gain`` [1/s] make a stable loop (``gain * period <= 1``)."""
+def _check_period(period: float, gain: float, name: str, parameter: str) -> None:
+    """An :class:`InputError` naming ``name`` (the argument ``parameter``) unless the control period
+    ``period`` [s] and the feedback ``gain`` [1/s] make a stable loop (``gain * period <= 1``)."""
     if gain * period > 1.0:
         raise InputError(f"{name} = {period:g} s with the feedback gain {gain:g} 1/s: expected "
                          f"gain * dt <= 1 (a stable loop), a control period of at most {1.0 / gain:g} s "
-                         f"(or a lower gain)", parameter="dt", value=period)
+                         f"(or a lower gain)", parameter=parameter, value=period)
 
 
 def _check_axis(axis: ArrayLike) -> NDArray[np.float64]:
@@ -472,7 +472,7 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
                                         angular_velocity, None)
     signed_angle, total_time, constant_rate = _turn(angle, angular_velocity, duration)
     dt = check_positive(dt, "dt", "s")
-    _check_period(dt, check_positive(gain, "gain", "1/s"), "dt")
+    _check_period(dt, check_positive(gain, "gain", "1/s"), "dt", "dt")
     T0 = robot.fk(q0)
     if frame == "tool":
         axis = T0[:3, :3] @ axis

@@ -250,8 +250,9 @@ class ResolvedRate:
     def _unsolvable(self, J: object, twist: object, refusal: Exception) -> InputError:
         """The :class:`InputError` for the ``J`` or ``twist`` the core refused (``refusal``) in solve."""
         for name, value, shape in (("J", J, (6, self._n)), ("twist", twist, (6,))):
-            if not isinstance(value, np.ndarray) or value.shape != shape:
-                shown = f"shape {value.shape}" if isinstance(value, np.ndarray) else type(value).__name__
+            if not isinstance(value, np.ndarray) or value.shape != shape or value.dtype.kind not in "fiu":
+                shown = (f"shape {value.shape}, dtype {value.dtype}" if isinstance(value, np.ndarray)
+                         else type(value).__name__)
                 return InputError(f"{name}: expected a float64 array of shape {shape}, got {shown} (solve "
                                   f"takes arrays as they are; joint_velocity() checks and converts)",
                                   parameter=name, value=value)
