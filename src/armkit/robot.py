@@ -422,10 +422,9 @@ class Robot:
         >>> robot.ik(T, near=[1, -1, 0, 0, 1, 1]).round(3)
         array([ 0.927, -0.687, -0.396,  0.   ,  1.083,  0.927])
         """
-        if scene is None and (not options or (len(options) == 1 and (
-                options.get("turn_copies", True) is False or ("turn_copies" in options
-                                                             and not self.chain.spans_turns)))):
-            # one pose as the core takes it: one core call (else None), each solution once
+        copies = options.get("turn_copies", False)
+        if scene is None and options.keys() <= {"turn_copies"} and not (copies and self.chain.spans_turns):
+            # one pose as the core takes it, each solution once (as ik lists it): one core call, else None
             q = _closed_form().one_pose(self.chain, T_base_tool, near, within_limits, not all_solutions)
             if q is not None:
                 return q
