@@ -125,6 +125,26 @@ def _newton_refined(chain, T, q):
     return result.q if result.success and np.abs(result.q - q).max() < 1e-3 else q
 
 
+def newton_root(chain, T, q, steps=10):
+    """The solution of ``T`` that plain Gauss-Newton steps from ``q`` converge to, or ``q`` as it
+    was if, after ``steps`` of them, FK does not reproduce ``T`` to 1e-13 (times the arm's size).
+
+    A numeric search's stopping test (a residual under 1e-10, say) passes points as far as
+    residual / sigma_min from every solution: beside a near-double root, where the Jacobian's
+    smallest singular value was 8e-8, a point 2e-3 rad from the nearest solution, and no solution
+    itself (checked in 50-digit arithmetic: Newton takes it onto that neighbour). Undamped steps
+    take such a point onto the solution it stands for (four steps seen); a point they do not take
+    onto ``T`` is kept as found, so a search's solution is never dropped.
+    """
+    x = np.array(q, dtype=float)
+    for _ in range(steps):
+        x = x + np.linalg.lstsq(geometric_jacobian(chain, x), pose_error(T, fk(chain, x)), rcond=None)[0]
+    size = 1 + np.abs(fk(chain, np.zeros(chain.n))[:3, 3]).max()
+    if not np.abs(fk(chain, x) - T).max() <= 1e-13 * size:
+        return q
+    return np.where(chain.prismatic, x, np.angle(np.exp(1j * x)))
+
+
 def _polished(chain, T, q, steps=12):
     """``q`` after Gauss-Newton steps towards ``T`` (each halved until it lowers the FK
     residual: near a fold the full step overshoots), with that residual: an exact

@@ -25,6 +25,7 @@ import os
 
 import numpy as np
 import pytest
+from helpers import newton_root
 
 import armkit
 from armkit.ik import ik_solutions
@@ -240,12 +241,13 @@ def represented(robot: armkit.Robot, T: np.ndarray, found, q: np.ndarray) -> boo
 
 
 def numeric_solutions(robot: armkit.Robot, T: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    """Solutions of ``T`` armkit's Levenberg-Marquardt finds from SEARCH_SEEDS random seeds."""
+    """Solutions of ``T`` armkit's Levenberg-Marquardt finds from SEARCH_SEEDS random seeds, each
+    taken by Newton onto the solution it stands for (``helpers.newton_root``)."""
     solver = NumericIK(robot, position_tolerance=1e-12, orientation_tolerance=1e-12, max_restarts=0,
                        max_iterations=60, within_limits=False)
     seeds = robot.random_q(SEARCH_SEEDS, rng=rng)
     result = solver.solve_batch(np.broadcast_to(T, (SEARCH_SEEDS, 4, 4)), seeds, threads=1)
-    return result.q[result.success]
+    return np.array([newton_root(robot.chain, T, q) for q in result.q[result.success]]).reshape(-1, robot.n)
 
 
 def missed_branches(robot: armkit.Robot, q_all: np.ndarray, rng: np.random.Generator) -> list[str]:
