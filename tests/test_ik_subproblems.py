@@ -45,6 +45,24 @@ def test_sp1_recovers_angle(seed):
         assert _angle_diff(theta, t) < 1e-9
 
 
+@settings(max_examples=50, deadline=None)
+@given(seeds, st.floats(-10, -6))
+def test_sp1_keeps_its_accuracy_for_points_next_to_the_axis(seed, log_offset):
+    # p and q a distance e (1e-10 .. 1e-6) off the axis: the angle is known to ~1e-16 / e; its
+    # cosine once lost that (an aligned wrist's q6 came out 0.5 rad off at e = 1e-9)
+    rng = np.random.default_rng(seed)
+    e = 10.0**log_offset
+    for _ in range(INSTANCES):
+        k, t = np.array(_unit(rng)), rng.uniform(-np.pi, np.pi)
+        u = np.cross(k, _unit(rng))
+        u /= np.linalg.norm(u)
+        v = np.cross(k, u)
+        along = rng.uniform(-2, 2) * k
+        theta, free = sp1(along + e * u, along + e * (np.cos(t) * u + np.sin(t) * v), k)
+        assert not free
+        assert _angle_diff(theta, t) < 1e-14 / e
+
+
 def test_sp1_point_on_axis_is_free():
     k = (0.0, 0.0, 1.0)
     theta, free = sp1((0.0, 0.0, 2.0), (0.0, 0.0, 2.0), k)

@@ -207,6 +207,11 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
     Vec3 t;
     joint_motion(cf, T, R, t);
     solve_pose(cf.geometry, R, t, q_int, valid, family);
+    const double exact = kDoubleRootExact * case_chain(cf.geometry).size;
+    auto wrap_revolute = [&](double* qs) {
+        for (int j = 0; j < n; ++j)
+            if (!cf.chain.prismatic[j]) qs[j] = wrap_angle(qs[j]);
+    };
     for (int s = 0; s < k; ++s) {
         double* qs = q + s * n;
         bool finite = true;
@@ -215,14 +220,25 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
         }
         for (int j = 0; j < n; ++j) finite = finite && std::isfinite(qs[j]);
         valid[s] = valid[s] && finite;
-        if (cf.polish && valid[s]) newton(cf.chain, T, qs, cf.polish_steps, cf.polish_stop);
-        for (int j = 0; j < n; ++j)
-            if (!cf.chain.prismatic[j]) qs[j] = wrap_angle(qs[j]);
+        const bool polish = cf.polish && valid[s];
+        double unpolished[kMaxJoints];
+        if (polish) {
+            std::copy(qs, qs + n, unpolished);
+            newton(cf.chain, T, qs, cf.polish_steps, cf.polish_stop);
+        }
+        wrap_revolute(qs);
         if (cf.verify && valid[s]) {
-            const double residual = fk_difference(cf.chain, T, qs);
+            double residual = fk_difference(cf.chain, T, qs);
+            // beside a near-double root Newton can step along the weak direction away from the
+            // root the case placed (an aligned wrist of a three-parallel arm: 1e-8 off the pose
+            // before, 2.6e-6 after, q6 a radian away): the better of the two goes on
+            if (polish && residual > exact) {
+                wrap_revolute(unpolished);
+                const double before = fk_difference(cf.chain, T, unpolished);
+                if (before < residual) std::copy(unpolished, unpolished + n, qs), residual = before;
+            }
             valid[s] = residual <= cf.verify_tolerance;
-            stalled[s] = cf.polish && residual > kDoubleRootExact * case_chain(cf.geometry).size &&
-                         residual <= kNearlyExact * cf.verify_tolerance;
+            stalled[s] = polish && residual > exact && residual <= kNearlyExact * cf.verify_tolerance;
         }
     }
     if (cf.polish) split_near_double_roots(cf, T, q, valid, stalled);

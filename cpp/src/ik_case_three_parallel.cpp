@@ -45,6 +45,113 @@ double q5_near_aligned_wrist(const ThreeParallelGeometry& g, const Mat3& R, doub
     return g.q5_aligned[nearest] + sign * d;
 }
 
+// The index of the aligned value of q5 nearest t5, and its distance.
+int nearest_aligned(const ThreeParallelGeometry& g, double t5, double& gap) {
+    int nearest = 0;
+    gap = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < g.aligned; ++a) {
+        const double d = std::abs(wrap_angle(t5 - g.q5_aligned[a]));
+        if (d < gap) nearest = a, gap = d;
+    }
+    return nearest;
+}
+
+// Near an aligned wrist the system's first equation is at an extremum in both angles (axis 6
+// cannot turn nearer to h than parallel), so its two roots there are a near-double pair of the
+// quartic, each placed only to ~1e-8 in q1 and ~1e-7 in q5 (a UR5 with joint 6's point moved by
+// 1e-2, at q5 = 1e-7: both roots polished onto one, or snapped, and the pose's own configuration
+// lost). Each side of that equation is small there and is computed here from sines, to its own
+// relative accuracy: E(q1) = (1 - |cos| of the angle between axis 6 and h for q1) - b (1 - cos d),
+// d the distance from the aligned value a of the q5 the second equation gives for q1 (that
+// equation is regular there: Q has rank 2). E's zeros are the pair's roots, simple ones.
+struct AlignedGap {
+    double E = 0.0, q5 = 0.0;
+    bool ok = false;
+};
+
+AlignedGap aligned_gap(const ThreeParallelGeometry& g, const Mat3& R, const Mat2& P, const double* r, double size,
+                       double a, double q1) {
+    AlignedGap out;
+    const Vec3 c = cross(g.h[5], mul_transposed(R, rotate(g.h[0], q1, g.hp)));
+    const double S2 = std::min(dot(c, c), 1.0);
+    const double rhs = P.m[1][0] * std::cos(q1) + P.m[1][1] * std::sin(q1) - r[1];
+    const Angles2 q5 = solve_trig_linear(g.Q[1][0], g.Q[1][1], rhs, size, false);
+    double best = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 2; ++k) {
+        const double d = wrap_angle(q5.t[k] - a);
+        if (q5.ok[k] && std::abs(d) < std::abs(best)) best = d, out.q5 = q5.t[k];
+    }
+    if (!std::isfinite(best)) return out;
+    const double half = std::sin(0.5 * best);
+    out.E = S2 / (1.0 + std::sqrt(1.0 - S2)) - 2.0 * g.b_aligned * half * half;
+    out.ok = true;
+    return out;
+}
+
+// The quartic's roots within kAlignedWristReach of an aligned wrist (not rank 1), one or two
+// within kAlignedPair of each other in q1 (a near-double pair, or one whose partner the quartic
+// lost), replaced by the zeros of E beside them: E fitted by a quadratic in q1 on three points
+// spanning them, its real zeros within those points taken by Newton steps on E itself and given
+// to the roots in order (a second zero to a free slot where there is one root). Where the zeros
+// are not there, the roots are left as they were (FK decides).
+void split_near_aligned_pairs(const ThreeParallelGeometry& g, const Mat3& R, const Mat2& P, const double* r,
+                              AngleCandidates& pair) {
+    if (g.aligned == 0) return;
+    const double size = system_size(P, r);
+    bool done[4] = {};
+    for (int i = 0; i < 4; ++i) {
+        double gap;
+        const int a = nearest_aligned(g, pair.t2[i], gap);
+        if (done[i] || pair.free[i] || gap > kAlignedWristReach) continue;
+        int group[4], members = 0;
+        for (int j = i; j < 4; ++j) {
+            double gap_j;
+            if (!done[j] && !pair.free[j] && nearest_aligned(g, pair.t2[j], gap_j) == a &&
+                gap_j <= kAlignedWristReach && std::abs(wrap_angle(pair.t1[j] - pair.t1[i])) <= kAlignedPair)
+                group[members++] = j, done[j] = true;
+        }
+        if (members > 2) continue;  // three roots so near one another: no pair to split
+        if (members == 2 && wrap_angle(pair.t1[group[1]] - pair.t1[group[0]]) < 0.0) std::swap(group[0], group[1]);
+        const double half = members == 2 ? 0.5 * wrap_angle(pair.t1[group[1]] - pair.t1[group[0]]) : 0.0;
+        const double centre = pair.t1[group[0]] + half, w = std::max(4.0 * half, kAlignedPairWidth);
+        const double qa = g.q5_aligned[a];
+        const AlignedGap lo = aligned_gap(g, R, P, r, size, qa, centre - w), mid = aligned_gap(g, R, P, r, size, qa, centre),
+                         hi = aligned_gap(g, R, P, r, size, qa, centre + w);
+        if (!(lo.ok && mid.ok && hi.ok)) continue;
+        const double A = (hi.E + lo.E - 2.0 * mid.E) / (2.0 * w * w), B = (hi.E - lo.E) / (2.0 * w), C = mid.E;
+        const double disc = B * B - 4.0 * A * C;
+        if (!(A != 0.0) || disc < 0.0) continue;
+        // the zeros of A u^2 + B u + C, the larger in size first (no cancellation), then Newton on E
+        const double big = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+        double u[2] = {big / A, big != 0.0 ? C / big : 0.0};
+        AlignedGap at[2];
+        bool inside[2];
+        for (int z = 0; z < 2; ++z) {
+            for (int step = 0; step < 3; ++step) {
+                at[z] = aligned_gap(g, R, P, r, size, qa, centre + u[z]);
+                const double slope = 2.0 * A * u[z] + B;
+                if (!at[z].ok || !(std::abs(slope) > 0.0) || !(std::abs(at[z].E / slope) <= w)) break;
+                u[z] -= at[z].E / slope;
+            }
+            at[z] = aligned_gap(g, R, P, r, size, qa, centre + u[z]);
+            inside[z] = at[z].ok && std::abs(u[z]) <= w;
+        }
+        if (u[0] > u[1]) std::swap(u[0], u[1]), std::swap(at[0], at[1]), std::swap(inside[0], inside[1]);
+        if (members == 2 && !(inside[0] && inside[1])) continue;
+        if (members == 1) {  // the zero nearer the root is its own; the other, if there, a free slot's
+            if (std::abs(u[1]) < std::abs(u[0])) std::swap(u[0], u[1]), std::swap(at[0], at[1]), std::swap(inside[0], inside[1]);
+            if (!inside[0]) continue;
+            for (int j = 0; j < 4 && members == 1 && inside[1]; ++j)
+                if (!pair.valid[j] && !done[j]) group[members++] = j, done[j] = true;
+        }
+        for (int m = 0; m < members; ++m) {
+            pair.t1[group[m]] = centre + u[m];
+            pair.t2[group[m]] = at[m].q5;
+            pair.valid[group[m]] = true;
+        }
+    }
+}
+
 // Put q5 exactly where axis 6 is parallel to h when a quartic root is that close to it.
 // There the quartic has a double root, which Newton steps reach only to ~1e-8; the exact
 // value lets the family (q6 against q2 + q3 + q4) be recognised. q1 is then solved from
@@ -56,15 +163,8 @@ void snap_to_aligned_wrist(const ThreeParallelGeometry& g, const Mat2& P, const 
     if (g.aligned == 0 || std::abs(det) <= kAlignedWristSolvable * size) return;
     const auto& Q = g.Q;
     for (int i = 0; i < 4; ++i) {
-        int nearest = 0;
-        double gap = std::numeric_limits<double>::infinity();
-        for (int a = 0; a < g.aligned; ++a) {
-            const double d = std::abs(wrap_angle(t5[i] - g.q5_aligned[a]));
-            if (d < gap) {
-                nearest = a;
-                gap = d;
-            }
-        }
+        double gap;
+        const int nearest = nearest_aligned(g, t5[i], gap);
         if (gap > kAlignedWristSnap) continue;
         const double q5 = g.q5_aligned[nearest];
         const double rhs0 = r[0] + Q[0][0] * std::cos(q5) + Q[0][1] * std::sin(q5);
@@ -91,6 +191,7 @@ void solve_case(const ThreeParallelGeometry& g, const Mat3& R, Vec3 t, double* q
     if (g.rank1) {
         for (int i = 0; i < 4; ++i) pair.t2[i] = q5_near_aligned_wrist(g, R, pair.t1[i], pair.t2[i], i);
     } else {
+        split_near_aligned_pairs(g, R, P, r, pair);
         snap_to_aligned_wrist(g, P, r, pair.t1, pair.t2);
     }
     // axis 6 within kAlignedToRounding of h at q5

@@ -62,14 +62,17 @@ inline TrigCoeffs trig_coeffs(Vec3 h, Vec3 k, Vec3 v) {
 }
 
 // SP1: the angle t with R(k, t) p = q (least squares if |p| != |q|); free where p (or q)
-// lies on the axis (scale: the length scale of p and q, 0 for none).
+// lies on the axis (scale: the length scale of p and q, 0 for none). Both terms come from
+// k x p and k x q alone, which keep their relative accuracy however near the axis p and q lie:
+// (k x p) . q and (p - (k . p) k) . q lost it (one vector's rounding along k times the other's
+// part along k: 1e-16 against a true 1e-18 where both lie 1e-9 off the axis, an aligned wrist's
+// q6 then 0.5 rad off).
 inline Angle1 sp1(Vec3 p, Vec3 q, Vec3 k, double scale = 0.0) {
     const Vec3 kxp = cross(k, p), kxq = cross(k, q);  // their lengths: distances from the axis
     const double free2 = kFreeTolerance * kFreeTolerance, scale2 = scale * scale;
     if (dot(kxp, kxp) <= free2 * std::max(dot(p, p), scale2) || dot(kxq, kxq) <= free2 * std::max(dot(q, q), scale2))
         return {0.0, true};
-    const Vec3 p_perp = p - dot(k, p) * k;
-    return {std::atan2(dot(kxp, q), dot(p_perp, q)), false};
+    return {std::atan2(dot(k, cross(kxp, kxq)), dot(kxp, kxq)), false};
 }
 
 // All t with a cos t + b sin t = c; size: the size of the terms. snap: within

@@ -132,9 +132,19 @@ constexpr double kAlignedToRounding = 1e-11;
 //: q5 within this [rad] of an aligned wrist (three parallel axes) is recomputed from a
 //: sine: the cosine equation loses q5 below ~1e-8, and the sine form is exact up to 1e-3.
 constexpr double kAlignedWristReach = 1e-3;
-//: A quartic root q5 within this [rad] of an aligned wrist is put onto it exactly: a
-//: double root there is reached by Newton steps only to ~1e-8.
-constexpr double kAlignedWristSnap = 1e-6;
+//: A root q5 within this [rad] of an aligned wrist is put onto it exactly (the family's
+//: member): at an aligned pose the pair's roots, split from sines (split_near_aligned_pairs),
+//: lie within ~1e-14 of it; a pose 1e-7 off has its two roots ~1e-7 either side (1e-6 here
+//: once snapped both onto it, and the generating configuration was lost).
+constexpr double kAlignedWristSnap = 1e-10;
+//: Two roots of the quartic within kAlignedWristReach of an aligned wrist and within this [rad]
+//: of each other in q1 are a near-double pair (split_near_aligned_pairs): the quartic places a
+//: pair d apart to ~1e-16 / d, so farther apart than this they are already accurate (a pair at
+//: q5 = +-1e-7 lay 2e-8 apart in q1; three roots 1.5e-4 .. 6e-4 apart near q5 = 0 are no pair).
+constexpr double kAlignedPair = 1e-5;
+//: ... whose E is fitted on points at least this far [rad] either side of their middle
+//: (roots the quartic placed to ~1e-8 may lie that far from where they are).
+constexpr double kAlignedPairWidth = 1e-7;
 //: ... where P (the pose's 2x2 part) is invertible: its determinant above this times its
 //: scale (below, q1 is not determined by q5 and the snap would be noise).
 constexpr double kAlignedWristSolvable = 1e-9;
