@@ -21,12 +21,12 @@ What is read
     limited joint (an unlimited one, ``limited="false"`` or no ``range``, has no limits),
     ``actuatorfrcrange`` as the joint's ``max_torque``; mass, centre of mass and inertia of
     every body moving with a chain link (bodies fixed to it, side branches and bodies beyond
-    the tip held at ``q = ref``), merged into that link as :mod:`armkit.urdf` does. Bodies fixed to the base carry no
-    load and are left out. A joint's velocity, acceleration and torque limits from the custom
-    numerics ``armkit:<joint>:max_velocity`` (``max_acceleration``, ``max_torque``) that
-    :mod:`armkit.export.mjcf` writes (MJCF itself has no velocity or acceleration limits;
-    ``actuatorfrcrange`` wins over the numeric torque). Armature, damping, friction,
-    actuators, geoms and contacts are ignored.
+    the tip held at ``q = ref``), merged into that link as :mod:`armkit.urdf` does. Bodies
+    fixed to the base carry no load and are left out. A joint's velocity, acceleration and
+    torque limits from the custom numerics ``armkit:<joint>:max_velocity``
+    (``max_acceleration``, ``max_torque``) that :mod:`armkit.export.mjcf` writes (MJCF
+    itself has no velocity or acceleration limits; ``actuatorfrcrange`` wins over the
+    numeric torque). Armature, damping, friction, actuators, geoms and contacts are ignored.
 Refused, with one :class:`~armkit.errors.RobotDefinitionError`
     A file MuJoCo cannot compile (its message is passed on), unknown base or tip names,
     a tip not below the base, ball and free joints on the chosen path, no joint on it, a
