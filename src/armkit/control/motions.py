@@ -91,7 +91,8 @@ class MotionResult:
         is its deprecated old name).
     message : str
         ``"completed"``, or why not: which joint limit stopped the motion (joint, value,
-        time), or how far from the target it ended and what held it back.
+        time), or how far from the target it ended and what held it back (joint values and
+        angles in rad, or in degrees with ``message_degrees``).
     """
 
     t: NDArray[np.float64]
