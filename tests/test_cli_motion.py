@@ -107,3 +107,52 @@ def test_a_start_outside_the_limits_is_said_in_the_units_typed(capsys, command):
     assert main([name, "probot-anno", "--deg", "--from", "0", "300", "0", "0", "0", "0", *rest]) == 1
     err = capsys.readouterr().err
     assert "error: --from: joint q2 = 300 deg is outside its limits [-115, 115] deg" in err
+
+
+# A PUMA 560 move that ends 2e-5 m short at sigma_min 0.038 (under the 0.04 damping threshold): the
+# target is reachable, at q2 = 31.27 deg, where the move stopped at 31.253 deg.
+PUMA_START = np.array([1.8553, -0.0314, -0.3643, 1.0398, 0.6078, 2.0305])
+
+
+def _puma_move(degrees: bool) -> list[str]:
+    start = np.degrees(PUMA_START) if degrees else PUMA_START
+    return ["--from", *(repr(float(v)) for v in start), "--by", "-0.1354", "0.0406", "0.1494",
+            "--duration", "0.70225", *(["--deg"] if degrees else [])]
+
+
+def _named_q(err: str) -> tuple[np.ndarray, str]:
+    """The joint values a 'stopped:' message names after 'IK finds q = ', and their unit."""
+    values, unit = err.split("IK finds q = [")[1].split(", inside the limits")[0].split("] ")
+    return np.array(values.split(", "), dtype=float), unit
+
+
+def test_a_move_held_back_by_the_damping_names_the_ik_solution_in_the_units_typed(capsys):
+    """Before: with --deg the IK solution was printed in radians ('q = [2.028, 0.5458, ...] rad or m')."""
+    import armkit
+
+    code, _, err = run(capsys, "move", "puma560", *_puma_move(True))
+    assert code == 1 and "so the damping held the arm back near the singularity: move slower" in err
+    assert "the tool ended 2.07e-05 m and 0.000575 deg from the target" in err
+    q_deg, unit = _named_q(err)
+    code, _, err_rad = run(capsys, "move", "puma560", *_puma_move(False))
+    q_rad, unit_rad = _named_q(err_rad)
+    assert (unit, unit_rad) == ("deg", "rad")
+    np.testing.assert_allclose(np.radians(q_deg), q_rad, atol=1e-3)  # both printed to 4 digits
+    robot = armkit.load("puma560")  # and the degrees name the solution: FK of them reaches the target
+    end = robot.fk(PUMA_START)
+    end[:3, 3] += [-0.1354, 0.0406, 0.1494]
+    np.testing.assert_allclose(robot.fk(np.radians(q_deg)), end, atol=2e-3)
+
+
+def test_a_target_reachable_only_outside_the_limits_is_said_in_the_units_typed(capsys, tmp_path):
+    """The same move on a PUMA whose q2 stops at 31.26 deg: IK's outside-the-limits message, in degrees."""
+    from importlib import resources
+
+    text = (resources.files("armkit") / "robots" / "puma560.toml").read_text()
+    path = tmp_path / "puma.toml"
+    path.write_text(text.replace("limits = [-45, 225]", "limits = [-45, 31.26]"))
+    code, _, err = run(capsys, "move", str(path), *_puma_move(True))
+    assert code == 1
+    assert ("IK of the target says: the target pose is reachable, but only outside the joint limits (e.g. "
+            "joint q2 = 148.735 deg is outside its limits [-45, 31.26] deg" in err)
+    assert " rad" not in err.replace("rad)", "")  # ("... 'armkit ik --outside'" has no unit in it)

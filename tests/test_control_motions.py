@@ -72,7 +72,7 @@ def test_seed_fixed_point_rotation_turns_180_degrees():
 def test_rotation_asked_for_more_stops_at_the_joint_limit():
     result = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=-0.2, angle=-np.radians(200))
     assert not result.success
-    assert "joint q4 reached its lower limit" in result.message
+    assert "joint q4 reached its lower limit -3.14159 rad at t = " in result.message  # (no unit before)
     assert result.q[:, 3].min() >= -np.pi - 1e-12
     assert PROBOT.within_limits(result.q).all()
     turned = rotation_angle_between(result.pose_final, PROBOT.fk(Q0))
@@ -81,6 +81,10 @@ def test_rotation_asked_for_more_stops_at_the_joint_limit():
     with pytest.raises(JointLimitError, match="joint q4 reached its lower limit"):
         rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=-0.2, angle=-np.radians(200),
                                 stop_at_limits=False)
+    in_degrees = rotate_about_tool_point(PROBOT, Q0, [1, 0, 0], angular_velocity=-0.2,
+                                         angle=-np.radians(200), message_degrees=True)
+    assert "joint q4 reached its lower limit -180 deg at t = " in in_degrees.message
+    np.testing.assert_array_equal(in_degrees.q, result.q)  # only the message's unit differs
 
 
 def test_rotation_through_a_wrist_singularity_keeps_velocities_smooth_and_limited():

@@ -401,6 +401,34 @@ def test_without_mujocos_spec_parser_a_bad_range_is_shown_in_compiled_radians(mo
         robot_from_mjcf(text)
 
 
+@pytest.mark.parametrize(("compiler", "joint", "shown"), [
+    ("", 'range="-1e300 1e300"', r"\[-1e\+300, 1e\+300\] degrees \(<compiler angle=\"degree\">"),
+    ('<compiler angle="radian"/>', 'range="-3 2e6"', r"\[-3, 2e\+06\] rad \(the file's"),
+    ("", 'type="slide" range="-1e7 0.5"', r"\[-1e\+07, 0.5\] m"),
+])
+def test_a_joint_range_beyond_max_value_is_refused_naming_the_joint(tmp_path, compiler, joint, shown):
+    """Before: range="-1e300 1e300" (degrees, MuJoCo's default) loaded as limits of +-1.7e298 rad. MJCF
+    says "no limits" with limited="false" (or no range), so a range beyond MAX_VALUE is refused, as
+    robot files refuse it (a URDF's is read as no limit: URDF has no other way to say it)."""
+    path = tmp_path / "arm.xml"
+    path.write_text(f'<mujoco>{compiler}<worldbody><body name="l1"><joint name="j1" axis="0 1 0" {joint}/>'
+                    f'<geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
+    message = (rf"arm.xml, joint 'j1': range {shown}[^;]*; expected two finite numbers of magnitude at most "
+               rf"1e\+06 rad \(5.73e\+07 degrees\) or m \(for no limits: limited=\"false\"")
+    with pytest.raises(RobotDefinitionError, match=message):
+        armkit.load(path)
+
+
+def test_a_joint_range_up_to_max_value_loads_and_an_unlimited_one_has_no_limits():
+    def text(joint: str) -> str:
+        return (f'<mujoco><compiler angle="radian"/><worldbody><body name="l1"><joint name="j1" axis="0 1 0" '
+                f'{joint}/><geom size="0.05"/><body name="f" pos="0 0 .5"/></body></worldbody></mujoco>')
+
+    assert robot_from_mjcf(text('range="-1e6 1e6"')).limits.tolist() == [[-1e6, 1e6]]
+    unlimited = robot_from_mjcf(text('range="-1e300 1e300" limited="false"'))
+    assert unlimited.limits.tolist() == [[-np.inf, np.inf]]
+
+
 @pytest.mark.parametrize(("body", "joint", "geom", "message"), [
     ('pos="nan 0 0"', 'axis="0 1 0"', 'size="0.05"', r"MJCF text, body 'l1': pos \[nan, 0.0, 0.0\]; expe"),
     ('pos="0 0 0"', 'axis="nan 0 0"', 'size="0.05"', r"MJCF text, joint 'j1': axis \[nan, .*\]; expected"),
@@ -439,4 +467,5 @@ def test_the_cli_shows_mujocos_warning_as_one_line(tmp_path, capsys):
     lines = capsys.readouterr().err.strip().splitlines()
     assert lines == [f"warning: {path}: MuJoCo warns: XML contains a 'NaN'. Please check it carefully.",
                      f"error: {path}, joint 'j1': range [0, nan] degrees (<compiler angle=\"degree\">, "
-                     f"MuJoCo's default); expected two finite numbers"]
+                     f"MuJoCo's default); expected two finite numbers of magnitude at most 1e+06 rad "
+                     f"(5.73e+07 degrees) or m (for no limits: limited=\"false\", or no range)"]

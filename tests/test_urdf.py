@@ -248,6 +248,18 @@ def test_a_limit_with_one_bound_takes_the_spec_default_zero_for_the_other():
     assert robot_from_urdf(text, tip="tool").limits[2].tolist() == [0.0, 0.2]
 
 
+@pytest.mark.parametrize(("bounds", "limits"), [
+    ('lower="-1e300" upper="1e300"', [-np.inf, np.inf]),  # Gazebo's 1e16 and larger: no limit
+    ('lower="-1e16" upper="0.2"', [-np.inf, 0.2]),
+    ('lower="-1e6" upper="1e6"', [-1e6, 1e6]),  # MAX_VALUE itself is still a limit
+])
+def test_a_position_limit_beyond_max_value_is_no_limit(bounds, limits):
+    """URDF's way of saying "unbounded" for a joint that must have a <limit> (robot files and MJCF
+    refuse such values instead: they have their own "no limits", see docs/urdf.md)."""
+    text = edit('lower="-0.1" upper="0.2"', bounds)(ARM)
+    assert robot_from_urdf(text, tip="tool").limits[2].tolist() == limits
+
+
 def test_a_byte_order_mark_is_skipped(tmp_path):
     path = tmp_path / "arm.urdf"
     path.write_bytes(b"\xef\xbb\xbf" + ARM.encode())

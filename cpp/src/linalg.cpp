@@ -127,18 +127,48 @@ double smallest_gram_eigenvalue(const double* J, int n) {
 
 RateStepInfo rate_step(const double* J, int n, const double* twist, double threshold, double max_damping,
                        const double* inverse_max_velocity, double* qd) {
+    // The step is solved for Js = J 2^-e, e the exponent of J's largest entry (Js's in [0.5, 1)):
+    // scaling by a power of two is exact, so a J of ordinary size gets the very same bits, and a
+    // J of 1e-300 (or 1e300), whose Gram matrix would underflow to zero (overflow), its true step
+    // rather than 0. With J = 2^e Js and d = lambda^2 4^-e:
+    //   sigma_min(J) = 2^e sigma_min(Js),  qd = J^T (J J^T + lambda^2 I)^-1 twist
+    //                                         = 2^-e Js^T (Js Js^T + d I)^-1 twist.
+    int e = 0;
+    double largest = 0.0;
+    for (int k = 0; k < 6 * n; ++k) largest = std::max(largest, std::abs(J[k]));
+    if (largest > 0.0) std::frexp(largest, &e);
+    // 2^-e as two factors, each a double for every e frexp gives (-1073 .. 1024); multiplying
+    // by them is exact (but for entries below 2^-1022 of the result, noise beside the largest)
+    const double half = std::ldexp(1.0, -e / 2), rest = std::ldexp(1.0, -e - (-e / 2));
+    double Js[6 * kMaxJoints];
+    for (int k = 0; k < 6 * n; ++k) Js[k] = J[k] * half * rest;
     RateStepInfo info;
-    const double smallest = smallest_gram_eigenvalue(J, n);
-    info.sigma_min = std::sqrt(std::max(smallest, 0.0));
+    const double smallest = smallest_gram_eigenvalue(Js, n);
+    info.sigma_min = std::ldexp(std::sqrt(std::max(smallest, 0.0)), e);
     info.damping = rate_damping(info.sigma_min, threshold, max_damping);
+    double damping = std::ldexp(info.damping, -2 * e);
     if (info.damping == 0.0) {  // no damping asked: an exactly singular J still gets the least-squares step
         double trace = 0.0;
-        for (int k = 0; k < 6 * n; ++k) trace += J[k] * J[k];
-        if (smallest <= kGramRounding * trace) info.damping = kSingularDamping * trace;
+        for (int k = 0; k < 6 * n; ++k) trace += Js[k] * Js[k];
+        if (smallest <= kGramRounding * trace) {
+            damping = kSingularDamping * trace;
+            info.damping = std::ldexp(damping, 2 * e);
+        }
     }
-    static constexpr int kEveryRow[6] = {0, 1, 2, 3, 4, 5};
-    double free[kMaxJoints] = {};
-    damped_step(J, n, twist, kEveryRow, 6, free, info.damping, qd);
+    if (damping > kDampingDominates) {  // qd = 2^-e Js^T twist / d = Js^T twist 2^e / lambda^2
+        int e_damping = 0;
+        const double mantissa = std::frexp(info.damping, &e_damping);
+        for (int i = 0; i < n; ++i) {
+            double s = 0.0;
+            for (int k = 0; k < 6; ++k) s += Js[k * n + i] * twist[k];
+            qd[i] = std::ldexp(s / mantissa, e - e_damping);
+        }
+    } else {
+        static constexpr int kEveryRow[6] = {0, 1, 2, 3, 4, 5};
+        double free[kMaxJoints] = {};
+        damped_step(Js, n, twist, kEveryRow, 6, free, damping, qd);
+        for (int i = 0; i < n; ++i) qd[i] = qd[i] * half * rest;
+    }
     info.scale = inverse_max_velocity ? limit_scale(qd, inverse_max_velocity, n) : 1.0;
     if (info.scale != 1.0)
         for (int i = 0; i < n; ++i) qd[i] *= info.scale;

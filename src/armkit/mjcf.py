@@ -18,18 +18,21 @@ Bodies and joints
 What is read
     Hinge and slide joints of the bodies from ``base`` (default the world body) down to
     ``tip`` (a body or a site; default the only leaf body below ``base``); ``range`` of a
-    limited joint (an unlimited one has no limits), ``actuatorfrcrange`` as the joint's
-    ``max_torque``; mass, centre of mass and inertia of every body moving with a chain link
-    (bodies fixed to it, side branches and bodies beyond the tip held at ``q = ref``),
-    merged into that link as :mod:`armkit.urdf` does. Bodies fixed to the base carry no
-    load and are left out. A joint's velocity, acceleration and torque limits from the custom
-    numerics ``armkit:<joint>:max_velocity`` (``max_acceleration``, ``max_torque``) that
-    :mod:`armkit.export.mjcf` writes (MJCF itself has no velocity or acceleration limits;
-    ``actuatorfrcrange`` wins over the numeric torque). Armature, damping, friction,
-    actuators, geoms and contacts are ignored.
+    limited joint (an unlimited one, ``limited="false"`` or no ``range``, has no limits),
+    ``actuatorfrcrange`` as the joint's ``max_torque``; mass, centre of mass and inertia of
+    every body moving with a chain link (bodies fixed to it, side branches and bodies beyond
+    the tip held at ``q = ref``), merged into that link as :mod:`armkit.urdf` does. Bodies
+    fixed to the base carry no load and are left out. A joint's velocity, acceleration and
+    torque limits from the custom numerics ``armkit:<joint>:max_velocity``
+    (``max_acceleration``, ``max_torque``) that :mod:`armkit.export.mjcf` writes (MJCF
+    itself has no velocity or acceleration limits; ``actuatorfrcrange`` wins over the
+    numeric torque). Armature, damping, friction, actuators, geoms and contacts are ignored.
 Refused, with one :class:`~armkit.errors.RobotDefinitionError`
     A file MuJoCo cannot compile (its message is passed on), unknown base or tip names,
-    a tip not below the base, ball and free joints on the chosen path, no joint on it.
+    a tip not below the base, ball and free joints on the chosen path, no joint on it, a
+    limited joint whose ``range`` is not two finite numbers of magnitude at most
+    :data:`armkit.chain.MAX_VALUE` (a ``range="-1e300 1e300"`` in degrees would be limits of
+    1.7e298 rad: a typo, or a way of writing "unlimited" that MJCF spells ``limited="false"``).
 """
 
 from __future__ import annotations
@@ -42,7 +45,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from armkit.chain import chain_from_frames
+from armkit.chain import MAX_VALUE, chain_from_frames
 from armkit.errors import ArmkitError, RobotDefinitionError, warn_at_caller
 from armkit.inertial import Inertial
 from armkit.poe import rotation_z_to
@@ -157,10 +160,12 @@ def _robot(mujoco: Any, model: Any, source: str, base: str | None, tip: str | No
             kinds.append("revolute" if kind == _HINGE else "prismatic")
             before.append(pending @ P @ R @ (rot_z(-ref) if kind == _HINGE else trans_z(-ref)))
             after.append(R.T @ invert_transform(P))
-            if model.jnt_limited[j] and not np.isfinite(model.jnt_range[j]).all():
+            if model.jnt_limited[j] and not (np.abs(model.jnt_range[j]) <= MAX_VALUE).all():
                 written = _as_written(model.jnt_range[j], kind == _HINGE, in_degrees())
-                raise RobotDefinitionError(f"{source}, joint {name!r}: range {written}; expected two finite "
-                                           f"numbers")
+                raise RobotDefinitionError(
+                    f"{source}, joint {name!r}: range {written}; expected two finite numbers of magnitude at "
+                    f"most {MAX_VALUE:g} rad ({np.degrees(MAX_VALUE):.4g} degrees) or m (for no limits: "
+                    f"limited=\"false\", or no range)")
             limits.append(tuple(model.jnt_range[j]) if model.jnt_limited[j] else (-np.inf, np.inf))
             names.append(name)
             ids.append(j)

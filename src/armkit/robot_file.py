@@ -63,7 +63,8 @@ Product-of-exponentials format (``convention = "poe"``, EAIK's and IK-Geo's ``H`
 ``convention``, ``length_unit`` and ``angle_unit`` are required in a file: a table written
 in degrees must never be read as radians. Values are converted to SI units once, here;
 lengths and angles larger in magnitude than :data:`armkit.chain.MAX_VALUE` (m or rad) are
-refused. Joint names must be unique and not empty (default ``q1 ... qn``).
+refused, ``limits`` too (``limits = [-1e300, 1e300]`` in degrees is no way to say "unlimited":
+leave the key out). Joint names must be unique and not empty (default ``q1 ... qn``).
 """
 
 from __future__ import annotations

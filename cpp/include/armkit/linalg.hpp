@@ -41,7 +41,9 @@ struct RateStepInfo {
 // row-major): sigma_min from the eigenvalues of the small Gram matrix (J J^T for n >= 6,
 // else J^T J), damped_step with every row and rate_damping(sigma_min) (kSingularDamping
 // trace(J^T J) where that is zero and J is singular to rounding, kGramRounding), then scaled
-// by limit_scale if inverse_max_velocity (n) is given (not null).
+// by limit_scale if inverse_max_velocity (n) is given (not null). Solved for J scaled by the
+// power of two that brings its largest entry into [0.5, 1): exact, so the answer is the same
+// for J of any size, and a J of 1e-300 (whose J J^T underflows) gets its true step, not 0.
 RateStepInfo rate_step(const double* J, int n, const double* twist, double threshold, double max_damping,
                        const double* inverse_max_velocity, double* qd);
 

@@ -132,7 +132,8 @@ def move_command(
 
     arm = load_robot(robot, base, tip, lock)
     q0 = _start(arm, start, start_values, deg)
-    result = move_linear(arm, q0, np.array(by), duration, frame=frame, dt=DEFAULT_DT if dt is None else dt)
+    result = move_linear(arm, q0, np.array(by), duration, frame=frame, dt=DEFAULT_DT if dt is None else dt,
+                         message_degrees=deg and not json_output)  # JSON is in SI units
     _report(arm, result, f"straight move by {list(by)} m ({frame} frame)", deg, json_output)
 
 
@@ -178,6 +179,7 @@ def rotate_command(
         rate = 0.2 / scale
     result = rotate_about_tool_point(arm, q0, np.array(axis), angle * scale,
                                      angular_velocity=None if rate is None else rate * scale,
-                                     duration=duration, frame=frame, dt=DEFAULT_DT if dt is None else dt)
+                                     duration=duration, frame=frame, dt=DEFAULT_DT if dt is None else dt,
+                                     message_degrees=deg and not json_output)  # JSON is in SI units
     _report(arm, result, f"turn about {list(axis)} ({frame} frame) through the tool point", deg,
             json_output)

@@ -36,6 +36,7 @@ from armkit.chain import Chain
 from armkit.control._checks import check_positive, check_start, refuse_beyond_reach
 from armkit.control.resolved_rate import ResolvedRate
 from armkit.errors import InputError, JointLimitError, UnreachableError
+from armkit.ik.messages import outside_limits
 from armkit.kinematics import pose_error
 from armkit.poe import MIN_AXIS_LENGTH, direction
 from armkit.robot import Robot
@@ -90,7 +91,8 @@ class MotionResult:
         is its deprecated old name).
     message : str
         ``"completed"``, or why not: which joint limit stopped the motion (joint, value,
-        time), or how far from the target it ended and what held it back.
+        time), or how far from the target it ended and what held it back (joint values and
+        angles in rad, or in degrees with ``message_degrees``).
     """
 
     t: NDArray[np.float64]
@@ -169,25 +171,47 @@ def _limit_stop(chain: Chain, q: NDArray[np.float64], step: NDArray[np.float64])
     return float(np.clip(fraction[joint], 0.0, 1.0)), joint
 
 
-def _target_check(robot: Robot, target: NDArray[np.float64], q_final: NDArray[np.float64]) -> str:
+def _joint_text(robot: Robot, q: NDArray[np.float64], degrees: bool, joint: int | None = None) -> str:
+    """``q`` ``(n,)`` [rad or m] as text with its units: ``[v1, v2, ...] deg`` (a unit per value where
+    they differ), or joint ``joint``'s ``v unit`` alone; revolute values in degrees with ``degrees``,
+    else in rad, prismatic ones in m; 4 significant digits (6 for one joint), rounding noise below
+    1e-9 (rad or m) shown as 0."""
+    units = ["m" if prismatic else "deg" if degrees else "rad" for prismatic in robot.chain.prismatic]
+    shown = np.where(np.abs(q) < 1e-9, 0.0, q)
+    shown = np.where(np.array(units) == "deg", np.degrees(shown), shown)
+    if joint is not None:
+        return f"{shown[joint]:.6g} {units[joint]}"
+    if len(set(units)) == 1:
+        return f"[{', '.join(f'{v:.4g}' for v in shown)}] {units[0]}"
+    return f"[{', '.join(f'{v:.4g} {unit}' for v, unit in zip(shown, units, strict=True))}]"
+
+
+def _target_check(robot: Robot, target: NDArray[np.float64], q_final: NDArray[np.float64],
+                  degrees: bool) -> str:
     """Whether IK (closed form, or numeric from ``q_final``) reaches ``target`` inside the limits, said
-    as the end of a sentence on a motion that stopped short of it near a singularity."""
+    as the end of a sentence on a motion that stopped short of it near a singularity (joint values
+    in degrees with ``degrees``)."""
     try:
         q = robot.ik(target, near=q_final)
-    except (UnreachableError, JointLimitError) as exc:  # out of reach, or only outside the limits
+    except JointLimitError as exc:  # only outside the limits: said again in the message's units
+        if degrees and exc.q is not None:
+            exc = outside_limits(robot.chain, exc.q, "", degrees=True)
         return f"IK of the target says: {exc}"
-    shown = ", ".join(f"{v:.4g}" for v in q)
-    return (f"the target is reachable (IK finds q = [{shown}] rad or m, inside the limits), so the damping "
-            f"held the arm back near the singularity: move slower (a longer duration or, for a turn, a lower "
-            f"angular velocity)")
+    except UnreachableError as exc:  # out of reach (distances in m, angles in rad and deg)
+        return f"IK of the target says: {exc}"
+    return (f"the target is reachable (IK finds q = {_joint_text(robot, q, degrees)}, inside the limits), so "
+            f"the damping held the arm back near the singularity: move slower (a longer duration or, for a "
+            f"turn, a lower angular velocity)")
 
 
 def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
                sigma: NDArray[np.float64], control: ResolvedRate, target: NDArray[np.float64],
-               q_final: NDArray[np.float64]) -> str:
-    """Why a motion that ran to its end (at ``q_final``) did not reach its ``target`` pose."""
+               q_final: NDArray[np.float64], degrees: bool) -> str:
+    """Why a motion that ran to its end (at ``q_final``) did not reach its ``target`` pose (angles in
+    degrees with ``degrees``)."""
     position, angle = result_errors
-    text = f"the tool ended {position:.3g} m and {angle:.3g} rad from the target"
+    angle_shown = f"{np.degrees(angle):.3g} deg" if degrees else f"{angle:.3g} rad"
+    text = f"the tool ended {position:.3g} m and {angle_shown} from the target"
     n = control.robot.n
     if n < 6:
         return (f"{text}: an arm with {n} joints cannot follow every pose path (the motion holds or "
@@ -195,7 +219,7 @@ def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
     if sigma[-1] < control.threshold:
         return (f"{text}: the arm ended near a singularity (smallest singular value {sigma[-1]:.3g}, below "
                 f"the damping threshold {control.threshold:g}), and "
-                f"{_target_check(control.robot, target, q_final)}")
+                f"{_target_check(control.robot, target, q_final, degrees)}")
     if scale.min() < 1.0:
         return (f"{text}: the joint velocity limits held it back (velocities scaled down to "
                 f"{scale.min():.0%} at the worst step); allow a longer duration")
@@ -208,7 +232,8 @@ def _shortfall(result_errors: tuple[float, float], scale: NDArray[np.float64],
 def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike, *,
                 control: ResolvedRate | None = None, gain: float = DEFAULT_GAIN,
                 stop_at_limits: bool = True, position_tolerance: float = POSITION_TOLERANCE,
-                orientation_tolerance: float = ORIENTATION_TOLERANCE) -> MotionResult:
+                orientation_tolerance: float = ORIENTATION_TOLERANCE,
+                message_degrees: bool = False) -> MotionResult:
     """Follow sampled tool poses in closed loop from ``q0`` (see the module docstring).
 
     Parameters
@@ -228,6 +253,9 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
         At a joint limit, stop and report (True) or raise :class:`JointLimitError` (False).
     position_tolerance, orientation_tolerance : float
         Final errors [m, rad] within which the motion counts as completed.
+    message_degrees : bool
+        Say revolute joint values and angles in the result's ``message`` in degrees (as
+        ``armkit move --deg`` prints them); every input and array stays in rad.
 
     Returns
     -------
@@ -262,7 +290,8 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
         if joint >= 0:
             side = "lower" if rate.qd[joint] < 0 else "upper"
             q[joint] = lower[joint] if side == "lower" else upper[joint]
-            message = (f"joint {robot.joint_names[joint]} reached its {side} limit {q[joint]:.6g} at "
+            value = _joint_text(robot, q, message_degrees, joint)
+            message = (f"joint {robot.joint_names[joint]} reached its {side} limit {value} at "
                        f"t = {t[k] + fraction * dt:.4g} s of {t[-1]:.4g} s; the motion stopped there")
             if not stop_at_limits:
                 raise JointLimitError(message, q.copy(), joint=robot.joint_names[joint],
@@ -279,7 +308,7 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
     errors = (float(np.hypot.reduce(T[:3, 3] - reference[-1, :3, 3])),
               float(rotation_angle_between(T, reference[-1])))
     if not message and (errors[0] > position_tolerance or errors[1] > orientation_tolerance):
-        message = _shortfall(errors, scale[sl], sigma[sl], control, reference[-1], q)
+        message = _shortfall(errors, scale[sl], sigma[sl], control, reference[-1], q, message_degrees)
     return MotionResult(
         t=t[sl].copy(), q=qs[sl], qd=qds[sl], poses=poses[sl], reference=reference[sl].copy(),
         target=reference[-1].copy(), position_error=errors[0], orientation_error=errors[1],
@@ -290,7 +319,8 @@ def track_poses(robot: Robot, q0: ArrayLike, t: ArrayLike, reference: ArrayLike,
 
 def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: float, *,
                 frame: str = "base", dt: float = DEFAULT_DT, control: ResolvedRate | None = None,
-                gain: float = DEFAULT_GAIN, stop_at_limits: bool = True) -> MotionResult:
+                gain: float = DEFAULT_GAIN, stop_at_limits: bool = True,
+                message_degrees: bool = False) -> MotionResult:
     """Move the tool along a straight line by ``displacement``, orientation unchanged.
 
     The path is ``p(t) = p0 + s(t) * displacement`` with the quintic time law ``s(t)``
@@ -312,7 +342,7 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
         Damping and velocity-limit settings.
     gain : float
         Feedback gain [1/s] on the pose error (see :func:`track_poses`).
-    stop_at_limits : bool
+    stop_at_limits, message_degrees : bool
         See :func:`track_poses`.
 
     Returns
@@ -352,7 +382,8 @@ def move_linear(robot: Robot, q0: ArrayLike, displacement: ArrayLike, duration: 
     s = quintic(0.0, 1.0, duration).at_time(t)[0][:, 0]
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     reference[:, :3, 3] += s[:, None] * displacement
-    return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits)
+    return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits,
+                       message_degrees=message_degrees)
 
 
 def _check_period(period: float, gain: float, name: str, parameter: str) -> None:
@@ -415,7 +446,8 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
                             *, angular_velocity: float | None = None, duration: float | None = None,
                             frame: str = "base", dt: float = DEFAULT_DT,
                             control: ResolvedRate | None = None, gain: float = DEFAULT_GAIN,
-                            stop_at_limits: bool = True, rate: float | None = None) -> MotionResult:
+                            stop_at_limits: bool = True, rate: float | None = None,
+                            message_degrees: bool = False) -> MotionResult:
     """Turn the tool about an axis through its own origin, keeping its position.
 
     Give two of ``angle``, ``angular_velocity`` and ``duration``. With an
@@ -450,6 +482,8 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     rate : float, optional
         Deprecated name of ``angular_velocity`` (``rate`` means a frequency in Hz,
         ``rate_hz``, elsewhere in armkit); warns.
+    message_degrees : bool
+        See :func:`track_poses`.
 
     Returns
     -------
@@ -489,4 +523,5 @@ def rotate_about_tool_point(robot: Robot, q0: ArrayLike, axis: ArrayLike, angle:
     reference = np.broadcast_to(T0, (t.size, 4, 4)).copy()
     turns = matrix_from_axis_angle(np.outer(s * signed_angle, axis))
     reference[:, :3, :3] = turns @ T0[:3, :3]
-    return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits)
+    return track_poses(robot, q0, t, reference, control=control, gain=gain, stop_at_limits=stop_at_limits,
+                       message_degrees=message_degrees)

@@ -23,6 +23,10 @@ which is cheaper than an SVD of ``J`` and accurate to about ``1e-8`` near zero, 
 the damping needs. With no damping asked (``threshold = 0``) at an exact singularity (the
 smallest Gram eigenvalue within rounding of zero, ``1e-13 trace(J^T J)``) the step is the
 least-squares one: a damping of ``1e-10 trace(J^T J)``, within about 1e-7 of ``pinv(J) @ twist``.
+The core solves for ``J`` scaled by the power of two that brings its largest entry into [0.5, 1)
+(and scales ``sigma_min``, the damping and ``qd`` back): exact, so a Jacobian of ordinary size gets
+the same bits, and one of 1e-300 (or 1e300) entries, whose ``J J^T`` would underflow to zero
+(overflow), its true step: before, ``qd = 0`` without damping.
 :class:`ResolvedRate` evaluates the Jacobian with the shared single-configuration
 :class:`armkit.kinematics.ChainKernel` (``benchmarks/bench_control.py`` times one step).
 """
