@@ -134,13 +134,16 @@ def newton_root(chain, T, q, steps=10):
     smallest singular value was 8e-8, a point 2e-3 rad from the nearest solution, and no solution
     itself (checked in 50-digit arithmetic: Newton takes it onto that neighbour). Undamped steps
     take such a point onto the solution it stands for (four steps seen); a point they do not take
-    onto ``T`` is kept as found, so a search's solution is never dropped.
+    onto ``T``, or take farther than ten times that bound (onto another solution), is kept as
+    found, so a search's solution is never dropped.
     """
     x = np.array(q, dtype=float)
+    residual = np.linalg.norm(pose_error(T, fk(chain, x)))
+    reach = 10 * residual / max(np.linalg.svd(geometric_jacobian(chain, x), compute_uv=False)[-1], 1e-300)
     for _ in range(steps):
         x = x + np.linalg.lstsq(geometric_jacobian(chain, x), pose_error(T, fk(chain, x)), rcond=None)[0]
     size = 1 + np.abs(fk(chain, np.zeros(chain.n))[:3, 3]).max()
-    if not np.abs(fk(chain, x) - T).max() <= 1e-13 * size:
+    if not (np.abs(fk(chain, x) - T).max() <= 1e-13 * size and joint_distance(chain, x, q) <= reach):
         return q
     return np.where(chain.prismatic, x, np.angle(np.exp(1j * x)))
 

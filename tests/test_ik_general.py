@@ -14,9 +14,11 @@ from helpers import joint_distance, newton_root
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import least_squares
+from test_ik_singular_sweeps import represented
 
 import armkit
 from armkit.chain import DHRow
+from armkit.ik import ik_solutions
 from armkit.ik.structure import analyze_structure
 from armkit.poe import poe_from_chain
 
@@ -367,6 +369,13 @@ def test_a_three_parallel_arm_whose_wrist_axes_miss_lists_the_pair_beside_an_ali
             listed = robot.ik(T, all_solutions=True, within_limits=False)
             assert np.abs(robot.fk(listed) - T).max() <= 1e-9
             assert angle_gap(listed, q0).min() <= 1e-6, (arm, q0.tolist(), listed.tolist())
+        for _ in range(4):  # exactly aligned (the snap now only within 1e-10): a flagged family holds q0
+            q0 = rng.uniform(-np.pi, np.pi, 6)
+            q0[4] = 0.0
+            T = robot.fk(q0)
+            found = ik_solutions(robot, T)
+            assert np.abs(robot.fk(found.q) - T).max() <= 1e-9
+            assert represented(robot, T, found, q0), (arm, q0.tolist(), found.q.tolist())
 
 
 def test_a_ur5_whose_wrist_axes_nearly_meet_is_solved_as_near_its_class():

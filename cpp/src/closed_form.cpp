@@ -221,7 +221,7 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
         for (int j = 0; j < n; ++j) finite = finite && std::isfinite(qs[j]);
         valid[s] = valid[s] && finite;
         const bool polish = cf.polish && valid[s];
-        double unpolished[kMaxJoints];
+        double unpolished[kMaxJoints] = {};
         if (polish) {
             std::copy(qs, qs + n, unpolished);
             newton(cf.chain, T, qs, cf.polish_steps, cf.polish_stop);
@@ -232,7 +232,7 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
             // beside a near-double root Newton can step along the weak direction away from the
             // root the case placed (an aligned wrist of a three-parallel arm: 1e-8 off the pose
             // before, 2.6e-6 after, q6 a radian away): the better of the two goes on
-            if (polish && residual > exact) {
+            if (polish && !(residual <= exact)) {
                 wrap_revolute(unpolished);
                 const double before = fk_difference(cf.chain, T, unpolished);
                 if (before < residual) std::copy(unpolished, unpolished + n, qs), residual = before;

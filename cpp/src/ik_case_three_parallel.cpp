@@ -13,6 +13,25 @@ namespace armkit {
 
 namespace {
 
+// The index of the aligned value of q5 nearest t5, and t5's signed distance from it.
+int nearest_aligned(const ThreeParallelGeometry& g, double t5, double& gap) {
+    int nearest = 0;
+    gap = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < g.aligned; ++a) {
+        const double d = wrap_angle(t5 - g.q5_aligned[a]);
+        if (std::abs(d) < std::abs(gap)) nearest = a, gap = d;
+    }
+    return nearest;
+}
+
+// 1 - |cos| of the angle between axis 6 and h for q1, from its sine (S = |h6 x R_G^T R1 h|):
+// b (1 - cos d) at a distance d of q5 from the aligned value, S^2 / (1 + sqrt(1 - S^2)).
+double misalignment(const ThreeParallelGeometry& g, const Mat3& R, double q1) {
+    const Vec3 c = cross(g.h[5], mul_transposed(R, rotate(g.h[0], q1, g.hp)));
+    const double S2 = std::min(dot(c, c), 1.0);
+    return S2 / (1.0 + std::sqrt(1.0 - S2));
+}
+
 // Near an aligned wrist, q5 from a sine (accurate) rather than a cosine (~1e-8). h6 . R5^T h
 // is the cosine-like quantity the equations give; at a distance d from the aligned value it
 // differs from +-1 by b (1 - cos d) only, lost below d ~ 1e-8. S = |h6 x R_G^T R1 h| keeps
@@ -20,20 +39,10 @@ namespace {
 // candidate pair s straddle the aligned value.
 double q5_near_aligned_wrist(const ThreeParallelGeometry& g, const Mat3& R, double q1, double q5, int s) {
     if (g.aligned == 0) return q5;
-    int nearest = 0;
-    double gap = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < g.aligned; ++a) {
-        const double d = wrap_angle(q5 - g.q5_aligned[a]);
-        if (std::abs(d) < std::abs(gap)) {
-            nearest = a;
-            gap = d;
-        }
-    }
+    double gap;
+    const int nearest = nearest_aligned(g, q5, gap);
     if (std::abs(gap) > kAlignedWristReach) return q5;
-    const Vec3 v = mul_transposed(R, rotate(g.h[0], q1, g.hp));
-    const Vec3 c = cross(g.h[5], v);
-    const double S2 = std::min(dot(c, c), 1.0);
-    const double one_minus_cos = S2 / (1.0 + std::sqrt(1.0 - S2)) / g.b_aligned;
+    const double one_minus_cos = misalignment(g, R, q1) / g.b_aligned;
     const double d = 2.0 * std::asin(std::min(std::sqrt(0.5 * one_minus_cos), 1.0));
     double sign;
     if (gap > 0)
@@ -43,17 +52,6 @@ double q5_near_aligned_wrist(const ThreeParallelGeometry& g, const Mat3& R, doub
     else
         sign = s % 2 == 0 ? 1.0 : -1.0;  // (+d, -d) pairs
     return g.q5_aligned[nearest] + sign * d;
-}
-
-// The index of the aligned value of q5 nearest t5, and its distance.
-int nearest_aligned(const ThreeParallelGeometry& g, double t5, double& gap) {
-    int nearest = 0;
-    gap = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < g.aligned; ++a) {
-        const double d = std::abs(wrap_angle(t5 - g.q5_aligned[a]));
-        if (d < gap) nearest = a, gap = d;
-    }
-    return nearest;
 }
 
 // Near an aligned wrist the system's first equation is at an extremum in both angles (axis 6
@@ -72,8 +70,6 @@ struct AlignedGap {
 AlignedGap aligned_gap(const ThreeParallelGeometry& g, const Mat3& R, const Mat2& P, const double* r, double size,
                        double a, double q1) {
     AlignedGap out;
-    const Vec3 c = cross(g.h[5], mul_transposed(R, rotate(g.h[0], q1, g.hp)));
-    const double S2 = std::min(dot(c, c), 1.0);
     const double rhs = P.m[1][0] * std::cos(q1) + P.m[1][1] * std::sin(q1) - r[1];
     const Angles2 q5 = solve_trig_linear(g.Q[1][0], g.Q[1][1], rhs, size, false);
     double best = std::numeric_limits<double>::infinity();
@@ -83,7 +79,7 @@ AlignedGap aligned_gap(const ThreeParallelGeometry& g, const Mat3& R, const Mat2
     }
     if (!std::isfinite(best)) return out;
     const double half = std::sin(0.5 * best);
-    out.E = S2 / (1.0 + std::sqrt(1.0 - S2)) - 2.0 * g.b_aligned * half * half;
+    out.E = misalignment(g, R, q1) - 2.0 * g.b_aligned * half * half;
     out.ok = true;
     return out;
 }
@@ -102,12 +98,12 @@ void split_near_aligned_pairs(const ThreeParallelGeometry& g, const Mat3& R, con
     for (int i = 0; i < 4; ++i) {
         double gap;
         const int a = nearest_aligned(g, pair.t2[i], gap);
-        if (done[i] || pair.free[i] || gap > kAlignedWristReach) continue;
+        if (done[i] || pair.free[i] || std::abs(gap) > kAlignedWristReach) continue;
         int group[4], members = 0;
         for (int j = i; j < 4; ++j) {
             double gap_j;
             if (!done[j] && !pair.free[j] && nearest_aligned(g, pair.t2[j], gap_j) == a &&
-                gap_j <= kAlignedWristReach && std::abs(wrap_angle(pair.t1[j] - pair.t1[i])) <= kAlignedPair)
+                std::abs(gap_j) <= kAlignedWristReach && std::abs(wrap_angle(pair.t1[j] - pair.t1[i])) <= kAlignedPair)
                 group[members++] = j, done[j] = true;
         }
         if (members > 2) continue;  // three roots so near one another: no pair to split
@@ -120,7 +116,14 @@ void split_near_aligned_pairs(const ThreeParallelGeometry& g, const Mat3& R, con
         if (!(lo.ok && mid.ok && hi.ok)) continue;
         const double A = (hi.E + lo.E - 2.0 * mid.E) / (2.0 * w * w), B = (hi.E - lo.E) / (2.0 * w), C = mid.E;
         const double disc = B * B - 4.0 * A * C;
-        if (!(A != 0.0) || disc < 0.0) continue;
+        if (!(A != 0.0)) continue;
+        if (disc < 0.0) {  // no real zero: a pair goes to the vertex (between them, as near as any real
+            // point), where the snap or FK decides; a single root is left as it was
+            const AlignedGap vertex = aligned_gap(g, R, P, r, size, qa, centre - B / (2.0 * A));
+            if (members == 2 && vertex.ok && std::abs(B / (2.0 * A)) <= w)
+                for (int m = 0; m < 2; ++m) pair.t1[group[m]] = centre - B / (2.0 * A), pair.t2[group[m]] = vertex.q5;
+            continue;
+        }
         // the zeros of A u^2 + B u + C, the larger in size first (no cancellation), then Newton on E
         const double big = -0.5 * (B + std::copysign(std::sqrt(disc), B));
         double u[2] = {big / A, big != 0.0 ? C / big : 0.0};
@@ -165,7 +168,7 @@ void snap_to_aligned_wrist(const ThreeParallelGeometry& g, const Mat2& P, const 
     for (int i = 0; i < 4; ++i) {
         double gap;
         const int nearest = nearest_aligned(g, t5[i], gap);
-        if (gap > kAlignedWristSnap) continue;
+        if (std::abs(gap) > kAlignedWristSnap) continue;
         const double q5 = g.q5_aligned[nearest];
         const double rhs0 = r[0] + Q[0][0] * std::cos(q5) + Q[0][1] * std::sin(q5);
         const double rhs1 = r[1] + Q[1][0] * std::cos(q5) + Q[1][1] * std::sin(q5);
