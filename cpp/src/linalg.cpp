@@ -147,7 +147,7 @@ RateStepInfo rate_step(const double* J, int n, const double* twist, double thres
     info.sigma_min = std::ldexp(std::sqrt(std::max(smallest, 0.0)), e);
     info.damping = rate_damping(info.sigma_min, threshold, max_damping);
     double damping = std::ldexp(info.damping, -2 * e);
-    if (info.damping == 0.0) {  // no damping asked: an exactly singular J still gets the least-squares step
+    if (damping == 0.0) {  // no damping asked (or one below Js's rounding): a singular J still gets the least-squares step
         double trace = 0.0;
         for (int k = 0; k < 6 * n; ++k) trace += Js[k] * Js[k];
         if (smallest <= kGramRounding * trace) {

@@ -280,7 +280,7 @@ constexpr double kSingularDamping = 1e-10;
 constexpr double kGramRounding = 1e-13;
 //: Damping, relative to the Gram matrix of a Jacobian scaled to a largest entry in [0.5, 1) (so the
 //: matrix's entries are at most kMaxJoints), above which the resolved-rate step takes
-//: (J J^T + damping I)^-1 as I / damping: the dropped term is below 16 / 1e20 of it, far under
+//: (J J^T + damping I)^-1 as I / damping: the dropped term is below 6 n / 1e20 (<= 1e-18) of it, far under
 //: rounding, and the damping itself may no longer be a double (a J of 1e-300 with lambda = 0.04
 //: has a scaled damping of 1.6e597).
 constexpr double kDampingDominates = 1e20;

@@ -158,7 +158,9 @@ class RateStep(NamedTuple):
     sigma_min : float
         Smallest singular value of the base-frame Jacobian at ``q``.
     damping : float
-        ``lambda^2`` used (0 away from singularities).
+        ``lambda^2`` used (0 away from singularities); ``inf`` or 0 where that value is beyond a
+        float's range (a ``J`` of entries near 1e300 or 1e-300: the step itself is solved on ``J``
+        scaled by a power of two, and is right).
     scale : float
         Factor in ``(0, 1]`` applied to keep every joint within its velocity limit.
     """
