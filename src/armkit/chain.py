@@ -301,6 +301,18 @@ class Chain:
         joint = self.joints[outside[0]]
         return {"joint": joint.name, "value": float(q[outside[0]]), "limits": (joint.lower, joint.upper)}
 
+    def display_units(self, degrees: bool = False) -> tuple[NDArray[np.float64], list[str]]:
+        """Per joint, the factor from its SI value to the unit it is shown in, and that unit: rad
+        for revolute joints (deg with ``degrees``), m for prismatic ones (messages, not data).
+
+        >>> chain = chain_from_dh([DHRow(0, 1.0, 0, 0)] * 2, "standard")
+        >>> chain.display_units(degrees=True)[1]
+        ['deg', 'deg']
+        """
+        revolute = ~self.prismatic
+        units = ["deg" if degrees and r else "rad" if r else "m" for r in revolute]
+        return np.where(revolute & degrees, 180 / np.pi, 1.0), units
+
     def limit_violations(self, q: NDArray[np.float64], degrees: bool = False, *,
                          q_max: NDArray[np.float64] | None = None, where: str = "") -> list[str]:
         """One message per joint outside its limits (:meth:`outside_limits`), all alike:
@@ -330,11 +342,10 @@ class Chain:
         high = q if q_max is None else q_max
         outside = self.outside_limits(q) | self.outside_limits(high)
         messages = []
+        scales, units = self.display_units(degrees)
         for j in np.flatnonzero(outside):
             joint = self.joints[j]
-            revolute = joint.kind == "revolute"
-            scale, unit = ((180 / np.pi, " deg") if degrees and revolute
-                           else (1.0, " rad" if revolute else " m"))
+            scale, unit = float(scales[j]), " " + units[j]
             if not math.isfinite(max(abs(float(q[j])), abs(float(high[j]))) * scale):
                 scale, unit = 1.0, " rad"  # beyond 1e306 rad: in degrees it would overflow to inf
             # below 1e-9 shown as 0: no -1e-14 from a root finder beside values of 6 digits

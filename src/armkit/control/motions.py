@@ -174,11 +174,11 @@ def _limit_stop(chain: Chain, q: NDArray[np.float64], step: NDArray[np.float64])
 def _joint_text(robot: Robot, q: NDArray[np.float64], degrees: bool, joint: int | None = None) -> str:
     """``q`` ``(n,)`` [rad or m] as text with its units: ``[v1, v2, ...] deg`` (a unit per value where
     they differ), or joint ``joint``'s ``v unit`` alone; revolute values in degrees with ``degrees``,
-    else in rad, prismatic ones in m; 4 significant digits (6 for one joint), rounding noise below
-    1e-9 (rad or m) shown as 0."""
-    units = ["m" if prismatic else "deg" if degrees else "rad" for prismatic in robot.chain.prismatic]
-    shown = np.where(np.abs(q) < 1e-9, 0.0, q)
-    shown = np.where(np.array(units) == "deg", np.degrees(shown), shown)
+    else in rad, prismatic ones in m (``Chain.display_units``); 4 significant digits (6 for one joint),
+    rounding noise below 1e-9 of the shown unit shown as 0, as ``Chain.limit_violations`` does."""
+    scales, units = robot.chain.display_units(degrees)
+    shown = q * scales
+    shown = np.where(np.abs(shown) < 1e-9, 0.0, shown)
     if joint is not None:
         return f"{shown[joint]:.6g} {units[joint]}"
     if len(set(units)) == 1:
