@@ -6,7 +6,9 @@ directions each), and every q5 of the poses (a random configuration with that q5
 sign): the listing ``robot.ik(T, all_solutions=True, within_limits=False)`` must hold the
 generating configuration and every solution armkit's Levenberg-Marquardt finds from 24
 random seeds (the singular sweeps' search), and reproduce the pose to 1e-9. Prints each
-failing pose and the count per case and size::
+failing pose (with, per missed solution, how far the nearest listed one is and the accuracy
+double precision allows there, 1e-16 / (sigma_min / sigma_max) of the Jacobian) and the count
+per case and size::
 
     python tests/sweep_near_subcase.py                               # moves 1e-9 .. 1e-6, q5 1e-4 .. 1e-2
     python tests/sweep_near_subcase.py --moves 1e-5,1e-4,1e-3 --q5 1e-7,1e-6,1e-5 --seed 5
@@ -30,6 +32,14 @@ from armkit.ik.structure import analyze_structure  # noqa: E402
 
 def _gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.abs(np.angle(np.exp(1j * (a - b)))).max(axis=-1)
+
+
+def _how_far(robot: armkit.Robot, listed: np.ndarray, missed: np.ndarray) -> str:
+    """How far the listing is from a missed solution, against the accuracy double precision
+    allows there along the weakest direction: 1e-16 / (sigma_min / sigma_max) of the Jacobian."""
+    sigma = np.linalg.svd(robot.jacobian(missed), compute_uv=False)
+    accuracy = 1e-16 * sigma[0] / sigma[-1]
+    return f"nearest listed {_gap(listed, missed).min():.2g} rad off, accuracy there {accuracy:.2g}"
 
 
 def main() -> None:
@@ -65,7 +75,8 @@ def main() -> None:
                         found = [q0, *numeric_solutions(robot, T, rng)]
                         missed = [s for s in found if _gap(listed, s).min() > 1e-6]
                         if missed:
-                            print(f"{where}: {len(listed)} listed, {len(missed)} not", flush=True)
+                            print(f"{where}: {len(listed)} listed, {len(missed)} not ("
+                                  + "; ".join(_how_far(robot, listed, s) for s in missed) + ")", flush=True)
                             failed += 1
                             per_case[case, move] = per_case.get((case, move), 0) + 1
     print(f"{failed} of {total} poses miss a solution; per (case, move): {per_case}")
