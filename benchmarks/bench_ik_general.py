@@ -11,7 +11,9 @@ For each of a few random general 6R arms (standard DH, every length and twist no
   and of rtb's ``solve(T, joint_limits=False)``; armkit's batched ``ik_solutions`` per pose;
 - solutions per pose that reproduce the pose to 1e-6 (armkit's FK, which pinocchio checks),
   and on a few poses the distinct solutions SciPy's Levenberg-Marquardt finds from 40 seeds
-  (the ground truth for "every solution"): how many of those each solver missed.
+  (the ground truth for "every solution"): how many of those each solver missed;
+- armkit alone on the same table with joint 3 prismatic (a 5R1P arm; no peer here lists
+  every solution of one).
 ``--rtb`` adds rtb's solver on every arm and ``--ssik`` the ssik package (PyPI) on the
 first arm; each prepares an arm for minutes (rtb: 523 s for one arm on a loaded 2-core
 machine), so both are off by default. Solutions per pose are counted on the same poses
@@ -53,8 +55,10 @@ def reproducing(robot: armkit.Robot, q: np.ndarray, T: np.ndarray) -> np.ndarray
     return q[good]
 
 
-def gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.abs(np.angle(np.exp(1j * (a - b)))).max(axis=-1)
+def gap(robot: armkit.Robot, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Largest joint difference (angles modulo 2 pi, slides as they are), over the last axis."""
+    d = a - b
+    return np.abs(np.where(robot.chain.prismatic, d, np.angle(np.exp(1j * d)))).max(axis=-1)
 
 
 def search(robot: armkit.Robot, T: np.ndarray, rng: np.random.Generator, seeds: int = 40) -> list[np.ndarray]:
@@ -66,16 +70,16 @@ def search(robot: armkit.Robot, T: np.ndarray, rng: np.random.Generator, seeds: 
     for _ in range(seeds):
         fit = least_squares(residual, rng.uniform(-np.pi, np.pi, 6), method="lm", xtol=1e-15, ftol=1e-15,
                             gtol=1e-15)
-        q = np.angle(np.exp(1j * fit.x))
-        if np.abs(fit.fun).max() < 1e-10 and all(gap(q, f) > 1e-6 for f in found):
+        q = np.where(robot.chain.prismatic, fit.x, np.angle(np.exp(1j * fit.x)))
+        if np.abs(fit.fun).max() < 1e-10 and all(gap(robot, q, f) > 1e-6 for f in found):
             found.append(q)
     return found
 
 
-def missed(listed: np.ndarray, truth: list[np.ndarray]) -> int:
+def missed(robot: armkit.Robot, listed: np.ndarray, truth: list[np.ndarray]) -> int:
     if len(listed) == 0:
         return len(truth)
-    return sum(gap(listed, q).min() > 1e-5 for q in truth)
+    return sum(gap(robot, listed, q).min() > 1e-5 for q in truth)
 
 
 def median_us(times: list[float]) -> float:
@@ -99,27 +103,11 @@ def main() -> None:
     for arm in range(arms):
         rows = general_rows(rng)
         q = rng.uniform(-np.pi, np.pi, (poses, 6))
-        start = time.perf_counter()
-        robot = armkit.Robot.from_dh(rows, "standard")
-        T = robot.fk(q)
-        robot.ik(T[0], all_solutions=True, within_limits=False)
-        prepare = time.perf_counter() - start
-        ours, counts = [], []
-        for Ti in T:
-            t0 = time.perf_counter()
-            listed = robot.ik(Ti, all_solutions=True, within_limits=False)
-            ours.append(time.perf_counter() - t0)
-            counts.append(len(reproducing(robot, listed, Ti)))
-        t0 = time.perf_counter()
-        armkit.ik_solutions(robot, T, turn_copies=False, threads=1)
-        batched = (time.perf_counter() - t0) / poses
-        truths = [search(robot, T[i], rng) for i in range(checked)]
-        miss = sum(missed(robot.ik(T[i], all_solutions=True, within_limits=False), truths[i])
-                   for i in range(checked))
-        total = sum(len(t) for t in truths)
-        print(f"{arm:>4} {'armkit':<22} {1e3 * prepare:>8.1f}ms {median_us(ours):>8.1f}us "
-              f"{1e6 * batched:>7.1f}us "
-              f"{np.mean(counts[:compared]):>8.2f} {miss:>3}/{total:<3} {'1.0':>6}")
+        robot, T, ours, truths, total = bench_armkit(arm, "armkit", rows, q, rng, checked, compared)
+        # the same table with joint 3 prismatic (5R1P; no peer here lists those)
+        slid = [DHRow(r.alpha, r.a, r.d, r.theta, "prismatic" if j == 2 else "revolute")
+                for j, r in enumerate(rows)]
+        bench_armkit(arm, "armkit, joint 3 slides", slid, q, rng, checked, compared)
         if args.ssik and arm == 0:
             bench_ssik(rows, robot, T[:compared], median_us(ours))
         if not args.rtb:
@@ -139,10 +127,38 @@ def main() -> None:
             good = reproducing(robot, np.asarray(sol.q), Ti)
             counts_rtb.append(len(good))
             if i < checked:
-                miss_rtb += missed(good, truths[i])
+                miss_rtb += missed(robot, good, truths[i])
         print(f"{arm:>4} {'rtb General6RIK':<22} {1e3 * prepare_rtb:>8.1f}ms {median_us(theirs):>8.1f}us "
               f"{'-':>9} {np.mean(counts_rtb):>8.2f} {miss_rtb:>3}/{total:<3} "
               f"{median_us(theirs) / median_us(ours):>6.1f}")
+
+
+def bench_armkit(arm: int, label: str, rows: list[DHRow], q: np.ndarray, rng: np.random.Generator,
+                 checked: int, compared: int
+                 ) -> tuple[armkit.Robot, np.ndarray, list[float], list[list[np.ndarray]], int]:
+    """armkit on the arm of ``rows`` at the poses of ``q``: prints its row; returns the robot,
+    the poses, the one-pose times, the searches' solutions and their number."""
+    start = time.perf_counter()
+    robot = armkit.Robot.from_dh(rows, "standard")
+    T = robot.fk(q)
+    robot.ik(T[0], all_solutions=True, within_limits=False)
+    prepare = time.perf_counter() - start
+    ours, counts = [], []
+    for Ti in T:
+        t0 = time.perf_counter()
+        listed = robot.ik(Ti, all_solutions=True, within_limits=False)
+        ours.append(time.perf_counter() - t0)
+        counts.append(len(reproducing(robot, listed, Ti)))
+    t0 = time.perf_counter()
+    armkit.ik_solutions(robot, T, turn_copies=False, threads=1)
+    batched = (time.perf_counter() - t0) / len(q)
+    truths = [search(robot, T[i], rng) for i in range(checked)]
+    miss = sum(missed(robot, robot.ik(T[i], all_solutions=True, within_limits=False), truths[i])
+               for i in range(checked))
+    total = sum(len(t) for t in truths)
+    print(f"{arm:>4} {label:<22} {1e3 * prepare:>8.1f}ms {median_us(ours):>8.1f}us {1e6 * batched:>7.1f}us "
+          f"{np.mean(counts[:compared]):>8.2f} {miss:>3}/{total:<3} {'1.0':>6}")
+    return robot, T, ours, truths, total
 
 
 def bench_ssik(rows: list[DHRow], robot: armkit.Robot, T: np.ndarray, ours_us: float) -> None:

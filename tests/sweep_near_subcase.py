@@ -23,6 +23,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
+from helpers import joint_distance  # noqa: E402
 from test_ik_general import line_moved  # noqa: E402
 from test_ik_singular_sweeps import numeric_solutions  # noqa: E402
 
@@ -30,16 +31,13 @@ import armkit  # noqa: E402
 from armkit.ik.structure import analyze_structure  # noqa: E402
 
 
-def _gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.abs(np.angle(np.exp(1j * (a - b)))).max(axis=-1)
-
-
 def _how_far(robot: armkit.Robot, listed: np.ndarray, missed: np.ndarray) -> str:
     """How far the listing is from a missed solution, against the accuracy double precision
     allows there along the weakest direction: 1e-16 / (sigma_min / sigma_max) of the Jacobian."""
     sigma = np.linalg.svd(robot.jacobian(missed), compute_uv=False)
     accuracy = 1e-16 * sigma[0] / sigma[-1]
-    return f"nearest listed {_gap(listed, missed).min():.2g} rad off, accuracy there {accuracy:.2g}"
+    return f"nearest listed {joint_distance(robot.chain, listed, missed).min():.2g} rad or m off, " \
+        f"accuracy there {accuracy:.2g}"
 
 
 def main() -> None:
@@ -73,7 +71,7 @@ def main() -> None:
                             continue
                         assert np.abs(robot.fk(listed) - T).max() <= 1e-9, where
                         found = [q0, *numeric_solutions(robot, T, rng)]
-                        missed = [s for s in found if _gap(listed, s).min() > 1e-6]
+                        missed = [s for s in found if joint_distance(robot.chain, listed, s).min() > 1e-6]
                         if missed:
                             print(f"{where}: {len(listed)} listed, {len(missed)} not ("
                                   + "; ".join(_how_far(robot, listed, s) for s in missed) + ")", flush=True)

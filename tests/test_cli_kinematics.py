@@ -3,6 +3,7 @@ import json
 import numpy as np
 import pytest
 
+import armkit
 from armkit.cli.main import main
 
 
@@ -165,3 +166,24 @@ def test_fk_plot_draws_the_arm_at_q_and_never_over_an_existing_file(capsys, tmp_
     assert code == 0 and path.read_bytes() != before
     code, _, err = run(capsys, "fk", "puma560", *["0"] * 6, "--plot", str(tmp_path / "arm.gif"))
     assert code == 1 and "--plot" in err and "expected a file name ending in .png, .svg, .pdf" in err
+
+
+def test_show_and_ik_all_on_a_general_arm_with_a_prismatic_joint(capsys, tmp_path):
+    # an RRPRRR table of no class: the general 5R1P solver lists every solution
+    joints = [(120, 40, 70, 10, "revolute"), (-30, 250, -60, 20, "revolute"), (80, 30, 45, -35, "prismatic"),
+              (10, 60, 80, 50, "revolute"), (40, 20, -70, 15, "revolute"), (90, 15, 30, -5, "revolute")]
+    text = 'name = "rrprrr"\nconvention = "standard"\nlength_unit = "mm"\nangle_unit = "deg"\n'
+    for d, a, alpha, theta, kind in joints:
+        text += f'\n[[joints]]\ntype = "{kind}"\nd = {d}\na = {a}\nalpha = {alpha}\ntheta = {theta}\n'
+        text += "limits = [-1000, 1000]\n" if kind == "prismatic" else ""
+    path = tmp_path / "rrprrr.toml"
+    path.write_text(text)
+    code, out, _ = run(capsys, "show", str(path))
+    assert code == 0 and "general (general 5R1P solver, up to 16 solutions)" in out
+    q0 = [0.3, -0.5, 0.12, 1.0, 0.7, -0.4]
+    T = armkit.load(path).fk(q0)
+    matrix = [repr(float(v)) for v in T.ravel()]
+    code, out, err = run(capsys, "ik", str(path), "--matrix", *matrix, "--all", "--outside", "--json")
+    assert code == 0, err
+    listed = np.array(json.loads(out)["solutions"])
+    assert np.abs(listed - q0).max(axis=1).min() <= 1e-9

@@ -133,9 +133,14 @@ def test_case_geometries_are_plain_structs_checked_by_the_core():
         SphericalGeometry(**{**fields, "chain": three})
     with pytest.raises(ValueError, match=r"h and p must both be \(n, 3\)"):
         _core.CaseChain(np.eye(3), np.zeros((2, 3)), np.zeros(3, bool))
-    with pytest.raises(ValueError, match="revolute joints only"):
-        prismatic = _core.CaseChain(np.eye(3).repeat(2, axis=0), np.zeros((6, 3)), np.ones(6, bool))
-        _core.GeneralGeometry(prismatic)
+    def sliding(*joints):
+        return _core.CaseChain(np.eye(3).repeat(2, axis=0), np.zeros((6, 3)), np.isin(np.arange(6), joints))
+
+    assert _core.GeneralGeometry(sliding(2), 2).n == 6  # joint 3 is the loop's joint 1: taken
+    # six slides; joint 3 as the loop's joint 3
+    for chain, shift in ((sliding(0, 1, 2, 3, 4, 5), 0), (sliding(2), 0)):
+        with pytest.raises(ValueError, match="at most one prismatic joint, as the loop's joint 1 or 2"):
+            _core.GeneralGeometry(chain, shift)
 
 
 def test_every_registered_case_has_a_geometry_and_a_fixed_capacity():

@@ -26,10 +26,11 @@ from armkit.poe import poe_from_chain
 SEARCH_SEEDS = 40
 
 
-def general_arm(rng: np.random.Generator) -> armkit.Robot:
-    """A random 6R arm in standard DH with every length and twist non-zero (no Pieper class)."""
+def general_arm(rng: np.random.Generator, slide: int | None = None) -> armkit.Robot:
+    """A random 6R arm in standard DH with every length and twist non-zero (no Pieper class);
+    joint ``slide`` (0-based) prismatic if given."""
     rows = [DHRow(rng.uniform(0.2, 2.9) * rng.choice([-1, 1]), rng.uniform(0.05, 0.5), rng.uniform(-0.4, 0.4),
-                  rng.uniform(-np.pi, np.pi)) for _ in range(6)]
+                  rng.uniform(-np.pi, np.pi), "prismatic" if j == slide else "revolute") for j in range(6)]
     return armkit.Robot.from_dh(rows, "standard", name="general")
 
 
@@ -105,6 +106,17 @@ def test_random_general_arms_list_every_solution_a_numeric_search_finds(seed):
     check_every_solution(robot, rng, poses=2)
 
 
+@pytest.mark.parametrize("slide", range(6))
+def test_random_arms_with_one_prismatic_joint_list_every_solution_a_numeric_search_finds(slide):
+    # 5R1P, the slide at every place in the chain: the elimination takes it as one of the two
+    # joints it eliminates linearly (NoClosedFormError before)
+    rng = np.random.default_rng([21, slide])
+    robot = general_arm(rng, slide)
+    structure = analyze_structure(robot)
+    assert structure.kind == "general-5r1p" and structure.max_solutions == 16
+    check_every_solution(robot, rng, poses=3)
+
+
 def line_moved(name: str, joint: int, turn: bool, direction: np.ndarray, deviation: float) -> armkit.Robot:
     """Built-in ``name`` with joint ``joint``'s axis turned (``turn``), or its point moved, by
     ``deviation`` towards ``direction`` (a calibration that corrects a single joint)."""
@@ -173,15 +185,15 @@ def test_a_7r_arm_with_a_joint_locked_is_solved_exactly_at_that_value():
     check_every_solution(arm, rng, poses=2)
 
 
-@settings(max_examples=15, deadline=None)
-@given(seed=st.integers(0, 2**32 - 1))
-def test_the_generating_configuration_is_always_listed(seed):
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), slide=st.sampled_from([None, 0, 1, 2, 3, 4, 5]))
+def test_the_generating_configuration_is_always_listed(seed, slide):
     rng = np.random.default_rng(seed)
-    robot = general_arm(rng)
+    robot = general_arm(rng, slide)
     q0 = rng.uniform(-np.pi, np.pi, 6)
     T = robot.fk(q0)
     found = armkit.ik_solutions(robot, T)
-    assert angle_gap(found.q, q0).min() <= 1e-7
+    assert joint_distance(robot.chain, found.q, q0).min() <= 1e-7
     assert np.all(found.position_error <= 1e-9) and np.all(found.orientation_error <= 1e-9)
 
 
@@ -396,12 +408,11 @@ def test_a_ur5_whose_wrist_axes_nearly_meet_is_solved_as_near_its_class():
 
 @pytest.mark.parametrize("deviation", [1e-9, 1e-8, 1e-7, 3e-7])  # each line moved by ~1.6 x this
 def test_a_stanford_arm_near_its_class_is_solved_through_its_prismatic_joint(deviation):
-    # the elimination takes revolute joints only; within 1e-6 of a class the class's solutions on
-    # the arm moved onto it, Newton-polished onto the real arm, are listed (NoClosedFormError before)
+    # the general solver with its slide, seeded by the class's solutions on the arm moved onto it
     rng = np.random.default_rng([7, round(-np.log10(deviation))])
     robot = calibrated("stanford", deviation, rng)
     structure = analyze_structure(robot)
-    assert structure.kind == "near-class" and "spherical" in structure.description
+    assert structure.kind == "general-5r1p" and "spherical" in structure.description
     for q0 in robot.random_q(4, rng=rng):
         check_pose(robot, q0, rng)
     # near the wrist singularity too
@@ -410,11 +421,27 @@ def test_a_stanford_arm_near_its_class_is_solved_through_its_prismatic_joint(dev
     check_pose(robot, q0, rng)
 
 
-def test_a_prismatic_arm_far_from_every_class_says_to_use_numeric_ik():
-    rng = np.random.default_rng(7)
-    robot = calibrated("stanford", 1e-4, rng)
+@pytest.mark.parametrize("deviation", [1e-5, 1e-3, 1e-1])
+def test_a_stanford_arm_far_from_its_class_lists_every_solution(deviation):
+    # beyond 1e-6 no class seeds it (NoClosedFormError before, "numeric IK")
+    rng = np.random.default_rng([8, round(-np.log10(deviation))])
+    robot = calibrated("stanford", deviation, rng)
     structure = analyze_structure(robot)
-    assert structure.kind == "none" and "numeric IK" in structure.description
+    assert structure.kind == "general-5r1p" and "within 1e-6" not in structure.description
+    check_every_solution(robot, rng, poses=3)
+    q0 = robot.random_q(rng=rng)
+    q0[4] = 1e-3  # near its wrist singularity
+    check_pose(robot, q0, rng)
+
+
+def test_an_arm_with_two_prismatic_joints_says_to_use_numeric_ik():
+    rng = np.random.default_rng(7)
+    rows = [DHRow(rng.uniform(0.2, 2.9), rng.uniform(0.05, 0.5), rng.uniform(-0.4, 0.4),
+                  rng.uniform(-np.pi, np.pi), "prismatic" if j in (1, 2) else "revolute") for j in range(6)]
+    robot = armkit.Robot.from_dh(rows, "standard", name="two slides")
+    structure = analyze_structure(robot)
+    assert structure.kind == "none" and "2 joints are prismatic" in structure.description
+    assert "numeric IK" in structure.description
     with pytest.raises(armkit.NoClosedFormError, match="numeric IK"):
         robot.ik(robot.fk(robot.random_q(rng=rng)), all_solutions=True)
 
@@ -425,7 +452,7 @@ def test_a_stanford_arm_near_its_class_at_a_pose_very_near_its_wrist_singularity
     # (cpp/include/armkit/double_root.hpp) takes it there
     rng = np.random.default_rng(3)
     robot = calibrated("stanford", 1e-8, rng)
-    assert analyze_structure(robot).kind == "near-class"
+    assert analyze_structure(robot).kind == "general-5r1p"
     for q0, q5 in zip(robot.random_q(8, rng=rng), [1e-5, 1e-6, 1e-7] * 3, strict=False):
         q0[4] = q5
         check_pose(robot, q0, rng)

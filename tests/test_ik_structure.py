@@ -71,13 +71,15 @@ def test_general_6r_goes_to_the_general_solver(seed):
     assert "Raghavan-Roth" in structure.description
 
 
-def test_general_6r_with_a_prismatic_joint_has_no_closed_form_and_says_why():
+def test_a_general_arm_with_one_prismatic_joint_is_the_general_5r1p_case_and_two_have_none():
     rng = np.random.default_rng(5)
-    rows = [DHRow(rng.uniform(0.3, 2.8), rng.uniform(0.1, 0.4), rng.uniform(0.1, 0.4),
-                  rng.uniform(-3, 3), "prismatic" if j == 2 else "revolute") for j in range(6)]
-    structure = analyze_structure(chain_from_dh(rows, "standard"))
-    assert structure.kind == "none" and not structure.closed_form
-    assert "revolute joints only" in structure.description
+    for slides, kind in (((2,), "general-5r1p"), ((2, 4), "none")):
+        rows = [DHRow(rng.uniform(0.3, 2.8), rng.uniform(0.1, 0.4), rng.uniform(0.1, 0.4),
+                      rng.uniform(-3, 3), "prismatic" if j in slides else "revolute") for j in range(6)]
+        structure = analyze_structure(chain_from_dh(rows, "standard"))
+        assert structure.kind == kind and structure.closed_form == (kind != "none")
+    assert "2 joints are prismatic: the general solver takes one at most" in structure.description
+    assert "numeric IK" in structure.description
 
 
 def test_same_arm_in_both_conventions_and_with_base_and_tool():

@@ -328,12 +328,13 @@ void bind_closed_form(nb::module_& m) {
                                         "Any 6R arm: Raghavan-Roth elimination, the loop starting at joint shift + 1.");
     general.def("__init__", [](GeneralGeometry* g, const CaseChain& chain, int shift) {
                     check_joints(chain, 6, "GeneralGeometry");
-                    for (int j = 0; j < 6; ++j)
-                        if (chain.prismatic[j])
-                            throw nb::value_error("GeneralGeometry: the general 6R case takes revolute joints only");
                     if (shift < 0 || shift > 5) throw nb::value_error("GeneralGeometry: shift must be 0 .. 5");
+                    if (!loop_takes(chain, shift))
+                        throw nb::value_error("GeneralGeometry: the general case takes revolute joints and at most "
+                                              "one prismatic joint, as the loop's joint 1 or 2 (joint shift + 1 or "
+                                              "shift + 2)");
                     auto arm = std::make_shared<GeneralSixR>();
-                    prepare_general(chain.h, chain.p, shift, *arm);
+                    prepare_general(chain, shift, *arm);
                     construct(g, chain, 6, "GeneralGeometry");
                     g->arm = std::move(arm);
                 }, nb::arg("chain"), nb::arg("shift") = 0);

@@ -113,10 +113,8 @@ ArmCase classify(const Chain& chain) {
     const CaseReason& spherical = out.why_not[0];
     if (spherical.fit == CaseFit::Position)
         out.description = spherical.text + "; use numeric IK";
-    else if (n == 6)
-        out.description = "6 joints with a prismatic one, and no three consecutive axes meet at one point or are "
-                          "parallel (Pieper's conditions): the general solver takes revolute joints only; use "
-                          "numeric IK";
+    else if (n == 6)  // two or more prismatic joints (the general solver takes every other 6-joint arm)
+        out.description = "6 joints in no closed-form class, and " + out.why_not[kCaseCount - 1].text;
     else
         out.description = std::to_string(n) + " joints that are not a planar 2R/3R arm or a SCARA (parallel revolute "
                                                "axes, prismatic along them): no closed form; use numeric IK";

@@ -28,6 +28,11 @@ constexpr double kS = 0.57735026918962576451;  // 1 / sqrt(3)
 constexpr double kFromSamples[3][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {2.0 / 3, -1.0 / 3, -1.0 / 3}, {0.0, kS, -kS}};
 // (1 + x^2) (a + b cos t + c sin t) with x = tan(t / 2): rows are powers of x, columns (1, cos, sin).
 constexpr double kHalfAngle[3][3] = {{1, 1, 0}, {0, 0, 2}, {1, -1, 0}};
+// A prismatic joint on the right side: its quantities are quadratic in the slide d (p moves by
+// d h: p.p and (p.p) l - 2 (p.l) p are of degree two), sampled at x = d / size = 0, 1, -1 and
+// fitted to the coefficients of (1, x, x^2).
+constexpr double kSlides[3] = {0.0, 1.0, -1.0};
+constexpr double kFromSlides[3][3] = {{1, 0, 0}, {0, 0.5, -0.5}, {-1, 0.5, 0.5}};
 
 // exp(xi q) applied to a point: the joint (h, p) turns x by q about its line.
 Vec3 turn_point(Vec3 h, Vec3 p, double q, Vec3 x) { return p + rotate(h, q, x - p); }
@@ -45,33 +50,51 @@ using Mat24 = Eigen::Matrix<double, 24, 24>;
 using Mat14x8 = Eigen::Matrix<double, kQuantities, 8>;
 using Vec14 = Eigen::Matrix<double, kQuantities, 1>;
 
-// The right side's coefficients over (1, cos, sin) of q1, q2 (no offsets) for the image
-// (gp, gh) of the line of axis 6.
-void right_side(const Vec3* h, const Vec3* p, Vec3 gp, Vec3 gh, double (&right)[kQuantities][3][3]) {
+// The line (x, l) moved back by loop joint k's sample a: turned by -angle, or slid by -d.
+void undo_sample(const Vec3* h, const Vec3* p, const bool* prismatic, double size, int k, int a, Vec3& x, Vec3& l) {
+    if (prismatic[k]) {
+        x = x - (kSlides[a] * size) * h[k];
+        return;
+    }
+    x = turn_point(h[k], p[k], -kSamples[a], x);
+    l = rotate(h[k], -kSamples[a], l);
+}
+
+// The right side's coefficients over (1, cos, sin) of q1, q2 (no offsets), or over (1, x, x^2)
+// of a prismatic one, for the image (gp, gh) of the line of axis 6.
+void right_side(const Vec3* h, const Vec3* p, const bool* prismatic, double size, Vec3 gp, Vec3 gh,
+                double (&right)[kQuantities][3][3]) {
     double samples[3][3][kQuantities];
     for (int a = 0; a < 3; ++a) {
-        const Vec3 p1 = turn_point(h[0], p[0], -kSamples[a], gp), l1 = rotate(h[0], -kSamples[a], gh);
-        for (int b = 0; b < 3; ++b)
-            quantities(turn_point(h[1], p[1], -kSamples[b], p1), rotate(h[1], -kSamples[b], l1), samples[a][b]);
+        Vec3 p1 = gp, l1 = gh;
+        undo_sample(h, p, prismatic, size, 0, a, p1, l1);
+        for (int b = 0; b < 3; ++b) {
+            Vec3 p2 = p1, l2 = l1;
+            undo_sample(h, p, prismatic, size, 1, b, p2, l2);
+            quantities(p2, l2, samples[a][b]);
+        }
     }
+    const double(*fit1)[3] = prismatic[0] ? kFromSlides : kFromSamples;
+    const double(*fit2)[3] = prismatic[1] ? kFromSlides : kFromSamples;
     for (int z = 0; z < kQuantities; ++z)
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) {
                 double s = 0.0;
                 for (int a = 0; a < 3; ++a)
-                    for (int b = 0; b < 3; ++b) s += kFromSamples[i][a] * kFromSamples[j][b] * samples[a][b][z];
+                    for (int b = 0; b < 3; ++b) s += fit1[i][a] * fit2[j][b] * samples[a][b][z];
                 right[z][i][j] = s;
             }
 }
 
 // The angle of the loop's last joint from the rotation left once the others (q, 5) are known.
-double sixth_angle(const Vec3* h, const Mat3& R, const double* q) {
+double sixth_angle(const Vec3* h, const bool* prismatic, const Mat3& R, const double* q) {
     const Vec3 h6 = h[5];
     const Vec3 axis = std::fabs(h6.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
     Vec3 u = cross(h6, axis);
     u = (1.0 / norm(u)) * u;
     Vec3 v = R * u;  // R6 u = R5^T ... R1^T R u
-    for (int j = 0; j < 5; ++j) v = rotate(h[j], -q[j], v);
+    for (int j = 0; j < 5; ++j)
+        if (!prismatic[j]) v = rotate(h[j], -q[j], v);
     return std::atan2(dot(h6, cross(u, v)), dot(u, v));
 }
 
@@ -264,12 +287,21 @@ void spurious_bases(const double (&left)[kQuantities][3][3][3], double (&bases)[
 
 }  // namespace
 
-void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g) {
-    std::copy(h, h + 6, g.h);
-    std::copy(p, p + 6, g.p);
+bool loop_takes(const CaseChain& chain, int shift) {
+    int slides = 0;
+    for (int k = 0; k < 6; ++k)
+        if (chain.prismatic[(k + shift) % 6]) slides += k <= 1 ? 1 : 2;
+    return slides <= 1;
+}
+
+void prepare_general(const CaseChain& chain, int shift, GeneralSixR& g) {
+    std::copy(chain.h, chain.h + 6, g.h);
+    std::copy(chain.p, chain.p + 6, g.p);
+    for (int j = 0; j < 6; ++j) g.prismatic[j] = chain.prismatic[j];
+    g.size = chain.size;
     g.shift = shift;
     if (shift == 0) {
-        left_side(h, p, g.left);
+        left_side(g.h, g.p, g.left);
         spurious_bases(g.left, g.spurious);
     }
 }
@@ -282,11 +314,13 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
         if (!std::isfinite(dot(R.r[r], R.r[r]) + t.x + t.y + t.z)) return 0;
     // the loop e_{s+1} ... e_6 e_1' ... e_s' = G, e' = G^-1 e G turning about G^-1 of its line
     Vec3 h[6], p[6];
+    bool prismatic[6];  // only loop joints 1, 2 can be (loop_takes)
     for (int k = 0; k < 6; ++k) {
         const int j = (k + g.shift) % 6;
         const bool moved = k >= 6 - g.shift;
         h[k] = moved ? mul_transposed(R, g.h[j]) : g.h[j];
         p[k] = moved ? mul_transposed(R, g.p[j] - t) : g.p[j];
+        prismatic[k] = g.prismatic[j];
     }
     double left[kQuantities][3][3][3];
     if (g.shift == 0)
@@ -294,7 +328,7 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
     else
         left_side(h, p, left);
     double right[kQuantities][3][3];
-    right_side(h, p, R * p[5] + t, R * h[5], right);
+    right_side(h, p, prismatic, g.size, R * p[5] + t, R * h[5], right);
 
     // left - constant of the right = Q y, y the 8 monomials of q1, q2 other than 1
     Mat14x8 Q;
@@ -375,14 +409,15 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
                     for (int k = 0; k < 3; ++k) s += left[zq][i][j][k] * trig[0][i] * trig[1][j] * trig[2][k];
             rhs(zq) = s;
         }
-        const Eigen::Matrix<double, 8, 1> y = qr.solve(rhs);  // monomial m of (1, c1, s1) x (1, c2, s2) at y(m - 1)
+        // monomial m of (1, c1, s1) x (1, c2, s2) at y(m - 1); a slide's (1, x, x^2) for its (1, c, s)
+        const Eigen::Matrix<double, 8, 1> y = qr.solve(rhs);
         double loop[6];  // in the loop's order
-        loop[0] = std::atan2(y(5), y(2));
-        loop[1] = std::atan2(y(1), y(0));
+        loop[0] = prismatic[0] ? g.size * y(2) : std::atan2(y(5), y(2));
+        loop[1] = prismatic[1] ? g.size * y(0) : std::atan2(y(1), y(0));
         loop[2] = wrap_angle(kGeneralOffsets[0] + t3);
         loop[3] = wrap_angle(kGeneralOffsets[1] + t4);
         loop[4] = wrap_angle(kGeneralOffsets[2] + t5);
-        loop[5] = sixth_angle(h, R, loop);
+        loop[5] = sixth_angle(h, prismatic, R, loop);
         double* row = q + 6 * found;
         bool finite = true;
         for (int k = 0; k < 6; ++k) {
@@ -405,10 +440,16 @@ struct ClassSeed {
 
 namespace {
 
-// Whether rows a and b (6 angles) are within gap of each other in every joint.
-bool close_rows(const double* a, const double* b, double gap) {
+// How far apart values a and b of the chain's joint j are: an angle [rad] wrapped, a slide
+// over the arm's size.
+double joint_gap(const CaseChain& chain, int j, double a, double b) {
+    return chain.prismatic[j] ? std::fabs(a - b) / chain.size : std::fabs(wrap_angle(a - b));
+}
+
+// Whether rows a and b (6 joints of chain) are within gap of each other in every joint.
+bool close_rows(const CaseChain& chain, const double* a, const double* b, double gap) {
     for (int j = 0; j < 6; ++j)
-        if (!(std::fabs(wrap_angle(a[j] - b[j])) <= gap)) return false;
+        if (!(joint_gap(chain, j, a[j], b[j]) <= gap)) return false;
     return true;
 }
 
@@ -443,7 +484,7 @@ void add_class_candidates(const ClassSeed& s, const Mat3& R, Vec3 t, double* q, 
     const int seeded = count;
     for (int r = 0; r < found && count < kGeneralRoots; ++r) {
         bool near = false;
-        for (int c = 0; c < seeded && !near; ++c) near = close_rows(q + 6 * r, rows + 6 * c, kLoopNear);
+        for (int c = 0; c < seeded && !near; ++c) near = close_rows(s.general, q + 6 * r, rows + 6 * c, kLoopNear);
         if (!near) std::copy(q + 6 * r, q + 6 * r + 6, rows + 6 * count++);
     }
     std::copy(rows, rows + 6 * count, q);
@@ -470,13 +511,7 @@ std::shared_ptr<const ClassSeed> near_class_seed(const ArmLines& arm, const ArmL
 }  // namespace
 
 void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family) {
-    int found = 0;
-    if (g.arm) {
-        found = general_six_r(*g.arm, R, t, q, valid, family);
-    } else {  // a prismatic arm near a class: its seed alone
-        std::fill(valid, valid + kGeneralRoots, false);
-        std::fill(family, family + kGeneralRoots, false);
-    }
+    const int found = general_six_r(*g.arm, R, t, q, valid, family);
     if (g.seed) add_class_candidates(*g.seed, R, t, q, valid, found);
 }
 
@@ -509,43 +544,29 @@ GeneralGeometry general_geometry(const ArmLines& lines, int shift) {
     GeneralGeometry g;
     static_cast<CaseChain&>(g) = lines;
     auto arm = std::make_shared<GeneralSixR>();
-    prepare_general(lines.h, lines.p, shift, *arm);
+    prepare_general(lines, shift, *arm);
     g.arm = std::move(arm);
     return g;
 }
 
 }  // namespace
 
-// A 6-joint arm with a prismatic joint (the elimination takes revolute joints only) near a
-// class: that class on the arm moved onto it, whose candidates Newton takes onto the real arm
-// (the pipeline's polish and FK check), the same as the seed of a revolute arm near a class,
-// but without the elimination behind it: every listed solution is exact, and the listing is
-// as complete as the class's solutions carried over by Newton (all of them, where the arm is
-// farther from singular than its deviation). Else why not, and what to use.
-Detection<GeneralGeometry> prismatic_near_class(const ArmLines& arm, const CaseReason& why) {
-    const std::shared_ptr<const ClassSeed> seed = near_class_seed(arm, arm);
-    if (!seed)
-        return CaseReason{why.fit, why.text + ", and the arm is not within 1e-6 (of its size) of a class that has one; "
-                                              "numeric IK solves it (robot.ik(T, near=q), one solution per seed)"};
-    GeneralGeometry g;
-    static_cast<CaseChain&>(g) = arm;
-    g.seed = seed;
-    return CaseMatch<GeneralGeometry>{g, arm, "near-class",
-                                      "a prismatic joint, within 1e-6 of the " + std::string(case_entry(seed->geometry).name) +
-                                          " case: that case's solutions on the arm moved onto it, each taken onto the "
-                                          "real arm by Newton steps and checked by FK, up to 8 solutions",
-                                      true};
-}
-
 Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
-    CaseReason why;
-    if (!six_revolute(arm, "the general solver", why))
-        return why.fit == CaseFit::Prismatic ? prismatic_near_class(arm, why) : Detection<GeneralGeometry>(why);
+    if (arm.n != 6) return CaseReason{CaseFit::Joints, "the general solver needs 6 joints, not " + std::to_string(arm.n)};
+    int slides = 0;
+    for (int j = 0; j < 6; ++j) slides += arm.prismatic[j];
+    if (slides > 1)
+        return CaseReason{CaseFit::Prismatic, std::to_string(slides) + " joints are prismatic: the general solver "
+                                              "takes one at most; numeric IK solves it (robot.ik(T, near=q), one "
+                                              "solution per seed)"};
     Random random(0);
     double q[kLoopSamples][6];
     Pose T[kLoopSamples];
     for (int s = 0; s < kLoopSamples; ++s) {
-        for (double& v : q[s]) v = random.uniform(-kPi, kPi);
+        for (int j = 0; j < 6; ++j) {  // a slide within half the arm's size
+            const double u = random.uniform(-kPi, kPi);
+            q[s][j] = arm.prismatic[j] ? 0.5 * arm.size * u / kPi : u;
+        }
         T[s] = lines_pose(arm, q[s]);
     }
     const ArmLines loops[2] = {arm, reversed(arm)};
@@ -553,6 +574,7 @@ Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
     int best = -1, best_near = 0;
     for (int l = 0; l < 12; ++l) {
         const ArmLines& lines = loops[l / 6];
+        if (!loop_takes(lines, l % 6)) continue;
         const GeneralGeometry g = general_geometry(lines, l % 6);
         const Pose M_inv = inverse(lines.M);
         double worst = 0.0, mean = 0.0;
@@ -569,7 +591,7 @@ Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
                 const double* row = found + 6 * c;
                 double gap = 0.0, user[6];
                 for (int j = 0; j < 6; ++j) {
-                    gap = std::max(gap, std::fabs(wrap_angle(row[j] - lines.sign[j] * q[s][lines.index[j]])));
+                    gap = std::max(gap, joint_gap(lines, j, row[j], lines.sign[j] * q[s][lines.index[j]]));
                     user[lines.index[j]] = lines.sign[j] * row[j];
                 }
                 closest = std::min(closest, gap);
@@ -580,7 +602,7 @@ Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
                 for (int k = 0; k < count && !twin; ++k) {
                     double apart = 0.0;
                     for (int j = 0; j < 6; ++j)
-                        apart = std::max(apart, std::fabs(wrap_angle(kept[6 * k + j] - row[j])));
+                        apart = std::max(apart, joint_gap(lines, j, kept[6 * k + j], row[j]));
                     twin = apart <= kLoopNear;
                 }
                 if (residual <= kLoopNear * arm.scale && !twin) std::copy(row, row + 6, kept + 6 * count++);
@@ -603,8 +625,9 @@ Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
     const std::string near = chosen.seed ? std::string(" (within 1e-6 of the ") + case_entry(chosen.seed->geometry).name +
                                                " case, whose solutions on the arm moved onto it seed it)"
                                          : std::string();
-    return CaseMatch<GeneralGeometry>{chosen, loops[best / 6], "general-6r",
-                                      "general 6R arm: no three consecutive axes meet at one point or are parallel "
+    const std::string what = slides ? "general 6-joint arm with a prismatic joint (5R1P)" : "general 6R arm";
+    return CaseMatch<GeneralGeometry>{chosen, loops[best / 6], slides ? "general-5r1p" : "general-6r",
+                                      what + ": no three consecutive axes meet at one point or are parallel "
                                       "to rounding; every solution by Raghavan-Roth elimination (a 24 x 24 "
                                       "eigenproblem)" + near + ", up to 16 solutions",
                                       true};

@@ -22,6 +22,12 @@
 // their invariant subspace depends on the arm alone, so a basis made once per arm splits
 // them off and Eigen's real Schur solver works on the 16 x 16 rest; at most 16 real roots.
 //
+// One prismatic joint (5R1P: a Stanford arm off its class) is taken where the loop
+// eliminates it linearly, as its joint 1 or 2 (loop_takes): a slide d moves the line by d h,
+// so the right side's quantities are of degree two in d (fitted from three slides, x = d /
+// size = 0, 1, -1) where an angle's are of degree one in (cos, sin); the 8 monomials of q1,
+// q2 are eliminated the same way and the left side is the 6R one, spurious roots and all.
+//
 // The joint angles are measured from offsets (kGeneralOffsets), so that no root of a
 // generic pose lies at a half-angle tangent of infinity. Candidates are rough (1e-12 ..
 // 1e-6 where the arm is near a Pieper class); the pipeline polishes them by Newton steps on
@@ -44,13 +50,24 @@ constexpr int kQuantities = 14;
 // What the per-pose solver needs of one arm, computed once by prepare_general.
 struct GeneralSixR {
     Vec3 h[6], p[6];                      // axes and points at q = 0 (internal joint order)
+    bool prismatic[6] = {};               // at most one, the loop's joint 1 or 2 (loop_takes)
+    double size = 1.0;                    // a slide's unit in the right side's samples [m]
     int shift = 0;                        // the loop starts at joint shift + 1 (see general_six_r)
     double left[kQuantities][3][3][3];    // shift 0: left side over (1, cos, sin) of t3, t4, t5
     double spurious[2][24 * 24];          // shift 0: bases splitting off the roots x3 = +-i
 };
 
-// The arm's constants from its axes h and points p (6 each) and the loop's shift (0 .. 5).
-void prepare_general(const Vec3* h, const Vec3* p, int shift, GeneralSixR& g);
+// Whether the elimination takes the chain's joints in the loop starting at joint shift + 1:
+// every joint revolute but at most one prismatic joint, as the loop's joint 1 or 2. Those two
+// are eliminated linearly (the 8 monomials of q1, q2): a slide d enters the 14 quantities as
+// (1, d, d^2) where an angle enters as (1, cos, sin), so the elimination is the same (Raghavan
+// and Roth's handles prismatic joints so too); on the left side a slide would change the
+// degree structure the spurious roots are split off by, and the loop's joint 6 must turn (its
+// angle comes from the rotation).
+bool loop_takes(const CaseChain& chain, int shift);
+
+// The arm's constants from its lines (6, loop_takes(chain, shift)) and the loop's shift (0 .. 5).
+void prepare_general(const CaseChain& chain, int shift, GeneralSixR& g);
 
 // The loop may start at any joint: with shift s, e_{s+1} ... e_6 e_1' ... e_s' = G, where e_j'
 // = G^-1 e_j G turns about G^-1 of joint j's line, so joints s+3 .. s+5 (cyclically) stay
@@ -67,7 +84,7 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
 // candidates seed the general solver's (ik_general.cpp).
 struct ClassSeed;
 
-// The general case of the registry (ik_cases.hpp), the last: any 6R arm, the elimination's
+// The general case of the registry (ik_cases.hpp), the last: any 6R or 5R1P arm, the elimination's
 // constants made once and shared by copies (12 KB: not carried by any other case); for an arm
 // near a class, that class's seed.
 struct GeneralGeometry : CaseChain {
@@ -81,14 +98,15 @@ struct GeneralGeometry : CaseChain {
 // elimination loses near a class is still listed.
 void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool* valid, bool* family);
 
-// Any 6R arm, on the loop on which the elimination is best conditioned for it: the chain or
-// its reverse, and the loop's first joint (shift). The loops are run, once per arm, on the
-// poses of kLoopSamples seeded random configurations; the first whose raw candidates come
-// within kGoodLoop of every generating configuration is taken (a generic arm's first), else
+// Any 6R or 5R1P arm, on the loop on which the elimination is best conditioned for it: the
+// chain or its reverse, and the loop's first joint (shift; of a 5R1P arm's, the four that
+// take its slide). The loops are run, once per arm, on the poses of kLoopSamples seeded
+// random configurations; the first whose raw candidates come within kGoodLoop of every
+// generating configuration is taken (a generic arm's first), else the one whose raw
+// candidates come closest to the generating configurations (worst sample, then mean), then
 // the one with the most distinct raw candidates near a solution of their pose (kLoopNear:
-// a loop that loses roots has fewer, its other candidates far off), then the one that comes
-// closest to the generating configurations (worst sample, then mean), ties to the first
-// tried. An arm with parallel or meeting axes degenerates in some loops and not in others,
+// a loop that loses roots has fewer, its other candidates far off), ties to the first
+// tried. Two or more prismatic joints: why not (numeric IK). An arm with parallel or meeting axes degenerates in some loops and not in others,
 // and an arm near a Pieper class loses digits in one order and far fewer in another (a
 // PROBOT with one wrist axis moved by 1e-9: one loop of the twelve lists every solution).
 Detection<GeneralGeometry> detect_general(const ArmLines& arm);

@@ -133,7 +133,8 @@ def _case_line(structure: ArmStructure) -> str:
     """The IK engine's case for an arm: ``"spherical (closed form, up to 8 solutions)"``."""
     if structure.case is None:
         return "none (numeric IK)"
-    what = "general 6R solver" if structure.case == "general" else "closed form"
+    solvers = {"general-6r": "general 6R solver", "general-5r1p": "general 5R1P solver"}
+    what = solvers.get(structure.kind, "closed form")
     return f"{structure.case} ({what}, up to {structure.max_solutions} solutions)"
 
 

@@ -19,9 +19,11 @@ planar-2r/3r        2 or 3 parallel revolute axes (optionally one prismatic)   2
 rank-deficient      the Jacobian has rank < min(6, n) everywhere (collinear    0
                     axes, or axes that only ever span 5 directions)
 general-6r          any other 6R arm (the general solver, the registry's last) 16
-near-class          6 joints with a prismatic one, within 1e-6 of a class      16
-                    (the class's solutions carried onto the real arm)
-none                anything else (redundant arms, a prismatic 6-joint arm...) 0
+general-5r1p        any other 6-joint arm with one prismatic joint (the same   16
+                    elimination, the slide as one of the two joints it
+                    eliminates linearly)
+none                anything else (redundant arms, 6 joints with two           0
+                    prismatic ones outside every class...)
 ==================  =========================================================  ========
 
 The detection is the compiled core's (``cpp/include/armkit/ik_detect.hpp``): each case of the
@@ -71,9 +73,8 @@ class ArmStructure:
     kind : str
         ``"spherical-wrist"``, ``"spherical-base"``, ``"three-parallel"``, ``"scara"``,
         ``"planar-2r"``, ``"planar-3r"``, ``"general-6r"`` (any other 6R arm: every
-        solution by elimination), ``"near-class"`` (a 6-joint arm with a prismatic joint
-        within 1e-6 of a class: the class's solutions, Newton-polished onto the real arm),
-        ``"rank-deficient"`` (fewer independent
+        solution by elimination), ``"general-5r1p"`` (the same for a 6-joint arm with one
+        prismatic joint), ``"rank-deficient"`` (fewer independent
         directions of motion than joints, up to 6) or ``"none"``.
     closed_form : bool
         Whether :func:`armkit.ik.closed_form_ik` solves this chain.
