@@ -6,6 +6,8 @@ SciPy's rotations, and the configuration that made ``G`` must be among the candi
 The quartic's root finder is checked against NumPy's companion-matrix roots.
 """
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 from conftest import core_internals
@@ -20,6 +22,7 @@ from armkit.chain import DHRow, chain_from_dh
 from armkit.ik.cases import CASE_CANDIDATES, CASE_NAMES, MAX_CANDIDATES, SphericalGeometry, solve_pose
 from armkit.ik.closed_form import closed_form_solver
 from armkit.ik.structure import plan_closed_form
+from armkit.poe import poe_from_chain
 
 seeds = st.integers(0, 2**32 - 1)
 
@@ -200,3 +203,31 @@ def test_quartic_near_double_roots_as_accurate_as_companion_matrix(gap):
         theirs.append(_matched_distance(np.roots(c), roots))
     ours, theirs = np.array(ours), np.array(theirs)
     assert np.median(ours) <= np.median(theirs) and ours.max() <= 2 * theirs.max()
+
+
+@pytest.mark.parametrize("slide", range(6))
+def test_every_loop_that_takes_a_slide_lists_the_configuration_among_its_candidates(slide):
+    # a 5R1P arm: the slide as the loop's joint 1 or 2, the chain forward and reversed (the reversed
+    # chain's slide runs the other way), slides of metres; the raw candidates, before any polish
+    from test_ik_general import general_arm
+
+    rng = np.random.default_rng([22, slide])
+    chain = general_arm(rng, slide).chain
+    lines = poe_from_chain(chain)
+    poe = SimpleNamespace(n=6, axes=lines.axes, points=lines.points, prismatic=chain.prismatic, M=lines.M)
+    R_M, t_M = poe.M[:3, :3], poe.M[:3, 3]
+    backward = SimpleNamespace(n=6, axes=poe.axes[::-1] @ R_M, points=(poe.points[::-1] - t_M) @ R_M,
+                               prismatic=poe.prismatic[::-1])  # the chain of T^-1: M^-1 of the lines
+    for value in (0.5, 5.0, -20.0):
+        q = rng.uniform(-np.pi, np.pi, 6)
+        q[slide] = value
+        G = _motion(poe, q)[0]
+        assert np.allclose(_motion(backward, -q[::-1])[0], np.linalg.inv(poe.M) @ np.linalg.inv(G) @ poe.M,
+                           atol=1e-12)
+        for lines, at, q_lines in ((poe, slide, q), (backward, 5 - slide, -q[::-1])):
+            case_chain = _core.CaseChain(lines.axes, lines.points, lines.prismatic)
+            G_lines = _motion(lines, q_lines)[0]
+            for shift in ((at - 1) % 6, at):  # the slide as the loop's joint 2, then 1
+                qs, valid, _ = solve_pose(_core.GeneralGeometry(case_chain, shift), G_lines[:3, :3].copy(),
+                                          G_lines[:3, 3].copy())
+                assert joint_distance(lines, qs[valid], q_lines).min() <= 1e-6, (value, shift)

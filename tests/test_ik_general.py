@@ -115,6 +115,9 @@ def test_random_arms_with_one_prismatic_joint_list_every_solution_a_numeric_sear
     structure = analyze_structure(robot)
     assert structure.kind == "general-5r1p" and structure.max_solutions == 16
     check_every_solution(robot, rng, poses=3)
+    q0 = rng.uniform(-np.pi, np.pi, 6)
+    q0[slide] = rng.choice([-1, 1]) * rng.uniform(4.0, 9.0)  # a slide of metres: no angle wraps it
+    check_pose(robot, q0, rng)
 
 
 def line_moved(name: str, joint: int, turn: bool, direction: np.ndarray, deviation: float) -> armkit.Robot:

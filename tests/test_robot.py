@@ -37,6 +37,20 @@ def test_limits_checks_name_joint_value_and_range():
     np.testing.assert_array_equal(robot.check_limits(np.zeros(6)), np.zeros(6))
 
 
+@pytest.mark.parametrize(("limits", "message"), [
+    ((-1e298, 1e298), r"joint 'q2': limits \[-1e\+298, 1e\+298\] reach beyond 1e\+06 rad or m .*-inf, inf"),
+    ((0.0, 2e6), r"limits \[0, 2e\+06\] reach beyond 1e\+06"),
+    ((0.5, -0.5), r"limits \[0.5, -0.5\] are not increasing"),
+])
+def test_limits_beyond_a_million_or_decreasing_are_refused_naming_the_joint(limits, message):
+    # a finite 1e298 rad is a typo or a sentinel (MJCF and robot files refuse it too); inf is no limit
+    rows = [DHRow(0.0, 0.3, 0.0, 0.0)] * 3
+    with pytest.raises(RobotDefinitionError, match=message):
+        Robot.from_dh(rows, "standard", limits=[(-1.0, 1.0), limits, (-1.0, 1.0)])
+    free = Robot.from_dh(rows, "standard", limits=[(-np.inf, np.inf)] * 3)
+    assert np.isinf(free.limits).all()
+
+
 def test_random_q_is_inside_limits_and_reproducible():
     robot = armkit.load("stanford")
     q = robot.random_q(100, rng=4)

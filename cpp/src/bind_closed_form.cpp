@@ -325,7 +325,7 @@ void bind_closed_form(nb::module_& m) {
                nb::arg("prismatic_joint"));
     case_properties(planar);
     nb::class_<GeneralGeometry> general(m, "GeneralGeometry",
-                                        "Any 6R arm: Raghavan-Roth elimination, the loop starting at joint shift + 1.");
+                                        "Any 6R or 5R1P arm: Raghavan-Roth elimination, the loop starting at joint shift + 1.");
     general.def("__init__", [](GeneralGeometry* g, const CaseChain& chain, int shift) {
                     check_joints(chain, 6, "GeneralGeometry");
                     if (shift < 0 || shift > 5) throw nb::value_error("GeneralGeometry: shift must be 0 .. 5");

@@ -289,8 +289,11 @@ void spurious_bases(const double (&left)[kQuantities][3][3][3], double (&bases)[
 
 bool loop_takes(const CaseChain& chain, int shift) {
     int slides = 0;
-    for (int k = 0; k < 6; ++k)
-        if (chain.prismatic[(k + shift) % 6]) slides += k <= 1 ? 1 : 2;
+    for (int k = 0; k < 6; ++k) {
+        if (!chain.prismatic[(k + shift) % 6]) continue;
+        if (k >= 2) return false;  // the left side's joints and joint 6 turn
+        ++slides;
+    }
     return slides <= 1;
 }
 
@@ -312,7 +315,7 @@ int general_six_r(const GeneralSixR& g, const Mat3& R, Vec3 t, double* q, bool* 
     std::fill(q, q + kGeneralRoots * 6, 0.0);
     for (int r = 0; r < 3; ++r)
         if (!std::isfinite(dot(R.r[r], R.r[r]) + t.x + t.y + t.z)) return 0;
-    // the loop e_{s+1} ... e_6 e_1' ... e_s' = G, e' = G^-1 e G turning about G^-1 of its line
+    // the loop e_{s+1} ... e_6 e_1' ... e_s' = G, e' = G^-1 e G moving about (along) G^-1 of its line
     Vec3 h[6], p[6];
     bool prismatic[6];  // only loop joints 1, 2 can be (loop_takes)
     for (int k = 0; k < 6; ++k) {
@@ -552,13 +555,13 @@ GeneralGeometry general_geometry(const ArmLines& lines, int shift) {
 }  // namespace
 
 Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
-    if (arm.n != 6) return CaseReason{CaseFit::Joints, "the general solver needs 6 joints, not " + std::to_string(arm.n)};
+    if (arm.n != 6)
+        return CaseReason{CaseFit::Joints, "the general solver needs 6 joints, not " + std::to_string(arm.n)};
     int slides = 0;
     for (int j = 0; j < 6; ++j) slides += arm.prismatic[j];
     if (slides > 1)
         return CaseReason{CaseFit::Prismatic, std::to_string(slides) + " joints are prismatic: the general solver "
-                                              "takes one at most; numeric IK solves it (robot.ik(T, near=q), one "
-                                              "solution per seed)"};
+                                              "takes one at most; use numeric IK"};
     Random random(0);
     double q[kLoopSamples][6];
     Pose T[kLoopSamples];
@@ -625,10 +628,13 @@ Detection<GeneralGeometry> detect_general(const ArmLines& arm) {
     const std::string near = chosen.seed ? std::string(" (within 1e-6 of the ") + case_entry(chosen.seed->geometry).name +
                                                " case, whose solutions on the arm moved onto it seed it)"
                                          : std::string();
-    const std::string what = slides ? "general 6-joint arm with a prismatic joint (5R1P)" : "general 6R arm";
+    // a 6R arm here is in no class; a 5R1P arm may have meeting or parallel axes still
+    const std::string what = slides ? "general 6-joint arm with a prismatic joint (5R1P): in no class (a class "
+                                      "takes a slide only as the Stanford arm's or a SCARA's joint 3)"
+                                    : "general 6R arm: no three consecutive axes meet at one point or are "
+                                      "parallel to rounding";
     return CaseMatch<GeneralGeometry>{chosen, loops[best / 6], slides ? "general-5r1p" : "general-6r",
-                                      what + ": no three consecutive axes meet at one point or are parallel "
-                                      "to rounding; every solution by Raghavan-Roth elimination (a 24 x 24 "
+                                      what + "; every solution by Raghavan-Roth elimination (a 24 x 24 "
                                       "eigenproblem)" + near + ", up to 16 solutions",
                                       true};
 }

@@ -101,7 +101,8 @@ class Joint:
     T_after : ndarray (4, 4)
         From the joint frame (after the motion) to this joint's link frame.
     lower, upper : float
-        Position limits [rad or m].
+        Position limits [rad or m]: increasing, each at most :data:`MAX_VALUE` in magnitude or
+        infinite (no limit).
     max_velocity, max_acceleration : float or None
         Optional limits [rad/s or m/s, rad/s^2 or m/s^2].
     name : str
@@ -134,6 +135,10 @@ class Joint:
         if not self.lower <= self.upper:
             raise RobotDefinitionError(
                 f"joint {self.name!r}: limits [{self.lower}, {self.upper}] are not increasing")
+        if any(np.isfinite(limit) and abs(limit) > MAX_VALUE for limit in (self.lower, self.upper)):
+            raise RobotDefinitionError(
+                f"joint {self.name!r}: limits [{self.lower:g}, {self.upper:g}] reach beyond {MAX_VALUE:g} "
+                f"rad or m (a typo, or a 'no limit' sentinel: for no limit write -inf, inf)")
         for label, value in (("max_velocity", self.max_velocity),
                              ("max_acceleration", self.max_acceleration), ("max_torque", self.max_torque),
                              ("radius", self.radius)):

@@ -73,7 +73,7 @@ struct CaseEntry {
 
 // The registry, in the order of CaseGeometry's alternatives (classify takes the first that
 // applies). Point: joints 1-3 of any chain carry a tool point to a target position (position
-// IK); general: any 6R arm, the last case.
+// IK); general: any 6R or 5R1P arm, the last case.
 constexpr CaseEntry kCases[] = {
     {"spherical", 8, true, &detect_as<SphericalGeometry, detect_spherical>},
     {"three-parallel", 8, true, &detect_as<ThreeParallelGeometry, detect_three_parallel>},

@@ -47,7 +47,8 @@ constexpr int kGeneralRoots = 16;
 //: The 14 quantities of each side.
 constexpr int kQuantities = 14;
 
-// What the per-pose solver needs of one arm, computed once by prepare_general.
+// What the per-pose solver needs of one arm, computed once by prepare_general (named for
+// the 6R arm; a 5R1P arm's slide is one of the loop's linear joints, see loop_takes).
 struct GeneralSixR {
     Vec3 h[6], p[6];                      // axes and points at q = 0 (internal joint order)
     bool prismatic[6] = {};               // at most one, the loop's joint 1 or 2 (loop_takes)
@@ -61,7 +62,7 @@ struct GeneralSixR {
 // every joint revolute but at most one prismatic joint, as the loop's joint 1 or 2. Those two
 // are eliminated linearly (the 8 monomials of q1, q2): a slide d enters the 14 quantities as
 // (1, d, d^2) where an angle enters as (1, cos, sin), so the elimination is the same (Raghavan
-// and Roth's handles prismatic joints so too); on the left side a slide would change the
+// and Roth's method takes prismatic joints so too); on the left side a slide would change the
 // degree structure the spurious roots are split off by, and the loop's joint 6 must turn (its
 // angle comes from the rotation).
 bool loop_takes(const CaseChain& chain, int shift);
@@ -106,9 +107,10 @@ void solve_case(const GeneralGeometry& g, const Mat3& R, Vec3 t, double* q, bool
 // candidates come closest to the generating configurations (worst sample, then mean), then
 // the one with the most distinct raw candidates near a solution of their pose (kLoopNear:
 // a loop that loses roots has fewer, its other candidates far off), ties to the first
-// tried. Two or more prismatic joints: why not (numeric IK). An arm with parallel or meeting axes degenerates in some loops and not in others,
+// tried. An arm with parallel or meeting axes degenerates in some loops and not in others,
 // and an arm near a Pieper class loses digits in one order and far fewer in another (a
 // PROBOT with one wrist axis moved by 1e-9: one loop of the twelve lists every solution).
+// Two or more prismatic joints: why not (numeric IK).
 Detection<GeneralGeometry> detect_general(const ArmLines& arm);
 
 }  // namespace armkit

@@ -36,7 +36,7 @@ constexpr double kRigidTolerance = 1e-5;
 //: [m]): a class is detected only to the rounding of a robot file's numbers (a Kinova URDF's
 //: meeting wrist axes miss by ~1e-13 relative; DH tables to ~1e-16), never to a calibration's
 //: size. An arm within it is solved as its class, whose solutions are then off by at most
-//: this over the pose's conditioning (polished by refine); beyond, the general 6R solver
+//: this over the pose's conditioning (polished by refine); beyond, the general solver
 //: lists the real arm's exact solutions. At 1e-9 (the bar before) arms moved by 1e-9 were
 //: taken as their class and 5-12 of 100 poses lost the generating configuration (the class
 //: solver's equations assume exact meeting axes: candidates ~1e-6 off, or none at all),

@@ -35,7 +35,7 @@ its own geometry, a plain struct bound as a class with a typed keyword construct
 (``armkit._core``, for tests that build one by hand): :class:`SphericalGeometry`,
 :class:`ThreeParallelGeometry`, :class:`ParallelBaseGeometry`, :class:`PlanarGeometry`,
 :class:`PointGeometry` (joints 1-3 carry a tool point: position IK) and
-:class:`GeneralGeometry` (any 6R arm, the last case), each over a :class:`CaseChain`
+:class:`GeneralGeometry` (any 6R or 5R1P arm, the last case), each over a :class:`CaseChain`
 (internal axes and points ``(n, 3)`` [-, m], ``prismatic`` ``(n,)``) and, where the case has
 one, a :class:`TwoAngleSystem`; built once per chain by its detect function. Each has ``n``,
 ``k`` (candidates per pose) and ``case`` (its registry name). :func:`solve_pose`
@@ -63,7 +63,7 @@ __all__ = ["CASE_NAMES", "CASE_CANDIDATES", "MAX_CANDIDATES", "POSITION_CASES", 
            "CaseGeometry", "GeneralGeometry", "ParallelBaseGeometry", "PlanarGeometry", "PointGeometry",
            "SphericalGeometry", "ThreeParallelGeometry", "TwoAngleSystem", "solve_pose"]
 
-#: The registered cases, in the core's order (the general 6R solver last), and the candidates
+#: The registered cases, in the core's order (the general solver last), and the candidates
 #: per pose of each: one fixed-capacity buffer of :data:`MAX_CANDIDATES` holds any of them.
 CASE_NAMES: tuple[str, ...] = _core.CASE_NAMES
 CASE_CANDIDATES: tuple[int, ...] = _core.CASE_CANDIDATES

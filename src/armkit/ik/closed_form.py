@@ -110,7 +110,7 @@ class ClosedFormSolver:
         self.structure: ArmStructure = analyze_structure(chain)
         #: The case solver's constants (one of the case geometries of :mod:`armkit.ik.cases`).
         self.geometry: CaseGeometry = arm.geometry
-        #: Candidates per pose: 8; 2 for SCARA and planar arms, 16 for a general 6R arm.
+        #: Candidates per pose: 8; 2 for SCARA and planar arms, 16 for a general 6R or 5R1P arm.
         self.k = self.geometry.k
         #: The compiled per-pose loop's view of this solver (``_core.ClosedForm``; it holds
         #: copies of the chain and the geometry, so it lives on its own).

@@ -1,7 +1,7 @@
 """Every IK solution of a redundant arm along one free joint: the self-motion of a 7R arm.
 
 With one joint held at a value, a 7-joint arm is a 6-joint arm (:meth:`armkit.Robot.lock`)
-whose every solution the closed form lists (a Pieper class, or the general 6R solver). Doing
+whose every solution the closed form lists (a Pieper class, or the general 6R or 5R1P solver). Doing
 that at many values of the free joint samples each branch of the self-motion manifold; the
 samples are joined into branches by continuity (each solution continues the branch whose
 last sample is nearest, within a bound that grows with the step of the free joint).

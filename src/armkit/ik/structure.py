@@ -30,7 +30,7 @@ The detection is the compiled core's (``cpp/include/armkit/ik_detect.hpp``): eac
 registry (:data:`armkit.ik.cases.CASE_NAMES`) has a detect function that returns its geometry
 or the reason it does not apply, and ``_core.classify`` runs them in the registry's order. Axes
 count as parallel or meeting only to the rounding of a robot file's numbers
-(:data:`CLASS_TOLERANCE`): an arm near a class (a calibrated one) is the general 6R arm it is,
+(:data:`CLASS_TOLERANCE`): an arm near a class (a calibrated one) is the general 6R (or 5R1P) arm it is,
 and its listing holds the real arm's exact solutions, not the idealised class's.
 
 Example
