@@ -5,7 +5,8 @@ For every size of the move, every joint, its axis turned or its point moved (two
 directions each), and every q5 of the poses (a random configuration with that q5, either
 sign): the listing ``robot.ik(T, all_solutions=True, within_limits=False)`` must hold the
 generating configuration and every solution armkit's Levenberg-Marquardt finds from 24
-random seeds (the singular sweeps' search), and reproduce the pose to 1e-9. Prints each
+random seeds (the singular sweeps' search), and reproduce the pose to 1e-9. A search point
+that Newton's steps do not take to the pose (CONFIRMED) is printed and not counted. Prints each
 failing pose (with, per missed solution, how far the nearest listed one is and the accuracy
 double precision allows there, 1e-16 / (sigma_min / sigma_max) of the Jacobian) and the count
 per case and size::
@@ -31,6 +32,15 @@ import armkit  # noqa: E402
 from armkit.ik.structure import analyze_structure  # noqa: E402
 
 
+#: A search point FK puts farther than this (times the arm's size) from the pose after Newton's
+#: steps is not confirmed a solution: a real root reaches ~3e-16 in double, while points where the
+#: search stopped on a nearly flat residual (a Jacobian 1e-11 .. 1e-12 singular) stay at 2e-13 ..
+#: 4e-13; the four such points of the seed-11 sweep were checked in 60-digit arithmetic: Newton
+#: takes each onto the root of a listed solution 0.007 .. 0.07 away, the residual falling
+#: monotonically between them (no root at the point).
+CONFIRMED = 1e-14
+
+
 def _how_far(robot: armkit.Robot, listed: np.ndarray, missed: np.ndarray) -> str:
     """How far the listing is from a missed solution, against the accuracy double precision
     allows there along the weakest direction: 1e-16 / (sigma_min / sigma_max) of the Jacobian."""
@@ -38,6 +48,12 @@ def _how_far(robot: armkit.Robot, listed: np.ndarray, missed: np.ndarray) -> str
     accuracy = 1e-16 * sigma[0] / sigma[-1]
     return f"nearest listed {joint_distance(robot.chain, listed, missed).min():.2g} rad or m off, " \
         f"accuracy there {accuracy:.2g}"
+
+
+def _residual(robot: armkit.Robot, T: np.ndarray, q: np.ndarray) -> float:
+    """How far FK puts ``q`` from ``T``, over the arm's size (1 + largest |coordinate| at q = 0)."""
+    size = 1 + np.abs(robot.fk(np.zeros(robot.n))[:3, 3]).max()
+    return float(np.abs(robot.fk(q) - T).max() / size)
 
 
 def main() -> None:
@@ -48,7 +64,7 @@ def main() -> None:
     parser.add_argument("--arm", default="ur5", help="the built-in arm whose lines are moved")
     args = parser.parse_args()
     rng = np.random.default_rng(args.seed)
-    failed, total, per_case = 0, 0, {}
+    failed, total, unconfirmed, per_case = 0, 0, 0, {}
     for move in [float(m) for m in args.moves.split(",")]:
         for joint in range(6):
             for turn in (True, False):
@@ -71,13 +87,21 @@ def main() -> None:
                             continue
                         assert np.abs(robot.fk(listed) - T).max() <= 1e-9, where
                         found = [q0, *numeric_solutions(robot, T, rng)]
-                        missed = [s for s in found if joint_distance(robot.chain, listed, s).min() > 1e-6]
+                        far = [s for s in found if joint_distance(robot.chain, listed, s).min() > 1e-6]
+                        missed = [s for s in far if _residual(robot, T, s) <= CONFIRMED]
+                        for s in far:
+                            if _residual(robot, T, s) > CONFIRMED:
+                                unconfirmed += 1
+                                print(f"{where}: search point not confirmed (FK off by "
+                                      f"{_residual(robot, T, s):.2g} x size after Newton; "
+                                      f"{_how_far(robot, listed, s)})", flush=True)
                         if missed:
                             print(f"{where}: {len(listed)} listed, {len(missed)} not ("
                                   + "; ".join(_how_far(robot, listed, s) for s in missed) + ")", flush=True)
                             failed += 1
                             per_case[case, move] = per_case.get((case, move), 0) + 1
-    print(f"{failed} of {total} poses miss a solution; per (case, move): {per_case}")
+    print(f"{failed} of {total} poses miss a solution; per (case, move): {per_case}; "
+          f"{unconfirmed} search points not confirmed solutions (not counted)")
 
 
 if __name__ == "__main__":

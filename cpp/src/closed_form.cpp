@@ -178,13 +178,19 @@ void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bo
 // misses it by more than kDoubleRootExact, by at most kNearlyExact times the FK check's
 // tolerance; valid or not after that check), replaced by the nearest root the weak-direction
 // search finds beside it (near_double_roots), and the other root of the pair put into the last
-// row that is neither valid nor stalled, where there is one.
-void split_near_double_roots(const ClosedForm& cf, const Pose& T, double* q, bool* valid, const bool* stalled) {
+// row that is neither valid nor stalled, where there is one. A candidate within kDoubleRootExact
+// but above Newton's stop (kPolished) is searched too, and replaced only by a root FK puts nearer
+// the pose (residual, cf.k): beside a near-double root FK cannot tell a point 1e-5 along the weak
+// direction from the root (both within 1e-14), and the search finishes it to the root.
+void split_near_double_roots(const ClosedForm& cf, const Pose& T, double* q, bool* valid, const bool* stalled,
+                             const double* residual) {
     const int n = cf.chain.n;
+    const double exact = kDoubleRootExact * case_chain(cf.geometry).size;
     for (int s = 0; s < cf.k; ++s) {
         if (!stalled[s]) continue;
         double roots[kDoubleRoots * 6];
         const int found = near_double_roots(cf.chain, T, q + s * n, case_chain(cf.geometry).size, roots);
+        if (found > 0 && residual[s] <= exact && !(fk_difference(cf.chain, T, roots) < residual[s])) continue;
         for (int r = 0; r < found; ++r) {
             int row = s;
             if (r > 0) {
@@ -202,12 +208,14 @@ void split_near_double_roots(const ClosedForm& cf, const Pose& T, double* q, boo
 void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid, bool* family) {
     const int k = cf.k, n = cf.chain.n;
     bool stalled[kMaxCandidates] = {};
+    double residuals[kMaxCandidates] = {};
     double q_int[kMaxCandidates * kMaxJoints];
     Mat3 R;
     Vec3 t;
     joint_motion(cf, T, R, t);
     solve_pose(cf.geometry, R, t, q_int, valid, family);
     const double exact = kDoubleRootExact * case_chain(cf.geometry).size;
+    const double polished = kPolished * case_chain(cf.geometry).size;
     auto wrap_revolute = [&](double* qs) {
         for (int j = 0; j < n; ++j)
             if (!cf.chain.prismatic[j]) qs[j] = wrap_angle(qs[j]);
@@ -238,10 +246,11 @@ void pose_candidates(const ClosedForm& cf, const Pose& T, double* q, bool* valid
                 if (before < residual) std::copy(unpolished, unpolished + n, qs), residual = before;
             }
             valid[s] = residual <= cf.verify_tolerance;
-            stalled[s] = polish && residual > exact && residual <= kNearlyExact * cf.verify_tolerance;
+            stalled[s] = polish && residual > polished && residual <= kNearlyExact * cf.verify_tolerance;
+            residuals[s] = residual;
         }
     }
-    if (cf.polish) split_near_double_roots(cf, T, q, valid, stalled);
+    if (cf.polish) split_near_double_roots(cf, T, q, valid, stalled, residuals);
     take_exact_candidates(cf, T, q, valid, family);
     // duplicates, close singular candidates and one solution twice are pairs within kSplitRoots:
     // a regular pose has none, and one scan tells
