@@ -31,7 +31,6 @@ from test_ik_singular_sweeps import numeric_solutions  # noqa: E402
 import armkit  # noqa: E402
 from armkit.ik.structure import analyze_structure  # noqa: E402
 
-
 #: A search point FK puts farther than this (times the arm's size) from the pose after Newton's
 #: steps is not confirmed a solution: a real root reaches ~3e-16 in double, while points where the
 #: search stopped on a nearly flat residual (a Jacobian 1e-11 .. 1e-12 singular) stay at 2e-13 ..
