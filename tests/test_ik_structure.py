@@ -73,13 +73,16 @@ def test_general_6r_goes_to_the_general_solver(seed):
 
 def test_a_general_arm_with_one_prismatic_joint_is_the_general_5r1p_case_and_two_have_none():
     rng = np.random.default_rng(5)
-    for slides, kind in (((2,), "general-5r1p"), ((2, 4), "none")):
+
+    def structure(*slides):
         rows = [DHRow(rng.uniform(0.3, 2.8), rng.uniform(0.1, 0.4), rng.uniform(0.1, 0.4),
                       rng.uniform(-3, 3), "prismatic" if j in slides else "revolute") for j in range(6)]
-        structure = analyze_structure(chain_from_dh(rows, "standard"))
-        assert structure.kind == kind and structure.closed_form == (kind != "none")
-    assert "2 joints are prismatic: the general solver takes one at most" in structure.description
-    assert "numeric IK" in structure.description
+        return analyze_structure(chain_from_dh(rows, "standard"))
+
+    one, two = structure(2), structure(2, 4)
+    assert one.kind == "general-5r1p" and one.closed_form and one.max_solutions == 16
+    assert two.kind == "none" and not two.closed_form
+    assert "2 joints are prismatic: the general solver takes one at most; use numeric IK" in two.description
 
 
 def test_same_arm_in_both_conventions_and_with_base_and_tool():

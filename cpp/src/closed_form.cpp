@@ -174,14 +174,14 @@ void merge_one_solution(const ClosedForm& cf, const Pose& T, const double* q, bo
     }
 }
 
-// Each polished candidate that Newton left short of rounding, near the pose (stalled, cf.k: FK
-// misses it by more than kDoubleRootExact, by at most kNearlyExact times the FK check's
-// tolerance; valid or not after that check), replaced by the nearest root the weak-direction
-// search finds beside it (near_double_roots), and the other root of the pair put into the last
-// row that is neither valid nor stalled, where there is one. A candidate within kDoubleRootExact
-// but above Newton's stop (kPolished) is searched too, and replaced only by a root FK puts nearer
-// the pose (residual, cf.k): beside a near-double root FK cannot tell a point 1e-5 along the weak
-// direction from the root (both within 1e-14), and the search finishes it to the root.
+// Each polished candidate that Newton left above its stop, near the pose (stalled, cf.k: FK
+// misses it by more than kPolished, by at most kNearlyExact times the FK check's tolerance;
+// valid or not after that check), replaced by the nearest root the weak-direction search finds
+// beside it (near_double_roots), and the other root of the pair put into the last row that is
+// neither valid nor stalled, where there is one. A candidate FK already puts within
+// kDoubleRootExact is replaced only where that root is nearer the pose (residual, cf.k): beside a
+// near-double root FK cannot tell a point 2e-5 along the weak direction from the root (both
+// within 1e-14), and the search finishes it onto the root.
 void split_near_double_roots(const ClosedForm& cf, const Pose& T, double* q, bool* valid, const bool* stalled,
                              const double* residual) {
     const int n = cf.chain.n;

@@ -193,7 +193,8 @@ constexpr double kNewtonDamping = 1e-14;
 //: a wrist singularity at 3e-5 .. 1e-4 (they converge, and are not searched).
 constexpr double kNearDoubleRoot = 1e-4;
 //: A root the search finds is kept where FK reproduces the pose to this (entries of the top three
-//: rows, times the arm's size), and a polished candidate that misses by more is searched:
+//: rows, times the arm's size), and a polished candidate that misses by more is searched (one
+//: within it but above kPolished too, kept as it is unless the search's root is nearer):
 //: rounding, as a regular solution (~1e-15 .. 1e-14); the point where Newton stalled between two
 //: roots missed by 9e-14.
 constexpr double kDoubleRootExact = 1e-14;
